@@ -1,0 +1,150 @@
+//! P1 finite elements on a uniform mesh of (0, L): weighted mass, stiffness and load (paper §3).
+//!
+//! Nodes `x_i = i h`, `h = L/m`, i = 0..m. Node 0 is the contact node (Signorini), node m carries
+//! the Dirichlet condition `u(L) = 0` and is eliminated, so the unknowns are nodes 0..m−1:
+//!
+//! ```text
+//! M_00 = h/3 w_0,  M_ii = h/3 (w_{i−1} + w_i),  M_{i,i+1} = h/6 w_i,
+//! S_00 = 1/h,      S_ii = 2/h,                  S_{i,i+1} = −1/h,
+//! F_i  = ∫ f w_h φ_i = f h/2 (w_{i−1} + w_i)   (constant f; F_0 = f h/2 w_0).
+//! ```
+//!
+//! (The paper writes `M_{i,i−1} = h/6 w_i`; the integral `∫ w φ_i φ_{i+1}` over element i gives
+//! `M_{i,i+1} = h/6 w_i`, which is also what its matrix display shows.)
+
+use crate::mass::{MassError, MassKind};
+use crate::tridiag::SymTridiag;
+use thiserror::Error;
+
+/// A uniform mesh of the bar (0, L) with m elements.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bar {
+    pub length: f64,
+    pub elements: usize,
+}
+
+impl Bar {
+    pub fn h(&self) -> f64 {
+        self.length / self.elements as f64
+    }
+
+    /// Coordinate of node i (0 ≤ i ≤ m).
+    pub fn x(&self, i: usize) -> f64 {
+        // i·h would round differently from L·i/m at the last node; keep x_m = L exactly.
+        self.length * i as f64 / self.elements as f64
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum AssemblyError {
+    #[error("bar.length = {0}: must be finite and > 0")]
+    Length(f64),
+    #[error("bar.elements = {0}: must be >= 2")]
+    Elements(usize),
+    #[error(transparent)]
+    Mass(#[from] MassError),
+}
+
+/// The semi-discrete system `M Ü + S U = F − λ e_0` on the free nodes 0..m−1.
+#[derive(Debug, Clone)]
+pub struct System {
+    pub bar: Bar,
+    /// Element weights `w_0 … w_{m−1}`.
+    pub weights: Vec<f64>,
+    pub mass: SymTridiag,
+    pub stiffness: SymTridiag,
+    pub load: Vec<f64>,
+}
+
+impl System {
+    /// Assembles M, S and F for the given mass redistribution and a constant body force f.
+    pub fn new(bar: Bar, mass: &MassKind, force: f64) -> Result<Self, AssemblyError> {
+        if !(bar.length.is_finite() && bar.length > 0.0) {
+            return Err(AssemblyError::Length(bar.length));
+        }
+        if bar.elements < 2 {
+            return Err(AssemblyError::Elements(bar.elements));
+        }
+        let weights = mass.weights(bar.elements)?;
+        Ok(Self::from_weights(bar, weights, force))
+    }
+
+    /// Assembly from already validated weights (one per element).
+    pub fn from_weights(bar: Bar, weights: Vec<f64>, force: f64) -> Self {
+        let m = bar.elements;
+        let h = bar.h();
+        let mut mass = SymTridiag::zeros(m);
+        let mut stiffness = SymTridiag::zeros(m);
+        let mut load = vec![0.0; m];
+        // Element j couples nodes j and j+1; node m is Dirichlet and dropped.
+        for (j, &w) in weights.iter().enumerate() {
+            mass.diag[j] += h / 3.0 * w;
+            stiffness.diag[j] += 1.0 / h;
+            load[j] += force * h / 2.0 * w;
+            if j + 1 < m {
+                mass.diag[j + 1] += h / 3.0 * w;
+                mass.off[j] = h / 6.0 * w;
+                stiffness.diag[j + 1] += 1.0 / h;
+                stiffness.off[j] = -1.0 / h;
+                load[j + 1] += force * h / 2.0 * w;
+            }
+        }
+        Self { bar, weights, mass, stiffness, load }
+    }
+
+    pub fn m(&self) -> usize {
+        self.bar.elements
+    }
+
+    pub fn h(&self) -> f64 {
+        self.bar.h()
+    }
+
+    /// True when the contact node carries no inertia (`w_0 = 0`, so `M_00 = 0`).
+    pub fn massless_contact(&self) -> bool {
+        self.weights[0] == 0.0
+    }
+
+    /// Index of the first node with inertia: 1 for a massless contact node, else 0.
+    pub fn first_massive(&self) -> usize {
+        usize::from(self.massless_contact())
+    }
+
+    /// Total mass `1ᵀ M_full 1 = ∫ w_h`: the sum of all entries of the mass matrix over all
+    /// nodes, the Dirichlet node m included (its row adds `M_mm + 2 M_{m−1,m} = 2h/3 w_{m−1}`).
+    pub fn total_mass(&self) -> f64 {
+        self.mass.total() + 2.0 * self.h() / 3.0 * self.weights[self.m() - 1]
+    }
+
+    /// Discrete energy `½ VᵀMV + ½ UᵀSU − UᵀF` (paper eq. (3.4) in full-system form; with
+    /// `u_0 = u_1⁺` it equals the reduced energy `ℰ_h`).
+    pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
+        let work: f64 = u.iter().zip(&self.load).map(|(a, b)| a * b).sum();
+        0.5 * self.mass.quad_form(v) + 0.5 * self.stiffness.quad_form(u) - work
+    }
+
+    /// Nodal interpolant of g at the free nodes 0..m−1.
+    pub fn interpolate(&self, g: impl Fn(f64) -> f64) -> Vec<f64> {
+        (0..self.m()).map(|i| g(self.bar.x(i))).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn system(kind: MassKind, m: usize) -> System {
+        System::new(Bar { length: 1.0, elements: m }, &kind, 0.0).unwrap()
+    }
+
+    #[test]
+    fn matrices_match_the_closed_form() {
+        let s = system(MassKind::Mod3, 6);
+        let h = 1.0 / 6.0;
+        assert_eq!(s.mass.diag[0], 0.0);
+        assert_eq!(s.mass.diag[1], h / 3.0 * 2.0);
+        assert_eq!(s.mass.off[1], h / 6.0 * 2.0);
+        assert_eq!(s.stiffness.diag[0], 1.0 / h);
+        assert_eq!(s.stiffness.diag[5], 2.0 / h);
+    }
+}

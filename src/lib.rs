@@ -1,0 +1,16 @@
+//! massredist: the weighted finite element mass redistribution method for dynamic contact
+//! (Dabaghi, Krejčí, Petrov, Pousin, Renard), with exact solutions and cross-checks.
+
+#[cfg(feature = "python")]
+pub mod bridge;
+
+pub mod assembly;
+pub mod contact;
+pub mod exact;
+pub mod mass;
+pub mod norms;
+pub mod output;
+pub mod run;
+pub mod scene;
+pub mod schemes;
+pub mod tridiag;

@@ -1,0 +1,519 @@
+//! Scene files (TOML): parsed into closed raw structs, validated once into domain types.
+//!
+//! ```toml
+//! [bar]
+//! length = 1.0
+//! elements = 6
+//! initial = "paper"          # u0 = (L-x)/2, v0 = 0 (exact solution known)
+//! force = 0.0                # constant body force f (exact solution only for f = 0)
+//! [mass]
+//! kind = "mod3"              # standard | mod1 | mod2 | mod3 | custom
+//! # weights = [0.0, 2.0, 1.0, 1.0, 1.0, 1.0]   # custom only, one per element
+//! [scheme]
+//! kind = "crank-nicolson"    # crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid
+//! formulation = "full"       # crank-nicolson/newmark: full | reduced (reduced needs w_0 = 0)
+//! [time]
+//! dt = 0.01
+//! end = 3.0                  # end/dt must be an integer (within 1e-9 relative)
+//! [output]
+//! series = ["u0", "lambda", "energy", "l2_error"]
+//! every = 1
+//! ```
+//!
+//! Every error names the key and its allowed range; the resolved scene (all defaults filled in)
+//! serialises back to TOML.
+
+use crate::mass::MassKind;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// Upper bound on `elements`: 10⁷ nodes take ~1 GB of work vectors across a scheme and observers.
+pub const MAX_ELEMENTS: usize = 10_000_000;
+/// Upper bound on elements × steps: at ~10 ns per node-step this is about 20 minutes.
+pub const MAX_NODE_STEPS: f64 = 1e11;
+
+#[derive(Debug, Error)]
+pub enum SceneError {
+    #[error("cannot read {path}: {source}")]
+    Io { path: String, source: std::io::Error },
+    #[error("{0}")]
+    Parse(String),
+    #[error("{key} = {value}: allowed range is {range}")]
+    Range { key: &'static str, value: String, range: &'static str },
+    #[error("{key} is required{hint}")]
+    Missing { key: &'static str, hint: &'static str },
+    #[error("{key} does not apply to {context}")]
+    Inapplicable { key: &'static str, context: String },
+    #[error(
+        "time.end / time.dt = {ratio} is not an integer (within 1e-9 relative): choose dt dividing end (end = {end}, dt = {dt})"
+    )]
+    NotAnInteger { end: f64, dt: f64, ratio: f64 },
+    #[error(
+        "bar.elements × steps = {work:.3e} node-steps exceeds the limit {limit:.0e} (about 20 minutes of computing): reduce bar.elements or time.end / time.dt"
+    )]
+    TooMuchWork { work: f64, limit: f64 },
+    #[error("output.series lists \"{0}\" twice")]
+    DuplicateColumn(String),
+    #[error(transparent)]
+    Mass(#[from] crate::mass::MassError),
+}
+
+impl SceneError {
+    /// Exit code for the CLI: 2 for anything wrong with the input.
+    pub fn exit_code(&self) -> i32 {
+        2
+    }
+}
+
+/// A number written as a TOML integer or float (`end = 3` and `end = 3.0` both work).
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(untagged)]
+enum Number {
+    Int(i64),
+    Float(f64),
+}
+
+impl Number {
+    fn get(self) -> f64 {
+        match self {
+            Number::Int(i) => i as f64,
+            Number::Float(f) => f,
+        }
+    }
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct RawScene {
+    bar: Option<RawBar>,
+    mass: Option<RawMass>,
+    scheme: Option<RawScheme>,
+    time: Option<RawTime>,
+    output: Option<RawOutput>,
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct RawBar {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    length: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    elements: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    initial: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    force: Option<Number>,
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct RawMass {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    kind: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    weights: Option<Vec<Number>>,
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct RawScheme {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    kind: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    beta: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gamma: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    restitution: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    formulation: Option<String>,
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct RawTime {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dt: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    end: Option<Number>,
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct RawOutput {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    series: Option<Vec<String>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    every: Option<i64>,
+}
+
+/// Initial data of the bar.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Initial {
+    /// u⁰ = (L − x)/2, v⁰ = 0: the paper's benchmark (exact solution known when f = 0).
+    Paper,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct BarSpec {
+    pub length: f64,
+    pub elements: usize,
+    pub initial: Initial,
+    pub force: f64,
+}
+
+/// Which form of Newmark to solve: the full m-unknown system with the contact multiplier, or the
+/// reduced (P^mod_U) system of a massless contact node.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Formulation {
+    Full,
+    Reduced,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum SchemeSpec {
+    CrankNicolson { formulation: Formulation },
+    Newmark { beta: f64, gamma: f64, formulation: Formulation },
+    BackwardEuler,
+    PaoliSchatzman { beta: f64, restitution: f64 },
+    Hybrid,
+}
+
+impl SchemeSpec {
+    pub fn name(&self) -> &'static str {
+        match self {
+            SchemeSpec::CrankNicolson { .. } => "crank-nicolson",
+            SchemeSpec::Newmark { .. } => "newmark",
+            SchemeSpec::BackwardEuler => "backward-euler",
+            SchemeSpec::PaoliSchatzman { .. } => "paoli-schatzman",
+            SchemeSpec::Hybrid => "hybrid",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeSpec {
+    pub dt: f64,
+    pub end: f64,
+    pub steps: usize,
+}
+
+/// A per-step diagnostic that can be recorded in `series.csv`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Column {
+    /// Contact-node displacement u_0ⁿ.
+    U0,
+    /// Displacement of node 1.
+    U1,
+    /// Contact force λⁿ.
+    Lambda,
+    /// Discrete energy ½VᵀMV + ½UᵀSU − UᵀF.
+    Energy,
+    /// Exact ‖u_h(t_n) − u(t_n)‖_{L²(0,L)}.
+    L2Error,
+    /// Exact u(0, t_n).
+    ExactU0,
+    /// Exact λ(t_n).
+    ExactLambda,
+}
+
+impl Column {
+    pub const ALL: [Column; 7] =
+        [Column::U0, Column::U1, Column::Lambda, Column::Energy, Column::L2Error, Column::ExactU0, Column::ExactLambda];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Column::U0 => "u0",
+            Column::U1 => "u1",
+            Column::Lambda => "lambda",
+            Column::Energy => "energy",
+            Column::L2Error => "l2_error",
+            Column::ExactU0 => "exact_u0",
+            Column::ExactLambda => "exact_lambda",
+        }
+    }
+
+    pub fn needs_exact(self) -> bool {
+        matches!(self, Column::L2Error | Column::ExactU0 | Column::ExactLambda)
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputSpec {
+    pub series: Vec<Column>,
+    pub every: usize,
+}
+
+/// A validated scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub bar: BarSpec,
+    pub mass: MassKind,
+    pub scheme: SchemeSpec,
+    pub time: TimeSpec,
+    pub output: OutputSpec,
+}
+
+fn finite_in(key: &'static str, v: f64, ok: bool, range: &'static str) -> Result<f64, SceneError> {
+    if v.is_finite() && ok { Ok(v) } else { Err(SceneError::Range { key, value: v.to_string(), range }) }
+}
+
+fn forbid<T>(key: &'static str, value: &Option<T>, context: &str) -> Result<(), SceneError> {
+    match value {
+        Some(_) => Err(SceneError::Inapplicable { key, context: context.to_string() }),
+        None => Ok(()),
+    }
+}
+
+impl Scene {
+    /// Reads and validates a scene file.
+    pub fn from_file(path: &std::path::Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| SceneError::Io { path: path.display().to_string(), source })?;
+        Scene::from_toml(&text)
+    }
+
+    /// Parses and validates scene text.
+    pub fn from_toml(text: &str) -> Result<Scene, SceneError> {
+        let raw: RawScene = toml::from_str(text).map_err(|e| SceneError::Parse(e.to_string()))?;
+        Scene::validate(raw)
+    }
+
+    fn validate(raw: RawScene) -> Result<Scene, SceneError> {
+        let bar = raw.bar.unwrap_or_default();
+        let length = finite_in("bar.length", bar.length.map_or(1.0, Number::get), true, "(0, ∞)")?;
+        finite_in("bar.length", length, length > 0.0, "(0, ∞)")?;
+        let elements = bar.elements.unwrap_or(6);
+        if !(2..=MAX_ELEMENTS as i64).contains(&elements) {
+            return Err(SceneError::Range { key: "bar.elements", value: elements.to_string(), range: "[2, 10000000]" });
+        }
+        let elements = elements as usize;
+        let initial = match bar.initial.as_deref().unwrap_or("paper") {
+            "paper" => Initial::Paper,
+            other => {
+                return Err(SceneError::Range {
+                    key: "bar.initial",
+                    value: format!("\"{other}\""),
+                    range: "\"paper\" (u0 = (L-x)/2, v0 = 0)",
+                });
+            }
+        };
+        let force = finite_in("bar.force", bar.force.map_or(0.0, Number::get), true, "finite real numbers")?;
+
+        let mass = raw.mass.unwrap_or_default();
+        let kind = mass.kind.as_deref().unwrap_or("mod3");
+        let mass = match kind {
+            "custom" => {
+                let w = mass.weights.ok_or(SceneError::Missing {
+                    key: "mass.weights",
+                    hint: " for mass.kind = \"custom\" (one weight >= 0 per element, element 0 at the contact node)",
+                })?;
+                MassKind::Custom(w.into_iter().map(Number::get).collect())
+            }
+            "standard" | "mod1" | "mod2" | "mod3" => {
+                forbid("mass.weights", &mass.weights, &format!("mass.kind = \"{kind}\" (only to \"custom\")"))?;
+                match kind {
+                    "standard" => MassKind::Standard,
+                    "mod1" => MassKind::Mod1,
+                    "mod2" => MassKind::Mod2,
+                    _ => MassKind::Mod3,
+                }
+            }
+            other => {
+                return Err(SceneError::Range {
+                    key: "mass.kind",
+                    value: format!("\"{other}\""),
+                    range: "standard | mod1 | mod2 | mod3 | custom",
+                });
+            }
+        };
+        let weights = mass.weights(elements)?;
+
+        let s = raw.scheme.unwrap_or_default();
+        let kind = s.kind.clone().unwrap_or_else(|| "crank-nicolson".into());
+        let ctx = format!("scheme.kind = \"{kind}\"");
+        let formulation = |s: &RawScheme| -> Result<Formulation, SceneError> {
+            match s.formulation.as_deref().unwrap_or("full") {
+                "full" => Ok(Formulation::Full),
+                "reduced" if weights[0] == 0.0 => Ok(Formulation::Reduced),
+                "reduced" => Err(SceneError::Inapplicable {
+                    key: "scheme.formulation = \"reduced\"",
+                    context: format!(
+                        "a mass with w_0 = {} (it needs a massless contact node: mod1, mod2, mod3)",
+                        weights[0]
+                    ),
+                }),
+                other => Err(SceneError::Range {
+                    key: "scheme.formulation",
+                    value: format!("\"{other}\""),
+                    range: "full | reduced",
+                }),
+            }
+        };
+        let beta_range = "(0, 1]";
+        let scheme = match kind.as_str() {
+            "crank-nicolson" => {
+                forbid("scheme.beta", &s.beta, &ctx)?;
+                forbid("scheme.gamma", &s.gamma, &ctx)?;
+                forbid("scheme.restitution", &s.restitution, &ctx)?;
+                SchemeSpec::CrankNicolson { formulation: formulation(&s)? }
+            }
+            "newmark" => {
+                forbid("scheme.restitution", &s.restitution, &ctx)?;
+                let beta = s.beta.map_or(0.25, Number::get);
+                let gamma = s.gamma.map_or(0.5, Number::get);
+                finite_in("scheme.beta", beta, beta > 0.0 && beta <= 1.0, beta_range)?;
+                finite_in("scheme.gamma", gamma, (0.0..=1.0).contains(&gamma), "[0, 1]")?;
+                SchemeSpec::Newmark { beta, gamma, formulation: formulation(&s)? }
+            }
+            "backward-euler" | "hybrid" => {
+                forbid("scheme.beta", &s.beta, &ctx)?;
+                forbid("scheme.gamma", &s.gamma, &ctx)?;
+                forbid("scheme.restitution", &s.restitution, &ctx)?;
+                forbid("scheme.formulation", &s.formulation, &ctx)?;
+                if kind == "hybrid" {
+                    if weights[0] != 0.0 {
+                        return Err(SceneError::Inapplicable {
+                            key: "scheme.kind = \"hybrid\"",
+                            context: format!(
+                                "mass.kind = \"{}\" (w_0 = {}): the hybrid scheme works on the reduced system and needs w_0 = 0 (mod1, mod2, mod3 or custom with weights[0] = 0)",
+                                mass.name(),
+                                weights[0]
+                            ),
+                        });
+                    }
+                    SchemeSpec::Hybrid
+                } else {
+                    SchemeSpec::BackwardEuler
+                }
+            }
+            "paoli-schatzman" => {
+                forbid("scheme.gamma", &s.gamma, &ctx)?;
+                forbid("scheme.formulation", &s.formulation, &ctx)?;
+                let beta = s.beta.map_or(0.25, Number::get);
+                let restitution = s.restitution.map_or(1.0, Number::get);
+                finite_in("scheme.beta", beta, beta > 0.0 && beta <= 1.0, beta_range)?;
+                finite_in("scheme.restitution", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
+                SchemeSpec::PaoliSchatzman { beta, restitution }
+            }
+            other => {
+                return Err(SceneError::Range {
+                    key: "scheme.kind",
+                    value: format!("\"{other}\""),
+                    range: "crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid",
+                });
+            }
+        };
+
+        let t = raw.time.unwrap_or_default();
+        let dt = t.dt.map_or(0.01, Number::get);
+        let end = t.end.map_or(3.0 * length, Number::get);
+        finite_in("time.dt", dt, dt > 0.0, "(0, ∞)")?;
+        finite_in("time.end", end, end > 0.0, "(0, ∞)")?;
+        let ratio = end / dt;
+        if !(ratio <= 1e15) {
+            return Err(SceneError::TooMuchWork { work: ratio * elements as f64, limit: MAX_NODE_STEPS });
+        }
+        let steps = ratio.round();
+        if steps < 1.0 || (steps - ratio).abs() > 1e-9 * ratio {
+            return Err(SceneError::NotAnInteger { end, dt, ratio });
+        }
+        let work = steps * elements as f64;
+        if work > MAX_NODE_STEPS {
+            return Err(SceneError::TooMuchWork { work, limit: MAX_NODE_STEPS });
+        }
+        let time = TimeSpec { dt, end, steps: steps as usize };
+
+        let o = raw.output.unwrap_or_default();
+        let names = o.series.unwrap_or_else(|| vec!["u0".into(), "lambda".into(), "energy".into(), "l2_error".into()]);
+        let mut series = Vec::new();
+        for name in names {
+            let col = Column::ALL.into_iter().find(|c| c.name() == name).ok_or_else(|| SceneError::Range {
+                key: "output.series",
+                value: format!("\"{name}\""),
+                range: "any subset of u0, u1, lambda, energy, l2_error, exact_u0, exact_lambda",
+            })?;
+            if series.contains(&col) {
+                return Err(SceneError::DuplicateColumn(name));
+            }
+            series.push(col);
+        }
+        let every = o.every.unwrap_or(1);
+        if every < 1 {
+            return Err(SceneError::Range { key: "output.every", value: every.to_string(), range: "integers >= 1" });
+        }
+        let output = OutputSpec { series, every: every as usize };
+        let scene = Scene { bar: BarSpec { length, elements, initial, force }, mass, scheme, time, output };
+        if !scene.has_exact_solution() {
+            if let Some(c) = scene.output.series.iter().find(|c| c.needs_exact()) {
+                return Err(SceneError::Inapplicable {
+                    key: "output.series",
+                    context: format!(
+                        "column \"{}\" with bar.force = {}: the exact solution is known only for initial = \"paper\" and force = 0",
+                        c.name(),
+                        force
+                    ),
+                });
+            }
+        }
+        Ok(scene)
+    }
+
+    /// The exact solution is known for the paper's initial data without body force.
+    pub fn has_exact_solution(&self) -> bool {
+        self.bar.initial == Initial::Paper && self.bar.force == 0.0
+    }
+
+    /// The scene with every default filled in, as TOML.
+    pub fn resolved_toml(&self) -> String {
+        let f = Number::Float;
+        let (kind, beta, gamma, restitution, formulation) = match &self.scheme {
+            SchemeSpec::CrankNicolson { formulation } => ("crank-nicolson", None, None, None, Some(*formulation)),
+            SchemeSpec::Newmark { beta, gamma, formulation } => {
+                ("newmark", Some(*beta), Some(*gamma), None, Some(*formulation))
+            }
+            SchemeSpec::BackwardEuler => ("backward-euler", None, None, None, None),
+            SchemeSpec::PaoliSchatzman { beta, restitution } => {
+                ("paoli-schatzman", Some(*beta), None, Some(*restitution), None)
+            }
+            SchemeSpec::Hybrid => ("hybrid", None, None, None, None),
+        };
+        let raw = RawScene {
+            bar: Some(RawBar {
+                length: Some(f(self.bar.length)),
+                elements: Some(self.bar.elements as i64),
+                initial: Some("paper".into()),
+                force: Some(f(self.bar.force)),
+            }),
+            mass: Some(RawMass {
+                kind: Some(self.mass.name().into()),
+                weights: match &self.mass {
+                    MassKind::Custom(w) => Some(w.iter().copied().map(f).collect()),
+                    _ => None,
+                },
+            }),
+            scheme: Some(RawScheme {
+                kind: Some(kind.into()),
+                beta: beta.map(f),
+                gamma: gamma.map(f),
+                restitution: restitution.map(f),
+                formulation: formulation.map(|x| match x {
+                    Formulation::Full => "full".into(),
+                    Formulation::Reduced => "reduced".into(),
+                }),
+            }),
+            time: Some(RawTime { dt: Some(f(self.time.dt)), end: Some(f(self.time.end)) }),
+            output: Some(RawOutput {
+                series: Some(self.output.series.iter().map(|c| c.name().to_string()).collect()),
+                every: Some(self.output.every as i64),
+            }),
+        };
+        let mut text = format!(
+            "# Resolved scene (every default filled in); {} steps, h = {:e}.\n",
+            self.time.steps,
+            self.bar.length / self.bar.elements as f64
+        );
+        text.push_str(&toml::to_string(&raw).expect("a resolved scene always serialises"));
+        text
+    }
+}

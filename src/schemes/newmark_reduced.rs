@@ -1,0 +1,119 @@
+//! Newmark(β, γ) on the reduced formulation (P^mod_U) of a massless contact node (paper §3).
+//!
+//! With w_0 = 0 the contact node is eliminated by `u_0 = u_1⁺` (eq. (3.2)), leaving on nodes
+//! 1..m−1 the Lipschitz system
+//!
+//! ```text
+//! h M* Ü + (1/h) S* U = F + (1/h) u_1⁺ e_1,     h M* = M[1.., 1..],  S*/h = S[1.., 1..].
+//! ```
+//!
+//! Newmark gives `K U^{n+1} = M_red Ũ + β Δt² F + (β Δt²/h) (u_1^{n+1})⁺ e_1` with
+//! `K = M_red + β Δt² S_red`. With `W = K⁻¹(M_red Ũ + β Δt² F)` and `z = K⁻¹ e_1`,
+//! `u_1 = W_1 + c u_1⁺`, `c = β Δt² z_1 / h`, whose unique solution is `u_1 = W_1` if `W_1 ≤ 0`,
+//! else `u_1 = W_1/(1 − c)`. Uniqueness: `z_1 ≤ (β Δt² S_red)⁻¹_11 = h(m−1)/(m β Δt²)`, so
+//! `c ≤ (m−1)/m < 1`. The result equals the full formulation ([`super::Newmark`]) step by step.
+
+use super::{SchemeError, StateView, check_finite, check_range, factor_err, initial_acceleration};
+use crate::assembly::System;
+use crate::tridiag::{LdlT, SymTridiag};
+
+#[derive(Debug, Clone)]
+pub struct NewmarkReduced {
+    beta: f64,
+    gamma: f64,
+    dt: f64,
+    h: f64,
+    mass: SymTridiag,
+    load: Vec<f64>,
+    factor: LdlT,
+    response: Vec<f64>,
+    n: usize,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    lambda: f64,
+    pred: Vec<f64>,
+    rhs: Vec<f64>,
+}
+
+impl NewmarkReduced {
+    pub const NAME: &'static str = "newmark (reduced formulation)";
+
+    pub fn new(
+        system: &System,
+        beta: f64,
+        gamma: f64,
+        dt: f64,
+        u0: Vec<f64>,
+        v0: Vec<f64>,
+    ) -> Result<Self, SchemeError> {
+        if !system.massless_contact() {
+            return Err(SchemeError::NeedsMasslessContact { scheme: Self::NAME, w0: system.weights[0] });
+        }
+        check_range(Self::NAME, "beta", beta, beta > 0.0 && beta <= 1.0, "(0, 1]")?;
+        check_range(Self::NAME, "gamma", gamma, (0.0..=1.0).contains(&gamma), "[0, 1]")?;
+        check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
+        let mass = system.mass.trailing(1);
+        let k = mass.combine(1.0, &system.stiffness.trailing(1), beta * dt * dt);
+        let factor = k.factor().map_err(factor_err("M* + β Δt² S*"))?;
+        let response = factor.unit_response(0);
+        // Same A⁰ as the full formulation (it uses the given U⁰_0), so both agree step by step.
+        let a = initial_acceleration(system, &u0)?;
+        let m = system.m();
+        Ok(Self {
+            beta,
+            gamma,
+            dt,
+            h: system.h(),
+            mass,
+            load: system.load[1..].to_vec(),
+            factor,
+            response,
+            n: 0,
+            u: u0,
+            v: v0,
+            a,
+            lambda: 0.0,
+            pred: vec![0.0; m - 1],
+            rhs: vec![0.0; m - 1],
+        })
+    }
+}
+
+impl super::Scheme for NewmarkReduced {
+    fn state(&self) -> StateView<'_> {
+        StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.u, v: &self.v, lambda: self.lambda }
+    }
+
+    fn step(&mut self) -> Result<(), SchemeError> {
+        let (dt, beta, gamma, h) = (self.dt, self.beta, self.gamma, self.h);
+        let sigma = beta * dt * dt;
+        let c2 = (0.5 - beta) * dt * dt;
+        for i in 0..self.pred.len() {
+            self.pred[i] = self.u[i + 1] + dt * self.v[i + 1] + c2 * self.a[i + 1];
+        }
+        self.mass.mul_into(&self.pred, &mut self.rhs);
+        for (r, f) in self.rhs.iter_mut().zip(&self.load) {
+            *r += sigma * f;
+        }
+        self.factor.solve_in_place(&mut self.rhs);
+        let c = sigma * self.response[0] / h;
+        let w1 = self.rhs[0];
+        let u1 = if w1 <= 0.0 { w1 } else { w1 / (1.0 - c) };
+        let s = sigma / h * u1.max(0.0);
+        let u0_old = self.u[0];
+        for i in 0..self.pred.len() {
+            let u_new = self.rhs[i] + s * self.response[i];
+            let a_new = (u_new - self.pred[i]) / sigma;
+            self.v[i + 1] += dt * ((1.0 - gamma) * self.a[i + 1] + gamma * a_new);
+            self.a[i + 1] = a_new;
+            self.u[i + 1] = u_new;
+        }
+        self.u[0] = self.u[1].max(0.0);
+        self.v[0] = (self.u[0] - u0_old) / dt;
+        // Contact row (u_0 − u_1)/h = −λ with u_0 = u_1⁺.
+        self.lambda = self.u[1].min(0.0) / h;
+        self.n += 1;
+        check_finite(&self.u, self.lambda, self.n, self.n as f64 * dt)
+    }
+}

@@ -1,0 +1,131 @@
+//! The Paoli–Schatzman scheme with restitution coefficient e (paper eq. (4.6), "paoli_method1").
+//!
+//! ```text
+//! M (U^{n+1} − 2Uⁿ + U^{n−1})/Δt² + S (β U^{n+1} + (1−2β) Uⁿ + β U^{n−1}) = F − λⁿ e_0,
+//! 0 ≤ (u_0^{n+1} + e u_0^{n−1})/(1+e) ⊥ λⁿ ≤ 0.
+//! ```
+//!
+//! `(M + β Δt² S) U^{n+1} = M (2Uⁿ − U^{n−1}) − Δt² P S((1−2β)Uⁿ + β U^{n−1}) + Δt² (F − λⁿ e_0)`,
+//! where, as the paper prescribes for a massless contact node (w_0 = 0), P projects S Uⁿ and
+//! S U^{n−1} on (ker M)^⊥ = {e_0}^⊥ (their contact components are dropped); P = I otherwise. The
+//! contact condition is `u_0^{n+1} ≥ −e u_0^{n−1}`, solved exactly by [`ContactSolver`] (σ = Δt²).
+//!
+//! With the projection, the contact row reads `β (S U^{n+1})_0 = −λⁿ`: the multiplier is β times
+//! the elastic force on the contact node, so the reported contact force is λⁿ/β in that case
+//! (the same normalisation as the other schemes, `λ = −(S U)_0`); U does not depend on it.
+//!
+//! U¹ comes from one Crank–Nicolson step with contact. The velocity is the central difference
+//! `Vⁿ = (U^{n+1} − U^{n−1})/(2Δt)`, so the scheme runs one step ahead of the state it reports.
+//! With β = 1/4 and no contact it conserves `½ DᵀMD + ½ ΣᵀSΣ` with
+//! `D = (U^{n+1} − Uⁿ)/Δt`, `Σ = (U^{n+1} + Uⁿ)/2` (the energy at half steps).
+
+use super::{Newmark, Scheme, SchemeError, StateView, check_finite, check_range, factor_err};
+use crate::assembly::System;
+use crate::contact::ContactSolver;
+use crate::tridiag::SymTridiag;
+
+#[derive(Debug, Clone)]
+pub struct PaoliSchatzman {
+    beta: f64,
+    restitution: f64,
+    dt: f64,
+    mass: SymTridiag,
+    stiffness: SymTridiag,
+    load: Vec<f64>,
+    project: bool,
+    contact: ContactSolver,
+    n: usize,
+    /// U^{n−1}, Uⁿ, U^{n+1}.
+    prev: Vec<f64>,
+    cur: Vec<f64>,
+    next: Vec<f64>,
+    /// Vⁿ (central) and the contact force at t_n.
+    v: Vec<f64>,
+    lambda: f64,
+    work: Vec<f64>,
+    rhs: Vec<f64>,
+}
+
+impl PaoliSchatzman {
+    pub const NAME: &'static str = "paoli-schatzman";
+
+    pub fn new(
+        system: &System,
+        beta: f64,
+        restitution: f64,
+        dt: f64,
+        u0: Vec<f64>,
+        v0: Vec<f64>,
+    ) -> Result<Self, SchemeError> {
+        check_range(Self::NAME, "beta", beta, beta > 0.0 && beta <= 1.0, "(0, 1]")?;
+        check_range(Self::NAME, "restitution", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
+        check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
+        let k = system.mass.combine(1.0, &system.stiffness, beta * dt * dt);
+        let contact = ContactSolver::new(&k).map_err(factor_err("M + β Δt² S"))?;
+        let mut start = Newmark::crank_nicolson(system, dt, u0.clone(), v0.clone())?;
+        start.step()?;
+        let m = system.m();
+        Ok(Self {
+            beta,
+            restitution,
+            dt,
+            mass: system.mass.clone(),
+            stiffness: system.stiffness.clone(),
+            load: system.load.clone(),
+            project: system.massless_contact(),
+            contact,
+            n: 0,
+            prev: vec![0.0; m],
+            cur: u0,
+            next: start.state().u.to_vec(),
+            v: v0,
+            lambda: 0.0,
+            work: vec![0.0; m],
+            rhs: vec![0.0; m],
+        })
+    }
+
+    /// `Uⁿ⁺¹` (the scheme is one step ahead of the reported state).
+    pub fn lookahead(&self) -> &[f64] {
+        &self.next
+    }
+}
+
+impl Scheme for PaoliSchatzman {
+    fn state(&self) -> StateView<'_> {
+        StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.cur, v: &self.v, lambda: self.lambda }
+    }
+
+    /// Computes U^{n+2} from (U^{n+1}, Uⁿ), then reports t_{n+1}.
+    fn step(&mut self) -> Result<(), SchemeError> {
+        let (dt, beta, e) = (self.dt, self.beta, self.restitution);
+        let dt2 = dt * dt;
+        // Here "cur" = Uⁿ and "next" = U^{n+1}: the new iterate is U^{n+2} (written into prev).
+        let (u_old, u_mid) = (&self.cur, &self.next);
+        for i in 0..self.work.len() {
+            self.work[i] = (1.0 - 2.0 * beta) * u_mid[i] + beta * u_old[i];
+        }
+        self.stiffness.mul_into(&self.work, &mut self.rhs);
+        if self.project {
+            self.rhs[0] = 0.0;
+        }
+        for i in 0..self.work.len() {
+            self.work[i] = 2.0 * u_mid[i] - u_old[i];
+        }
+        self.mass.mul_into(&self.work, &mut self.prev);
+        for i in 0..self.rhs.len() {
+            self.prev[i] += dt2 * (self.load[i] - self.rhs[i]);
+        }
+        let lambda = self.contact.solve(&mut self.prev, -e * u_old[0], dt2);
+        // prev now holds U^{n+2}; V^{n+1} = (U^{n+2} − Uⁿ)/(2Δt).
+        for i in 0..self.v.len() {
+            self.v[i] = (self.prev[i] - self.cur[i]) / (2.0 * dt);
+        }
+        self.lambda = if self.project { lambda / beta } else { lambda };
+        // Rotate (U^{n}, U^{n+1}, U^{n+2}) -> (prev, cur, next).
+        std::mem::swap(&mut self.prev, &mut self.cur); // cur = U^{n+2}, prev = Uⁿ
+        std::mem::swap(&mut self.cur, &mut self.next); // cur = U^{n+1}, next = U^{n+2}
+        self.n += 1;
+        check_finite(&self.next, self.lambda, self.n, self.n as f64 * dt)
+    }
+}
