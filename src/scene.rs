@@ -29,8 +29,10 @@ use thiserror::Error;
 
 /// Upper bound on `elements`: 10⁷ nodes take ~1 GB of work vectors across a scheme and observers.
 pub const MAX_ELEMENTS: usize = 10_000_000;
-/// Upper bound on elements × steps: at ~10 ns per node-step this is about 20 minutes.
-pub const MAX_NODE_STEPS: f64 = 1e11;
+/// Upper bound on elements × steps: at ~10 ns per node-step (release build) about 2 minutes.
+pub const MAX_NODE_STEPS: f64 = 1e10;
+/// Upper bound on the values `series.csv` may hold in memory (8 bytes each: 400 MB).
+pub const MAX_SERIES_VALUES: f64 = 5e7;
 
 #[derive(Debug, Error)]
 pub enum SceneError {
@@ -49,9 +51,11 @@ pub enum SceneError {
     )]
     NotAnInteger { end: f64, dt: f64, ratio: f64 },
     #[error(
-        "bar.elements × steps = {work:.3e} node-steps exceeds the limit {limit:.0e} (about 20 minutes of computing): reduce bar.elements or time.end / time.dt"
+        "bar.elements × steps = {work:.3e} node-steps exceeds the limit {limit:.0e} (about 2 minutes of computing in a release build): reduce bar.elements or time.end / time.dt"
     )]
     TooMuchWork { work: f64, limit: f64 },
+    #[error("output.series would record {values:.3e} values (limit {limit:.0e}): set output.every to at least {every}")]
+    TooManyValues { values: f64, limit: f64, every: usize },
     #[error("output.series lists \"{0}\" twice")]
     DuplicateColumn(String),
     #[error(transparent)]
@@ -68,13 +72,13 @@ impl SceneError {
 /// A number written as a TOML integer or float (`end = 3` and `end = 3.0` both work).
 #[derive(Debug, Clone, Copy, Deserialize, Serialize)]
 #[serde(untagged)]
-enum Number {
+pub(crate) enum Number {
     Int(i64),
     Float(f64),
 }
 
 impl Number {
-    fn get(self) -> f64 {
+    pub(crate) fn get(self) -> f64 {
         match self {
             Number::Int(i) => i as f64,
             Number::Float(f) => f,
@@ -105,37 +109,40 @@ struct RawBar {
     force: Option<Number>,
 }
 
+/// The `[mass]` table (shared with the plate scenes of `crate::plate::scene`).
 #[derive(Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-struct RawMass {
+pub(crate) struct RawMass {
     #[serde(skip_serializing_if = "Option::is_none")]
-    kind: Option<String>,
+    pub(crate) kind: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    weights: Option<Vec<Number>>,
+    pub(crate) weights: Option<Vec<Number>>,
 }
 
+/// The `[scheme]` table (shared with the plate scenes).
 #[derive(Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-struct RawScheme {
+pub(crate) struct RawScheme {
     #[serde(skip_serializing_if = "Option::is_none")]
-    kind: Option<String>,
+    pub(crate) kind: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    beta: Option<Number>,
+    pub(crate) beta: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    gamma: Option<Number>,
+    pub(crate) gamma: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    restitution: Option<Number>,
+    pub(crate) restitution: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    formulation: Option<String>,
+    pub(crate) formulation: Option<String>,
 }
 
+/// The `[time]` table (shared with the plate scenes).
 #[derive(Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-struct RawTime {
+pub(crate) struct RawTime {
     #[serde(skip_serializing_if = "Option::is_none")]
-    dt: Option<Number>,
+    pub(crate) dt: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    end: Option<Number>,
+    pub(crate) end: Option<Number>,
 }
 
 #[derive(Debug, Default, Deserialize, Serialize)]
@@ -254,11 +261,11 @@ pub struct Scene {
     pub output: OutputSpec,
 }
 
-fn finite_in(key: &'static str, v: f64, ok: bool, range: &'static str) -> Result<f64, SceneError> {
+pub(crate) fn finite_in(key: &'static str, v: f64, ok: bool, range: &'static str) -> Result<f64, SceneError> {
     if v.is_finite() && ok { Ok(v) } else { Err(SceneError::Range { key, value: v.to_string(), range }) }
 }
 
-fn forbid<T>(key: &'static str, value: &Option<T>, context: &str) -> Result<(), SceneError> {
+pub(crate) fn forbid<T>(key: &'static str, value: &Option<T>, context: &str) -> Result<(), SceneError> {
     match value {
         Some(_) => Err(SceneError::Inapplicable { key, context: context.to_string() }),
         None => Ok(()),
@@ -300,129 +307,12 @@ impl Scene {
         };
         let force = finite_in("bar.force", bar.force.map_or(0.0, Number::get), true, "finite real numbers")?;
 
-        let mass = raw.mass.unwrap_or_default();
-        let kind = mass.kind.as_deref().unwrap_or("mod3");
-        let mass = match kind {
-            "custom" => {
-                let w = mass.weights.ok_or(SceneError::Missing {
-                    key: "mass.weights",
-                    hint: " for mass.kind = \"custom\" (one weight >= 0 per element, element 0 at the contact node)",
-                })?;
-                MassKind::Custom(w.into_iter().map(Number::get).collect())
-            }
-            "standard" | "mod1" | "mod2" | "mod3" => {
-                forbid("mass.weights", &mass.weights, &format!("mass.kind = \"{kind}\" (only to \"custom\")"))?;
-                match kind {
-                    "standard" => MassKind::Standard,
-                    "mod1" => MassKind::Mod1,
-                    "mod2" => MassKind::Mod2,
-                    _ => MassKind::Mod3,
-                }
-            }
-            other => {
-                return Err(SceneError::Range {
-                    key: "mass.kind",
-                    value: format!("\"{other}\""),
-                    range: "standard | mod1 | mod2 | mod3 | custom",
-                });
-            }
-        };
+        let mass = parse_mass(raw.mass)?;
         let weights = mass.weights(elements)?;
 
-        let s = raw.scheme.unwrap_or_default();
-        let kind = s.kind.clone().unwrap_or_else(|| "crank-nicolson".into());
-        let ctx = format!("scheme.kind = \"{kind}\"");
-        let formulation = |s: &RawScheme| -> Result<Formulation, SceneError> {
-            match s.formulation.as_deref().unwrap_or("full") {
-                "full" => Ok(Formulation::Full),
-                "reduced" if weights[0] == 0.0 => Ok(Formulation::Reduced),
-                "reduced" => Err(SceneError::Inapplicable {
-                    key: "scheme.formulation = \"reduced\"",
-                    context: format!(
-                        "a mass with w_0 = {} (it needs a massless contact node: mod1, mod2, mod3)",
-                        weights[0]
-                    ),
-                }),
-                other => Err(SceneError::Range {
-                    key: "scheme.formulation",
-                    value: format!("\"{other}\""),
-                    range: "full | reduced",
-                }),
-            }
-        };
-        let beta_range = "(0, 1]";
-        let scheme = match kind.as_str() {
-            "crank-nicolson" => {
-                forbid("scheme.beta", &s.beta, &ctx)?;
-                forbid("scheme.gamma", &s.gamma, &ctx)?;
-                forbid("scheme.restitution", &s.restitution, &ctx)?;
-                SchemeSpec::CrankNicolson { formulation: formulation(&s)? }
-            }
-            "newmark" => {
-                forbid("scheme.restitution", &s.restitution, &ctx)?;
-                let beta = s.beta.map_or(0.25, Number::get);
-                let gamma = s.gamma.map_or(0.5, Number::get);
-                finite_in("scheme.beta", beta, beta > 0.0 && beta <= 1.0, beta_range)?;
-                finite_in("scheme.gamma", gamma, (0.0..=1.0).contains(&gamma), "[0, 1]")?;
-                SchemeSpec::Newmark { beta, gamma, formulation: formulation(&s)? }
-            }
-            "backward-euler" | "hybrid" => {
-                forbid("scheme.beta", &s.beta, &ctx)?;
-                forbid("scheme.gamma", &s.gamma, &ctx)?;
-                forbid("scheme.restitution", &s.restitution, &ctx)?;
-                forbid("scheme.formulation", &s.formulation, &ctx)?;
-                if kind == "hybrid" {
-                    if weights[0] != 0.0 {
-                        return Err(SceneError::Inapplicable {
-                            key: "scheme.kind = \"hybrid\"",
-                            context: format!(
-                                "mass.kind = \"{}\" (w_0 = {}): the hybrid scheme works on the reduced system and needs w_0 = 0 (mod1, mod2, mod3 or custom with weights[0] = 0)",
-                                mass.name(),
-                                weights[0]
-                            ),
-                        });
-                    }
-                    SchemeSpec::Hybrid
-                } else {
-                    SchemeSpec::BackwardEuler
-                }
-            }
-            "paoli-schatzman" => {
-                forbid("scheme.gamma", &s.gamma, &ctx)?;
-                forbid("scheme.formulation", &s.formulation, &ctx)?;
-                let beta = s.beta.map_or(0.25, Number::get);
-                let restitution = s.restitution.map_or(1.0, Number::get);
-                finite_in("scheme.beta", beta, beta > 0.0 && beta <= 1.0, beta_range)?;
-                finite_in("scheme.restitution", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
-                SchemeSpec::PaoliSchatzman { beta, restitution }
-            }
-            other => {
-                return Err(SceneError::Range {
-                    key: "scheme.kind",
-                    value: format!("\"{other}\""),
-                    range: "crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid",
-                });
-            }
-        };
+        let scheme = parse_scheme(raw.scheme, weights[0], &mass)?;
 
-        let t = raw.time.unwrap_or_default();
-        let dt = t.dt.map_or(0.01, Number::get);
-        let end = t.end.map_or(3.0 * length, Number::get);
-        finite_in("time.dt", dt, dt > 0.0, "(0, ∞)")?;
-        finite_in("time.end", end, end > 0.0, "(0, ∞)")?;
-        let ratio = end / dt;
-        if !(ratio <= 1e15) {
-            return Err(SceneError::TooMuchWork { work: ratio * elements as f64, limit: MAX_NODE_STEPS });
-        }
-        let steps = ratio.round();
-        if steps < 1.0 || (steps - ratio).abs() > 1e-9 * ratio {
-            return Err(SceneError::NotAnInteger { end, dt, ratio });
-        }
-        let work = steps * elements as f64;
-        if work > MAX_NODE_STEPS {
-            return Err(SceneError::TooMuchWork { work, limit: MAX_NODE_STEPS });
-        }
-        let time = TimeSpec { dt, end, steps: steps as usize };
+        let time = parse_time(raw.time, 3.0 * length, elements)?;
 
         let o = raw.output.unwrap_or_default();
         let names = o.series.unwrap_or_else(|| vec!["u0".into(), "lambda".into(), "energy".into(), "l2_error".into()]);
@@ -442,7 +332,13 @@ impl Scene {
         if every < 1 {
             return Err(SceneError::Range { key: "output.every", value: every.to_string(), range: "integers >= 1" });
         }
-        let output = OutputSpec { series, every: every as usize };
+        let every = every as usize;
+        let values = ((time.steps / every + 1) * (series.len() + 1)) as f64;
+        if !series.is_empty() && values > MAX_SERIES_VALUES {
+            let min_every = (time.steps as f64 * (series.len() + 1) as f64 / MAX_SERIES_VALUES).ceil() as usize;
+            return Err(SceneError::TooManyValues { values, limit: MAX_SERIES_VALUES, every: min_every });
+        }
+        let output = OutputSpec { series, every };
         let scene = Scene { bar: BarSpec { length, elements, initial, force }, mass, scheme, time, output };
         if !scene.has_exact_solution() {
             if let Some(c) = scene.output.series.iter().find(|c| c.needs_exact()) {
@@ -467,17 +363,6 @@ impl Scene {
     /// The scene with every default filled in, as TOML.
     pub fn resolved_toml(&self) -> String {
         let f = Number::Float;
-        let (kind, beta, gamma, restitution, formulation) = match &self.scheme {
-            SchemeSpec::CrankNicolson { formulation } => ("crank-nicolson", None, None, None, Some(*formulation)),
-            SchemeSpec::Newmark { beta, gamma, formulation } => {
-                ("newmark", Some(*beta), Some(*gamma), None, Some(*formulation))
-            }
-            SchemeSpec::BackwardEuler => ("backward-euler", None, None, None, None),
-            SchemeSpec::PaoliSchatzman { beta, restitution } => {
-                ("paoli-schatzman", Some(*beta), None, Some(*restitution), None)
-            }
-            SchemeSpec::Hybrid => ("hybrid", None, None, None, None),
-        };
         let raw = RawScene {
             bar: Some(RawBar {
                 length: Some(f(self.bar.length)),
@@ -485,24 +370,9 @@ impl Scene {
                 initial: Some("paper".into()),
                 force: Some(f(self.bar.force)),
             }),
-            mass: Some(RawMass {
-                kind: Some(self.mass.name().into()),
-                weights: match &self.mass {
-                    MassKind::Custom(w) => Some(w.iter().copied().map(f).collect()),
-                    _ => None,
-                },
-            }),
-            scheme: Some(RawScheme {
-                kind: Some(kind.into()),
-                beta: beta.map(f),
-                gamma: gamma.map(f),
-                restitution: restitution.map(f),
-                formulation: formulation.map(|x| match x {
-                    Formulation::Full => "full".into(),
-                    Formulation::Reduced => "reduced".into(),
-                }),
-            }),
-            time: Some(RawTime { dt: Some(f(self.time.dt)), end: Some(f(self.time.end)) }),
+            mass: Some(raw_mass(&self.mass)),
+            scheme: Some(raw_scheme(&self.scheme)),
+            time: Some(raw_time(&self.time)),
             output: Some(RawOutput {
                 series: Some(self.output.series.iter().map(|c| c.name().to_string()).collect()),
                 every: Some(self.output.every as i64),
@@ -516,4 +386,181 @@ impl Scene {
         text.push_str(&toml::to_string(&raw).expect("a resolved scene always serialises"));
         text
     }
+}
+
+/// The `[mass]` table as a [`MassKind`] (its weights are validated by the caller, who knows the
+/// mesh).
+pub(crate) fn parse_mass(raw: Option<RawMass>) -> Result<MassKind, SceneError> {
+    let mass = raw.unwrap_or_default();
+    let kind = mass.kind.as_deref().unwrap_or("mod3");
+    let mass = match kind {
+        "custom" => {
+            let w = mass.weights.ok_or(SceneError::Missing {
+                key: "mass.weights",
+                hint: " for mass.kind = \"custom\" (one weight >= 0 per element, element 0 at the contact node)",
+            })?;
+            MassKind::Custom(w.into_iter().map(Number::get).collect())
+        }
+        "standard" | "mod1" | "mod2" | "mod3" => {
+            forbid("mass.weights", &mass.weights, &format!("mass.kind = \"{kind}\" (only to \"custom\")"))?;
+            match kind {
+                "standard" => MassKind::Standard,
+                "mod1" => MassKind::Mod1,
+                "mod2" => MassKind::Mod2,
+                _ => MassKind::Mod3,
+            }
+        }
+        other => {
+            return Err(SceneError::Range {
+                key: "mass.kind",
+                value: format!("\"{other}\""),
+                range: "standard | mod1 | mod2 | mod3 | custom",
+            });
+        }
+    };
+    Ok(mass)
+}
+
+/// The `[scheme]` table; `w0` is the weight of the cells at the contact node (0 iff it is
+/// massless), which the reduced formulation and the hybrid scheme need.
+pub(crate) fn parse_scheme(raw: Option<RawScheme>, w0: f64, mass: &MassKind) -> Result<SchemeSpec, SceneError> {
+    let s = raw.unwrap_or_default();
+    let kind = s.kind.clone().unwrap_or_else(|| "crank-nicolson".into());
+    let ctx = format!("scheme.kind = \"{kind}\"");
+    let formulation = |s: &RawScheme| -> Result<Formulation, SceneError> {
+        match s.formulation.as_deref().unwrap_or("full") {
+            "full" => Ok(Formulation::Full),
+            "reduced" if w0 == 0.0 => Ok(Formulation::Reduced),
+            "reduced" => Err(SceneError::Inapplicable {
+                key: "scheme.formulation = \"reduced\"",
+                context: format!("a mass with w_0 = {} (it needs a massless contact node: mod1, mod2, mod3)", w0),
+            }),
+            other => Err(SceneError::Range {
+                key: "scheme.formulation",
+                value: format!("\"{other}\""),
+                range: "full | reduced",
+            }),
+        }
+    };
+    let beta_range = "(0, 1]";
+    let scheme = match kind.as_str() {
+        "crank-nicolson" => {
+            forbid("scheme.beta", &s.beta, &ctx)?;
+            forbid("scheme.gamma", &s.gamma, &ctx)?;
+            forbid("scheme.restitution", &s.restitution, &ctx)?;
+            SchemeSpec::CrankNicolson { formulation: formulation(&s)? }
+        }
+        "newmark" => {
+            forbid("scheme.restitution", &s.restitution, &ctx)?;
+            let beta = s.beta.map_or(0.25, Number::get);
+            let gamma = s.gamma.map_or(0.5, Number::get);
+            finite_in("scheme.beta", beta, beta > 0.0 && beta <= 1.0, beta_range)?;
+            finite_in("scheme.gamma", gamma, (0.0..=1.0).contains(&gamma), "[0, 1]")?;
+            SchemeSpec::Newmark { beta, gamma, formulation: formulation(&s)? }
+        }
+        "backward-euler" | "hybrid" => {
+            forbid("scheme.beta", &s.beta, &ctx)?;
+            forbid("scheme.gamma", &s.gamma, &ctx)?;
+            forbid("scheme.restitution", &s.restitution, &ctx)?;
+            forbid("scheme.formulation", &s.formulation, &ctx)?;
+            if kind == "hybrid" {
+                if w0 != 0.0 {
+                    return Err(SceneError::Inapplicable {
+                        key: "scheme.kind = \"hybrid\"",
+                        context: format!(
+                            "mass.kind = \"{}\" (w_0 = {}): the hybrid scheme works on the reduced system and needs w_0 = 0 (mod1, mod2, mod3 or custom with weights[0] = 0)",
+                            mass.name(),
+                            w0
+                        ),
+                    });
+                }
+                SchemeSpec::Hybrid
+            } else {
+                SchemeSpec::BackwardEuler
+            }
+        }
+        "paoli-schatzman" => {
+            forbid("scheme.gamma", &s.gamma, &ctx)?;
+            forbid("scheme.formulation", &s.formulation, &ctx)?;
+            let beta = s.beta.map_or(0.25, Number::get);
+            let restitution = s.restitution.map_or(1.0, Number::get);
+            finite_in("scheme.beta", beta, beta > 0.0 && beta <= 1.0, beta_range)?;
+            finite_in("scheme.restitution", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
+            SchemeSpec::PaoliSchatzman { beta, restitution }
+        }
+        other => {
+            return Err(SceneError::Range {
+                key: "scheme.kind",
+                value: format!("\"{other}\""),
+                range: "crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid",
+            });
+        }
+    };
+    Ok(scheme)
+}
+
+/// The `[time]` table; `default_end` is used without `time.end`, `elements` (the unknowns per
+/// step) bounds the work.
+pub(crate) fn parse_time(raw: Option<RawTime>, default_end: f64, elements: usize) -> Result<TimeSpec, SceneError> {
+    let t = raw.unwrap_or_default();
+    let dt = t.dt.map_or(0.01, Number::get);
+    let end = t.end.map_or(default_end, Number::get);
+    finite_in("time.dt", dt, dt > 0.0, "(0, ∞)")?;
+    finite_in("time.end", end, end > 0.0, "(0, ∞)")?;
+    let ratio = end / dt;
+    if !(ratio <= 1e15) {
+        return Err(SceneError::TooMuchWork { work: ratio * elements as f64, limit: MAX_NODE_STEPS });
+    }
+    let steps = ratio.round();
+    if steps < 1.0 || (steps - ratio).abs() > 1e-9 * ratio {
+        return Err(SceneError::NotAnInteger { end, dt, ratio });
+    }
+    let work = steps * elements as f64;
+    if work > MAX_NODE_STEPS {
+        return Err(SceneError::TooMuchWork { work, limit: MAX_NODE_STEPS });
+    }
+    let time = TimeSpec { dt, end, steps: steps as usize };
+    Ok(time)
+}
+
+/// The resolved `[mass]` table of a mass redistribution.
+pub(crate) fn raw_mass(mass: &MassKind) -> RawMass {
+    RawMass {
+        kind: Some(mass.name().into()),
+        weights: match mass {
+            MassKind::Custom(w) => Some(w.iter().copied().map(Number::Float).collect()),
+            _ => None,
+        },
+    }
+}
+
+/// The resolved `[scheme]` table of a scheme.
+pub(crate) fn raw_scheme(scheme: &SchemeSpec) -> RawScheme {
+    let f = Number::Float;
+    let (kind, beta, gamma, restitution, formulation) = match scheme {
+        SchemeSpec::CrankNicolson { formulation } => ("crank-nicolson", None, None, None, Some(*formulation)),
+        SchemeSpec::Newmark { beta, gamma, formulation } => {
+            ("newmark", Some(*beta), Some(*gamma), None, Some(*formulation))
+        }
+        SchemeSpec::BackwardEuler => ("backward-euler", None, None, None, None),
+        SchemeSpec::PaoliSchatzman { beta, restitution } => {
+            ("paoli-schatzman", Some(*beta), None, Some(*restitution), None)
+        }
+        SchemeSpec::Hybrid => ("hybrid", None, None, None, None),
+    };
+    RawScheme {
+        kind: Some(kind.into()),
+        beta: beta.map(f),
+        gamma: gamma.map(f),
+        restitution: restitution.map(f),
+        formulation: formulation.map(|x| match x {
+            Formulation::Full => "full".into(),
+            Formulation::Reduced => "reduced".into(),
+        }),
+    }
+}
+
+/// The resolved `[time]` table.
+pub(crate) fn raw_time(time: &TimeSpec) -> RawTime {
+    RawTime { dt: Some(Number::Float(time.dt)), end: Some(Number::Float(time.end)) }
 }

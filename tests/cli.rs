@@ -1,0 +1,145 @@
+//! The command line: every shipped scene runs, bad input is a clear error with exit code 2 and
+//! leaves no output behind, and the output contract (series.csv, summary.json,
+//! scene.resolved.toml) holds.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_massredist"))
+}
+
+fn scenes() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut v: Vec<PathBuf> =
+        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn every_shipped_scene_checks_and_runs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let all = scenes();
+    assert!(all.len() >= 4, "the Figure 11 scenes are shipped");
+    for scene in all {
+        let check = bin().arg("check").arg(&scene).output().unwrap();
+        assert!(check.status.success(), "{}: {}", scene.display(), String::from_utf8_lossy(&check.stderr));
+        let out = tmp.path().join(scene.file_stem().unwrap());
+        let run = bin().arg("run").arg(&scene).arg("--out").arg(&out).output().unwrap();
+        assert!(run.status.success(), "{}: {}", scene.display(), String::from_utf8_lossy(&run.stderr));
+        let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+        assert!(summary["steps"].as_u64().unwrap() > 0);
+        // The resolved scene is itself a valid scene describing the same run.
+        let again = bin().arg("check").arg(out.join("scene.resolved.toml")).output().unwrap();
+        assert!(again.status.success());
+        assert_eq!(String::from_utf8_lossy(&again.stdout), String::from_utf8_lossy(&check.stdout));
+    }
+}
+
+const GOOD: &str = r#"
+[bar]
+length = 1.0
+elements = 6
+initial = "paper"
+[mass]
+kind = "mod3"
+[scheme]
+kind = "crank-nicolson"
+[time]
+dt = 0.01
+end = 3.0
+[output]
+series = ["lambda", "u0", "l2_error"]
+every = 10
+"#;
+
+fn run_text(text: &str) -> (std::process::Output, tempfile::TempDir) {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = tmp.path().join("s.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = bin().arg("run").arg(&scene).arg("--out").arg(tmp.path().join("out")).output().unwrap();
+    (out, tmp)
+}
+
+#[test]
+fn output_contract() {
+    let (out, tmp) = run_text(GOOD);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let dir = tmp.path().join("out");
+    let csv = std::fs::read_to_string(dir.join("series.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next().unwrap(), "t,lambda,u0,l2_error", "header: t then the columns in the order given");
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    assert_eq!(rows.len(), 31, "every = 10 over 300 steps, t = 0 included");
+    assert_eq!(rows[0], vec![0.0, 0.0, 0.5, 0.0], "t = 0: λ = 0, u0 = 1/2, interpolant error 0");
+    for (k, r) in rows.iter().enumerate() {
+        assert!((r[0] - k as f64 * 0.1).abs() < 1e-12);
+    }
+    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    for key in [
+        "steps", "h", "dt", "linf_l2_error", "linf_l2_error_relative", "max_contact_error", "energy_initial", "energy_final",
+        "energy_min", "energy_max", "first_impact_time", "first_release_time", "final_u0", "wall_seconds",
+    ] {
+        assert!(s.get(key).is_some(), "summary.json has {key}");
+    }
+    assert_eq!(s["steps"], 300);
+    // linf_l2_error is the max over all steps, so at least the max over the recorded ones.
+    let recorded_max = rows.iter().map(|r| r[3]).fold(0.0, f64::max);
+    assert!(s["linf_l2_error"].as_f64().unwrap() >= recorded_max);
+    // Exact energy at t = 0: ½ U⁰ᵀ S U⁰ with u_x = −1/2 is 1/8 up to rounding.
+    assert!((s["energy_initial"].as_f64().unwrap() - 0.125).abs() < 1e-15);
+    let resolved = std::fs::read_to_string(dir.join("scene.resolved.toml")).unwrap();
+    assert!(resolved.contains("formulation = \"full\"") && resolved.contains("force = 0.0"));
+}
+
+#[test]
+fn summary_only_scene_writes_no_series() {
+    let (out, tmp) = run_text(&GOOD.replace(r#"series = ["lambda", "u0", "l2_error"]"#, "series = []"));
+    assert!(out.status.success());
+    assert!(!tmp.path().join("out/series.csv").exists());
+    assert!(tmp.path().join("out/summary.json").exists());
+}
+
+/// Each bad scene must fail with exit code 2, name the key, state the allowed range where there
+/// is one, and leave no output directory.
+#[test]
+fn bad_input_is_a_clear_error() {
+    let cases: &[(&str, &str, &[&str])] = &[
+        ("elements = 6", "elements = 1", &["bar.elements", "[2, 10000000]"]),
+        ("dt = 0.01", "dt = -0.01", &["time.dt", "(0, ∞)"]),
+        ("dt = 0.01", "dt = nan", &["time.dt"]),
+        ("end = 3.0", "end = 0.0", &["time.end", "(0, ∞)"]),
+        ("end = 3.0", "end = 3.005", &["time.end / time.dt", "not an integer"]),
+        ("kind = \"mod3\"", "kind = \"mod4\"", &["mass.kind", "standard | mod1 | mod2 | mod3 | custom"]),
+        ("kind = \"mod3\"", "kind = \"custom\"\nweights = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]", &["mass.weights", "massless"]),
+        ("kind = \"mod3\"", "kind = \"custom\"\nweights = [0.0, 1.0]", &["mass.weights", "2 entries", "6 elements"]),
+        ("kind = \"mod3\"", "kind = \"custom\"\nweights = [0.0, 1.0, -1.0, 1.0, 1.0, 1.0]", &["mass.weights[2]", ">= 0"]),
+        ("kind = \"crank-nicolson\"", "kind = \"euler\"", &["scheme.kind", "backward-euler"]),
+        ("kind = \"crank-nicolson\"", "kind = \"crank-nicolson\"\nbeta = 0.3", &["scheme.beta", "crank-nicolson"]),
+        ("kind = \"crank-nicolson\"", "kind = \"newmark\"\nbeta = 0.0", &["scheme.beta", "(0, 1]"]),
+        ("kind = \"crank-nicolson\"", "kind = \"paoli-schatzman\"\nrestitution = 1.5", &["scheme.restitution", "[0, 1]"]),
+        ("every = 10", "every = 0", &["output.every", ">= 1"]),
+        ("every = 10", "every = 10\nevry = 2", &["unknown field", "evry"]),
+        ("elements = 6", "elements = \"six\"", &["elements"]),
+        ("series = [\"lambda\", \"u0\", \"l2_error\"]", "series = [\"u0\", \"velocity\"]", &["output.series", "l2_error"]),
+        ("elements = 6", "elements = 10000001", &["bar.elements", "[2, 10000000]"]),
+        ("end = 3.0", "end = 3000000000.0", &["node-steps", "limit"]),
+        ("every = 10", "every = 1\n[bar]", &["duplicate", "bar"]),
+    ];
+    for (from, to, needles) in cases {
+        assert!(GOOD.contains(from));
+        let (out, tmp) = run_text(&GOOD.replacen(from, to, 1));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{to}: {err}");
+        for n in *needles {
+            assert!(err.contains(n), "{to}: message lacks {n:?}: {err}");
+        }
+        let leftovers: Vec<_> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(leftovers, vec![std::ffi::OsString::from("s.toml")], "{to}: nothing written");
+    }
+    // Hybrid with a massive contact node is undefined: a clear error, not a NaN.
+    let (out, _t) = run_text(&GOOD.replace("kind = \"mod3\"", "kind = \"standard\"").replace("\"crank-nicolson\"", "\"hybrid\""));
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("w_0 = 0"));
+}

@@ -1,0 +1,76 @@
+//! Shared test helpers: record whole trajectories through the public driver.
+#![allow(dead_code)]
+
+use massredist::mass::MassKind;
+use massredist::run::{Observer, Problem, Sample, integrate};
+use massredist::scene::{Formulation, SchemeSpec};
+
+/// One recorded state.
+#[derive(Debug, Clone)]
+pub struct Frame {
+    pub t: f64,
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    pub lambda: f64,
+    pub energy: f64,
+}
+
+#[derive(Default)]
+pub struct Recorder(pub Vec<Frame>);
+
+impl Observer for Recorder {
+    fn needs(&self) -> massredist::run::Needs {
+        massredist::run::Needs { energy: true, l2: false }
+    }
+    fn observe(&mut self, s: &Sample) {
+        let st = s.state;
+        self.0.push(Frame { t: st.t, u: st.u.to_vec(), v: st.v.to_vec(), lambda: st.lambda, energy: s.energy });
+    }
+}
+
+pub fn trajectory(problem: &Problem, spec: &SchemeSpec, dt: f64, steps: usize) -> Vec<Frame> {
+    let mut scheme = problem.scheme(spec, dt).expect("scheme builds");
+    let mut rec = Recorder::default();
+    integrate(problem, scheme.as_mut(), steps, &mut [&mut rec]).expect("run succeeds");
+    rec.0
+}
+
+pub const CN: SchemeSpec = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
+pub const CN_REDUCED: SchemeSpec = SchemeSpec::CrankNicolson { formulation: Formulation::Reduced };
+pub const PS: SchemeSpec = SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: 1.0 };
+
+pub fn all_masses(m: usize) -> Vec<MassKind> {
+    let custom: Vec<f64> = (0..m).map(|j| if j == 0 { 0.0 } else { 0.5 + ((j * 7919) % 13) as f64 / 8.0 }).collect();
+    vec![MassKind::Standard, MassKind::Mod1, MassKind::Mod2, MassKind::Mod3, MassKind::Custom(custom)]
+}
+
+/// Every scheme defined for the mass (hybrid and the reduced formulation need w_0 = 0).
+pub fn schemes_for(mass: &MassKind) -> Vec<SchemeSpec> {
+    let mut v = vec![
+        CN,
+        SchemeSpec::Newmark { beta: 0.3, gamma: 0.6, formulation: Formulation::Full },
+        SchemeSpec::BackwardEuler,
+        PS,
+        SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: 0.0 },
+    ];
+    if !matches!(mass, MassKind::Standard) {
+        v.push(CN_REDUCED);
+        v.push(SchemeSpec::Hybrid);
+    }
+    v
+}
+
+pub fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+/// Least-squares slope of log(err) against log(step).
+pub fn fitted_slope(steps: &[f64], errs: &[f64]) -> f64 {
+    let xs: Vec<f64> = steps.iter().map(|s| s.ln()).collect();
+    let ys: Vec<f64> = errs.iter().map(|e| e.ln()).collect();
+    let n = xs.len() as f64;
+    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
+    sxy / sxx
+}
