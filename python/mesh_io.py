@@ -26,3 +26,11 @@ def read_mesh(path):
     used, cells = np.unique(cells, return_inverse=True)
     points = np.ascontiguousarray(mesh.points[used, :2], dtype=np.float64)
     return points, cells.reshape(-1, blocks[0].shape[1]).astype(np.int64), cell_type
+
+
+def read_point_data(path, name):
+    """Return ``(points (n, 3) float64, point_data[name] as float64 (n,) or (n, k))`` of a file
+    meshio reads (e.g. the ``.vtu`` frames written by ``massredist run`` with ``vtu = true``)."""
+    mesh = meshio.read(Path(path))
+    data = np.ascontiguousarray(mesh.point_data[name], dtype=np.float64)
+    return np.ascontiguousarray(mesh.points, dtype=np.float64), data.reshape(len(mesh.points), -1)

@@ -69,23 +69,17 @@ impl System {
         Ok(Self::from_weights(bar, weights, force))
     }
 
-    /// Assembly from already validated weights (one per element).
+    /// Assembly from already validated weights (one per element): the leading m×m block of
+    /// [`full_matrices`] (node m is Dirichlet).
     pub fn from_weights(bar: Bar, weights: Vec<f64>, force: f64) -> Self {
         let m = bar.elements;
         let h = bar.h();
-        let mut mass = SymTridiag::zeros(m);
-        let mut stiffness = SymTridiag::zeros(m);
+        let (mass, stiffness) = full_matrices(&bar, &weights);
+        let (mass, stiffness) = (mass.leading(m), stiffness.leading(m));
         let mut load = vec![0.0; m];
-        // Element j couples nodes j and j+1; node m is Dirichlet and dropped.
         for (j, &w) in weights.iter().enumerate() {
-            mass.diag[j] += h / 3.0 * w;
-            stiffness.diag[j] += 1.0 / h;
             load[j] += force * h / 2.0 * w;
             if j + 1 < m {
-                mass.diag[j + 1] += h / 3.0 * w;
-                mass.off[j] = h / 6.0 * w;
-                stiffness.diag[j + 1] += 1.0 / h;
-                stiffness.off[j] = -1.0 / h;
                 load[j + 1] += force * h / 2.0 * w;
             }
         }
@@ -127,6 +121,24 @@ impl System {
     pub fn interpolate(&self, g: impl Fn(f64) -> f64) -> Vec<f64> {
         (0..self.m()).map(|i| g(self.bar.x(i))).collect()
     }
+}
+
+/// Weighted mass and stiffness over all m+1 nodes (no boundary condition), element by element:
+/// element j adds `h w_j/6 [2 1; 1 2]` to M and `1/h [1 −1; −1 1]` to S on nodes (j, j+1).
+pub fn full_matrices(bar: &Bar, weights: &[f64]) -> (SymTridiag, SymTridiag) {
+    let n = bar.elements + 1;
+    let h = bar.h();
+    let mut mass = SymTridiag::zeros(n);
+    let mut stiffness = SymTridiag::zeros(n);
+    for (j, &w) in weights.iter().enumerate() {
+        mass.diag[j] += h / 3.0 * w;
+        mass.diag[j + 1] += h / 3.0 * w;
+        mass.off[j] = h / 6.0 * w;
+        stiffness.diag[j] += 1.0 / h;
+        stiffness.diag[j + 1] += 1.0 / h;
+        stiffness.off[j] = -1.0 / h;
+    }
+    (mass, stiffness)
 }
 
 #[cfg(test)]

@@ -79,7 +79,7 @@ impl Backend {
 }
 
 /// Versions of the embedded interpreter and the libraries it uses.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
 pub struct Versions {
     /// `sys.executable`; `/usr/bin/python3` when start-up went as intended.
     pub executable: String,
@@ -246,6 +246,20 @@ pub fn read_mesh(path: &Path) -> Result<(Vec<f64>, Vec<usize>, usize), BridgeErr
 }
 
 /// Imports `module` in the embedded interpreter and returns its `__version__` (empty if it has
+
+/// The points (x, y, z per point) and one point-data array (`components` values per point) of a
+/// file read by meshio (`python/mesh_io.py::read_point_data`), e.g. a `.vtu` frame.
+pub fn read_point_data(path: &Path, name: &str) -> Result<(Vec<f64>, Vec<f64>, usize), BridgeError> {
+    startup()?;
+    attach(|py| {
+        let path = path.to_string_lossy().into_owned();
+        let out = py.import("mesh_io")?.call_method1("read_point_data", (path, name))?;
+        let (points, data): (PyReadonlyArray2<f64>, PyReadonlyArray2<f64>) = out.extract()?;
+        let components = data.as_array().ncols();
+        Ok((points.as_array().iter().copied().collect(), data.as_array().iter().copied().collect(), components))
+    })
+}
+
 /// none). A module that is not installed gives [`BridgeError::MissingModule`].
 pub fn module_version(module: &str) -> Result<String, BridgeError> {
     startup()?;

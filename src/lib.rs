@@ -3,13 +3,19 @@
 
 #[cfg(feature = "python")]
 pub mod bridge;
+#[cfg(feature = "python")]
+pub mod crosscheck;
 
 pub mod assembly;
+pub mod bench;
 pub mod contact;
 pub mod exact;
 pub mod mass;
 pub mod norms;
 pub mod output;
+pub mod plate;
+pub mod plot;
+pub mod reproduce;
 pub mod run;
 pub mod scene;
 pub mod schemes;

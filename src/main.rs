@@ -24,6 +24,30 @@ enum Command {
     },
     /// Validate a scene and print it with every default filled in.
     Check { scene: PathBuf },
+    /// Compare the Rust matrices and trajectories with dolfinx and scikit-fem (feature `python`).
+    #[cfg(feature = "python")]
+    Crosscheck {
+        /// Also write the report as JSON to this file.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// Run every numerical experiment of the paper and write figures, CSVs and report.md into DIR.
+    Reproduce {
+        #[arg(long, default_value = "reproduce")]
+        out: PathBuf,
+        /// Shorter horizons (T = 3, 6; long run T = 30): every output, in less time.
+        #[arg(long)]
+        quick: bool,
+    },
+    /// Work–precision sweep, per-step performance against a bare solve and a Python stepper;
+    /// writes CSV, tables, figure and report.md into DIR.
+    Bench {
+        /// m up to 1536 and Δt = h, h/2, h/4 (under two minutes on 2 cores).
+        #[arg(long)]
+        quick: bool,
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+    },
 }
 
 /// A progress bar on stderr, drawn only when stderr is a terminal.
@@ -31,7 +55,7 @@ struct Progress(ProgressBar);
 
 impl Observer for Progress {
     fn observe(&mut self, s: &Sample) {
-        if s.state.n % 256 == 0 {
+        if s.state.n.is_multiple_of(256) {
             self.0.set_position(s.state.n as u64);
         }
     }
@@ -46,6 +70,26 @@ fn progress(len: u64) -> Progress {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
+        Command::Bench { quick, out } => {
+            let report = massredist::bench::run(quick);
+            if let Err(e) = massredist::bench::write(&out, &report) {
+                return fail(&out, e.to_string(), 1);
+            }
+            eprintln!("{}: {} runs in {:.1} s; see report.md", out.display(), report.results.len(), report.seconds);
+            ExitCode::SUCCESS
+        }
+        #[cfg(feature = "python")]
+        Command::Crosscheck { json } => crosscheck(json),
+        Command::Check { scene } if massredist::plate::scene::is_plate_file(&scene) => {
+            match massredist::plate::scene::PlateScene::from_file(&scene) {
+                Ok(s) => {
+                    print!("{}", s.resolved_toml());
+                    ExitCode::SUCCESS
+                }
+                Err(e) => fail(&scene, e.to_string(), 2),
+            }
+        }
+        Command::Run { scene, out } if massredist::plate::scene::is_plate_file(&scene) => run_plate(scene, out),
         Command::Check { scene } => match Scene::from_file(&scene) {
             Ok(s) => {
                 print!("{}", s.resolved_toml());
@@ -53,6 +97,31 @@ fn main() -> ExitCode {
             }
             Err(e) => fail(&scene, e.to_string(), 2),
         },
+        Command::Reproduce { out, quick } => {
+            let config =
+                if quick { massredist::reproduce::Config::quick() } else { massredist::reproduce::Config::paper() };
+            let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+            bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} {msg} {elapsed_precise}").unwrap());
+            let started = std::time::Instant::now();
+            let result = massredist::reproduce::reproduce(&out, &config, &bar);
+            bar.finish_and_clear();
+            match result {
+                Ok(o) => {
+                    let stopped = o.results.iter().filter(|r| r.failure.is_some()).count();
+                    eprintln!(
+                        "{}: {} runs ({} stopped on a non-finite state), {} files in {:.2} s; see {}",
+                        out.display(),
+                        o.results.len(),
+                        stopped,
+                        o.files.len(),
+                        started.elapsed().as_secs_f64(),
+                        out.join("report.md").display()
+                    );
+                    ExitCode::SUCCESS
+                }
+                Err(e) => fail(&out, e.to_string(), 1),
+            }
+        }
         Command::Run { scene, out } => {
             let s = match Scene::from_file(&scene) {
                 Ok(s) => s,
@@ -79,6 +148,67 @@ fn main() -> ExitCode {
             );
             ExitCode::SUCCESS
         }
+    }
+}
+
+impl massredist::plate::run::PlateObserver for Progress {
+    fn observe(&mut self, s: &massredist::plate::run::PlateSample) {
+        if s.state.n.is_multiple_of(256) {
+            self.0.set_position(s.state.n as u64);
+        }
+    }
+}
+
+/// `run` for a scene with a `[plate]` table (2D).
+fn run_plate(scene: PathBuf, out: PathBuf) -> ExitCode {
+    let s = match massredist::plate::scene::PlateScene::from_file(&scene) {
+        Ok(s) => s,
+        Err(e) => return fail(&scene, e.to_string(), 2),
+    };
+    let mut bar = progress(s.time.steps as u64);
+    let result = massredist::plate::run::run_plate_scene(&s, &mut [&mut bar]);
+    bar.0.finish_and_clear();
+    let run = match result {
+        Ok(r) => r,
+        Err(e) => return fail(&scene, e.to_string(), 1),
+    };
+    if let Err(e) = massredist::plate::output::write_plate_run(&out, &s, &run) {
+        return fail(&out, e.to_string(), 1);
+    }
+    eprintln!(
+        "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}, largest step increase {:e}",
+        out.display(),
+        run.summary.steps,
+        run.summary.wall_seconds,
+        run.summary.linf_l2_error.map_or("n/a".into(), |e| format!("{e:.4e}")),
+        run.summary.energy_initial,
+        run.summary.energy_final,
+        run.extras.energy_max_increase
+    );
+    ExitCode::SUCCESS
+}
+
+#[cfg(feature = "python")]
+fn crosscheck(json: Option<PathBuf>) -> ExitCode {
+    let report = match massredist::crosscheck::run(None, &massredist::crosscheck::cases_2d()) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: crosscheck: {e}");
+            return ExitCode::from(1);
+        }
+    };
+    print!("{}", massredist::crosscheck::table(&report));
+    if let Some(path) = json {
+        let text = serde_json::to_string_pretty(&report).expect("report serialises") + "\n";
+        if let Err(e) = massredist::output::write_file_atomically(&path, text.as_bytes()) {
+            return fail(&path, e.to_string(), 1);
+        }
+    }
+    if report.all_pass() {
+        ExitCode::SUCCESS
+    } else {
+        eprintln!("crosscheck: {} case(s) outside tolerance", report.cases.iter().filter(|c| !c.pass).count());
+        ExitCode::from(1)
     }
 }
 

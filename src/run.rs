@@ -191,7 +191,7 @@ impl Observer for SeriesRecorder {
     }
 
     fn observe(&mut self, s: &Sample) {
-        if self.columns.is_empty() || s.state.n % self.every != 0 {
+        if self.columns.is_empty() || !s.state.n.is_multiple_of(self.every) {
             return;
         }
         let st = s.state;

@@ -4,9 +4,9 @@
 mod common;
 
 use massredist::assembly::{Bar, System};
+use massredist::exact::ImpactingBar;
 use massredist::mass::MassKind;
 use massredist::norms::{l2_error, l2_norm_p1};
-use massredist::exact::ImpactingBar;
 
 /// φ_k(x) of the paper (hat functions on the uniform mesh).
 fn phi(k: usize, x: f64, h: f64) -> f64 {
@@ -26,7 +26,13 @@ fn reference(bar: &Bar, w: &[f64], i: usize, j: usize) -> (f64, f64) {
         }
         // Derivatives are constant per element: ±1/h on the support.
         let d = |k: usize| {
-            if k == e { -1.0 / h } else if k == e + 1 { 1.0 / h } else { 0.0 }
+            if k == e {
+                -1.0 / h
+            } else if k == e + 1 {
+                1.0 / h
+            } else {
+                0.0
+            }
         };
         s += h * d(i) * d(j);
     }

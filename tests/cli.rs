@@ -11,8 +11,11 @@ fn bin() -> Command {
 
 fn scenes() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let mut v: Vec<PathBuf> =
-        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
     v.sort();
     v
 }
@@ -28,7 +31,8 @@ fn every_shipped_scene_checks_and_runs() {
         let out = tmp.path().join(scene.file_stem().unwrap());
         let run = bin().arg("run").arg(&scene).arg("--out").arg(&out).output().unwrap();
         assert!(run.status.success(), "{}: {}", scene.display(), String::from_utf8_lossy(&run.stderr));
-        let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
         assert!(summary["steps"].as_u64().unwrap() > 0);
         // The resolved scene is itself a valid scene describing the same run.
         let again = bin().arg("check").arg(out.join("scene.resolved.toml")).output().unwrap();
@@ -76,10 +80,23 @@ fn output_contract() {
     for (k, r) in rows.iter().enumerate() {
         assert!((r[0] - k as f64 * 0.1).abs() < 1e-12);
     }
-    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     for key in [
-        "steps", "h", "dt", "linf_l2_error", "linf_l2_error_relative", "max_contact_error", "energy_initial", "energy_final",
-        "energy_min", "energy_max", "first_impact_time", "first_release_time", "final_u0", "wall_seconds",
+        "steps",
+        "h",
+        "dt",
+        "linf_l2_error",
+        "linf_l2_error_relative",
+        "max_contact_error",
+        "energy_initial",
+        "energy_final",
+        "energy_min",
+        "energy_max",
+        "first_impact_time",
+        "first_release_time",
+        "final_u0",
+        "wall_seconds",
     ] {
         assert!(s.get(key).is_some(), "summary.json has {key}");
     }
@@ -112,17 +129,33 @@ fn bad_input_is_a_clear_error() {
         ("end = 3.0", "end = 0.0", &["time.end", "(0, ∞)"]),
         ("end = 3.0", "end = 3.005", &["time.end / time.dt", "not an integer"]),
         ("kind = \"mod3\"", "kind = \"mod4\"", &["mass.kind", "standard | mod1 | mod2 | mod3 | custom"]),
-        ("kind = \"mod3\"", "kind = \"custom\"\nweights = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]", &["mass.weights", "massless"]),
+        (
+            "kind = \"mod3\"",
+            "kind = \"custom\"\nweights = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]",
+            &["mass.weights", "massless"],
+        ),
         ("kind = \"mod3\"", "kind = \"custom\"\nweights = [0.0, 1.0]", &["mass.weights", "2 entries", "6 elements"]),
-        ("kind = \"mod3\"", "kind = \"custom\"\nweights = [0.0, 1.0, -1.0, 1.0, 1.0, 1.0]", &["mass.weights[2]", ">= 0"]),
+        (
+            "kind = \"mod3\"",
+            "kind = \"custom\"\nweights = [0.0, 1.0, -1.0, 1.0, 1.0, 1.0]",
+            &["mass.weights[2]", ">= 0"],
+        ),
         ("kind = \"crank-nicolson\"", "kind = \"euler\"", &["scheme.kind", "backward-euler"]),
         ("kind = \"crank-nicolson\"", "kind = \"crank-nicolson\"\nbeta = 0.3", &["scheme.beta", "crank-nicolson"]),
         ("kind = \"crank-nicolson\"", "kind = \"newmark\"\nbeta = 0.0", &["scheme.beta", "(0, 1]"]),
-        ("kind = \"crank-nicolson\"", "kind = \"paoli-schatzman\"\nrestitution = 1.5", &["scheme.restitution", "[0, 1]"]),
+        (
+            "kind = \"crank-nicolson\"",
+            "kind = \"paoli-schatzman\"\nrestitution = 1.5",
+            &["scheme.restitution", "[0, 1]"],
+        ),
         ("every = 10", "every = 0", &["output.every", ">= 1"]),
         ("every = 10", "every = 10\nevry = 2", &["unknown field", "evry"]),
         ("elements = 6", "elements = \"six\"", &["elements"]),
-        ("series = [\"lambda\", \"u0\", \"l2_error\"]", "series = [\"u0\", \"velocity\"]", &["output.series", "l2_error"]),
+        (
+            "series = [\"lambda\", \"u0\", \"l2_error\"]",
+            "series = [\"u0\", \"velocity\"]",
+            &["output.series", "l2_error"],
+        ),
         ("elements = 6", "elements = 10000001", &["bar.elements", "[2, 10000000]"]),
         ("end = 3.0", "end = 3000000000.0", &["node-steps", "limit"]),
         ("every = 10", "every = 1\n[bar]", &["duplicate", "bar"]),
@@ -139,7 +172,8 @@ fn bad_input_is_a_clear_error() {
         assert_eq!(leftovers, vec![std::ffi::OsString::from("s.toml")], "{to}: nothing written");
     }
     // Hybrid with a massive contact node is undefined: a clear error, not a NaN.
-    let (out, _t) = run_text(&GOOD.replace("kind = \"mod3\"", "kind = \"standard\"").replace("\"crank-nicolson\"", "\"hybrid\""));
+    let (out, _t) =
+        run_text(&GOOD.replace("kind = \"mod3\"", "kind = \"standard\"").replace("\"crank-nicolson\"", "\"hybrid\""));
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("w_0 = 0"));
 }

@@ -26,7 +26,12 @@ fn complementarity_holds_bit_for_bit_at_every_step() {
                         assert!(lam <= 0.0, "{spec:?} {} m={m} t={}", mass.name(), frame.t);
                         continue;
                     }
-                    assert!(u0 >= 0.0 && lam <= 0.0 && u0 * lam == 0.0, "{spec:?} {} m={m} t={}: u0={u0} λ={lam}", mass.name(), frame.t);
+                    assert!(
+                        u0 >= 0.0 && lam <= 0.0 && u0 * lam == 0.0,
+                        "{spec:?} {} m={m} t={}: u0={u0} λ={lam}",
+                        mass.name(),
+                        frame.t
+                    );
                 }
             }
         }
@@ -62,7 +67,14 @@ fn massless_contact_node_is_the_positive_part_of_its_neighbour() {
                     // The reduced schemes set u_0 = u_1⁺ exactly; the full ones get it from the
                     // contact row (u_0 − u_1)/h = −λ, i.e. to rounding of the O(1) solution.
                     let tol = 8.0 * f64::EPSILON;
-                    assert!((f.u[0] - f.u[1].max(0.0)).abs() <= tol, "{spec:?} {} t={}: u0={} u1={}", mass.name(), f.t, f.u[0], f.u[1]);
+                    assert!(
+                        (f.u[0] - f.u[1].max(0.0)).abs() <= tol,
+                        "{spec:?} {} t={}: u0={} u1={}",
+                        mass.name(),
+                        f.t,
+                        f.u[0],
+                        f.u[1]
+                    );
                 }
             }
         }

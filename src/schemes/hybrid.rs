@@ -20,9 +20,14 @@
 //! Lemma 5.1: the energy `ℰ = ½VᵀM_redV + ½UᵀS_redU − (u_1⁺)²/(2h) − UᵀF` never increases; it
 //! equals the full-system energy with `u_0 = u_1⁺`.
 
+//!
+//! A step is three passes: the right-hand side `M_red Ũ − Δt²/4 S_red Uⁿ + Δt²/2 F`
+//! (Ũ = Uⁿ + Δt Vⁿ, kept from the previous update), the two-sided solve for W
+//! ([`TwistedFactor`]), then one update pass `U^{n+1} = W + Δt²/2 g z`, V^{n+1}, next Ũ.
+
 use super::{SchemeError, StateView, check_finite, check_range, factor_err};
 use crate::assembly::System;
-use crate::tridiag::{LdlT, SymTridiag};
+use crate::tridiag::{SymTridiag, TwistedFactor};
 
 #[derive(Debug, Clone)]
 pub struct Hybrid {
@@ -31,15 +36,15 @@ pub struct Hybrid {
     mass: SymTridiag,
     stiffness: SymTridiag,
     load: Vec<f64>,
-    factor: LdlT,
+    factor: TwistedFactor,
     response: Vec<f64>,
     n: usize,
     u: Vec<f64>,
     v: Vec<f64>,
     lambda: f64,
+    /// Ũ = Uⁿ + Δt Vⁿ on nodes 1..m−1 for the next step.
     pred: Vec<f64>,
     rhs: Vec<f64>,
-    su: Vec<f64>,
 }
 
 /// H(s) of the paper: 1 for s > 0, ½ for s = 0, 0 for s < 0.
@@ -89,8 +94,9 @@ impl Hybrid {
         let mass = system.mass.trailing(1);
         let stiffness = system.stiffness.trailing(1);
         let k = mass.combine(1.0, &stiffness, dt * dt / 4.0);
-        let factor = k.factor().map_err(factor_err("M_red + Δt²/4 S_red"))?;
+        let factor = k.factor_twisted().map_err(factor_err("M_red + Δt²/4 S_red"))?;
         let response = factor.unit_response(0);
+        let pred = (1..u0.len()).map(|i| u0[i] + dt * v0[i]).collect();
         let m = system.m();
         Ok(Self {
             dt,
@@ -104,9 +110,8 @@ impl Hybrid {
             u: u0,
             v: v0,
             lambda: 0.0,
-            pred: vec![0.0; m - 1],
+            pred,
             rhs: vec![0.0; m - 1],
-            su: vec![0.0; m - 1],
         })
     }
 }
@@ -119,26 +124,24 @@ impl super::Scheme for Hybrid {
     fn step(&mut self) -> Result<(), SchemeError> {
         let (dt, h) = (self.dt, self.h);
         let r = self.pred.len();
-        let (u, v) = (&self.u[1..], &self.v[1..]);
-        for i in 0..r {
-            self.pred[i] = u[i] + dt * v[i];
-        }
-        self.mass.mul_into(&self.pred, &mut self.rhs);
-        self.stiffness.mul_into(u, &mut self.su);
-        for i in 0..r {
-            self.rhs[i] += -dt * dt / 4.0 * self.su[i] + dt * dt / 2.0 * self.load[i];
-        }
+        let (quarter, half) = (dt * dt / 4.0, dt * dt / 2.0);
+        self.mass.mul2_add_into(&self.pred, &self.stiffness, -quarter, &self.u[1..], half, &self.load, &mut self.rhs);
         self.factor.solve_in_place(&mut self.rhs);
         let p = self.u[1];
-        let c = dt * dt / 2.0 * self.response[0];
+        let c = half * self.response[0];
         let x = solve_contact_step(p, self.rhs[0], c, h);
         let g = contact_term(p, x, h).0;
-        let s = dt * dt / 2.0 * g;
+        let s = half * g;
         let u0_old = self.u[0];
+        let inv_dt2 = 2.0 / dt;
+        let (u, v) = (&mut self.u[1..=r], &mut self.v[1..=r]);
+        let (w, z, pred) = (&self.rhs[..r], &self.response[..r], &mut self.pred[..r]);
         for i in 0..r {
-            let u_new = self.rhs[i] + s * self.response[i];
-            self.v[i + 1] = 2.0 * (u_new - self.u[i + 1]) / dt - self.v[i + 1];
-            self.u[i + 1] = u_new;
+            let u_new = w[i] + s * z[i];
+            let v_new = (u_new - u[i]) * inv_dt2 - v[i];
+            u[i] = u_new;
+            v[i] = v_new;
+            pred[i] = u_new + dt * v_new;
         }
         self.u[0] = self.u[1].max(0.0);
         self.v[0] = (self.u[0] - u0_old) / dt;

@@ -8,15 +8,20 @@
 //!
 //! Eliminating A^{n+1} = (U^{n+1} − Ũ)/(β Δt²) with the predictor
 //! `Ũ = Uⁿ + Δt Vⁿ + (½ − β) Δt² Aⁿ` gives `(M + β Δt² S) U^{n+1} = M Ũ + β Δt² (F − λ e_0)`,
-//! solved exactly for the contact by [`ContactSolver`] (σ = β Δt²). Crank–Nicolson is
+//! solved exactly for the contact as in [`crate::contact::ContactSolver`] (σ = β Δt²). Crank–Nicolson is
 //! (β, γ) = (1/4, 1/2): second order and energy conserving without contact. With w_0 = 0 the
 //! contact row reads `(u_0 − u_1)/h = −λ`, whose complementarity solution is `u_0 = u_1⁺`
 //! (paper eq. (3.2)).
 
-use super::{SchemeError, StateView, check_finite, check_range, factor_err, initial_acceleration};
+//!
+//! A step is three passes over the nodes: the right-hand side `M Ũ + σ F` (one vectorised
+//! pass), the two-sided solve `U* = K⁻¹(M Ũ + σ F)` ([`TwistedFactor`]: two independent
+//! substitution chains), and one update pass that applies the contact correction `−σ λ z`
+//! (`z = K⁻¹ e_0`) and forms A^{n+1}, V^{n+1} and the next predictor Ũ.
+
+use super::{SchemeError, StateView, check_finite, check_range, contact_multiplier, factor_err, initial_acceleration};
 use crate::assembly::System;
-use crate::contact::ContactSolver;
-use crate::tridiag::SymTridiag;
+use crate::tridiag::{SymTridiag, TwistedFactor};
 
 #[derive(Debug, Clone)]
 pub struct Newmark {
@@ -26,12 +31,15 @@ pub struct Newmark {
     mass: SymTridiag,
     load: Vec<f64>,
     massless_contact: bool,
-    contact: ContactSolver,
+    factor: TwistedFactor,
+    /// z = K⁻¹ e_0, the response to a unit contact force.
+    response: Vec<f64>,
     n: usize,
     u: Vec<f64>,
     v: Vec<f64>,
     a: Vec<f64>,
     lambda: f64,
+    /// The predictor Ũ of the next step (kept up to date by the update pass).
     pred: Vec<f64>,
     rhs: Vec<f64>,
 }
@@ -53,8 +61,11 @@ impl Newmark {
         check_range(Self::NAME, "gamma", gamma, (0.0..=1.0).contains(&gamma), "[0, 1]")?;
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
         let k = system.mass.combine(1.0, &system.stiffness, beta * dt * dt);
-        let contact = ContactSolver::new(&k).map_err(factor_err("M + β Δt² S"))?;
+        let factor = k.factor_twisted().map_err(factor_err("M + β Δt² S"))?;
+        let response = factor.unit_response(0);
         let a = initial_acceleration(system, &u0)?;
+        let c = (0.5 - beta) * dt * dt;
+        let pred = (0..u0.len()).map(|i| u0[i] + dt * v0[i] + c * a[i]).collect();
         let m = system.m();
         Ok(Self {
             beta,
@@ -63,13 +74,14 @@ impl Newmark {
             mass: system.mass.clone(),
             load: system.load.clone(),
             massless_contact: system.massless_contact(),
-            contact,
+            factor,
+            response,
             n: 0,
             u: u0,
             v: v0,
             a,
             lambda: 0.0,
-            pred: vec![0.0; m],
+            pred,
             rhs: vec![0.0; m],
         })
     }
@@ -94,25 +106,32 @@ impl super::Scheme for Newmark {
         let (dt, beta, gamma) = (self.dt, self.beta, self.gamma);
         let sigma = beta * dt * dt;
         let c = (0.5 - beta) * dt * dt;
-        for i in 0..self.u.len() {
-            self.pred[i] = self.u[i] + dt * self.v[i] + c * self.a[i];
+        self.mass.mul_add_into(&self.pred, sigma, Some(&self.load), &mut self.rhs);
+        self.factor.solve_in_place(&mut self.rhs);
+        let lambda = contact_multiplier(self.rhs[0], 0.0, sigma, self.response[0]);
+        let s = sigma * lambda;
+        if lambda != 0.0 {
+            self.rhs[0] = s * self.response[0]; // so that u_0 = x_0 − s z_0 = 0 exactly
         }
-        self.mass.mul_into(&self.pred, &mut self.rhs);
-        for (r, f) in self.rhs.iter_mut().zip(&self.load) {
-            *r += sigma * f;
-        }
-        let lambda = self.contact.solve(&mut self.rhs, 0.0, sigma);
         let u0_old = self.u[0];
-        for i in 0..self.u.len() {
-            let a_new = (self.rhs[i] - self.pred[i]) / sigma;
-            self.v[i] += dt * ((1.0 - gamma) * self.a[i] + gamma * a_new);
-            self.a[i] = a_new;
-            self.u[i] = self.rhs[i];
+        let inv_sigma = 1.0 / sigma;
+        let m = self.u.len();
+        let (u, v, a, pred) = (&mut self.u[..m], &mut self.v[..m], &mut self.a[..m], &mut self.pred[..m]);
+        let (x, z) = (&self.rhs[..m], &self.response[..m]);
+        for i in 0..m {
+            let u_new = x[i] - s * z[i];
+            let a_new = (u_new - pred[i]) * inv_sigma;
+            let v_new = v[i] + dt * ((1.0 - gamma) * a[i] + gamma * a_new);
+            u[i] = u_new;
+            v[i] = v_new;
+            a[i] = a_new;
+            pred[i] = u_new + dt * v_new + c * a_new;
         }
         if self.massless_contact {
             // The contact node is quasi-static: its a and v enter no equation (see module docs).
-            self.a[0] = 0.0;
-            self.v[0] = (self.u[0] - u0_old) / dt;
+            a[0] = 0.0;
+            v[0] = (u[0] - u0_old) / dt;
+            pred[0] = u[0] + dt * v[0];
         }
         self.lambda = lambda;
         self.n += 1;

@@ -13,9 +13,13 @@
 //! else `u_1 = W_1/(1 − c)`. Uniqueness: `z_1 ≤ (β Δt² S_red)⁻¹_11 = h(m−1)/(m β Δt²)`, so
 //! `c ≤ (m−1)/m < 1`. The result equals the full formulation ([`super::Newmark`]) step by step.
 
+//!
+//! A step is three passes over the nodes, as in [`super::Newmark`]: right-hand side, two-sided
+//! solve ([`TwistedFactor`]), then one update pass.
+
 use super::{SchemeError, StateView, check_finite, check_range, factor_err, initial_acceleration};
 use crate::assembly::System;
-use crate::tridiag::{LdlT, SymTridiag};
+use crate::tridiag::{SymTridiag, TwistedFactor};
 
 #[derive(Debug, Clone)]
 pub struct NewmarkReduced {
@@ -25,13 +29,14 @@ pub struct NewmarkReduced {
     h: f64,
     mass: SymTridiag,
     load: Vec<f64>,
-    factor: LdlT,
+    factor: TwistedFactor,
     response: Vec<f64>,
     n: usize,
     u: Vec<f64>,
     v: Vec<f64>,
     a: Vec<f64>,
     lambda: f64,
+    /// The predictor Ũ of the next step on nodes 1..m−1.
     pred: Vec<f64>,
     rhs: Vec<f64>,
 }
@@ -55,10 +60,12 @@ impl NewmarkReduced {
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
         let mass = system.mass.trailing(1);
         let k = mass.combine(1.0, &system.stiffness.trailing(1), beta * dt * dt);
-        let factor = k.factor().map_err(factor_err("M* + β Δt² S*"))?;
+        let factor = k.factor_twisted().map_err(factor_err("M* + β Δt² S*"))?;
         let response = factor.unit_response(0);
         // Same A⁰ as the full formulation (it uses the given U⁰_0), so both agree step by step.
         let a = initial_acceleration(system, &u0)?;
+        let c = (0.5 - beta) * dt * dt;
+        let pred = (1..u0.len()).map(|i| u0[i] + dt * v0[i] + c * a[i]).collect();
         let m = system.m();
         Ok(Self {
             beta,
@@ -74,7 +81,7 @@ impl NewmarkReduced {
             v: v0,
             a,
             lambda: 0.0,
-            pred: vec![0.0; m - 1],
+            pred,
             rhs: vec![0.0; m - 1],
         })
     }
@@ -89,25 +96,25 @@ impl super::Scheme for NewmarkReduced {
         let (dt, beta, gamma, h) = (self.dt, self.beta, self.gamma, self.h);
         let sigma = beta * dt * dt;
         let c2 = (0.5 - beta) * dt * dt;
-        for i in 0..self.pred.len() {
-            self.pred[i] = self.u[i + 1] + dt * self.v[i + 1] + c2 * self.a[i + 1];
-        }
-        self.mass.mul_into(&self.pred, &mut self.rhs);
-        for (r, f) in self.rhs.iter_mut().zip(&self.load) {
-            *r += sigma * f;
-        }
+        self.mass.mul_add_into(&self.pred, sigma, Some(&self.load), &mut self.rhs);
         self.factor.solve_in_place(&mut self.rhs);
         let c = sigma * self.response[0] / h;
         let w1 = self.rhs[0];
         let u1 = if w1 <= 0.0 { w1 } else { w1 / (1.0 - c) };
         let s = sigma / h * u1.max(0.0);
         let u0_old = self.u[0];
-        for i in 0..self.pred.len() {
-            let u_new = self.rhs[i] + s * self.response[i];
-            let a_new = (u_new - self.pred[i]) / sigma;
-            self.v[i + 1] += dt * ((1.0 - gamma) * self.a[i + 1] + gamma * a_new);
-            self.a[i + 1] = a_new;
-            self.u[i + 1] = u_new;
+        let inv_sigma = 1.0 / sigma;
+        let r = self.pred.len();
+        let (u, v, a) = (&mut self.u[1..=r], &mut self.v[1..=r], &mut self.a[1..=r]);
+        let (x, z, pred) = (&self.rhs[..r], &self.response[..r], &mut self.pred[..r]);
+        for i in 0..r {
+            let u_new = x[i] + s * z[i];
+            let a_new = (u_new - pred[i]) * inv_sigma;
+            let v_new = v[i] + dt * ((1.0 - gamma) * a[i] + gamma * a_new);
+            u[i] = u_new;
+            v[i] = v_new;
+            a[i] = a_new;
+            pred[i] = u_new + dt * v_new + c2 * a_new;
         }
         self.u[0] = self.u[1].max(0.0);
         self.v[0] = (self.u[0] - u0_old) / dt;

@@ -8,7 +8,8 @@
 //! `(M + β Δt² S) U^{n+1} = M (2Uⁿ − U^{n−1}) − Δt² P S((1−2β)Uⁿ + β U^{n−1}) + Δt² (F − λⁿ e_0)`,
 //! where, as the paper prescribes for a massless contact node (w_0 = 0), P projects S Uⁿ and
 //! S U^{n−1} on (ker M)^⊥ = {e_0}^⊥ (their contact components are dropped); P = I otherwise. The
-//! contact condition is `u_0^{n+1} ≥ −e u_0^{n−1}`, solved exactly by [`ContactSolver`] (σ = Δt²).
+//! contact condition is `u_0^{n+1} ≥ −e u_0^{n−1}`, solved exactly as in
+//! [`crate::contact::ContactSolver`] (σ = Δt²).
 //!
 //! With the projection, the contact row reads `β (S U^{n+1})_0 = −λⁿ`: the multiplier is β times
 //! the elastic force on the contact node, so the reported contact force is λⁿ/β in that case
@@ -19,10 +20,14 @@
 //! With β = 1/4 and no contact it conserves `½ DᵀMD + ½ ΣᵀSΣ` with
 //! `D = (U^{n+1} − Uⁿ)/Δt`, `Σ = (U^{n+1} + Uⁿ)/2` (the energy at half steps).
 
-use super::{Newmark, Scheme, SchemeError, StateView, check_finite, check_range, factor_err};
+//!
+//! A step is four passes: the combinations `2Uⁿ − U^{n−1}` and `(1−2β)Uⁿ + βU^{n−1}`, the
+//! right-hand side, the two-sided solve ([`TwistedFactor`]), and one pass for the contact
+//! correction and the velocity.
+
+use super::{Newmark, Scheme, SchemeError, StateView, check_finite, check_range, contact_multiplier, factor_err};
 use crate::assembly::System;
-use crate::contact::ContactSolver;
-use crate::tridiag::SymTridiag;
+use crate::tridiag::{SymTridiag, TwistedFactor};
 
 #[derive(Debug, Clone)]
 pub struct PaoliSchatzman {
@@ -33,7 +38,9 @@ pub struct PaoliSchatzman {
     stiffness: SymTridiag,
     load: Vec<f64>,
     project: bool,
-    contact: ContactSolver,
+    factor: TwistedFactor,
+    /// z = K⁻¹ e_0.
+    response: Vec<f64>,
     n: usize,
     /// U^{n−1}, Uⁿ, U^{n+1}.
     prev: Vec<f64>,
@@ -42,8 +49,9 @@ pub struct PaoliSchatzman {
     /// Vⁿ (central) and the contact force at t_n.
     v: Vec<f64>,
     lambda: f64,
-    work: Vec<f64>,
-    rhs: Vec<f64>,
+    /// `2U^{n+1} − Uⁿ` and `(1−2β)U^{n+1} + βUⁿ`.
+    inertia: Vec<f64>,
+    elastic: Vec<f64>,
 }
 
 impl PaoliSchatzman {
@@ -61,7 +69,8 @@ impl PaoliSchatzman {
         check_range(Self::NAME, "restitution", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
         let k = system.mass.combine(1.0, &system.stiffness, beta * dt * dt);
-        let contact = ContactSolver::new(&k).map_err(factor_err("M + β Δt² S"))?;
+        let factor = k.factor_twisted().map_err(factor_err("M + β Δt² S"))?;
+        let response = factor.unit_response(0);
         let mut start = Newmark::crank_nicolson(system, dt, u0.clone(), v0.clone())?;
         start.step()?;
         let m = system.m();
@@ -73,15 +82,16 @@ impl PaoliSchatzman {
             stiffness: system.stiffness.clone(),
             load: system.load.clone(),
             project: system.massless_contact(),
-            contact,
+            factor,
+            response,
             n: 0,
             prev: vec![0.0; m],
             cur: u0,
             next: start.state().u.to_vec(),
             v: v0,
             lambda: 0.0,
-            work: vec![0.0; m],
-            rhs: vec![0.0; m],
+            inertia: vec![0.0; m],
+            elastic: vec![0.0; m],
         })
     }
 
@@ -100,26 +110,35 @@ impl Scheme for PaoliSchatzman {
     fn step(&mut self) -> Result<(), SchemeError> {
         let (dt, beta, e) = (self.dt, self.beta, self.restitution);
         let dt2 = dt * dt;
+        let m = self.cur.len();
         // Here "cur" = Uⁿ and "next" = U^{n+1}: the new iterate is U^{n+2} (written into prev).
-        let (u_old, u_mid) = (&self.cur, &self.next);
-        for i in 0..self.work.len() {
-            self.work[i] = (1.0 - 2.0 * beta) * u_mid[i] + beta * u_old[i];
+        let (u_old, u_mid) = (&self.cur[..m], &self.next[..m]);
+        let (inertia, elastic) = (&mut self.inertia[..m], &mut self.elastic[..m]);
+        for i in 0..m {
+            inertia[i] = 2.0 * u_mid[i] - u_old[i];
+            elastic[i] = (1.0 - 2.0 * beta) * u_mid[i] + beta * u_old[i];
         }
-        self.stiffness.mul_into(&self.work, &mut self.rhs);
+        // r = M(2U^{n+1} − Uⁿ) − Δt² P S((1−2β)U^{n+1} + βUⁿ) + Δt² F; P drops row 0.
+        let (inertia, elastic) = (&self.inertia, &self.elastic);
+        self.mass.mul2_add_into(inertia, &self.stiffness, -dt2, elastic, dt2, &self.load, &mut self.prev);
         if self.project {
-            self.rhs[0] = 0.0;
+            self.prev[0] = self.mass.mul_row(inertia, 0) + dt2 * self.load[0];
         }
-        for i in 0..self.work.len() {
-            self.work[i] = 2.0 * u_mid[i] - u_old[i];
+        self.factor.solve_in_place(&mut self.prev);
+        let lower = -e * u_old[0];
+        let lambda = contact_multiplier(self.prev[0], lower, dt2, self.response[0]);
+        let s = dt2 * lambda;
+        // prev now holds U^{n+2} before the contact correction; V^{n+1} = (U^{n+2} − Uⁿ)/(2Δt).
+        let (x, z, v) = (&mut self.prev[..m], &self.response[..m], &mut self.v[..m]);
+        let inv_2dt = 1.0 / (2.0 * dt);
+        for i in 0..m {
+            let u_new = x[i] - s * z[i];
+            x[i] = u_new;
+            v[i] = (u_new - u_old[i]) * inv_2dt;
         }
-        self.mass.mul_into(&self.work, &mut self.prev);
-        for i in 0..self.rhs.len() {
-            self.prev[i] += dt2 * (self.load[i] - self.rhs[i]);
-        }
-        let lambda = self.contact.solve(&mut self.prev, -e * u_old[0], dt2);
-        // prev now holds U^{n+2}; V^{n+1} = (U^{n+2} − Uⁿ)/(2Δt).
-        for i in 0..self.v.len() {
-            self.v[i] = (self.prev[i] - self.cur[i]) / (2.0 * dt);
+        if lambda != 0.0 {
+            x[0] = lower;
+            v[0] = (lower - u_old[0]) * inv_2dt;
         }
         self.lambda = if self.project { lambda / beta } else { lambda };
         // Rotate (U^{n}, U^{n+1}, U^{n+2}) -> (prev, cur, next).

@@ -1,0 +1,352 @@
+//! The work–precision sweep: scheme × mass × h × Δt on the exact benchmark (paper §4.1), and
+//! the observed convergence rates fitted from it.
+//!
+//! Every run is the impacting bar of length L = 1 over one period T = 3 (free flight, contact,
+//! release), started from the nodal interpolant of u⁰ = (1 − x)/2, v⁰ = 0. For each run we record
+//! the L∞(0,T; L²(0,L)) error (exact, see [`crate::norms::l2_error`]), the maximum error of the
+//! contact displacement max_n |u_0ⁿ − u(0,t_n)|, the wall time of the solve alone (no
+//! diagnostics) and the ns per node-step.
+
+use super::perf::best_timed;
+use crate::mass::MassKind;
+use crate::run::{Problem, SummaryObserver, integrate};
+use crate::scene::{Formulation, SchemeSpec};
+use serde::Serialize;
+use std::time::Instant;
+
+/// A scheme of the sweep, under the label used in files and figures.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SchemeCase {
+    pub label: &'static str,
+    pub spec: SchemeSpec,
+    /// Defined only for a massless contact node (w_0 = 0).
+    pub needs_massless: bool,
+}
+
+/// The paper's schemes: Crank–Nicolson (full and reduced formulation), backward Euler,
+/// Paoli–Schatzman with (β, e) = (1/4, 1) (§4.2.3) and the hybrid scheme (§5).
+pub fn scheme_cases() -> Vec<SchemeCase> {
+    vec![
+        SchemeCase {
+            label: "crank-nicolson",
+            spec: SchemeSpec::CrankNicolson { formulation: Formulation::Full },
+            needs_massless: false,
+        },
+        SchemeCase {
+            label: "crank-nicolson-reduced",
+            spec: SchemeSpec::CrankNicolson { formulation: Formulation::Reduced },
+            needs_massless: true,
+        },
+        SchemeCase { label: "backward-euler", spec: SchemeSpec::BackwardEuler, needs_massless: false },
+        SchemeCase {
+            label: "paoli-schatzman",
+            spec: SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: 1.0 },
+            needs_massless: false,
+        },
+        SchemeCase { label: "hybrid", spec: SchemeSpec::Hybrid, needs_massless: true },
+    ]
+}
+
+/// The standard mass and the paper's three redistributions.
+pub fn masses() -> Vec<MassKind> {
+    vec![MassKind::Standard, MassKind::Mod1, MassKind::Mod2, MassKind::Mod3]
+}
+
+/// What to sweep.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SweepConfig {
+    /// Numbers of elements m (h = 1/m).
+    pub elements: Vec<usize>,
+    /// Δt = h / divisor.
+    pub dt_divisors: Vec<usize>,
+    /// Final time, an integer (one period of the benchmark is 3).
+    pub end: f64,
+    /// Minimum seconds spent re-timing one run (the fastest repetition is kept).
+    pub min_timing_seconds: f64,
+}
+
+impl SweepConfig {
+    /// `bench --quick`: m = 6·2^k up to 1536, Δt = h, h/2, h/4 (a few seconds per core).
+    pub fn quick() -> Self {
+        Self {
+            elements: (0..=8).map(|k| 6 << k).collect(),
+            dt_divisors: vec![1, 2, 4],
+            end: 3.0,
+            min_timing_seconds: 0.005,
+        }
+    }
+
+    /// The full sweep: m = 6·2^k up to 12288 (> 10⁴), Δt = h … h/8.
+    pub fn full() -> Self {
+        Self {
+            elements: (0..=11).map(|k| 6 << k).collect(),
+            dt_divisors: vec![1, 2, 4, 8],
+            end: 3.0,
+            min_timing_seconds: 0.02,
+        }
+    }
+}
+
+/// One run of the sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Case {
+    pub scheme: SchemeCase,
+    pub mass: MassKind,
+    pub elements: usize,
+    pub dt_divisor: usize,
+}
+
+impl Case {
+    /// Node-steps of the run, to schedule the largest first.
+    pub fn work(&self, end: f64) -> f64 {
+        let m = self.elements as f64;
+        m * (end * m * self.dt_divisor as f64)
+    }
+}
+
+/// Every applicable (scheme, mass, m, Δt), skipping schemes that need w_0 = 0 on the standard
+/// mass.
+pub fn cases(cfg: &SweepConfig) -> Vec<Case> {
+    let mut out = Vec::new();
+    for scheme in scheme_cases() {
+        for mass in masses() {
+            if scheme.needs_massless && matches!(mass, MassKind::Standard) {
+                continue;
+            }
+            for &elements in &cfg.elements {
+                for &dt_divisor in &cfg.dt_divisors {
+                    out.push(Case { scheme: scheme.clone(), mass: mass.clone(), elements, dt_divisor });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The measurements of one run (one CSV row).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CaseResult {
+    pub scheme: &'static str,
+    pub mass: &'static str,
+    pub elements: usize,
+    pub h: f64,
+    pub dt_divisor: usize,
+    pub dt: f64,
+    pub steps: usize,
+    /// max_n ‖u_h(t_n) − u(t_n)‖_{L²(0,L)}.
+    pub linf_l2_error: f64,
+    /// `linf_l2_error` / max_n ‖I_h u(t_n)‖_{L²}.
+    pub linf_l2_error_relative: f64,
+    /// max_n |u_0ⁿ − u(0, t_n)|.
+    pub max_contact_error: f64,
+    /// (max − min)/E_exact of the discrete energy over the run.
+    pub energy_spread: f64,
+    /// Wall time of building the scheme (factorisations) plus stepping, no diagnostics.
+    pub wall_seconds: f64,
+    /// Stepping only, per node and step.
+    pub ns_per_node_step: f64,
+    /// The scheme's error, if the run failed (then the numbers above are NaN).
+    pub failure: Option<String>,
+}
+
+/// Runs one case twice: once with the exact-error observer (errors), once bare (time).
+pub fn run_case(case: &Case, cfg: &SweepConfig) -> CaseResult {
+    let mut r = CaseResult {
+        scheme: case.scheme.label,
+        mass: case.mass.name(),
+        elements: case.elements,
+        h: 1.0 / case.elements as f64,
+        dt_divisor: case.dt_divisor,
+        dt: f64::NAN,
+        steps: 0,
+        linf_l2_error: f64::NAN,
+        linf_l2_error_relative: f64::NAN,
+        max_contact_error: f64::NAN,
+        energy_spread: f64::NAN,
+        wall_seconds: f64::NAN,
+        ns_per_node_step: f64::NAN,
+        failure: None,
+    };
+    let problem = match Problem::benchmark(1.0, case.elements, &case.mass) {
+        Ok(p) => p,
+        Err(e) => {
+            r.failure = Some(e.to_string());
+            return r;
+        }
+    };
+    let dt = problem.system.h() / case.dt_divisor as f64;
+    // T/Δt = T m · divisor: an integer for the integer end times of the configurations.
+    let steps = (cfg.end * (case.elements * case.dt_divisor) as f64).round() as usize;
+    r.dt = dt;
+    r.steps = steps;
+    let errors = problem.scheme(&case.scheme.spec, dt).map_err(|e| e.to_string()).and_then(|mut s| {
+        let mut obs = SummaryObserver::new(&problem, steps, dt, true);
+        integrate(&problem, s.as_mut(), steps, &mut [&mut obs]).map_err(|e| e.to_string())?;
+        Ok(obs.finish())
+    });
+    let summary = match errors {
+        Ok(s) => s,
+        Err(e) => {
+            r.failure = Some(e);
+            return r;
+        }
+    };
+    r.linf_l2_error = summary.linf_l2_error.unwrap_or(f64::NAN);
+    r.linf_l2_error_relative = summary.linf_l2_error_relative.unwrap_or(f64::NAN);
+    r.max_contact_error = summary.max_contact_error.unwrap_or(f64::NAN);
+    let e_exact = summary.energy_exact.unwrap_or(f64::NAN);
+    r.energy_spread = (summary.energy_max - summary.energy_min) / e_exact;
+
+    let node_steps = (steps * case.elements) as f64;
+    let mut best_wall = f64::INFINITY;
+    r.ns_per_node_step = best_timed(node_steps, 1, 50, cfg.min_timing_seconds, || {
+        let t0 = Instant::now();
+        let mut s = problem.scheme(&case.scheme.spec, dt).expect("built above");
+        let t1 = Instant::now();
+        integrate(&problem, s.as_mut(), steps, &mut []).expect("ran above");
+        let stepping = t1.elapsed().as_secs_f64();
+        best_wall = best_wall.min(t0.elapsed().as_secs_f64());
+        stepping
+    });
+    r.wall_seconds = best_wall;
+    r
+}
+
+/// Least-squares slope of log y against log x over the finite positive pairs (None with fewer
+/// than two).
+pub fn fit_slope(x: &[f64], y: &[f64]) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = x
+        .iter()
+        .zip(y)
+        .filter(|(a, b)| a.is_finite() && b.is_finite() && **a > 0.0 && **b > 0.0)
+        .map(|(a, b)| (a.ln(), b.ln()))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+/// Observed convergence rates of one (scheme, mass).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Rates {
+    pub scheme: &'static str,
+    pub mass: &'static str,
+    /// Slope of the L∞(L²) error against h at fixed Δt = h (h and Δt refined together), fitted
+    /// over m ≥ `fit_from`.
+    pub l2_space: Option<f64>,
+    /// The same at the smallest Δt/h of the sweep.
+    pub l2_space_fine_dt: Option<f64>,
+    /// Slope of the contact-displacement error against h at Δt = h.
+    pub contact_space: Option<f64>,
+    /// Slope of the L∞(L²) error against Δt at the finest h (Δt = h … h/k).
+    pub l2_time: Option<f64>,
+    /// The L∞(L²) error of the finest run (finest h, smallest Δt).
+    pub finest_l2_error: f64,
+    pub fit_from: usize,
+}
+
+/// Fits the rates of every (scheme, mass) in `results`; the space fits use m ≥ `fit_from`
+/// (the coarsest meshes are pre-asymptotic).
+pub fn rates(results: &[CaseResult], fit_from: usize) -> Vec<Rates> {
+    let mut keys: Vec<(&'static str, &'static str)> = Vec::new();
+    for r in results {
+        if !keys.contains(&(r.scheme, r.mass)) {
+            keys.push((r.scheme, r.mass));
+        }
+    }
+    keys.into_iter()
+        .map(|(scheme, mass)| {
+            let rows: Vec<&CaseResult> =
+                results.iter().filter(|r| r.scheme == scheme && r.mass == mass && r.failure.is_none()).collect();
+            let space = |div: usize, err: fn(&CaseResult) -> f64| {
+                let pts: Vec<&&CaseResult> =
+                    rows.iter().filter(|r| r.dt_divisor == div && r.elements >= fit_from).collect();
+                fit_slope(&pts.iter().map(|r| r.h).collect::<Vec<_>>(), &pts.iter().map(|r| err(r)).collect::<Vec<_>>())
+            };
+            let min_div = rows.iter().map(|r| r.dt_divisor).min().unwrap_or(1);
+            let max_div = rows.iter().map(|r| r.dt_divisor).max().unwrap_or(1);
+            let finest = rows.iter().map(|r| r.elements).max().unwrap_or(0);
+            let at_finest: Vec<&&CaseResult> = rows.iter().filter(|r| r.elements == finest).collect();
+            let l2_time = fit_slope(
+                &at_finest.iter().map(|r| r.dt).collect::<Vec<_>>(),
+                &at_finest.iter().map(|r| r.linf_l2_error).collect::<Vec<_>>(),
+            );
+            let finest_l2_error =
+                at_finest.iter().find(|r| r.dt_divisor == max_div).map_or(f64::NAN, |r| r.linf_l2_error);
+            Rates {
+                scheme,
+                mass,
+                l2_space: space(min_div, |r| r.linf_l2_error),
+                l2_space_fine_dt: space(max_div, |r| r.linf_l2_error),
+                contact_space: space(min_div, |r| r.max_contact_error),
+                l2_time,
+                finest_l2_error,
+                fit_from,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slope_of_a_power_law_is_its_exponent() {
+        let x = [0.1, 0.05, 0.025, 0.0125];
+        let y: Vec<f64> = x.iter().map(|h: &f64| 3.0 * h.powf(1.5)).collect();
+        // Exact power law: the fit is exact up to a few ulps of the logs (|ln| < 10).
+        assert!((fit_slope(&x, &y).unwrap() - 1.5).abs() < 1e-12);
+        assert_eq!(fit_slope(&x[..1], &y[..1]), None);
+    }
+
+    #[test]
+    fn rates_recover_the_exponents_of_synthetic_power_laws() {
+        // e = C h^p Δt^q on a grid of (m, Δt = h/d): the space fit at fixed d gives p + q, the
+        // time fit at the finest m gives q (exact power laws: a few ulps of the logs).
+        let (p, q) = (0.75, 0.5);
+        let mut results = Vec::new();
+        for m in [6, 12, 24, 48, 96] {
+            for d in [1, 2, 4] {
+                let h = 1.0 / m as f64;
+                let dt = h / d as f64;
+                let e = 2.0 * h.powf(p) * dt.powf(q);
+                results.push(CaseResult {
+                    scheme: "s",
+                    mass: "mod3",
+                    elements: m,
+                    h,
+                    dt_divisor: d,
+                    dt,
+                    steps: 3 * m * d,
+                    linf_l2_error: e,
+                    linf_l2_error_relative: e,
+                    max_contact_error: e,
+                    energy_spread: 0.0,
+                    wall_seconds: 1.0,
+                    ns_per_node_step: 1.0,
+                    failure: None,
+                });
+            }
+        }
+        let r = &rates(&results, 24)[0];
+        assert!((r.l2_space.unwrap() - (p + q)).abs() < 1e-12);
+        assert!((r.l2_space_fine_dt.unwrap() - (p + q)).abs() < 1e-12);
+        assert!((r.l2_time.unwrap() - q).abs() < 1e-12);
+        assert_eq!(r.finest_l2_error, results.last().unwrap().linf_l2_error);
+    }
+
+    #[test]
+    fn cases_skip_massless_only_schemes_on_the_standard_mass() {
+        let cfg = SweepConfig { elements: vec![6], dt_divisors: vec![1], end: 3.0, min_timing_seconds: 0.0 };
+        let c = cases(&cfg);
+        // 3 schemes × 4 masses + 2 schemes × 3 masses.
+        assert_eq!(c.len(), 18);
+        assert!(!c.iter().any(|c| c.scheme.needs_massless && c.mass == MassKind::Standard));
+    }
+}

@@ -1,0 +1,296 @@
+//! Weighted mass and stiffness matrices on 2D meshes (paper §3 in 2D), and the discrete
+//! contact system on the free nodes.
+//!
+//! ```text
+//! M_ij = Σ_c w_c ∫_c φ_i φ_j,     S_ij = ∫_Ω ∇φ_i · ∇φ_j,     F_i = f ∫_Ω w_h φ_i = f (M 1)_i.
+//! ```
+//!
+//! - P1 triangle of area A: `∫ φ_i φ_j = A(1 + δ_ij)/12`, `∇φ_i = (b_i, c_i)/(2A)` with
+//!   `b_i = y_j − y_k`, `c_i = x_k − x_j` (i, j, k cyclic): exact closed forms.
+//! - Q1 rectangle `[x_a, x_a + a] × [y_a, y_a + b]`: the tensor products
+//!   `M = w (a/6)[[2,1],[1,2]] ⊗ (b/6)[[2,1],[1,2]]` and `S = K_x ⊗ M_y + M_x ⊗ K_y` with
+//!   `K = (1/len)[[1,−1],[−1,1]]`: exact. On a structured mesh the global matrices are the same
+//!   tensor products, so with x-only weights the y-independent fields reduce to the 1D problem.
+//!
+//! The matrices cover all vertices in mesh order without boundary condition ([`assemble`],
+//! for cross-checks against dolfinx and scikit-fem); [`PlateSystem`] removes the Dirichlet
+//! nodes x = L and keeps the contact nodes x = 0 as unknowns (Signorini rows).
+
+use super::mass::{PlateMassError, cell_weights};
+use super::mesh::{CellKind, Mesh2d};
+use super::sparse::{self, SpMat, SparseError};
+use crate::mass::MassKind;
+use thiserror::Error;
+
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum PlateAssemblyError {
+    #[error(transparent)]
+    Mass(#[from] PlateMassError),
+    #[error(transparent)]
+    Sparse(#[from] SparseError),
+    #[error("plate.force = {0}: must be finite")]
+    Force(f64),
+}
+
+/// Element mass (with weight 1) and stiffness matrices of cell c, row-major k × k.
+fn element(mesh: &Mesh2d, c: usize) -> ([f64; 16], [f64; 16]) {
+    let v = mesh.cell(c);
+    let mut m = [0.0; 16];
+    let mut s = [0.0; 16];
+    match mesh.kind {
+        CellKind::Triangle => {
+            let p: Vec<[f64; 2]> = v.iter().map(|&i| mesh.points[i]).collect();
+            let area = mesh.signed_area(c);
+            let b = [p[1][1] - p[2][1], p[2][1] - p[0][1], p[0][1] - p[1][1]];
+            let cc = [p[2][0] - p[1][0], p[0][0] - p[2][0], p[1][0] - p[0][0]];
+            for i in 0..3 {
+                for j in 0..3 {
+                    m[i * 4 + j] = area * if i == j { 2.0 } else { 1.0 } / 12.0;
+                    s[i * 4 + j] = (b[i] * b[j] + cc[i] * cc[j]) / (4.0 * area);
+                }
+            }
+        }
+        CellKind::Quad => {
+            // Reference corners (0,0), (1,0), (1,1), (0,1) of the rectangle's local frame; the
+            // cell's counter-clockwise order may start at any corner, so place each vertex.
+            let [x0, x1, y0, y1] = mesh.cell_box(c);
+            let (a, bb) = (x1 - x0, y1 - y0);
+            let (mx, kx) = ([a / 3.0, a / 6.0], [1.0 / a, -1.0 / a]);
+            let (my, ky) = ([bb / 3.0, bb / 6.0], [1.0 / bb, -1.0 / bb]);
+            let side = |t: f64, lo: f64, hi: f64| usize::from((t - lo).abs() > (t - hi).abs());
+            let ij: Vec<(usize, usize)> =
+                v.iter().map(|&i| (side(mesh.points[i][0], x0, x1), side(mesh.points[i][1], y0, y1))).collect();
+            for p in 0..4 {
+                for q in 0..4 {
+                    let (dx, dy) = (usize::from(ij[p].0 != ij[q].0), usize::from(ij[p].1 != ij[q].1));
+                    m[p * 4 + q] = mx[dx] * my[dy];
+                    s[p * 4 + q] = kx[dx] * my[dy] + mx[dx] * ky[dy];
+                }
+            }
+        }
+    }
+    (m, s)
+}
+
+/// Weighted mass and stiffness matrices over all vertices, in mesh order, no boundary
+/// condition (the matrices dolfinx and scikit-fem assemble). `weights` has one entry per cell.
+pub fn assemble(mesh: &Mesh2d, weights: &[f64]) -> Result<(SpMat, SpMat), SparseError> {
+    assert_eq!(weights.len(), mesh.n_cells(), "one weight per cell");
+    let k = mesh.kind.verts();
+    let mut tm = Vec::with_capacity(mesh.n_cells() * k * k);
+    let mut ts = Vec::with_capacity(mesh.n_cells() * k * k);
+    for (c, &w) in weights.iter().enumerate() {
+        let (m, s) = element(mesh, c);
+        let v = mesh.cell(c);
+        for p in 0..k {
+            for q in 0..k {
+                tm.push((v[p], v[q], w * m[p * 4 + q]));
+                ts.push((v[p], v[q], s[p * 4 + q]));
+            }
+        }
+    }
+    let n = mesh.n_nodes();
+    Ok((sparse::from_triplets(n, &tm, "mass")?, sparse::from_triplets(n, &ts, "stiffness")?))
+}
+
+/// The semi-discrete contact problem `M Ü + S U = F − Σ_c λ_c e_c`, `0 ≤ u_c ⊥ λ_c ≤ 0` on the
+/// contact unknowns c. Mesh-free: the 2D plate and (for cross-checks) the 1D bar are instances.
+#[derive(Debug, Clone)]
+pub struct ContactSystem {
+    pub mass: SpMat,
+    pub stiffness: SpMat,
+    pub load: Vec<f64>,
+    /// Unknowns carrying a Signorini condition (in the order of the λ vector).
+    pub contact: Vec<usize>,
+    /// Per unknown: `M_ii = 0` (the node has no inertia; its row is quasi-static).
+    pub massless: Vec<bool>,
+}
+
+impl ContactSystem {
+    /// From assembled matrices; massless unknowns are those with a zero mass diagonal.
+    pub fn new(mass: SpMat, stiffness: SpMat, load: Vec<f64>, contact: Vec<usize>) -> Self {
+        let massless = (0..mass.nrows()).map(|i| sparse::get(&mass, i, i) == 0.0).collect();
+        Self { mass, stiffness, load, contact, massless }
+    }
+
+    /// The 1D bar of [`crate::assembly::System`] (tridiagonal matrices, contact node 0) as a
+    /// contact system: the 2D schemes run on it unchanged, which is how the tests check that
+    /// they share the 1D logic.
+    pub fn from_bar(system: &crate::assembly::System) -> Self {
+        let m = system.m();
+        let tri = |a: &crate::tridiag::SymTridiag| {
+            let mut t = Vec::with_capacity(3 * m);
+            for i in 0..m {
+                t.push((i, i, a.diag[i]));
+                if i + 1 < m {
+                    t.push((i, i + 1, a.off[i]));
+                    t.push((i + 1, i, a.off[i]));
+                }
+            }
+            sparse::from_triplets(m, &t, "bar").expect("a tridiagonal pattern is valid")
+        };
+        Self::new(tri(&system.mass), tri(&system.stiffness), system.load.clone(), vec![0])
+    }
+
+    pub fn n(&self) -> usize {
+        self.load.len()
+    }
+
+    /// True when every contact unknown is massless.
+    pub fn massless_contact(&self) -> bool {
+        self.contact.iter().all(|&c| self.massless[c])
+    }
+
+    /// Largest mass diagonal among the contact unknowns (0 iff they are all massless).
+    pub fn contact_mass(&self) -> f64 {
+        self.contact.iter().map(|&c| sparse::get(&self.mass, c, c)).fold(0.0, f64::max)
+    }
+
+    /// Discrete energy `½ VᵀMV + ½ UᵀSU − UᵀF` (the 1D [`crate::assembly::System::energy`]).
+    pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
+        let work: f64 = u.iter().zip(&self.load).map(|(a, b)| a * b).sum();
+        0.5 * sparse::quad_form(&self.mass, v) + 0.5 * sparse::quad_form(&self.stiffness, u) - work
+    }
+}
+
+/// The plate problem on the free nodes (all but x = L): the mesh, its cell weights, the contact
+/// system, and what is needed to report on Γ_C.
+#[derive(Debug, Clone)]
+pub struct PlateSystem {
+    pub mesh: Mesh2d,
+    pub weights: Vec<f64>,
+    /// Free unknown → mesh node.
+    pub dofs: Vec<usize>,
+    /// Mesh node → free unknown (None on Γ_D).
+    pub node_dof: Vec<Option<usize>>,
+    pub system: ContactSystem,
+    /// The unweighted mass matrix on the free nodes (for L² norms).
+    pub mass_unit: SpMat,
+    /// `∫_{Γ_C} φ_c dy` for each contact unknown (trace weights: the mean of u on Γ_C is
+    /// `Σ_c ℓ_c u_c / |Γ_C|`, exact for the piecewise-linear trace).
+    pub contact_lengths: Vec<f64>,
+}
+
+impl PlateSystem {
+    /// Assembles M, S, F on the free nodes for a mass redistribution and a constant body force.
+    /// Contact unknowns are ordered by increasing y (the first one is the node at y = 0 on a
+    /// structured mesh).
+    pub fn new(mesh: Mesh2d, mass: &MassKind, force: f64) -> Result<Self, PlateAssemblyError> {
+        let weights = cell_weights(&mesh, mass)?;
+        Self::from_weights(mesh, weights, force)
+    }
+
+    /// Assembly from validated cell weights.
+    pub fn from_weights(mesh: Mesh2d, weights: Vec<f64>, force: f64) -> Result<Self, PlateAssemblyError> {
+        if !force.is_finite() {
+            return Err(PlateAssemblyError::Force(force));
+        }
+        let (mass_all, stiff_all) = assemble(&mesh, &weights)?;
+        let (unit_all, _) = assemble(&mesh, &vec![1.0; mesh.n_cells()])?;
+        let dofs: Vec<usize> = (0..mesh.n_nodes()).filter(|&v| !mesh.on_dirichlet(v)).collect();
+        let mut node_dof = vec![None; mesh.n_nodes()];
+        for (d, &v) in dofs.iter().enumerate() {
+            node_dof[v] = Some(d);
+        }
+        // F_i = f ∫ w_h φ_i = f Σ_j M_ij (the basis functions sum to 1), over all nodes.
+        let mut row_sums = vec![0.0; mesh.n_nodes()];
+        for (i, _, v) in sparse::triplets(&mass_all) {
+            row_sums[i] += v;
+        }
+        let load: Vec<f64> = dofs.iter().map(|&v| force * row_sums[v]).collect();
+        let mass = sparse::principal(&mass_all, &dofs, "mass")?;
+        let stiffness = sparse::principal(&stiff_all, &dofs, "stiffness")?;
+        let mass_unit = sparse::principal(&unit_all, &dofs, "mass")?;
+        let mut contact_nodes: Vec<usize> = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).collect();
+        contact_nodes.sort_by(|&a, &b| mesh.points[a][1].total_cmp(&mesh.points[b][1]));
+        let contact: Vec<usize> = contact_nodes.iter().map(|&v| node_dof[v].expect("x = 0 is not x = L")).collect();
+        let mut contact_lengths = vec![0.0; contact.len()];
+        let mut slots = vec![None; mesh.n_nodes()];
+        for (k, &v) in contact_nodes.iter().enumerate() {
+            slots[v] = Some(k);
+        }
+        let slot = |v: usize| slots[v];
+        for c in 0..mesh.n_cells() {
+            let cell = mesh.cell(c);
+            for a in 0..cell.len() {
+                let (p, q) = (cell[a], cell[(a + 1) % cell.len()]);
+                if let (Some(i), Some(j)) = (slot(p), slot(q)) {
+                    let len = (mesh.points[p][1] - mesh.points[q][1]).abs();
+                    contact_lengths[i] += len / 2.0;
+                    contact_lengths[j] += len / 2.0;
+                }
+            }
+        }
+        let system = ContactSystem::new(mass, stiffness, load, contact);
+        Ok(Self { mesh, weights, dofs, node_dof, system, mass_unit, contact_lengths })
+    }
+
+    /// Nodal interpolant of g(x, y) on the free nodes.
+    pub fn interpolate(&self, g: impl Fn(f64, f64) -> f64) -> Vec<f64> {
+        self.dofs.iter().map(|&v| g(self.mesh.points[v][0], self.mesh.points[v][1])).collect()
+    }
+
+    /// Values at all mesh nodes (0 on Γ_D) from values on the free nodes.
+    pub fn to_nodes(&self, u: &[f64], out: &mut [f64]) {
+        for (v, d) in self.node_dof.iter().enumerate() {
+            out[v] = d.map_or(0.0, |d| u[d]);
+        }
+    }
+
+    /// `|Γ_C|`, the length of the contact boundary.
+    pub fn contact_length(&self) -> f64 {
+        self.contact_lengths.iter().sum()
+    }
+
+    /// Mean of u on Γ_C: `Σ_c ℓ_c u_c / |Γ_C|`.
+    pub fn contact_mean(&self, u: &[f64]) -> f64 {
+        let s: f64 = self.system.contact.iter().zip(&self.contact_lengths).map(|(&c, l)| l * u[c]).sum();
+        s / self.contact_length()
+    }
+
+    /// Total mass `1ᵀ M_full 1 = ∫ w_h`.
+    pub fn total_mass(&self) -> f64 {
+        super::mass::total_mass(&self.mesh, &self.weights)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn q1_matrices_are_tensor_products_of_the_1d_ones() {
+        // On a structured mesh, M = Mx^w ⊗ My and S = Kx ⊗ My + Mx ⊗ Ky (x-only weights).
+        let (nx, ny, l, h) = (4, 3, 1.0, 0.6);
+        let mesh = Mesh2d::structured(l, h, nx, ny, CellKind::Quad).unwrap();
+        let w = cell_weights(&mesh, &MassKind::Mod3).unwrap();
+        let (m, s) = assemble(&mesh, &w).unwrap();
+        let w1 = MassKind::Mod3.weights(nx).unwrap();
+        let bar = |len: f64, n: usize, w: &[f64]| {
+            let d = len / n as f64;
+            let mut mm = vec![vec![0.0; n + 1]; n + 1];
+            let mut kk = vec![vec![0.0; n + 1]; n + 1];
+            for e in 0..n {
+                for (p, q) in [(e, e), (e, e + 1), (e + 1, e), (e + 1, e + 1)] {
+                    mm[p][q] += w[e] * d * if p == q { 2.0 } else { 1.0 } / 6.0;
+                    kk[p][q] += if p == q { 1.0 } else { -1.0 } / d;
+                }
+            }
+            (mm, kk)
+        };
+        let (mxw, _) = bar(l, nx, &w1);
+        let (mx, kx) = bar(l, nx, &vec![1.0; nx]);
+        let (my, ky) = bar(h, ny, &vec![1.0; ny]);
+        let node = |i: usize, j: usize| j * (nx + 1) + i;
+        for (i, j) in (0..=nx).flat_map(|i| (0..=ny).map(move |j| (i, j))) {
+            for (p, q) in (0..=nx).flat_map(|p| (0..=ny).map(move |q| (p, q))) {
+                let (a, b) = (node(i, j), node(p, q));
+                let me = mxw[i][p] * my[j][q];
+                let se = kx[i][p] * my[j][q] + mx[i][p] * ky[j][q];
+                // Sums of up to 4 element contributions of size ≤ 1/h²: a few ulps of that.
+                assert!((sparse::get(&m, a, b) - me).abs() <= 16.0 * f64::EPSILON, "M[{a},{b}]");
+                assert!((sparse::get(&s, a, b) - se).abs() <= 16.0 * f64::EPSILON * 100.0, "S[{a},{b}]");
+            }
+        }
+    }
+}

@@ -1,0 +1,164 @@
+//! L²(Ω) norms on the plate, and the exact L² error against the y-independent benchmark
+//! solution `u(x, y, t) = u_1D(x, t)` ([`ImpactingBar`]), integrated exactly.
+//!
+//! The exact solution is affine in x between its kinks ([`ImpactingBar::kinks`], at most 3
+//! vertical lines x = k) and constant in y. Each cell is cut along those lines; on each piece
+//! - P1 triangles: u_h and u are affine, so the error e is affine on every convex piece (a
+//!   triangle clipped by vertical lines, fanned into triangles) and
+//!   `∫_T e² = |T|/6 (e_1² + e_2² + e_3² + e_1e_2 + e_2e_3 + e_3e_1)` exactly;
+//! - Q1 rectangles: u_h is bilinear, u affine in x and constant in y, so e is bilinear on each
+//!   sub-rectangle [p, q] × [y_a, y_b] and `∫ e² = Σ (M_x)_{ac} (M_y)_{bd} e_{ab} e_{cd}` with
+//!   the 1D mass matrices `(len/6)[[2,1],[1,2]]`, exactly.
+//!
+//! No quadrature rule is involved: the only error is round-off.
+
+use super::assembly::PlateSystem;
+use super::mesh::CellKind;
+use super::sparse;
+use crate::exact::ImpactingBar;
+
+/// `‖u_h‖_{L²(Ω)} = (Uᵀ M₁ U)^{1/2}` (M₁ the unweighted mass matrix; u_h = 0 on Γ_D).
+pub fn l2_norm(plate: &PlateSystem, u: &[f64]) -> f64 {
+    let q = sparse::quad_form(&plate.mass_unit, u);
+    (if q < 0.0 { 0.0 } else { q }).sqrt()
+}
+
+/// `∫_T e²` for e affine on the triangle with corners p and values e.
+fn triangle_square(p: [[f64; 2]; 3], e: [f64; 3]) -> f64 {
+    let area = 0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1])).abs();
+    area / 6.0 * (e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[0] * e[1] + e[1] * e[2] + e[2] * e[0])
+}
+
+/// Clips the convex polygon `poly` (≤ 7 vertices) to `lo ≤ x ≤ hi`, into `out`; returns its
+/// vertex count.
+fn clip_strip(poly: &[[f64; 2]], lo: f64, hi: f64, out: &mut [[f64; 2]; 8]) -> usize {
+    let mut a = [[0.0; 2]; 8];
+    let mut na = 0;
+    // x ≥ lo
+    for k in 0..poly.len() {
+        let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+        let (pin, qin) = (p[0] >= lo, q[0] >= lo);
+        if pin {
+            a[na] = p;
+            na += 1;
+        }
+        if pin != qin {
+            let s = (lo - p[0]) / (q[0] - p[0]);
+            a[na] = [lo, p[1] + s * (q[1] - p[1])];
+            na += 1;
+        }
+    }
+    let mut nb = 0;
+    // x ≤ hi
+    for k in 0..na {
+        let (p, q) = (a[k], a[(k + 1) % na]);
+        let (pin, qin) = (p[0] <= hi, q[0] <= hi);
+        if pin {
+            out[nb] = p;
+            nb += 1;
+        }
+        if pin != qin {
+            let s = (hi - p[0]) / (q[0] - p[0]);
+            out[nb] = [hi, p[1] + s * (q[1] - p[1])];
+            nb += 1;
+        }
+    }
+    nb
+}
+
+/// `‖u_h − u(·, t)‖_{L²(Ω)}` for the y-independent benchmark solution, exact (module docs).
+/// `u` holds the values on the free unknowns of `plate`.
+pub fn l2_error(plate: &PlateSystem, u: &[f64], exact: &ImpactingBar, t: f64) -> f64 {
+    let mesh = &plate.mesh;
+    let mut kinks = [0.0; 3];
+    let nk = exact.kinks(t, &mut kinks);
+    let kinks = &mut kinks[..nk];
+    kinks.sort_by(f64::total_cmp);
+    let val = |v: usize| plate.node_dof[v].map_or(0.0, |d| u[d]);
+    let mut total = 0.0;
+    let mut cuts = [0.0; 5];
+    for c in 0..mesh.n_cells() {
+        let cell = mesh.cell(c);
+        let [x0, x1, y0, y1] = mesh.cell_box(c);
+        // Strip boundaries: the cell's x-range cut at the kinks strictly inside it.
+        let mut nc = 0;
+        cuts[nc] = x0;
+        nc += 1;
+        for &k in kinks.iter() {
+            // Sorted, and repeated kinks (t = 1.5 L has three at L/2) give one cut.
+            if k > cuts[nc - 1] && k < x1 {
+                cuts[nc] = k;
+                nc += 1;
+            }
+        }
+        cuts[nc] = x1;
+        nc += 1;
+        match mesh.kind {
+            CellKind::Triangle => {
+                let p = [mesh.points[cell[0]], mesh.points[cell[1]], mesh.points[cell[2]]];
+                let uv = [val(cell[0]), val(cell[1]), val(cell[2])];
+                // u_h(x, y) = Σ uv_i λ_i(x, y) (barycentric coordinates).
+                let det = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+                let uh = |q: [f64; 2]| {
+                    let l1 = ((q[0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (q[1] - p[0][1])) / det;
+                    let l2 = ((p[1][0] - p[0][0]) * (q[1] - p[0][1]) - (q[0] - p[0][0]) * (p[1][1] - p[0][1])) / det;
+                    uv[0] * (1.0 - l1 - l2) + uv[1] * l1 + uv[2] * l2
+                };
+                let mut piece = [[0.0; 2]; 8];
+                for s in 0..nc - 1 {
+                    let np = clip_strip(&p, cuts[s], cuts[s + 1], &mut piece);
+                    if np < 3 {
+                        continue;
+                    }
+                    // u is affine on the strip: its values at the strip ends define it there.
+                    let (a, b) = (cuts[s], cuts[s + 1]);
+                    let (ua, ub) = (exact.u(a, t), exact.u(b, t));
+                    let ue = |x: f64| ua + (ub - ua) * (x - a) / (b - a);
+                    let e = |q: [f64; 2]| uh(q) - ue(q[0]);
+                    for k in 1..np - 1 {
+                        let tri = [piece[0], piece[k], piece[k + 1]];
+                        total += triangle_square(tri, [e(tri[0]), e(tri[1]), e(tri[2])]);
+                    }
+                }
+            }
+            CellKind::Quad => {
+                // Corner values at (x0,y0), (x1,y0), (x1,y1), (x0,y1).
+                let mut corner = [0.0; 4];
+                for &v in cell {
+                    let q = mesh.points[v];
+                    let (i, j) = (
+                        usize::from((q[0] - x0).abs() > (q[0] - x1).abs()),
+                        usize::from((q[1] - y0).abs() > (q[1] - y1).abs()),
+                    );
+                    corner[[[0, 3], [1, 2]][i][j]] = val(v);
+                }
+                let uh = |x: f64, bottom: bool| {
+                    let s = (x - x0) / (x1 - x0);
+                    if bottom {
+                        corner[0] + s * (corner[1] - corner[0])
+                    } else {
+                        corner[3] + s * (corner[2] - corner[3])
+                    }
+                };
+                let hy = y1 - y0;
+                for s in 0..nc - 1 {
+                    let (a, b) = (cuts[s], cuts[s + 1]);
+                    let (ua, ub) = (exact.u(a, t), exact.u(b, t));
+                    // e at (a, y0), (b, y0), (a, y1), (b, y1).
+                    let e = [uh(a, true) - ua, uh(b, true) - ub, uh(a, false) - ua, uh(b, false) - ub];
+                    let mx = [(b - a) / 3.0, (b - a) / 6.0];
+                    let my = [hy / 3.0, hy / 6.0];
+                    let mut s2 = 0.0;
+                    for p in 0..4 {
+                        for q in 0..4 {
+                            s2 += mx[usize::from(p % 2 != q % 2)] * my[usize::from(p / 2 != q / 2)] * e[p] * e[q];
+                        }
+                    }
+                    total += s2;
+                }
+            }
+        }
+    }
+    // A sum of positive semi-definite quadratic forms; NaN stays NaN.
+    (if total < 0.0 { 0.0 } else { total }).sqrt()
+}

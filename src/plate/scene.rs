@@ -1,0 +1,329 @@
+//! Plate scenes (TOML): a `[plate]` table replaces `[bar]`; `[mass]`, `[scheme]` and `[time]`
+//! are parsed by the 1D scene's own parsers; `[output]` has plate columns and VTU options.
+//!
+//! ```toml
+//! [plate]
+//! length = 1.0
+//! height = 1.0
+//! nx = 20                    # cells along x (Δx₁ = length/nx)
+//! ny = 20                    # cells along y (Δx₂ = height/ny)
+//! cells = "quad"             # quad (Q1) | triangle (P1, one diagonal per square)
+//! initial = "paper"          # paper: u0 = (L-x)/2 (exact solution known) | bump: y-dependent
+//! force = 0.0
+//! [mass]
+//! kind = "mod3"              # standard | mod1 | mod2 | mod3 | custom (one weight per cell)
+//! [scheme]
+//! kind = "crank-nicolson"    # crank-nicolson | newmark | backward-euler | hybrid
+//! [time]
+//! dt = 0.01
+//! end = 3.0
+//! [output]
+//! series = ["u0", "u_mean", "lambda", "contact_force", "energy", "l2_error"]
+//! every = 1
+//! vtu = false                # write vtu/frame_*.vtu and plate.pvd
+//! vtu_every = 10             # steps between VTU frames (only with vtu = true)
+//! ```
+
+use super::mass::{PlateMassError, cell_weights, layers};
+use super::mesh::{CellKind, Mesh2d, MeshError};
+use super::run::{PlateColumn, PlateInitial, PlateSpec};
+use crate::mass::MassKind;
+use crate::scene::{
+    Formulation, Number, RawMass, RawScheme, RawTime, SceneError, SchemeSpec, TimeSpec, finite_in, forbid, parse_mass,
+    parse_scheme, parse_time, raw_mass, raw_scheme, raw_time,
+};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// Upper bound on `free nodes × contact nodes`: the dense contact responses Z = K⁻¹E take
+/// 8 bytes each (2.5·10⁷ is 200 MB; a 400 × 400 mesh has 6.4·10⁷).
+pub const MAX_CONTACT_WORK: f64 = 2.5e7;
+
+#[derive(Debug, Error)]
+pub enum PlateSceneError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error(transparent)]
+    Mass(#[from] PlateMassError),
+    #[error(
+        "free nodes × steps = {work:.3e} exceeds the limit {limit:.0e} (about 20 minutes of computing): reduce plate.nx, plate.ny or time.end / time.dt"
+    )]
+    TooMuchWork { work: f64, limit: f64 },
+    #[error(
+        "free nodes × contact nodes = {work:.3e} exceeds {limit:.1e} (the dense contact responses would take {megabytes:.0} MB): reduce plate.nx or plate.ny"
+    )]
+    TooManyContactNodes { work: f64, limit: f64, megabytes: f64 },
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct RawPlateScene {
+    plate: Option<RawPlate>,
+    mass: Option<RawMass>,
+    scheme: Option<RawScheme>,
+    time: Option<RawTime>,
+    output: Option<RawPlateOutput>,
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct RawPlate {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    length: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    height: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    nx: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ny: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    cells: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    initial: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    force: Option<Number>,
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct RawPlateOutput {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    series: Option<Vec<String>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    every: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vtu: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vtu_every: Option<i64>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlateOutputSpec {
+    pub series: Vec<PlateColumn>,
+    pub every: usize,
+    /// Steps between VTU frames, None for no VTU output.
+    pub vtu_every: Option<usize>,
+}
+
+/// A validated plate scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlateScene {
+    pub plate: PlateSpec,
+    pub mass: MassKind,
+    pub scheme: SchemeSpec,
+    pub time: TimeSpec,
+    pub output: PlateOutputSpec,
+}
+
+/// Whether TOML text has a `[plate]` table (a plate scene rather than a bar scene).
+pub fn is_plate_scene(text: &str) -> bool {
+    text.parse::<toml::Table>().is_ok_and(|t| t.contains_key("plate"))
+}
+
+/// Whether the file at `path` is a plate scene (false if it cannot be read or parsed: the bar
+/// scene reader then reports the problem).
+pub fn is_plate_file(path: &std::path::Path) -> bool {
+    std::fs::read_to_string(path).is_ok_and(|t| is_plate_scene(&t))
+}
+
+const SERIES_NAMES: &str =
+    "any subset of u0, u_mean, lambda, contact_force, energy, l2_error, exact_u0, exact_lambda, pivots";
+
+impl PlateScene {
+    pub fn from_file(path: &std::path::Path) -> Result<PlateScene, PlateSceneError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| SceneError::Io { path: path.display().to_string(), source })?;
+        PlateScene::from_toml(&text)
+    }
+
+    pub fn from_toml(text: &str) -> Result<PlateScene, PlateSceneError> {
+        let raw: RawPlateScene = toml::from_str(text).map_err(|e| SceneError::Parse(e.to_string()))?;
+        PlateScene::validate(raw)
+    }
+
+    fn validate(raw: RawPlateScene) -> Result<PlateScene, PlateSceneError> {
+        let p = raw.plate.unwrap_or_default();
+        let length = p.length.map_or(1.0, Number::get);
+        finite_in("plate.length", length, length > 0.0, "(0, ∞)")?;
+        let height = p.height.map_or(1.0, Number::get);
+        finite_in("plate.height", height, height > 0.0, "(0, ∞)")?;
+        let nx = p.nx.unwrap_or(20);
+        if !(2..=4000).contains(&nx) {
+            return Err(SceneError::Range { key: "plate.nx", value: nx.to_string(), range: "[2, 4000]" }.into());
+        }
+        let ny = p.ny.unwrap_or(20);
+        if !(1..=4000).contains(&ny) {
+            return Err(SceneError::Range { key: "plate.ny", value: ny.to_string(), range: "[1, 4000]" }.into());
+        }
+        let (nx, ny) = (nx as usize, ny as usize);
+        let cells = match p.cells.as_deref().unwrap_or("quad") {
+            "quad" => CellKind::Quad,
+            "triangle" => CellKind::Triangle,
+            other => {
+                return Err(SceneError::Range {
+                    key: "plate.cells",
+                    value: format!("\"{other}\""),
+                    range: "\"quad\" (Q1) | \"triangle\" (P1)",
+                }
+                .into());
+            }
+        };
+        let initial = match p.initial.as_deref().unwrap_or("paper") {
+            "paper" => PlateInitial::Paper,
+            "bump" => PlateInitial::Bump,
+            other => {
+                return Err(SceneError::Range {
+                    key: "plate.initial",
+                    value: format!("\"{other}\""),
+                    range: "\"paper\" (u0 = (L-x)/2) | \"bump\" (u0 = (L-x)/2 (1 + cos(pi y/H)/2))",
+                }
+                .into());
+            }
+        };
+        let force = finite_in("plate.force", p.force.map_or(0.0, Number::get), true, "finite real numbers")?;
+        let free = (nx * (ny + 1)) as f64;
+        let contact_work = free * (ny + 1) as f64;
+        if contact_work > MAX_CONTACT_WORK {
+            return Err(PlateSceneError::TooManyContactNodes {
+                work: contact_work,
+                limit: MAX_CONTACT_WORK,
+                megabytes: contact_work * 8.0 / 1e6,
+            });
+        }
+
+        let mesh = Mesh2d::structured(length, height, nx, ny, cells)?;
+        let mass = parse_mass(raw.mass)?;
+        let weights = cell_weights(&mesh, &mass)?;
+        // The contact nodes are massless iff every cell touching x = 0 has weight 0; the shared
+        // scheme parser calls the largest of those weights w_0.
+        let w0 = layers(&mesh).iter().zip(&weights).filter(|(l, _)| **l == 0).map(|(_, w)| *w).fold(0.0, f64::max);
+        let scheme = parse_scheme(raw.scheme, w0, &mass)?;
+        match scheme {
+            SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
+            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. } => {
+                return Err(SceneError::Inapplicable {
+                    key: "scheme.formulation = \"reduced\"",
+                    context:
+                        "[plate] scenes (the 2D Newmark is the full formulation, which equals the reduced one in 1D)"
+                            .into(),
+                }
+                .into());
+            }
+            SchemeSpec::PaoliSchatzman { .. } => {
+                return Err(SceneError::Inapplicable {
+                    key: "scheme.kind = \"paoli-schatzman\"",
+                    context: "[plate] scenes (not ported to 2D; use crank-nicolson, newmark, backward-euler or hybrid)"
+                        .into(),
+                }
+                .into());
+            }
+            _ => {}
+        }
+        let time = parse_time(raw.time, 3.0 * length, nx * (ny + 1)).map_err(|e| match e {
+            SceneError::TooMuchWork { work, limit } => PlateSceneError::TooMuchWork { work, limit },
+            e => e.into(),
+        })?;
+
+        let has_exact = initial == PlateInitial::Paper && force == 0.0;
+        let o = raw.output.unwrap_or_default();
+        let names = o.series.unwrap_or_else(|| {
+            let mut d = vec!["u0", "u_mean", "lambda", "contact_force", "energy"];
+            if has_exact {
+                d.push("l2_error");
+            }
+            d.into_iter().map(String::from).collect()
+        });
+        let mut series = Vec::new();
+        for name in names {
+            let col = PlateColumn::ALL.into_iter().find(|c| c.name() == name).ok_or_else(|| SceneError::Range {
+                key: "output.series",
+                value: format!("\"{name}\""),
+                range: SERIES_NAMES,
+            })?;
+            if series.contains(&col) {
+                return Err(SceneError::DuplicateColumn(name).into());
+            }
+            if col.needs_exact() && !has_exact {
+                return Err(SceneError::Inapplicable {
+                    key: "output.series",
+                    context: format!(
+                        "column \"{}\" with plate.initial = \"{}\", plate.force = {force}: the exact solution is known only for initial = \"paper\" and force = 0",
+                        col.name(),
+                        initial.name()
+                    ),
+                }
+                .into());
+            }
+            series.push(col);
+        }
+        let every = o.every.unwrap_or(1);
+        if every < 1 {
+            return Err(
+                SceneError::Range { key: "output.every", value: every.to_string(), range: "integers >= 1" }.into()
+            );
+        }
+        let vtu_every = if o.vtu.unwrap_or(false) {
+            let k = o.vtu_every.unwrap_or(10);
+            if k < 1 {
+                return Err(SceneError::Range {
+                    key: "output.vtu_every",
+                    value: k.to_string(),
+                    range: "integers >= 1",
+                }
+                .into());
+            }
+            Some(k as usize)
+        } else {
+            forbid("output.vtu_every", &o.vtu_every, "output.vtu = false (set vtu = true)")?;
+            None
+        };
+        Ok(PlateScene {
+            plate: PlateSpec { length, height, nx, ny, cells, initial, force },
+            mass,
+            scheme,
+            time,
+            output: PlateOutputSpec { series, every: every as usize, vtu_every },
+        })
+    }
+
+    /// The exact solution is known for the paper's initial data without body force.
+    pub fn has_exact_solution(&self) -> bool {
+        self.plate.initial == PlateInitial::Paper && self.plate.force == 0.0
+    }
+
+    /// The scene with every default filled in, as TOML.
+    pub fn resolved_toml(&self) -> String {
+        let f = Number::Float;
+        let p = &self.plate;
+        let raw = RawPlateScene {
+            plate: Some(RawPlate {
+                length: Some(f(p.length)),
+                height: Some(f(p.height)),
+                nx: Some(p.nx as i64),
+                ny: Some(p.ny as i64),
+                cells: Some(p.cells.name().into()),
+                initial: Some(p.initial.name().into()),
+                force: Some(f(p.force)),
+            }),
+            mass: Some(raw_mass(&self.mass)),
+            scheme: Some(raw_scheme(&self.scheme)),
+            time: Some(raw_time(&self.time)),
+            output: Some(RawPlateOutput {
+                series: Some(self.output.series.iter().map(|c| c.name().to_string()).collect()),
+                every: Some(self.output.every as i64),
+                vtu: Some(self.output.vtu_every.is_some()),
+                vtu_every: self.output.vtu_every.map(|k| k as i64),
+            }),
+        };
+        let mut text = format!(
+            "# Resolved plate scene (every default filled in); {} steps, dx1 = {:e}, dx2 = {:e}.\n",
+            self.time.steps,
+            p.length / p.nx as f64,
+            p.height / p.ny as f64
+        );
+        text.push_str(&toml::to_string(&raw).expect("a resolved scene always serialises"));
+        text
+    }
+}

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# The whole test suite, including the live FEniCSx (dolfinx) and scikit-fem cross-checks.
+# Installs what it needs first (idempotent: Debian's python3-dolfinx-real, python3-meshio,
+# python3-h5py via apt; scikit-fem 12.0.2 into .pydeps via pip --no-deps), then runs every test
+# with the `python` feature on. Usage: bash tests/run-all.sh
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+echo "== installing the Python side (python/install-deps.sh)"
+bash python/install-deps.sh
+
+echo "== formatting"
+cargo fmt --all -- --check
+
+echo "== tests (with live dolfinx / scikit-fem cross-checks)"
+# Open MPI would otherwise start an orted daemon when mpi4py is imported (TOOLCHAIN.md).
+export OMPI_MCA_ess_singleton_isolated=1
+cargo test --features python --all-targets
+
+echo "== the crosscheck command"
+cargo run --quiet --features python -- crosscheck --json target/crosscheck.json
