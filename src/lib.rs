@@ -8,7 +8,6 @@ pub mod crosscheck;
 
 pub mod assembly;
 pub mod bench;
-pub mod contact;
 pub mod exact;
 pub mod mass;
 pub mod norms;

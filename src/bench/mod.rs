@@ -3,7 +3,7 @@
 //!
 //! - [`sweep`]: scheme × mass × h × Δt on the exact benchmark, errors and times, fitted rates;
 //! - [`perf`]: ns per node-step of each scheme next to a bare LDLᵀ / two-sided solve;
-//! - [`env`]: the environment record and the Python peer (subprocess, at the edge);
+//! - [`mod@env`]: the environment record and the Python peer (subprocess, at the edge);
 //! - [`report`]: CSV, Markdown tables, the work–precision figure (PNG and SVG).
 //!
 //! Everything is measured in the same process and the same run, so the ratios quoted in
@@ -85,6 +85,10 @@ fn python_ratios(quick: bool) -> (Vec<PythonRatio>, Option<String>) {
             "crank-nicolson" => (SchemeSpec::CrankNicolson { formulation: Formulation::Full }, MassKind::Standard),
             _ => continue,
         };
+        // A loop time that is not positive is timer noise, not a measurement: leave it out.
+        if !(run.seconds_per_step > 0.0) {
+            continue;
+        }
         let Some((secs, u)) = perf::time_steps(&spec, &mass, m, run.steps, 0.1) else { continue };
         let diff = u.iter().zip(&run.u_final).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         out.push(PythonRatio {
@@ -152,6 +156,7 @@ pub fn run(quick: bool) -> BenchReport {
         results,
         rates,
         timings,
+        plate,
         python,
         python_note,
         seconds: started.elapsed().as_secs_f64(),

@@ -1,5 +1,5 @@
 //! Time per node-step of each scheme next to the floor of an implicit 1D step: one bare
-//! tridiagonal solve of the same size (LDLᵀ, and the two-sided [`TwistedFactor`]).
+//! tridiagonal solve of the same size (LDLᵀ, and the two-sided [`crate::tridiag::TwistedFactor`]).
 //!
 //! A 1D implicit step costs at least one forward and one backward substitution; each is a
 //! chain of dependent multiply–subtracts, so on one core the solve is bound by the latency of

@@ -1,5 +1,5 @@
 //! Exact solution of the many-node Signorini condition inside an implicit step (the 2D form of
-//! [`crate::contact::ContactSolver`]).
+//! `schemes::contact_multiplier`).
 //!
 //! Each full-system scheme solves, per step,
 //!

@@ -6,7 +6,7 @@
 //! ```
 //!
 //! Eliminating V and A: `(M + Δt² S) U^{n+1} = M (Uⁿ + Δt Vⁿ) + Δt² (F − λ e_0)`, solved for
-//! the contact as in [`crate::contact::ContactSolver`] (σ = Δt²). First order, and the energy E = ½VᵀMV + ½UᵀSU − UᵀF never
+//! the contact by `contact_multiplier` (schemes/mod.rs) (σ = Δt²). First order, and the energy E = ½VᵀMV + ½UᵀSU − UᵀF never
 //! increases: testing the equation with V^{n+1} gives, with `δ = V^{n+1} − Vⁿ`, `ΔU = U^{n+1} − Uⁿ`,
 //! `ΔE = −½ δᵀMδ − ½ ΔUᵀSΔU + λ^{n+1} u_0ⁿ ≤ 0` (λ^{n+1} u_0^{n+1} = 0, λ ≤ 0 and u_0ⁿ ≥ 0).
 

@@ -11,9 +11,11 @@
 //! ```
 //!
 //! H(0) = ½. Since `A^{n+½} = (V^{n+1} − Vⁿ)/Δt` and `V^{n+1} = 2(U^{n+1} − Uⁿ)/Δt − Vⁿ`, A never
-//! appears: `K U^{n+1} = M_red (Uⁿ + Δt Vⁿ) − Δt²/4 S_red Uⁿ + Δt²/2 (F + g e_1)` with
-//! `K = M_red + Δt²/4 S_red`. With `W` the solution for g = 0 and `z = K⁻¹ e_1`, the new u_1 = x
-//! solves `φ(x) = x − c g(x) = W_1`, `c = Δt² z_1/2`. g is piecewise linear in x with kinks at
+//! appears. In the midpoint `Ū = (U^{n+1} + Uⁿ)/2` (so `U^{n+1} = 2Ū − Uⁿ`,
+//! `V^{n+1} = 4(Ū − Uⁿ)/Δt − Vⁿ`) the step is, multiplying the equation by Δt²/4,
+//! `K Ū = M_red (Uⁿ + Δt/2 Vⁿ) + Δt²/4 (F + g e_1)` with `K = M_red + Δt²/4 S_red`: one matrix–vector
+//! product per step. With `W̄` the solution for g = 0 and `z = K⁻¹ e_1`, the new u_1 = x = 2ū_1 − u_1ⁿ
+//! solves `φ(x) = x − c g(x) = W_1`, `W_1 = 2W̄_1 − u_1ⁿ`, `c = Δt² z_1/2`. g is piecewise linear in x with kinks at
 //! x = −u_1ⁿ and x = 0 and slopes in [0, 1/h], and `c/h ≤ (m−1)/m < 1`, so φ is strictly
 //! increasing and piecewise linear: we locate the piece from φ at the kinks and solve it exactly.
 //!
@@ -21,9 +23,9 @@
 //! equals the full-system energy with `u_0 = u_1⁺`.
 
 //!
-//! A step is three passes: the right-hand side `M_red Ũ − Δt²/4 S_red Uⁿ + Δt²/2 F`
-//! (Ũ = Uⁿ + Δt Vⁿ, kept from the previous update), the two-sided solve for W
-//! ([`TwistedFactor`]), then one update pass `U^{n+1} = W + Δt²/2 g z`, V^{n+1}, next Ũ.
+//! A step is three passes: the right-hand side `M_red Ũ + Δt²/4 F` (Ũ = Uⁿ + Δt/2 Vⁿ, kept from
+//! the previous update), the two-sided solve for W̄ ([`TwistedFactor`]), then one update pass
+//! `Ū = W̄ + Δt²/4 g z`, U^{n+1}, V^{n+1} and the next Ũ.
 
 use super::{SchemeError, StateView, check_finite, check_range, factor_err};
 use crate::assembly::System;
@@ -34,7 +36,6 @@ pub struct Hybrid {
     dt: f64,
     h: f64,
     mass: SymTridiag,
-    stiffness: SymTridiag,
     load: Vec<f64>,
     factor: TwistedFactor,
     response: Vec<f64>,
@@ -96,13 +97,12 @@ impl Hybrid {
         let k = mass.combine(1.0, &stiffness, dt * dt / 4.0);
         let factor = k.factor_twisted().map_err(factor_err("M_red + Δt²/4 S_red"))?;
         let response = factor.unit_response(0);
-        let pred = (1..u0.len()).map(|i| u0[i] + dt * v0[i]).collect();
+        let pred = (1..u0.len()).map(|i| u0[i] + 0.5 * dt * v0[i]).collect();
         let m = system.m();
         Ok(Self {
             dt,
             h: system.h(),
             mass,
-            stiffness,
             load: system.load[1..].to_vec(),
             factor,
             response,
@@ -125,23 +125,24 @@ impl super::Scheme for Hybrid {
         let (dt, h) = (self.dt, self.h);
         let r = self.pred.len();
         let (quarter, half) = (dt * dt / 4.0, dt * dt / 2.0);
-        self.mass.mul2_add_into(&self.pred, &self.stiffness, -quarter, &self.u[1..], half, &self.load, &mut self.rhs);
+        self.mass.mul_add_into(&self.pred, quarter, Some(&self.load), &mut self.rhs);
         self.factor.solve_in_place(&mut self.rhs);
         let p = self.u[1];
         let c = half * self.response[0];
-        let x = solve_contact_step(p, self.rhs[0], c, h);
+        let x = solve_contact_step(p, 2.0 * self.rhs[0] - p, c, h);
         let g = contact_term(p, x, h).0;
-        let s = half * g;
+        let s = quarter * g;
         let u0_old = self.u[0];
-        let inv_dt2 = 2.0 / dt;
+        let (four_over_dt, half_dt) = (4.0 / dt, 0.5 * dt);
         let (u, v) = (&mut self.u[1..=r], &mut self.v[1..=r]);
         let (w, z, pred) = (&self.rhs[..r], &self.response[..r], &mut self.pred[..r]);
         for i in 0..r {
-            let u_new = w[i] + s * z[i];
-            let v_new = (u_new - u[i]) * inv_dt2 - v[i];
+            let mid = w[i] + s * z[i];
+            let u_new = 2.0 * mid - u[i];
+            let v_new = (mid - u[i]) * four_over_dt - v[i];
             u[i] = u_new;
             v[i] = v_new;
-            pred[i] = u_new + dt * v_new;
+            pred[i] = u_new + half_dt * v_new;
         }
         self.u[0] = self.u[1].max(0.0);
         self.v[0] = (self.u[0] - u0_old) / dt;

@@ -90,10 +90,15 @@ pub fn initial_acceleration(system: &System, u: &[f64]) -> Result<Vec<f64>, Sche
     Ok(a)
 }
 
-/// The one-node Signorini step of [`crate::contact::ContactSolver`] on an unconstrained solution
-/// `u* = K⁻¹ r` with `z = K⁻¹ e_0`: λ = 0 if `u*_0 ≥ lower`, else `λ = (u*_0 − lower)/(σ z_0) < 0`;
-/// the constrained solution is then `u* − σ λ z` with `u_0 = lower` set exactly. The schemes
-/// apply the correction inside their update loop (one pass over the nodes instead of two).
+/// Exact solution of the one-node Signorini condition inside an implicit step.
+///
+/// Every full-system scheme solves, at each step, `K U = r − σ λ e_0` with `lb ≤ u_0 ⊥ λ ≤ 0`
+/// (lb = 0 for Newmark and backward Euler, lb = −e u_0^{n−1} for Paoli–Schatzman), K symmetric
+/// positive definite and σ > 0 the scheme's force scale. With the unconstrained `u* = K⁻¹ r` and
+/// the precomputed `z = K⁻¹ e_0` (z_0 > 0 since K is SPD): λ = 0 if `u*_0 ≥ lb`, else
+/// `λ = (u*_0 − lb)/(σ z_0) < 0`, and the constrained solution is `u* − σ λ z` with `u_0 = lb` set
+/// exactly (complementarity then holds bit for bit). The schemes apply the correction inside their
+/// update loop (one pass over the nodes instead of two).
 #[inline]
 pub(crate) fn contact_multiplier(u0_star: f64, lower: f64, sigma: f64, z0: f64) -> f64 {
     if u0_star >= lower { 0.0 } else { (u0_star - lower) / (sigma * z0) }

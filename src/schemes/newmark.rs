@@ -8,7 +8,7 @@
 //!
 //! Eliminating A^{n+1} = (U^{n+1} − Ũ)/(β Δt²) with the predictor
 //! `Ũ = Uⁿ + Δt Vⁿ + (½ − β) Δt² Aⁿ` gives `(M + β Δt² S) U^{n+1} = M Ũ + β Δt² (F − λ e_0)`,
-//! solved exactly for the contact as in [`crate::contact::ContactSolver`] (σ = β Δt²). Crank–Nicolson is
+//! solved exactly for the contact by `contact_multiplier` (schemes/mod.rs) (σ = β Δt²). Crank–Nicolson is
 //! (β, γ) = (1/4, 1/2): second order and energy conserving without contact. With w_0 = 0 the
 //! contact row reads `(u_0 − u_1)/h = −λ`, whose complementarity solution is `u_0 = u_1⁺`
 //! (paper eq. (3.2)).

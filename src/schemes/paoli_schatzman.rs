@@ -9,7 +9,7 @@
 //! where, as the paper prescribes for a massless contact node (w_0 = 0), P projects S Uⁿ and
 //! S U^{n−1} on (ker M)^⊥ = {e_0}^⊥ (their contact components are dropped); P = I otherwise. The
 //! contact condition is `u_0^{n+1} ≥ −e u_0^{n−1}`, solved exactly as in
-//! [`crate::contact::ContactSolver`] (σ = Δt²).
+//! `contact_multiplier` (schemes/mod.rs) (σ = Δt²).
 //!
 //! With the projection, the contact row reads `β (S U^{n+1})_0 = −λⁿ`: the multiplier is β times
 //! the elastic force on the contact node, so the reported contact force is λⁿ/β in that case
