@@ -14,17 +14,22 @@ pub fn fmt_f64(x: f64) -> String {
     if x == 0.0 || (1e-4..1e15).contains(&a) || !x.is_finite() { format!("{x}") } else { format!("{x:e}") }
 }
 
-/// Writes `series` as CSV (header `t` then the columns) to any writer.
-pub fn write_series_csv<W: Write>(series: &SeriesRecorder, w: W) -> csv::Result<()> {
+/// Writes a CSV table of numbers (header, then one row per item, full precision).
+pub fn write_number_csv<'a, W: Write>(header: &[&str], rows: impl Iterator<Item = &'a [f64]>, w: W) -> csv::Result<()> {
     let mut out = csv::Writer::from_writer(w);
-    let mut header = vec!["t"];
-    header.extend(series.columns.iter().map(|c| c.name()));
-    out.write_record(&header)?;
-    for row in series.iter_rows() {
+    out.write_record(header)?;
+    for row in rows {
         out.write_record(row.iter().map(|&x| fmt_f64(x)))?;
     }
     out.flush()?;
     Ok(())
+}
+
+/// Writes `series` as CSV (header `t` then the columns) to any writer.
+pub fn write_series_csv<W: Write>(series: &SeriesRecorder, w: W) -> csv::Result<()> {
+    let mut header = vec!["t"];
+    header.extend(series.columns.iter().map(|c| c.name()));
+    write_number_csv(&header, series.iter_rows(), w)
 }
 
 #[derive(Serialize)]

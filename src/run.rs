@@ -92,7 +92,8 @@ pub struct Needs {
 }
 
 impl Needs {
-    fn or(self, o: Needs) -> Needs {
+    /// What either needs.
+    pub fn or(self, o: Needs) -> Needs {
         Needs { energy: self.energy || o.energy, l2: self.l2 || o.l2 }
     }
 }

@@ -5,7 +5,7 @@
 use super::run::{PlateExtras, PlateRun, PlateSeries};
 use super::scene::PlateScene;
 use super::vtu;
-use crate::output::{fmt_f64, write_dir_atomically};
+use crate::output::write_dir_atomically;
 use crate::run::Summary;
 use serde::Serialize;
 use std::io::Write;
@@ -13,15 +13,9 @@ use std::path::Path;
 
 /// Writes `series` as CSV (header `t` then the columns).
 pub fn write_series_csv<W: Write>(series: &PlateSeries, w: W) -> csv::Result<()> {
-    let mut out = csv::Writer::from_writer(w);
     let mut header = vec!["t"];
     header.extend(series.columns.iter().map(|c| c.name()));
-    out.write_record(&header)?;
-    for row in series.iter_rows() {
-        out.write_record(row.iter().map(|&x| fmt_f64(x)))?;
-    }
-    out.flush()?;
-    Ok(())
+    crate::output::write_number_csv(&header, series.iter_rows(), w)
 }
 
 #[derive(Serialize)]

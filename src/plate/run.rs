@@ -157,10 +157,7 @@ pub fn integrate(
     steps: usize,
     observers: &mut [&mut dyn PlateObserver],
 ) -> Result<(), PlateSchemeError> {
-    let needs = observers.iter().fold(Needs::default(), |n, o| {
-        let m = o.needs();
-        Needs { energy: n.energy || m.energy, l2: n.l2 || m.l2 }
-    });
+    let needs = observers.iter().fold(Needs::default(), |n, o| n.or(o.needs()));
     let plate = &problem.plate;
     let mut interp = if needs.l2 { vec![0.0; plate.system.n()] } else { Vec::new() };
     let mut show = |scheme: &dyn PlateScheme, observers: &mut [&mut dyn PlateObserver]| {
