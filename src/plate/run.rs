@@ -570,7 +570,13 @@ pub fn run_plate_scene(
     scene: &super::scene::PlateScene,
     extra: &mut [&mut dyn PlateObserver],
 ) -> Result<PlateRun, PlateRunError> {
-    let problem = PlateProblem::new(&scene.plate, &scene.mass)?;
+    let problem = match &scene.mesh_file {
+        None => PlateProblem::new(&scene.plate, &scene.mass)?,
+        Some(path) => {
+            let mesh = read_mesh_file(path)?;
+            PlateProblem::from_mesh(mesh, &scene.mass, scene.plate.initial, scene.plate.force)?
+        }
+    };
     let mut scheme = problem.scheme(&scene.scheme, scene.time.dt)?;
     let steps = scene.time.steps;
     let mut summary = PlateSummary::new(&problem, steps, scene.time.dt, true);
@@ -588,4 +594,15 @@ pub fn run_plate_scene(
     }
     let (summary, extras) = summary.finish();
     Ok(PlateRun { problem, summary, extras, series, frames })
+}
+
+#[cfg(feature = "python")]
+fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, PlateRunError> {
+    Ok(Mesh2d::read_file(path)?)
+}
+
+/// Unreachable in practice: scene validation already rejects `plate.mesh` without the feature.
+#[cfg(not(feature = "python"))]
+fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, PlateRunError> {
+    Err(super::mesh::MeshError::Arrays(format!("{}: mesh files need the `python` feature", path.display())).into())
 }

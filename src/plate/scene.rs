@@ -9,6 +9,9 @@
 //! ny = 20                    # cells along y (Δx₂ = height/ny)
 //! cells = "quad"             # quad (Q1) | triangle (P1, one diagonal per square)
 //! initial = "paper"          # paper: u0 = (L-x)/2 (exact solution known) | bump: y-dependent
+//! # mesh = "square.msh"      # instead of length/height/nx/ny/cells: a triangle (or axis-aligned
+//! #                          # quad) mesh file read by meshio (feature `python`), path relative
+//! #                          # to the scene file; Γ_C = {x = min x}, Γ_D = {x = max x}
 //! force = 0.0
 //! [mass]
 //! kind = "mod3"              # standard | mod1 | mod2 | mod3 | custom (one weight per cell)
@@ -84,6 +87,8 @@ struct RawPlate {
     initial: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     force: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mesh: Option<String>,
 }
 
 #[derive(Debug, Default, Deserialize, Serialize)]
@@ -111,6 +116,9 @@ pub struct PlateOutputSpec {
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlateScene {
     pub plate: PlateSpec,
+    /// A mesh file (read by meshio) replacing the structured mesh of `plate`; `plate.length`,
+    /// `plate.height` and `plate.cells` then describe the file's mesh, `nx`, `ny` are 0.
+    pub mesh_file: Option<std::path::PathBuf>,
     pub mass: MassKind,
     pub scheme: SchemeSpec,
     pub time: TimeSpec,
@@ -135,16 +143,29 @@ impl PlateScene {
     pub fn from_file(path: &std::path::Path) -> Result<PlateScene, PlateSceneError> {
         let text = std::fs::read_to_string(path)
             .map_err(|source| SceneError::Io { path: path.display().to_string(), source })?;
-        PlateScene::from_toml(&text)
+        let raw: RawPlateScene = toml::from_str(&text).map_err(|e| SceneError::Parse(e.to_string()))?;
+        PlateScene::validate(raw, path.parent().unwrap_or(std::path::Path::new(".")))
     }
 
+    /// Parses and validates scene text; a `plate.mesh` path is relative to the current directory.
     pub fn from_toml(text: &str) -> Result<PlateScene, PlateSceneError> {
         let raw: RawPlateScene = toml::from_str(text).map_err(|e| SceneError::Parse(e.to_string()))?;
-        PlateScene::validate(raw)
+        PlateScene::validate(raw, std::path::Path::new("."))
     }
 
-    fn validate(raw: RawPlateScene) -> Result<PlateScene, PlateSceneError> {
+    fn validate(raw: RawPlateScene, base: &std::path::Path) -> Result<PlateScene, PlateSceneError> {
         let p = raw.plate.unwrap_or_default();
+        if let Some(file) = &p.mesh {
+            let context = "plate.mesh (the mesh file gives the geometry)";
+            forbid("plate.length", &p.length, context)?;
+            forbid("plate.height", &p.height, context)?;
+            forbid("plate.nx", &p.nx, context)?;
+            forbid("plate.ny", &p.ny, context)?;
+            forbid("plate.cells", &p.cells, context)?;
+            let path = base.join(file);
+            let mesh = read_mesh_file(&path)?;
+            return PlateScene::validate_on(raw.mass, raw.scheme, raw.time, raw.output, p, mesh, Some(path));
+        }
         let length = p.length.map_or(1.0, Number::get);
         finite_in("plate.length", length, length > 0.0, "(0, ∞)")?;
         let height = p.height.map_or(1.0, Number::get);
@@ -170,36 +191,41 @@ impl PlateScene {
                 .into());
             }
         };
-        let initial = match p.initial.as_deref().unwrap_or("paper") {
-            "paper" => PlateInitial::Paper,
-            "bump" => PlateInitial::Bump,
-            other => {
-                return Err(SceneError::Range {
-                    key: "plate.initial",
-                    value: format!("\"{other}\""),
-                    range: "\"paper\" (u0 = (L-x)/2) | \"bump\" (u0 = (L-x)/2 (1 + cos(pi y/H)/2))",
-                }
-                .into());
-            }
-        };
-        let force = finite_in("plate.force", p.force.map_or(0.0, Number::get), true, "finite real numbers")?;
-        let free = (nx * (ny + 1)) as f64;
-        let contact_work = free * (ny + 1) as f64;
-        if contact_work > MAX_CONTACT_WORK {
-            return Err(PlateSceneError::TooManyContactNodes {
-                work: contact_work,
-                limit: MAX_CONTACT_WORK,
-                megabytes: contact_work * 8.0 / 1e6,
-            });
-        }
-
+        parse_initial(p.initial.as_deref())?;
+        // Checked before the mesh is built: a hostile nx, ny must fail fast.
+        check_contact_work(nx * (ny + 1), ny + 1)?;
         let mesh = Mesh2d::structured(length, height, nx, ny, cells)?;
-        let mass = parse_mass(raw.mass)?;
+        PlateScene::validate_on(raw.mass, raw.scheme, raw.time, raw.output, p, mesh, None)
+    }
+
+    /// The sections after `[plate]`, on a built mesh (structured or from a file).
+    #[allow(clippy::too_many_arguments)]
+    fn validate_on(
+        raw_mass_section: Option<RawMass>,
+        raw_scheme_section: Option<RawScheme>,
+        raw_time_section: Option<RawTime>,
+        raw_output: Option<RawPlateOutput>,
+        p: RawPlate,
+        mesh: Mesh2d,
+        mesh_file: Option<std::path::PathBuf>,
+    ) -> Result<PlateScene, PlateSceneError> {
+        let initial = parse_initial(p.initial.as_deref())?;
+        let force = finite_in("plate.force", p.force.map_or(0.0, Number::get), true, "finite real numbers")?;
+        let (length, height, cells) = (mesh.length, mesh.height, mesh.kind);
+        let (nx, ny) = match (&mesh_file, p.nx, p.ny) {
+            (None, nx, ny) => (nx.unwrap_or(20) as usize, ny.unwrap_or(20) as usize),
+            (Some(_), _, _) => (0, 0),
+        };
+        let contact = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count();
+        let free = (0..mesh.n_nodes()).filter(|&v| !mesh.on_dirichlet(v)).count();
+        check_contact_work(free, contact)?;
+        let (raw_mass, raw_scheme, raw_time) = (raw_mass_section, raw_scheme_section, raw_time_section);
+        let mass = parse_mass(raw_mass)?;
         let weights = cell_weights(&mesh, &mass)?;
         // The contact nodes are massless iff every cell touching x = 0 has weight 0; the shared
         // scheme parser calls the largest of those weights w_0.
         let w0 = layers(&mesh).iter().zip(&weights).filter(|(l, _)| **l == 0).map(|(_, w)| *w).fold(0.0, f64::max);
-        let scheme = parse_scheme(raw.scheme, w0, &mass)?;
+        let scheme = parse_scheme(raw_scheme, w0, &mass)?;
         match scheme {
             SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
             | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. } => {
@@ -221,13 +247,13 @@ impl PlateScene {
             }
             _ => {}
         }
-        let time = parse_time(raw.time, 3.0 * length, nx * (ny + 1)).map_err(|e| match e {
+        let time = parse_time(raw_time, 3.0 * length, free).map_err(|e| match e {
             SceneError::TooMuchWork { work, limit } => PlateSceneError::TooMuchWork { work, limit },
             e => e.into(),
         })?;
 
         let has_exact = initial == PlateInitial::Paper && force == 0.0;
-        let o = raw.output.unwrap_or_default();
+        let o = raw_output.unwrap_or_default();
         let names = o.series.unwrap_or_else(|| {
             let mut d = vec!["u0", "u_mean", "lambda", "contact_force", "energy"];
             if has_exact {
@@ -281,6 +307,7 @@ impl PlateScene {
         };
         Ok(PlateScene {
             plate: PlateSpec { length, height, nx, ny, cells, initial, force },
+            mesh_file,
             mass,
             scheme,
             time,
@@ -297,15 +324,17 @@ impl PlateScene {
     pub fn resolved_toml(&self) -> String {
         let f = Number::Float;
         let p = &self.plate;
+        let structured = self.mesh_file.is_none();
         let raw = RawPlateScene {
             plate: Some(RawPlate {
-                length: Some(f(p.length)),
-                height: Some(f(p.height)),
-                nx: Some(p.nx as i64),
-                ny: Some(p.ny as i64),
-                cells: Some(p.cells.name().into()),
+                length: structured.then_some(f(p.length)),
+                height: structured.then_some(f(p.height)),
+                nx: structured.then_some(p.nx as i64),
+                ny: structured.then_some(p.ny as i64),
+                cells: structured.then(|| p.cells.name().into()),
                 initial: Some(p.initial.name().into()),
                 force: Some(f(p.force)),
+                mesh: self.mesh_file.as_ref().map(|m| m.display().to_string()),
             }),
             mass: Some(raw_mass(&self.mass)),
             scheme: Some(raw_scheme(&self.scheme)),
@@ -317,13 +346,62 @@ impl PlateScene {
                 vtu_every: self.output.vtu_every.map(|k| k as i64),
             }),
         };
-        let mut text = format!(
-            "# Resolved plate scene (every default filled in); {} steps, dx1 = {:e}, dx2 = {:e}.\n",
-            self.time.steps,
-            p.length / p.nx as f64,
-            p.height / p.ny as f64
-        );
+        let mut text = if structured {
+            format!(
+                "# Resolved plate scene (every default filled in); {} steps, dx1 = {:e}, dx2 = {:e}.\n",
+                self.time.steps,
+                p.length / p.nx as f64,
+                p.height / p.ny as f64
+            )
+        } else {
+            format!("# Resolved plate scene (every default filled in); {} steps, mesh from a file.\n", self.time.steps)
+        };
         text.push_str(&toml::to_string(&raw).expect("a resolved scene always serialises"));
         text
     }
+}
+
+/// `plate.initial`.
+fn parse_initial(name: Option<&str>) -> Result<PlateInitial, PlateSceneError> {
+    match name.unwrap_or("paper") {
+        "paper" => Ok(PlateInitial::Paper),
+        "bump" => Ok(PlateInitial::Bump),
+        other => Err(SceneError::Range {
+            key: "plate.initial",
+            value: format!("\"{other}\""),
+            range: "\"paper\" (u0 = (L-x)/2) | \"bump\" (u0 = (L-x)/2 (1 + cos(pi y/H)/2))",
+        }
+        .into()),
+    }
+}
+
+/// The dense contact responses take free × contact values.
+fn check_contact_work(free: usize, contact: usize) -> Result<(), PlateSceneError> {
+    let work = free as f64 * contact as f64;
+    if work > MAX_CONTACT_WORK {
+        return Err(PlateSceneError::TooManyContactNodes {
+            work,
+            limit: MAX_CONTACT_WORK,
+            megabytes: work * 8.0 / 1e6,
+        });
+    }
+    Ok(())
+}
+
+/// A mesh file through meshio (feature `python`).
+#[cfg(feature = "python")]
+fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, PlateSceneError> {
+    Ok(Mesh2d::read_file(path)?)
+}
+
+#[cfg(not(feature = "python"))]
+fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, PlateSceneError> {
+    Err(SceneError::Inapplicable {
+        key: "plate.mesh",
+        context: format!(
+            "this build ({}): mesh files are read by meshio through the `python` feature; run `cargo run --features python -- run SCENE --out DIR` after `bash python/install-deps.sh`",
+            path.display()
+        ),
+    }
+    .into())
 }
