@@ -368,7 +368,7 @@ pub fn run_scene(scene: &Scene, extra: &mut [&mut dyn Observer]) -> Result<(Summ
     let problem = Problem::from_scene(scene)?;
     let mut scheme = problem.scheme(&scene.scheme, scene.time.dt)?;
     let steps = scene.time.steps;
-    let mut summary = SummaryObserver::new(&problem, steps, scene.time.dt, true);
+    let mut summary = SummaryObserver::new(&problem, steps, scene.time.dt, scene.output.summary_l2);
     let rows = if scene.output.series.is_empty() { 0 } else { steps / scene.output.every + 1 };
     let mut series = SeriesRecorder::new(scene.output.series.clone(), scene.output.every, rows);
     let mut observers: Vec<&mut dyn Observer> = vec![&mut summary, &mut series];

@@ -18,6 +18,7 @@
 //! [output]
 //! series = ["u0", "lambda", "energy", "l2_error"]
 //! every = 1
+//! summary_l2 = true          # exact L² error every step for summary.linf_l2_error (false: null)
 //! ```
 //!
 //! Every error names the key and its allowed range; the resolved scene (all defaults filled in)
@@ -152,6 +153,8 @@ struct RawOutput {
     series: Option<Vec<String>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     every: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    summary_l2: Option<bool>,
 }
 
 /// Initial data of the bar.
@@ -249,6 +252,9 @@ impl Column {
 pub struct OutputSpec {
     pub series: Vec<Column>,
     pub every: usize,
+    /// Compute the exact L² error at every step for the summary's `linf_l2_error` (one O(m) pass
+    /// per step, about the cost of a step); false leaves those summary keys null.
+    pub summary_l2: bool,
 }
 
 /// A validated scene.
@@ -338,7 +344,7 @@ impl Scene {
             let min_every = (time.steps as f64 * (series.len() + 1) as f64 / MAX_SERIES_VALUES).ceil() as usize;
             return Err(SceneError::TooManyValues { values, limit: MAX_SERIES_VALUES, every: min_every });
         }
-        let output = OutputSpec { series, every };
+        let output = OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true) };
         let scene = Scene { bar: BarSpec { length, elements, initial, force }, mass, scheme, time, output };
         if !scene.has_exact_solution() {
             if let Some(c) = scene.output.series.iter().find(|c| c.needs_exact()) {
@@ -376,6 +382,7 @@ impl Scene {
             output: Some(RawOutput {
                 series: Some(self.output.series.iter().map(|c| c.name().to_string()).collect()),
                 every: Some(self.output.every as i64),
+                summary_l2: Some(self.output.summary_l2),
             }),
         };
         let mut text = format!(

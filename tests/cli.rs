@@ -115,7 +115,19 @@ fn summary_only_scene_writes_no_series() {
     let (out, tmp) = run_text(&GOOD.replace(r#"series = ["lambda", "u0", "l2_error"]"#, "series = []"));
     assert!(out.status.success());
     assert!(!tmp.path().join("out/series.csv").exists());
-    assert!(tmp.path().join("out/summary.json").exists());
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("out/summary.json")).unwrap()).unwrap();
+    assert!(s["linf_l2_error"].as_f64().unwrap() > 0.0, "computed by default");
+    // Opting out of the per-step L² error leaves its keys null and the rest unchanged.
+    let (out2, tmp2) =
+        run_text(&GOOD.replace(r#"series = ["lambda", "u0", "l2_error"]"#, "series = []\nsummary_l2 = false"));
+    assert!(out2.status.success());
+    let s2: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp2.path().join("out/summary.json")).unwrap()).unwrap();
+    assert!(s2["linf_l2_error"].is_null() && s2["linf_l2_error_relative"].is_null());
+    for key in ["max_contact_error", "energy_final", "energy_max", "first_impact_time", "final_u0"] {
+        assert_eq!(s[key], s2[key], "{key}");
+    }
 }
 
 /// Each bad scene must fail with exit code 2, name the key, state the allowed range where there
