@@ -83,6 +83,7 @@ fn massless_contact_node_is_the_positive_part_of_its_neighbour() {
 
 #[test]
 fn full_and_reduced_newmark_agree_to_round_off() {
+    let mut worst: f64 = 0.0;
     for m in [2, 6, 37] {
         for mass in all_masses(m).into_iter().skip(1) {
             for (beta, gamma) in [(0.25, 0.5), (0.3, 0.6)] {
@@ -96,10 +97,12 @@ fn full_and_reduced_newmark_agree_to_round_off() {
                     // × O(1) values × 1e-14 leaves a margin of 10 over what we observe.
                     let d = max_abs_diff(&fa.u, &fb.u).max((fa.lambda - fb.lambda).abs() * p.system.h());
                     assert!(d <= 1e-11, "{} m={m} ({beta},{gamma}) t={}: {d:e}", mass.name(), fa.t);
+                    worst = worst.max(d);
                 }
             }
         }
     }
+    eprintln!("full vs reduced Newmark: largest difference {worst:e} over 900 steps");
 }
 
 #[test]
