@@ -153,8 +153,8 @@ impl PlateScene {
         PlateScene::validate(raw, std::path::Path::new("."))
     }
 
-    fn validate(raw: RawPlateScene, base: &std::path::Path) -> Result<PlateScene, PlateSceneError> {
-        let p = raw.plate.unwrap_or_default();
+    fn validate(mut raw: RawPlateScene, base: &std::path::Path) -> Result<PlateScene, PlateSceneError> {
+        let p = raw.plate.take().unwrap_or_default();
         if let Some(file) = &p.mesh {
             let context = "plate.mesh (the mesh file gives the geometry)";
             forbid("plate.length", &p.length, context)?;
@@ -164,7 +164,7 @@ impl PlateScene {
             forbid("plate.cells", &p.cells, context)?;
             let path = base.join(file);
             let mesh = read_mesh_file(&path)?;
-            return PlateScene::validate_on(raw.mass, raw.scheme, raw.time, raw.output, p, mesh, Some(path));
+            return PlateScene::validate_on(raw, p, mesh, Some(path));
         }
         let length = p.length.map_or(1.0, Number::get);
         finite_in("plate.length", length, length > 0.0, "(0, ∞)")?;
@@ -195,16 +195,13 @@ impl PlateScene {
         // Checked before the mesh is built: a hostile nx, ny must fail fast.
         check_contact_work(nx * (ny + 1), ny + 1)?;
         let mesh = Mesh2d::structured(length, height, nx, ny, cells)?;
-        PlateScene::validate_on(raw.mass, raw.scheme, raw.time, raw.output, p, mesh, None)
+        PlateScene::validate_on(raw, p, mesh, None)
     }
 
-    /// The sections after `[plate]`, on a built mesh (structured or from a file).
-    #[allow(clippy::too_many_arguments)]
+    /// The sections after `[plate]` (`raw`, its plate table already taken out as `p`), on a built
+    /// mesh (structured or from a file).
     fn validate_on(
-        raw_mass_section: Option<RawMass>,
-        raw_scheme_section: Option<RawScheme>,
-        raw_time_section: Option<RawTime>,
-        raw_output: Option<RawPlateOutput>,
+        raw: RawPlateScene,
         p: RawPlate,
         mesh: Mesh2d,
         mesh_file: Option<std::path::PathBuf>,
@@ -219,13 +216,12 @@ impl PlateScene {
         let contact = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count();
         let free = (0..mesh.n_nodes()).filter(|&v| !mesh.on_dirichlet(v)).count();
         check_contact_work(free, contact)?;
-        let (raw_mass, raw_scheme, raw_time) = (raw_mass_section, raw_scheme_section, raw_time_section);
-        let mass = parse_mass(raw_mass)?;
+        let mass = parse_mass(raw.mass)?;
         let weights = cell_weights(&mesh, &mass)?;
         // The contact nodes are massless iff every cell touching x = 0 has weight 0; the shared
         // scheme parser calls the largest of those weights w_0.
         let w0 = layers(&mesh).iter().zip(&weights).filter(|(l, _)| **l == 0).map(|(_, w)| *w).fold(0.0, f64::max);
-        let scheme = parse_scheme(raw_scheme, w0, &mass)?;
+        let scheme = parse_scheme(raw.scheme, w0, &mass)?;
         match scheme {
             SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
             | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. } => {
@@ -247,13 +243,13 @@ impl PlateScene {
             }
             _ => {}
         }
-        let time = parse_time(raw_time, 3.0 * length, free).map_err(|e| match e {
+        let time = parse_time(raw.time, 3.0 * length, free).map_err(|e| match e {
             SceneError::TooMuchWork { work, limit } => PlateSceneError::TooMuchWork { work, limit },
             e => e.into(),
         })?;
 
         let has_exact = initial == PlateInitial::Paper && force == 0.0;
-        let o = raw_output.unwrap_or_default();
+        let o = raw.output.unwrap_or_default();
         let names = o.series.unwrap_or_else(|| {
             let mut d = vec!["u0", "u_mean", "lambda", "contact_force", "energy"];
             if has_exact {

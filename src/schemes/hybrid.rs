@@ -21,7 +21,6 @@
 //!
 //! Lemma 5.1: the energy `ℰ = ½VᵀM_redV + ½UᵀS_redU − (u_1⁺)²/(2h) − UᵀF` never increases; it
 //! equals the full-system energy with `u_0 = u_1⁺`.
-
 //!
 //! A step is three passes: the right-hand side `M_red Ũ + Δt²/4 F` (Ũ = Uⁿ + Δt/2 Vⁿ, kept from
 //! the previous update), the two-sided solve for W̄ ([`TwistedFactor`]), then one update pass
