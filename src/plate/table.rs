@@ -44,6 +44,11 @@ pub struct Row {
     pub failure: Option<String>,
 }
 
+/// The paper's initial data on an n × n mesh of the unit square.
+fn unit_square(cells: CellKind, n: usize) -> PlateSpec {
+    PlateSpec { length: 1.0, height: 1.0, nx: n, ny: n, cells, initial: PlateInitial::Paper, force: 0.0 }
+}
+
 /// `max_n ‖u_h(t_n) − u(t_n)‖_{L²(Ω)}` for the paper's initial data on the unit square.
 pub fn linf_l2_error(
     cells: CellKind,
@@ -53,7 +58,7 @@ pub fn linf_l2_error(
     dt: f64,
     end: f64,
 ) -> Result<f64, PlateRunError> {
-    let spec = PlateSpec { length: 1.0, height: 1.0, nx: n, ny: n, cells, initial: PlateInitial::Paper, force: 0.0 };
+    let spec = unit_square(cells, n);
     let problem = PlateProblem::new(&spec, mass)?;
     let mut s = problem.scheme(scheme, dt)?;
     let steps = (end / dt).round() as usize;
@@ -149,7 +154,7 @@ pub fn compare_with_1d(
 ) -> Result<Comparison, PlateRunError> {
     use super::run::{PlateObserver, PlateSample};
     use crate::run::{Observer, Problem, Sample, SummaryObserver};
-    let spec = PlateSpec { length: 1.0, height: 1.0, nx: n, ny: n, cells, initial: PlateInitial::Paper, force: 0.0 };
+    let spec = unit_square(cells, n);
     let p2 = PlateProblem::new(&spec, mass)?;
     let reference = |e: &dyn std::fmt::Display| PlateRunError::Reference(e.to_string());
     let p1 = Problem::benchmark(1.0, n, mass).map_err(|e| reference(&e))?;
