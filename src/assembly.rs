@@ -12,8 +12,9 @@
 //! (The paper writes `M_{i,i−1} = h/6 w_i`; the integral `∫ w φ_i φ_{i+1}` over element i gives
 //! `M_{i,i+1} = h/6 w_i`, which is also what its matrix display shows.)
 
+use crate::linalg::tridiag::SymTridiag;
 use crate::mass::{MassError, MassKind};
-use crate::tridiag::SymTridiag;
+use crate::system::ContactSystem;
 use thiserror::Error;
 
 /// A uniform mesh of the bar (0, L) with m elements.
@@ -45,18 +46,18 @@ pub enum AssemblyError {
     Mass(#[from] MassError),
 }
 
-/// The semi-discrete system `M Ü + S U = F − λ e_0` on the free nodes 0..m−1.
+/// The bar's semi-discrete system `M Ü + S U = F − λ e_0` on the free nodes 0..m−1: the
+/// mesh, its element weights and the [`ContactSystem`] over tridiagonal matrices (contact
+/// unknown 0).
 #[derive(Debug, Clone)]
-pub struct System {
+pub struct BarSystem {
     pub bar: Bar,
     /// Element weights `w_0 … w_{m−1}`.
     pub weights: Vec<f64>,
-    pub mass: SymTridiag,
-    pub stiffness: SymTridiag,
-    pub load: Vec<f64>,
+    pub system: ContactSystem<SymTridiag>,
 }
 
-impl System {
+impl BarSystem {
     /// Assembles M, S and F for the given mass redistribution and a constant body force f.
     pub fn new(bar: Bar, mass: &MassKind, force: f64) -> Result<Self, AssemblyError> {
         if !(bar.length.is_finite() && bar.length > 0.0) {
@@ -83,7 +84,18 @@ impl System {
                 load[j + 1] += force * h / 2.0 * w;
             }
         }
-        Self { bar, weights, mass, stiffness, load }
+        Self { bar, weights, system: ContactSystem::new(mass, stiffness, load, vec![0], 0.0) }
+    }
+
+    /// The same system with the obstacle at `u_0 = −gap` (gap ≥ 0).
+    pub fn with_gap(mut self, gap: f64) -> Self {
+        self.system.lower = vec![-gap];
+        self
+    }
+
+    /// The obstacle's gap (`u_0 ≥ −gap`).
+    pub fn gap(&self) -> f64 {
+        -self.system.lower[0]
     }
 
     pub fn m(&self) -> usize {
@@ -107,14 +119,13 @@ impl System {
     /// Total mass `1ᵀ M_full 1 = ∫ w_h`: the sum of all entries of the mass matrix over all
     /// nodes, the Dirichlet node m included (its row adds `M_mm + 2 M_{m−1,m} = 2h/3 w_{m−1}`).
     pub fn total_mass(&self) -> f64 {
-        self.mass.total() + 2.0 * self.h() / 3.0 * self.weights[self.m() - 1]
+        self.system.mass.total() + 2.0 * self.h() / 3.0 * self.weights[self.m() - 1]
     }
 
     /// Discrete energy `½ VᵀMV + ½ UᵀSU − UᵀF` (paper eq. (3.4) in full-system form; with
     /// `u_0 = u_1⁺` it equals the reduced energy `ℰ_h`).
     pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
-        let work: f64 = u.iter().zip(&self.load).map(|(a, b)| a * b).sum();
-        0.5 * self.mass.quad_form(v) + 0.5 * self.stiffness.quad_form(u) - work
+        self.system.energy(u, v)
     }
 
     /// Nodal interpolant of g at the free nodes 0..m−1.
@@ -145,8 +156,8 @@ pub fn full_matrices(bar: &Bar, weights: &[f64]) -> (SymTridiag, SymTridiag) {
 mod tests {
     use super::*;
 
-    fn system(kind: MassKind, m: usize) -> System {
-        System::new(Bar { length: 1.0, elements: m }, &kind, 0.0).unwrap()
+    fn system(kind: MassKind, m: usize) -> ContactSystem<SymTridiag> {
+        BarSystem::new(Bar { length: 1.0, elements: m }, &kind, 0.0).unwrap().system
     }
 
     #[test]

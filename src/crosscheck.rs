@@ -20,10 +20,10 @@
 
 use crate::assembly::{Bar, full_matrices};
 use crate::bridge::{self, Backend, BridgeError, Csr};
+use crate::linalg::tridiag::SymTridiag;
 use crate::mass::MassKind;
 use crate::run::{Observer, Problem, Sample, integrate};
 use crate::scene::{Formulation, SchemeSpec};
-use crate::tridiag::SymTridiag;
 use serde::Serialize;
 
 /// One line of the report.
@@ -139,7 +139,7 @@ struct Keep(Vec<(Vec<f64>, f64)>);
 
 impl Observer for Keep {
     fn observe(&mut self, s: &Sample) {
-        self.0.push((s.state.u.to_vec(), s.state.lambda));
+        self.0.push((s.state.u.to_vec(), s.state.lambda[0]));
     }
 }
 
@@ -286,7 +286,8 @@ pub fn table(report: &Report) -> String {
 /// redistributions of `plate::mass` and seeded random per-cell weights, plus the gmsh fixture
 /// mesh read through meshio. Panics only on a bug in these fixed, valid cases.
 pub fn cases_2d() -> Vec<Case2d> {
-    use crate::plate::{CellKind, Mesh2d, assemble, mass::cell_weights, sparse::to_dense};
+    use crate::linalg::sparse::to_dense;
+    use crate::plate::{CellKind, Mesh2d, assemble, mass::cell_weights};
     let structured = |l: f64, h: f64, nx: usize, ny: usize, kind: CellKind| {
         Mesh2d::structured(l, h, nx, ny, kind).expect("valid structured mesh")
     };

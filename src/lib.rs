@@ -8,7 +8,9 @@ pub mod crosscheck;
 
 pub mod assembly;
 pub mod bench;
+pub mod contact;
 pub mod exact;
+pub mod linalg;
 pub mod mass;
 pub mod norms;
 pub mod output;
@@ -18,4 +20,4 @@ pub mod reproduce;
 pub mod run;
 pub mod scene;
 pub mod schemes;
-pub mod tridiag;
+pub mod system;

@@ -4,7 +4,7 @@
 //! error) once per step and hands it to all of them. Recording, summaries, progress bars and
 //! files are observers or live at the edge (see `output`); nothing here does I/O.
 
-use crate::assembly::{AssemblyError, Bar, System};
+use crate::assembly::{AssemblyError, Bar, BarSystem};
 use crate::exact::ImpactingBar;
 use crate::norms;
 use crate::scene::{Column, Formulation, Initial, Scene, SchemeSpec};
@@ -23,7 +23,7 @@ pub enum RunError {
 /// A discretised problem: the system, its initial data and (if known) its exact solution.
 #[derive(Debug, Clone)]
 pub struct Problem {
-    pub system: System,
+    pub system: BarSystem,
     pub u0: Vec<f64>,
     pub v0: Vec<f64>,
     pub exact: Option<ImpactingBar>,
@@ -33,7 +33,7 @@ impl Problem {
     /// The paper's benchmark (u⁰ = (L−x)/2, v⁰ = 0) with a constant body force.
     pub fn from_scene(scene: &Scene) -> Result<Problem, RunError> {
         let bar = Bar { length: scene.bar.length, elements: scene.bar.elements };
-        let system = System::new(bar, &scene.mass, scene.bar.force)?;
+        let system = BarSystem::new(bar, &scene.mass, scene.bar.force)?;
         match scene.bar.initial {
             Initial::Paper => {
                 let exact = ImpactingBar { length: bar.length };
@@ -46,7 +46,7 @@ impl Problem {
 
     /// The benchmark problem for a mass on a bar of length L with m elements (f = 0).
     pub fn benchmark(length: f64, elements: usize, mass: &crate::mass::MassKind) -> Result<Problem, RunError> {
-        let system = System::new(Bar { length, elements }, mass, 0.0)?;
+        let system = BarSystem::new(Bar { length, elements }, mass, 0.0)?;
         let exact = ImpactingBar { length };
         let u0 = system.interpolate(|x| exact.initial_displacement(x));
         Ok(Problem { system, u0, v0: vec![0.0; elements], exact: Some(exact) })
@@ -58,17 +58,17 @@ impl Problem {
         Ok(match *spec {
             SchemeSpec::CrankNicolson { formulation } => newmark(s, 0.25, 0.5, formulation, dt, u, v)?,
             SchemeSpec::Newmark { beta, gamma, formulation } => newmark(s, beta, gamma, formulation, dt, u, v)?,
-            SchemeSpec::BackwardEuler => Box::new(BackwardEuler::new(s, dt, u, v)?),
+            SchemeSpec::BackwardEuler => Box::new(BackwardEuler::new(&s.system, dt, u, v)?),
             SchemeSpec::PaoliSchatzman { beta, restitution } => {
                 Box::new(PaoliSchatzman::new(s, beta, restitution, dt, u, v)?)
             }
-            SchemeSpec::Hybrid => Box::new(Hybrid::new(s, dt, u, v)?),
+            SchemeSpec::Hybrid => Box::new(Hybrid::new(&s.system, dt, u, v)?),
         })
     }
 }
 
 fn newmark(
-    s: &System,
+    s: &BarSystem,
     beta: f64,
     gamma: f64,
     formulation: Formulation,
@@ -77,7 +77,7 @@ fn newmark(
     v: Vec<f64>,
 ) -> Result<Box<dyn Scheme>, SchemeError> {
     Ok(match formulation {
-        Formulation::Full => Box::new(Newmark::new(s, beta, gamma, dt, u, v)?),
+        Formulation::Full => Box::new(Newmark::new(&s.system, beta, gamma, dt, u, v)?),
         Formulation::Reduced => Box::new(NewmarkReduced::new(s, beta, gamma, dt, u, v)?),
     })
 }
@@ -201,7 +201,7 @@ impl Observer for SeriesRecorder {
             self.rows.push(match c {
                 Column::U0 => st.u[0],
                 Column::U1 => st.u[1],
-                Column::Lambda => st.lambda,
+                Column::Lambda => st.lambda[0],
                 Column::Energy => s.energy,
                 Column::L2Error => s.l2_error,
                 Column::ExactU0 => s.exact.map_or(f64::NAN, |e| e.u0(st.t)),
@@ -342,8 +342,9 @@ impl Observer for SummaryObserver {
         let u0 = st.u[0];
         self.final_u0 = u0;
         self.min_u0 = self.min_u0.min(u0);
-        self.max_lambda = self.max_lambda.max(st.lambda);
-        self.max_product = self.max_product.max((u0 * st.lambda).abs());
+        let lambda = st.lambda[0];
+        self.max_lambda = self.max_lambda.max(lambda);
+        self.max_product = self.max_product.max((u0 * lambda).abs());
         if self.first_impact.is_none() {
             if u0 <= 0.0 {
                 self.first_impact = Some(st.t);
@@ -354,7 +355,7 @@ impl Observer for SummaryObserver {
         if let Some(ex) = s.exact {
             self.max_contact = self.max_contact.max((u0 - ex.u0(st.t)).abs());
             let w = if st.n == 0 || st.n == self.steps { 0.5 } else { 1.0 };
-            self.lambda_sq += w * self.dt * (st.lambda - ex.lambda(st.t)).powi(2);
+            self.lambda_sq += w * self.dt * (lambda - ex.lambda(st.t)).powi(2);
             if self.with_l2 {
                 self.linf_l2 = self.linf_l2.max(s.l2_error);
                 self.linf_interp = self.linf_interp.max(s.exact_interp_norm);

@@ -1,5 +1,5 @@
 //! Time per node-step of each scheme next to the floor of an implicit 1D step: one bare
-//! tridiagonal solve of the same size (LDLᵀ, and the two-sided [`crate::tridiag::TwistedFactor`]).
+//! tridiagonal solve of the same size (LDLᵀ, and the two-sided [`crate::linalg::tridiag::TwistedFactor`]).
 //!
 //! A 1D implicit step costs at least one forward and one backward substitution; each is a
 //! chain of dependent multiply–subtracts, so on one core the solve is bound by the latency of
@@ -9,10 +9,10 @@
 //!
 //! Timing is at the edge by nature: nothing here is used by a test.
 
+use crate::linalg::tridiag::SymTridiag;
 use crate::mass::MassKind;
 use crate::run::{Problem, integrate};
 use crate::scene::SchemeSpec;
-use crate::tridiag::SymTridiag;
 use serde::Serialize;
 use std::hint::black_box;
 use std::time::Instant;
@@ -45,7 +45,8 @@ pub fn best_timed(work: f64, min_reps: usize, max_reps: usize, min_total: f64, m
 pub fn floor_matrix(elements: usize) -> SymTridiag {
     let problem = Problem::benchmark(1.0, elements, &MassKind::Standard).expect("standard mass assembles");
     let h = problem.system.h();
-    problem.system.mass.combine(1.0, &problem.system.stiffness, h * h / 4.0)
+    let s = &problem.system.system;
+    s.mass.combine(1.0, &s.stiffness, h * h / 4.0)
 }
 
 /// Which bare solve to time.
@@ -201,8 +202,9 @@ pub struct PlateTimings {
 /// Times the plate schemes (Crank–Nicolson, backward Euler, hybrid; Mod 3, quad mesh nx × ny of
 /// (0,1) × (0, ny/nx), Δt = 1/nx, the paper's initial data) and the bare sparse solve pair.
 pub fn time_plate(nx: usize, ny: usize, min_total: f64) -> Option<PlateTimings> {
+    use crate::linalg::sparse;
+    use crate::plate::CellKind;
     use crate::plate::run::{PlateInitial, PlateProblem, PlateSpec, integrate as integrate2d};
-    use crate::plate::{CellKind, sparse};
     let spec = PlateSpec {
         length: 1.0,
         height: ny as f64 / nx as f64,

@@ -18,8 +18,9 @@
 
 use super::mass::{PlateMassError, cell_weights};
 use super::mesh::{CellKind, Mesh2d};
-use super::sparse::{self, SpMat, SparseError};
+use crate::linalg::sparse::{self, SpMat, SparseError};
 use crate::mass::MassKind;
+use crate::system::ContactSystem;
 use thiserror::Error;
 
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -93,66 +94,6 @@ pub fn assemble(mesh: &Mesh2d, weights: &[f64]) -> Result<(SpMat, SpMat), Sparse
     Ok((sparse::from_triplets(n, &tm, "mass")?, sparse::from_triplets(n, &ts, "stiffness")?))
 }
 
-/// The semi-discrete contact problem `M Ü + S U = F − Σ_c λ_c e_c`, `0 ≤ u_c ⊥ λ_c ≤ 0` on the
-/// contact unknowns c. Mesh-free: the 2D plate and (for cross-checks) the 1D bar are instances.
-#[derive(Debug, Clone)]
-pub struct ContactSystem {
-    pub mass: SpMat,
-    pub stiffness: SpMat,
-    pub load: Vec<f64>,
-    /// Unknowns carrying a Signorini condition (in the order of the λ vector).
-    pub contact: Vec<usize>,
-    /// Per unknown: `M_ii = 0` (the node has no inertia; its row is quasi-static).
-    pub massless: Vec<bool>,
-}
-
-impl ContactSystem {
-    /// From assembled matrices; massless unknowns are those with a zero mass diagonal.
-    pub fn new(mass: SpMat, stiffness: SpMat, load: Vec<f64>, contact: Vec<usize>) -> Self {
-        let massless = (0..mass.nrows()).map(|i| sparse::get(&mass, i, i) == 0.0).collect();
-        Self { mass, stiffness, load, contact, massless }
-    }
-
-    /// The 1D bar of [`crate::assembly::System`] (tridiagonal matrices, contact node 0) as a
-    /// contact system: the 2D schemes run on it unchanged, which is how the tests check that
-    /// they share the 1D logic.
-    pub fn from_bar(system: &crate::assembly::System) -> Self {
-        let m = system.m();
-        let tri = |a: &crate::tridiag::SymTridiag| {
-            let mut t = Vec::with_capacity(3 * m);
-            for i in 0..m {
-                t.push((i, i, a.diag[i]));
-                if i + 1 < m {
-                    t.push((i, i + 1, a.off[i]));
-                    t.push((i + 1, i, a.off[i]));
-                }
-            }
-            sparse::from_triplets(m, &t, "bar").expect("a tridiagonal pattern is valid")
-        };
-        Self::new(tri(&system.mass), tri(&system.stiffness), system.load.clone(), vec![0])
-    }
-
-    pub fn n(&self) -> usize {
-        self.load.len()
-    }
-
-    /// True when every contact unknown is massless.
-    pub fn massless_contact(&self) -> bool {
-        self.contact.iter().all(|&c| self.massless[c])
-    }
-
-    /// Largest mass diagonal among the contact unknowns (0 iff they are all massless).
-    pub fn contact_mass(&self) -> f64 {
-        self.contact.iter().map(|&c| sparse::get(&self.mass, c, c)).fold(0.0, f64::max)
-    }
-
-    /// Discrete energy `½ VᵀMV + ½ UᵀSU − UᵀF` (the 1D [`crate::assembly::System::energy`]).
-    pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
-        let work: f64 = u.iter().zip(&self.load).map(|(a, b)| a * b).sum();
-        0.5 * sparse::quad_form(&self.mass, v) + 0.5 * sparse::quad_form(&self.stiffness, u) - work
-    }
-}
-
 /// The plate problem on the free nodes (all but x = L): the mesh, its cell weights, the contact
 /// system, and what is needed to report on Γ_C.
 #[derive(Debug, Clone)]
@@ -163,7 +104,7 @@ pub struct PlateSystem {
     pub dofs: Vec<usize>,
     /// Mesh node → free unknown (None on Γ_D).
     pub node_dof: Vec<Option<usize>>,
-    pub system: ContactSystem,
+    pub system: ContactSystem<SpMat>,
     /// The unweighted mass matrix on the free nodes (for L² norms).
     pub mass_unit: SpMat,
     /// `∫_{Γ_C} φ_c dy` for each contact unknown (trace weights: the mean of u on Γ_C is
@@ -221,7 +162,7 @@ impl PlateSystem {
                 }
             }
         }
-        let system = ContactSystem::new(mass, stiffness, load, contact);
+        let system = ContactSystem::new(mass, stiffness, load, contact, 0.0);
         Ok(Self { mesh, weights, dofs, node_dof, system, mass_unit, contact_lengths })
     }
 

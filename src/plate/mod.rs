@@ -40,18 +40,14 @@
 //! [`crate::output`]'s atomic writers.
 
 pub mod assembly;
-pub mod contact;
-pub mod lcp;
 pub mod mass;
 pub mod mesh;
 pub mod norms;
 pub mod output;
 pub mod run;
 pub mod scene;
-pub mod schemes;
-pub mod sparse;
 pub mod table;
 pub mod vtu;
 
-pub use assembly::{ContactSystem, PlateSystem, assemble};
+pub use assembly::{PlateSystem, assemble};
 pub use mesh::{CellKind, Mesh2d};

@@ -14,8 +14,8 @@
 
 use super::assembly::PlateSystem;
 use super::mesh::CellKind;
-use super::sparse;
 use crate::exact::ImpactingBar;
+use crate::linalg::sparse;
 
 /// `‖u_h‖_{L²(Ω)} = (Uᵀ M₁ U)^{1/2}` (M₁ the unweighted mass matrix; u_h = 0 on Γ_D).
 pub fn l2_norm(plate: &PlateSystem, u: &[f64]) -> f64 {

@@ -4,11 +4,11 @@
 use super::assembly::{PlateAssemblyError, PlateSystem};
 use super::mesh::{CellKind, Mesh2d, MeshError};
 use super::norms;
-use super::schemes::{BackwardEuler2d, Hybrid2d, Newmark2d, PlateScheme, PlateSchemeError, PlateState};
 use crate::exact::ImpactingBar;
 use crate::mass::MassKind;
 use crate::run::{Needs, Summary};
 use crate::scene::{Formulation, SchemeSpec};
+use crate::schemes::{BackwardEuler, Hybrid, Newmark, Scheme, SchemeError, StateView};
 use thiserror::Error;
 
 #[derive(Debug, Error)]
@@ -18,7 +18,7 @@ pub enum PlateRunError {
     #[error(transparent)]
     Assembly(#[from] PlateAssemblyError),
     #[error(transparent)]
-    Scheme(#[from] PlateSchemeError),
+    Scheme(#[from] SchemeError),
     #[error("scheme.kind = \"{scheme}\" is not available for [plate] scenes: {reason}")]
     Unsupported { scheme: String, reason: &'static str },
     #[error("the 1D reference run failed: {0}")]
@@ -98,7 +98,7 @@ impl PlateProblem {
 
     /// Builds the scheme (factors its matrices once). Paoli–Schatzman and the reduced Newmark
     /// formulation have no 2D port.
-    pub fn scheme(&self, spec: &SchemeSpec, dt: f64) -> Result<Box<dyn PlateScheme>, PlateRunError> {
+    pub fn scheme(&self, spec: &SchemeSpec, dt: f64) -> Result<Box<dyn Scheme>, PlateRunError> {
         let (s, u, v) = (&self.plate.system, self.u0.clone(), self.v0.clone());
         let reduced = || PlateRunError::Unsupported {
             scheme: spec.name().into(),
@@ -106,14 +106,14 @@ impl PlateProblem {
         };
         Ok(match *spec {
             SchemeSpec::CrankNicolson { formulation: Formulation::Full } => {
-                Box::new(Newmark2d::crank_nicolson(s, dt, u, v)?)
+                Box::new(Newmark::crank_nicolson(s, dt, u, v)?)
             }
             SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Full } => {
-                Box::new(Newmark2d::new(s, beta, gamma, dt, u, v)?)
+                Box::new(Newmark::new(s, beta, gamma, dt, u, v)?)
             }
             SchemeSpec::CrankNicolson { .. } | SchemeSpec::Newmark { .. } => return Err(reduced()),
-            SchemeSpec::BackwardEuler => Box::new(BackwardEuler2d::new(s, dt, u, v)?),
-            SchemeSpec::Hybrid => Box::new(Hybrid2d::new(s, dt, u, v)?),
+            SchemeSpec::BackwardEuler => Box::new(BackwardEuler::new(s, dt, u, v)?),
+            SchemeSpec::Hybrid => Box::new(Hybrid::new(s, dt, u, v)?),
             SchemeSpec::PaoliSchatzman { .. } => {
                 return Err(PlateRunError::Unsupported {
                     scheme: spec.name().into(),
@@ -127,7 +127,7 @@ impl PlateProblem {
 /// What the driver hands to observers at each step. Quantities not needed are NaN.
 #[derive(Debug, Clone, Copy)]
 pub struct PlateSample<'a> {
-    pub state: PlateState<'a>,
+    pub state: StateView<'a>,
     pub plate: &'a PlateSystem,
     pub exact: Option<&'a ImpactingBar>,
     pub energy: f64,
@@ -153,14 +153,14 @@ pub trait PlateObserver {
 /// Runs `steps` steps, showing every state (t_0 included) to every observer.
 pub fn integrate(
     problem: &PlateProblem,
-    scheme: &mut dyn PlateScheme,
+    scheme: &mut dyn Scheme,
     steps: usize,
     observers: &mut [&mut dyn PlateObserver],
-) -> Result<(), PlateSchemeError> {
+) -> Result<(), SchemeError> {
     let needs = observers.iter().fold(Needs::default(), |n, o| n.or(o.needs()));
     let plate = &problem.plate;
     let mut interp = if needs.l2 { vec![0.0; plate.system.n()] } else { Vec::new() };
-    let mut show = |scheme: &dyn PlateScheme, observers: &mut [&mut dyn PlateObserver]| {
+    let mut show = |scheme: &dyn Scheme, observers: &mut [&mut dyn PlateObserver]| {
         let state = scheme.state();
         let energy = if needs.energy { plate.system.energy(state.u, state.v) } else { f64::NAN };
         let (l2_error, exact_interp_norm) = match (needs.l2, &problem.exact) {

@@ -2,91 +2,94 @@
 //!
 //! ```text
 //! U^{n+1} = Uⁿ + Δt V^{n+1},   V^{n+1} = Vⁿ + Δt A^{n+1},
-//! M A^{n+1} + S U^{n+1} = F − λ^{n+1} e_0,   0 ≤ u_0^{n+1} ⊥ λ^{n+1} ≤ 0.
+//! M A^{n+1} + S U^{n+1} = F − Σ_c λ_c^{n+1} e_c,   0 ≤ u_c^{n+1} − lb_c ⊥ λ_c^{n+1} ≤ 0.
 //! ```
 //!
-//! Eliminating V and A: `(M + Δt² S) U^{n+1} = M (Uⁿ + Δt Vⁿ) + Δt² (F − λ e_0)`, solved for
-//! the contact by `contact_multiplier` (schemes/mod.rs) (σ = Δt²). First order, and the energy E = ½VᵀMV + ½UᵀSU − UᵀF never
-//! increases: testing the equation with V^{n+1} gives, with `δ = V^{n+1} − Vⁿ`, `ΔU = U^{n+1} − Uⁿ`,
-//! `ΔE = −½ δᵀMδ − ½ ΔUᵀSΔU + λ^{n+1} u_0ⁿ ≤ 0` (λ^{n+1} u_0^{n+1} = 0, λ ≤ 0 and u_0ⁿ ≥ 0).
-
+//! Eliminating V and A: `(M + Δt² S) U^{n+1} = M (Uⁿ + Δt Vⁿ) + Δt² (F − Σ λ_c e_c)`, solved
+//! for the contact by the back-end's [`crate::contact::ContactSolver`] (σ = Δt²). First order,
+//! and the energy E = ½VᵀMV + ½UᵀSU − UᵀF never increases: testing the equation with V^{n+1}
+//! gives, with `δ = V^{n+1} − Vⁿ`, `ΔU = U^{n+1} − Uⁿ`,
+//! `ΔE = −½ δᵀMδ − ½ ΔUᵀSΔU + Σ_c λ_c^{n+1} (u_cⁿ − lb_c) ≤ 0`
+//! (`λ^{n+1} ⊥ u^{n+1} − lb`, λ ≤ 0 and uⁿ ≥ lb).
 //!
-//! A step is three passes: right-hand side, two-sided solve ([`TwistedFactor`]), one update
-//! pass (contact correction, V^{n+1}, next predictor Uⁿ⁺¹ + Δt Vⁿ⁺¹).
+//! A step is three passes: right-hand side, solve with contact, one update pass (V^{n+1}, next
+//! predictor U^{n+1} + Δt V^{n+1}).
 
-use super::{SchemeError, StateView, check_finite, check_range, contact_multiplier, factor_err};
-use crate::assembly::System;
-use crate::tridiag::{SymTridiag, TwistedFactor};
+use super::{SchemeError, StateView, check_finite, check_range, contact_err};
+use crate::contact::ContactSolver;
+use crate::linalg::SymMatrix;
+use crate::system::ContactSystem;
 
-#[derive(Debug, Clone)]
-pub struct BackwardEuler {
+#[derive(Debug)]
+pub struct BackwardEuler<A: SymMatrix> {
     dt: f64,
-    mass: SymTridiag,
+    mass: A,
     load: Vec<f64>,
-    factor: TwistedFactor,
-    /// z = K⁻¹ e_0.
-    response: Vec<f64>,
+    lower: Vec<f64>,
+    solver: A::Solver,
     n: usize,
     u: Vec<f64>,
     v: Vec<f64>,
-    lambda: f64,
+    lambda: Vec<f64>,
     /// Uⁿ + Δt Vⁿ for the next step.
     pred: Vec<f64>,
     rhs: Vec<f64>,
+    pivots: usize,
 }
 
-impl BackwardEuler {
+impl<A: SymMatrix> BackwardEuler<A> {
     pub const NAME: &'static str = "backward-euler";
 
-    pub fn new(system: &System, dt: f64, u0: Vec<f64>, v0: Vec<f64>) -> Result<Self, SchemeError> {
+    pub fn new(system: &ContactSystem<A>, dt: f64, u0: Vec<f64>, v0: Vec<f64>) -> Result<Self, SchemeError> {
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
-        let k = system.mass.combine(1.0, &system.stiffness, dt * dt);
-        let factor = k.factor_twisted().map_err(factor_err("M + Δt² S"))?;
-        let response = factor.unit_response(0);
+        let name = "M + Δt² S";
+        let k = system.mass.combine(1.0, &system.stiffness, dt * dt, name)?;
+        let solver = k.contact_solver(&system.contact, name)?;
         let pred = u0.iter().zip(&v0).map(|(u, v)| u + dt * v).collect();
-        let m = system.m();
         Ok(Self {
             dt,
             mass: system.mass.clone(),
             load: system.load.clone(),
-            factor,
-            response,
+            lower: system.lower.clone(),
+            solver,
             n: 0,
+            rhs: vec![0.0; u0.len()],
             u: u0,
             v: v0,
-            lambda: 0.0,
+            lambda: vec![0.0; system.contact.len()],
             pred,
-            rhs: vec![0.0; m],
+            pivots: 0,
         })
     }
 }
 
-impl super::Scheme for BackwardEuler {
+impl<A: SymMatrix> super::Scheme for BackwardEuler<A> {
     fn state(&self) -> StateView<'_> {
-        StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.u, v: &self.v, lambda: self.lambda }
+        StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.u, v: &self.v, lambda: &self.lambda }
+    }
+
+    fn pivots(&self) -> usize {
+        self.pivots
     }
 
     fn step(&mut self) -> Result<(), SchemeError> {
         let dt = self.dt;
         let sigma = dt * dt;
-        self.mass.mul_add_into(&self.pred, sigma, Some(&self.load), &mut self.rhs);
-        self.factor.solve_in_place(&mut self.rhs);
-        self.lambda = contact_multiplier(self.rhs[0], 0.0, sigma, self.response[0]);
-        let s = sigma * self.lambda;
-        if self.lambda != 0.0 {
-            self.rhs[0] = s * self.response[0]; // so that u_0 = x_0 − s z_0 = 0 exactly
-        }
+        let (step, time) = (self.n + 1, (self.n + 1) as f64 * dt);
+        self.mass.mul_add_into(&self.pred, sigma, &self.load, &mut self.rhs);
+        self.pivots =
+            self.solver.solve(&mut self.rhs, &self.lower, sigma, &mut self.lambda).map_err(contact_err(step, time))?;
         let m = self.u.len();
         let (u, v, pred) = (&mut self.u[..m], &mut self.v[..m], &mut self.pred[..m]);
-        let (x, z) = (&self.rhs[..m], &self.response[..m]);
+        let x = &self.rhs[..m];
         for i in 0..m {
-            let u_new = x[i] - s * z[i];
+            let u_new = x[i];
             let v_new = (u_new - u[i]) / dt;
             u[i] = u_new;
             v[i] = v_new;
             pred[i] = u_new + dt * v_new;
         }
-        self.n += 1;
-        check_finite(&self.u, self.lambda, self.n, self.n as f64 * dt)
+        self.n = step;
+        check_finite(&self.u, &self.lambda, A::SOLVE_SPREADS_NAN, step, time)
     }
 }

@@ -1,172 +1,217 @@
-//! The paper's hybrid scheme (P^hyb) (§5) on the reduced system of a massless contact node.
+//! The paper's hybrid scheme (P^hyb) (§5), for one or many quasi-static contact nodes.
 //!
-//! Unknowns are nodes 1..m−1 with `u_0 = u_1⁺`. With `M_red = M[1..,1..] = h M*` and
-//! `S_red = S[1..,1..] = S*/h` (the paper's (P^hyb) writes M*, S*; the scaling of (P^mod_U)
-//! requires h M* and S*/h, as its energy (3.4) and the 1/(2h) factors of the contact term show):
+//! **The 1D scheme as a contact problem.** Keep the massless contact node 0 as an unknown with
+//! its quasi-static row `S_00 u_0 + S_01 u_1 = −λ` (so `u_0 = u_1⁺`). The contact term of
+//! (P^hyb) is `g e_1 = −S_10 ū_0` with
+//! `ū_0 = H(−u_1ⁿ) (Ū_1)⁺ + H(u_1ⁿ) ((u_1ⁿ)⁺ + (u_1^{n+1})⁺)/2`, `Ū = (Uⁿ + U^{n+1})/2`. For each
+//! sign of u_1ⁿ this ū_0 is the solution of the one-node problem
 //!
 //! ```text
-//! U^{n+1} = Uⁿ + Δt/2 (V^{n+1} + Vⁿ),   V^{n+1} = Vⁿ + Δt/2 (A^{n+1} + Aⁿ),
-//! M_red A^{n+½} + S_red U^{n+½} = F + g e_1,
-//! g = H(−u_1ⁿ)/(2h) (u_1ⁿ + u_1^{n+1})⁺ + H(u_1ⁿ)/(2h) ((u_1ⁿ)⁺ + (u_1^{n+1})⁺),
+//! S_00 ū_0 + S_01 Ū_1 = −λ̄,     0 ≤ 2 ū_0 − u_0ⁿ ⊥ λ̄ ≤ 0,     u_0ⁿ = (u_1ⁿ)⁺:
 //! ```
 //!
-//! H(0) = ½. Since `A^{n+½} = (V^{n+1} − Vⁿ)/Δt` and `V^{n+1} = 2(U^{n+1} − Uⁿ)/Δt − Vⁿ`, A never
-//! appears. In the midpoint `Ū = (U^{n+1} + Uⁿ)/2` (so `U^{n+1} = 2Ū − Uⁿ`,
-//! `V^{n+1} = 4(Ū − Uⁿ)/Δt − Vⁿ`) the step is, multiplying the equation by Δt²/4,
-//! `K Ū = M_red (Uⁿ + Δt/2 Vⁿ) + Δt²/4 (F + g e_1)` with `K = M_red + Δt²/4 S_red`: one matrix–vector
-//! product per step. With `W̄` the solution for g = 0 and `z = K⁻¹ e_1`, the new u_1 = x = 2ū_1 − u_1ⁿ
-//! solves `φ(x) = x − c g(x) = W_1`, `W_1 = 2W̄_1 − u_1ⁿ`, `c = Δt² z_1/2`. g is piecewise linear in x with kinks at
-//! x = −u_1ⁿ and x = 0 and slopes in [0, 1/h], and `c/h ≤ (m−1)/m < 1`, so φ is strictly
-//! increasing and piecewise linear: we locate the piece from φ at the kinks and solve it exactly.
+//! - u_1ⁿ ≤ 0: u_0ⁿ = 0, the bound is ū_0 ≥ 0 and ū_0 = (Ū_1)⁺ (the midpoint rule);
+//! - u_1ⁿ > 0: ū_0 = max(Ū_1, u_1ⁿ/2) = (u_1ⁿ + (u_1^{n+1})⁺)/2 (the trapezoidal rule);
 //!
-//! Lemma 5.1: the energy `ℰ = ½VᵀM_redV + ½UᵀS_redU − (u_1⁺)²/(2h) − UᵀF` never increases; it
-//! equals the full-system energy with `u_0 = u_1⁺`.
+//! (at u_1ⁿ = 0 both rules agree, so H(0) = ½ changes nothing). The contact node's state after
+//! the step is again quasi-static, `u_0^{n+1} = (u_1^{n+1})⁺` (not `2ū_0 − u_0ⁿ`).
 //!
-//! A step is three passes: the right-hand side `M_red Ũ + Δt²/4 F` (Ũ = Uⁿ + Δt/2 Vⁿ, kept from
-//! the previous update), the two-sided solve for W̄ ([`TwistedFactor`]), then one update pass
-//! `Ū = W̄ + Δt²/4 g z`, U^{n+1}, V^{n+1} and the next Ũ.
+//! **Many nodes (plates, solids).** The same equations with vectors: for the interior unknowns I and contact unknowns C
+//! (all massless),
+//!
+//! ```text
+//! M_II (V^{n+1} − Vⁿ)/Δt + S_II Ū + S_IC ū = F_I,      U^{n+1} = Uⁿ + Δt (Vⁿ + V^{n+1})/2,
+//! S_CI Ū + S_CC ū = F_C − λ̄,                           0 ≤ 2ū − u_Cⁿ ⊥ λ̄ ≤ 0 node-wise,
+//! u_C^{n+1} = Φ(U^{n+1}):  S_CC u + S_CI U = F_C − λ,  0 ≤ u ⊥ λ ≤ 0   (quasi-static contact).
+//! ```
+//!
+//! A node in contact at t_n (u_cⁿ = 0) gets the midpoint condition, a free one the trapezoidal
+//! condition on its end value, as in 1D; in 2D S_CC couples the nodes, so the two rules are mixed
+//! inside one problem. Multiplying by Δt²/4 with `X̄ = (ū, Ū)`:
+//! `(M + Δt²/4 S) X̄ = M (Xⁿ + Δt/2 Vⁿ) + Δt²/4 (F − Σ λ̄_c e_c)` — the Crank–Nicolson matrix and
+//! the back-end's [`ContactSolver`] with σ = Δt²/4 and lower bounds `u_Cⁿ/2` — then `U^{n+1} = 2Ū − Uⁿ`,
+//! `V^{n+1} = 2(U^{n+1} − Uⁿ)/Δt − Vⁿ`, and Φ is one more LCP with the SPD matrix S_CC.
+//! With one contact node (a bar) this is the paper's (P^hyb) step for step: the midpoint form
+//! `K Ū = M_red (Uⁿ + Δt/2 Vⁿ) + Δt²/4 (F + g e_1)` with `K = M_red + Δt²/4 S_red` and the
+//! piecewise-linear contact term g of the paper, which the two cases above reproduce.
+//!
+//! **A gap.** With the obstacle at `u_c = lb_c = −gap_c` every bound and every (·)⁺, H(·) acts
+//! on `u − lb`: the midpoint bound is `ū ≥ (u_Cⁿ + lb)/2` and Φ solves `u ≥ lb`. The
+//! derivation below holds for the shifted variables `u − lb` (only differences of u and the
+//! complementarity relations enter it).
+//!
+//! **The initial state.** The scheme starts from the quasi-static contact values
+//! `u_C⁰ = Φ(U⁰)` (in 1D `u_0⁰ = max(u_1⁰, −gap)`), not from the interpolated ones, and reports
+//! that state (and its multipliers) at n = 0.
+//!
+//! **Energy: Lemma 5.1 carries over.** Let `E = ½VᵀMV + ½XᵀSX − XᵀF` with `X = (u_C, U)`,
+//! and let both ends of a step be quasi-static (`u_C = Φ(U)`; true for every step n ≥ 1, and
+//! for the first step the reported E⁰ uses the interpolated u_C⁰, whose energy is ≥ that of
+//! Φ(U⁰) because Φ minimises the potential over u_C ≥ 0). Write `A = S_CC`, `ũ = 2ū − u_Cⁿ`
+//! (≥ 0, ⊥ λ̄). Testing the interior rows with `U^{n+1} − Uⁿ` and using the contact rows at
+//! t_n, t_{n+1} and at the midpoint, `A(û − ū) = λ̄ − λ̂` (hats: averages of n and n+1), gives
+//! `ΔE = −(λ^{n+1} − λⁿ)ᵀ(û − ū) − (u_C^{n+1} − u_Cⁿ)ᵀλ̄`; with `û − ū = (u_C^{n+1} − ũ)/2` and
+//! the three complementarity relations this is (lb = 0; with a gap, ũ and u_Cⁿ in the first two
+//! terms become ũ − lb and u_Cⁿ − lb)
+//!
+//! ```text
+//! ΔE = (λ^{n+1})ᵀ ũ + (u_Cⁿ)ᵀ λ̄ − ½ (u_C^{n+1} − ũ)ᵀ A (u_C^{n+1} − ũ)  ≤ 0,
+//! ```
+//!
+//! each term ≤ 0 (λ ≤ 0 ≤ ũ, u_Cⁿ ≥ 0 ≥ λ̄, A SPD), for any mesh and any contact states along
+//! Γ_C: no sign condition on S_CC's off-diagonal entries is used. In 1D (A = 1/h) this is the
+//! five cases of Lemma 5.1 at once. [`Hybrid::energy_terms`] returns the three terms of the
+//! last step (the tests check that they add up to the measured ΔE).
 
-use super::{SchemeError, StateView, check_finite, check_range, factor_err};
-use crate::assembly::System;
-use crate::tridiag::{SymTridiag, TwistedFactor};
+use super::{SchemeError, StateView, check_finite, check_range, contact_err};
+use crate::contact::{ContactSolver, QuasiStatic};
+use crate::linalg::SymMatrix;
+use crate::system::ContactSystem;
 
-#[derive(Debug, Clone)]
-pub struct Hybrid {
+#[derive(Debug)]
+pub struct Hybrid<A: SymMatrix> {
     dt: f64,
-    h: f64,
-    mass: SymTridiag,
+    mass: A,
     load: Vec<f64>,
-    factor: TwistedFactor,
-    response: Vec<f64>,
+    is_contact: Vec<bool>,
+    contact_idx: Vec<usize>,
+    /// Obstacle bounds lb (contact order).
+    obstacle: Vec<f64>,
+    solver: A::Solver,
+    quasi_static: QuasiStatic,
     n: usize,
     u: Vec<f64>,
     v: Vec<f64>,
-    lambda: f64,
-    /// Ũ = Uⁿ + Δt Vⁿ on nodes 1..m−1 for the next step.
+    /// Reported λⁿ: the quasi-static multipliers of the contact rows at t_n.
+    lambda: Vec<f64>,
+    /// Quasi-static u_Cⁿ, and u_C of the previous step (bounds and energy terms).
+    uc: Vec<f64>,
+    uc_prev: Vec<f64>,
+    /// Mid-step ū and λ̄ of the last step.
+    u_bar: Vec<f64>,
+    lam_bar: Vec<f64>,
+    lower: Vec<f64>,
     pred: Vec<f64>,
     rhs: Vec<f64>,
+    scratch: Vec<f64>,
+    pivots: usize,
 }
 
-/// H(s) of the paper: 1 for s > 0, ½ for s = 0, 0 for s < 0.
-fn heaviside(s: f64) -> f64 {
-    if s > 0.0 {
-        1.0
-    } else if s == 0.0 {
-        0.5
-    } else {
-        0.0
-    }
-}
-
-/// The contact term g(x) of (P^hyb) for u_1ⁿ = p, and its slope on the piece containing x.
-fn contact_term(p: f64, x: f64, h: f64) -> (f64, f64) {
-    let (a, b) = (heaviside(-p) / (2.0 * h), heaviside(p) / (2.0 * h));
-    let g = a * (p + x).max(0.0) + b * (p.max(0.0) + x.max(0.0));
-    let slope = a * f64::from(u8::from(p + x > 0.0)) + b * f64::from(u8::from(x > 0.0));
-    (g, slope)
-}
-
-/// Exact root of `x − c g(x) = w` (φ strictly increasing, piecewise linear, kinks at −p and 0).
-pub(crate) fn solve_contact_step(p: f64, w: f64, c: f64, h: f64) -> f64 {
-    let (k0, k1) = if -p < 0.0 { (-p, 0.0) } else { (0.0, -p) };
-    let phi = |x: f64| x - c * contact_term(p, x, h).0;
-    // A reference point strictly inside the piece that contains the root.
-    let x_ref = if w <= phi(k0) {
-        k0 - 1.0
-    } else if w <= phi(k1) {
-        0.5 * (k0 + k1)
-    } else {
-        k1 + 1.0
-    };
-    let (g_ref, slope) = contact_term(p, x_ref, h);
-    // On the piece g(x) = g_ref + slope (x − x_ref): x − c(g_ref + slope(x − x_ref)) = w.
-    (w + c * (g_ref - slope * x_ref)) / (1.0 - c * slope)
-}
-
-impl Hybrid {
+impl<A: SymMatrix> Hybrid<A> {
     pub const NAME: &'static str = "hybrid";
 
-    pub fn new(system: &System, dt: f64, u0: Vec<f64>, v0: Vec<f64>) -> Result<Self, SchemeError> {
+    /// Needs every contact unknown massless (quasi-static contact rows). The contact entries of
+    /// `u0` are replaced by the quasi-static values Φ(U⁰) (module docs).
+    pub fn new(system: &ContactSystem<A>, dt: f64, u0: Vec<f64>, v0: Vec<f64>) -> Result<Self, SchemeError> {
         if !system.massless_contact() {
-            return Err(SchemeError::NeedsMasslessContact { scheme: Self::NAME, w0: system.weights[0] });
+            return Err(SchemeError::NeedsMasslessContact { scheme: Self::NAME, w0: system.contact_mass() });
         }
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
-        let mass = system.mass.trailing(1);
-        let stiffness = system.stiffness.trailing(1);
-        let k = mass.combine(1.0, &stiffness, dt * dt / 4.0);
-        let factor = k.factor_twisted().map_err(factor_err("M_red + Δt²/4 S_red"))?;
-        let response = factor.unit_response(0);
-        let pred = (1..u0.len()).map(|i| u0[i] + 0.5 * dt * v0[i]).collect();
-        let m = system.m();
+        let name = "M + Δt²/4 S";
+        let k = system.mass.combine(1.0, &system.stiffness, dt * dt / 4.0, name)?;
+        let solver = k.contact_solver(&system.contact, name)?;
+        let mut quasi_static = QuasiStatic::new(&system.stiffness, &system.load, &system.contact);
+        let (n, nc) = (system.n(), system.contact.len());
+        let mut is_contact = vec![false; n];
+        for &c in &system.contact {
+            is_contact[c] = true;
+        }
+        let mut u = u0;
+        let mut lambda = vec![0.0; nc];
+        quasi_static.apply(&mut u, &system.lower, &mut lambda).map_err(contact_err(0, 0.0))?;
+        let uc: Vec<f64> = system.contact.iter().map(|&i| u[i]).collect();
         Ok(Self {
             dt,
-            h: system.h(),
-            mass,
-            load: system.load[1..].to_vec(),
-            factor,
-            response,
+            mass: system.mass.clone(),
+            load: system.load.clone(),
+            is_contact,
+            contact_idx: system.contact.clone(),
+            obstacle: system.lower.clone(),
+            solver,
+            quasi_static,
             n: 0,
-            u: u0,
+            u,
             v: v0,
-            lambda: 0.0,
-            pred,
-            rhs: vec![0.0; m - 1],
+            lambda,
+            uc_prev: uc.clone(),
+            uc,
+            u_bar: vec![0.0; nc],
+            lam_bar: vec![0.0; nc],
+            lower: vec![0.0; nc],
+            pred: vec![0.0; n],
+            rhs: vec![0.0; n],
+            scratch: vec![0.0; nc],
+            pivots: 0,
         })
+    }
+
+    /// The three terms `[(λ^{n+1})ᵀ(ũ − lb), (u_Cⁿ − lb)ᵀλ̄, −½‖u_C^{n+1} − ũ‖²_{S_CC}]` of the
+    /// last step's energy change, `ũ = 2ū − u_Cⁿ` (module docs): each ≤ 0, and their sum is ΔE.
+    pub fn energy_terms(&self) -> [f64; 3] {
+        let nc = self.uc.len();
+        let tilde = |c: usize| 2.0 * self.u_bar[c] - self.uc_prev[c];
+        let t1: f64 = (0..nc).map(|c| self.lambda[c] * (tilde(c) - self.obstacle[c])).sum();
+        let t2: f64 = (0..nc).map(|c| (self.uc_prev[c] - self.obstacle[c]) * self.lam_bar[c]).sum();
+        let mut t3 = 0.0;
+        for a in 0..nc {
+            for b in 0..nc {
+                t3 += (self.uc[a] - tilde(a)) * self.quasi_static.d(a, b) * (self.uc[b] - tilde(b));
+            }
+        }
+        [t1, t2, -0.5 * t3]
+    }
+
+    /// The mid-step multipliers λ̄ of the last step.
+    pub fn mid_step_lambda(&self) -> &[f64] {
+        &self.lam_bar
     }
 }
 
-impl super::Scheme for Hybrid {
+impl<A: SymMatrix> super::Scheme for Hybrid<A> {
     fn state(&self) -> StateView<'_> {
-        StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.u, v: &self.v, lambda: self.lambda }
+        StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.u, v: &self.v, lambda: &self.lambda }
+    }
+
+    fn pivots(&self) -> usize {
+        self.pivots
     }
 
     fn step(&mut self) -> Result<(), SchemeError> {
-        let (dt, h) = (self.dt, self.h);
-        let r = self.pred.len();
-        let (quarter, half) = (dt * dt / 4.0, dt * dt / 2.0);
-        self.mass.mul_add_into(&self.pred, quarter, Some(&self.load), &mut self.rhs);
-        self.factor.solve_in_place(&mut self.rhs);
-        let p = self.u[1];
-        let c = half * self.response[0];
-        let x = solve_contact_step(p, 2.0 * self.rhs[0] - p, c, h);
-        let g = contact_term(p, x, h).0;
-        let s = quarter * g;
-        let u0_old = self.u[0];
-        let (four_over_dt, half_dt) = (4.0 / dt, 0.5 * dt);
-        let (u, v) = (&mut self.u[1..=r], &mut self.v[1..=r]);
-        let (w, z, pred) = (&self.rhs[..r], &self.response[..r], &mut self.pred[..r]);
-        for i in 0..r {
-            let mid = w[i] + s * z[i];
-            let u_new = 2.0 * mid - u[i];
-            let v_new = (mid - u[i]) * four_over_dt - v[i];
-            u[i] = u_new;
-            v[i] = v_new;
-            pred[i] = u_new + half_dt * v_new;
+        let dt = self.dt;
+        let sigma = dt * dt / 4.0;
+        for i in 0..self.u.len() {
+            self.pred[i] = self.u[i] + 0.5 * dt * self.v[i];
         }
-        self.u[0] = self.u[1].max(0.0);
-        self.v[0] = (self.u[0] - u0_old) / dt;
-        self.lambda = self.u[1].min(0.0) / h;
-        self.n += 1;
-        check_finite(&self.u, self.lambda, self.n, self.n as f64 * dt)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn contact_step_root_satisfies_its_equation() {
-        let h = 0.1;
-        for &p in &[-0.3, -1e-3, 0.0, 1e-3, 0.2] {
-            for &w in &[-0.5, -0.01, 0.0, 0.01, 0.4] {
-                for &c in &[0.0, 0.01, 0.05, 0.099] {
-                    let x = solve_contact_step(p, w, c, h);
-                    let residual = x - c * contact_term(p, x, h).0 - w;
-                    // x and g are O(1); a few ulps of each term.
-                    assert!(residual.abs() <= 16.0 * f64::EPSILON, "p={p} w={w} c={c}: {residual}");
-                }
+        self.mass.mul_add_into(&self.pred, sigma, &self.load, &mut self.rhs);
+        for ((l, u), lb) in self.lower.iter_mut().zip(&self.uc).zip(&self.obstacle) {
+            *l = 0.5 * (u + lb);
+        }
+        let (step, time) = (self.n + 1, (self.n + 1) as f64 * dt);
+        let err = contact_err(step, time);
+        let p1 = self.solver.solve(&mut self.rhs, &self.lower, sigma, &mut self.lam_bar).map_err(&err)?;
+        for (c, &i) in self.contact_idx.iter().enumerate() {
+            self.u_bar[c] = self.rhs[i];
+        }
+        // Interior: U^{n+1} = 2Ū − Uⁿ, V^{n+1} = 2(U^{n+1} − Uⁿ)/Δt − Vⁿ. Contact entries keep
+        // uⁿ until Φ overwrites them (Φ reads the other entries only).
+        for i in 0..self.u.len() {
+            if !self.is_contact[i] {
+                let u_new = 2.0 * self.rhs[i] - self.u[i];
+                self.v[i] = 2.0 * (u_new - self.u[i]) / dt - self.v[i];
+                self.u[i] = u_new;
             }
         }
+        for (c, &i) in self.contact_idx.iter().enumerate() {
+            self.scratch[c] = self.u[i];
+        }
+        let p2 = self.quasi_static.apply(&mut self.u, &self.obstacle, &mut self.lambda).map_err(&err)?;
+        std::mem::swap(&mut self.uc_prev, &mut self.uc);
+        for (c, &i) in self.contact_idx.iter().enumerate() {
+            self.v[i] = (self.u[i] - self.scratch[c]) / dt;
+            self.uc[c] = self.u[i];
+        }
+        self.pivots = p1 + p2;
+        self.n = step;
+        check_finite(&self.u, &self.lambda, A::SOLVE_SPREADS_NAN, step, time)
     }
 }

@@ -17,9 +17,9 @@
 //! A step is three passes over the nodes, as in [`super::Newmark`]: right-hand side, two-sided
 //! solve ([`TwistedFactor`]), then one update pass.
 
-use super::{SchemeError, StateView, check_finite, check_range, factor_err, initial_acceleration};
-use crate::assembly::System;
-use crate::tridiag::{SymTridiag, TwistedFactor};
+use super::{SchemeError, StateView, check_finite, check_range, factor_err};
+use crate::assembly::BarSystem;
+use crate::linalg::tridiag::{SymTridiag, TwistedFactor};
 
 #[derive(Debug, Clone)]
 pub struct NewmarkReduced {
@@ -35,7 +35,7 @@ pub struct NewmarkReduced {
     u: Vec<f64>,
     v: Vec<f64>,
     a: Vec<f64>,
-    lambda: f64,
+    lambda: [f64; 1],
     /// The predictor Ũ of the next step on nodes 1..m−1.
     pred: Vec<f64>,
     rhs: Vec<f64>,
@@ -45,15 +45,20 @@ impl NewmarkReduced {
     pub const NAME: &'static str = "newmark (reduced formulation)";
 
     pub fn new(
-        system: &System,
+        bar: &BarSystem,
         beta: f64,
         gamma: f64,
         dt: f64,
         u0: Vec<f64>,
         v0: Vec<f64>,
     ) -> Result<Self, SchemeError> {
-        if !system.massless_contact() {
-            return Err(SchemeError::NeedsMasslessContact { scheme: Self::NAME, w0: system.weights[0] });
+        let system = &bar.system;
+        if !bar.massless_contact() {
+            return Err(SchemeError::NeedsMasslessContact { scheme: Self::NAME, w0: bar.weights[0] });
+        }
+        if bar.gap() != 0.0 {
+            // Its closed form u_0 = u_1⁺ is written for the obstacle at 0 (bar-only scheme).
+            return Err(SchemeError::Parameter { scheme: Self::NAME, key: "gap", value: bar.gap(), range: "0" });
         }
         check_range(Self::NAME, "beta", beta, beta > 0.0 && beta <= 1.0, "(0, 1]")?;
         check_range(Self::NAME, "gamma", gamma, (0.0..=1.0).contains(&gamma), "[0, 1]")?;
@@ -63,15 +68,15 @@ impl NewmarkReduced {
         let factor = k.factor_twisted().map_err(factor_err("M* + β Δt² S*"))?;
         let response = factor.unit_response(0);
         // Same A⁰ as the full formulation (it uses the given U⁰_0), so both agree step by step.
-        let a = initial_acceleration(system, &u0)?;
+        let a = system.initial_acceleration(&u0)?;
         let c = (0.5 - beta) * dt * dt;
         let pred = (1..u0.len()).map(|i| u0[i] + dt * v0[i] + c * a[i]).collect();
-        let m = system.m();
+        let m = bar.m();
         Ok(Self {
             beta,
             gamma,
             dt,
-            h: system.h(),
+            h: bar.h(),
             mass,
             load: system.load[1..].to_vec(),
             factor,
@@ -80,7 +85,7 @@ impl NewmarkReduced {
             u: u0,
             v: v0,
             a,
-            lambda: 0.0,
+            lambda: [0.0],
             pred,
             rhs: vec![0.0; m - 1],
         })
@@ -89,7 +94,7 @@ impl NewmarkReduced {
 
 impl super::Scheme for NewmarkReduced {
     fn state(&self) -> StateView<'_> {
-        StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.u, v: &self.v, lambda: self.lambda }
+        StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.u, v: &self.v, lambda: &self.lambda }
     }
 
     fn step(&mut self) -> Result<(), SchemeError> {
@@ -119,8 +124,8 @@ impl super::Scheme for NewmarkReduced {
         self.u[0] = self.u[1].max(0.0);
         self.v[0] = (self.u[0] - u0_old) / dt;
         // Contact row (u_0 − u_1)/h = −λ with u_0 = u_1⁺.
-        self.lambda = self.u[1].min(0.0) / h;
+        self.lambda[0] = self.u[1].min(0.0) / h;
         self.n += 1;
-        check_finite(&self.u, self.lambda, self.n, self.n as f64 * dt)
+        check_finite(&self.u, &self.lambda, true, self.n, self.n as f64 * dt)
     }
 }

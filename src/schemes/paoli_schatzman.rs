@@ -25,9 +25,10 @@
 //! right-hand side, the two-sided solve ([`TwistedFactor`]), and one pass for the contact
 //! correction and the velocity.
 
-use super::{Newmark, Scheme, SchemeError, StateView, check_finite, check_range, contact_multiplier, factor_err};
-use crate::assembly::System;
-use crate::tridiag::{SymTridiag, TwistedFactor};
+use super::{Newmark, Scheme, SchemeError, StateView, check_finite, check_range, factor_err};
+use crate::assembly::BarSystem;
+use crate::contact::contact_multiplier;
+use crate::linalg::tridiag::{SymTridiag, TwistedFactor};
 
 #[derive(Debug, Clone)]
 pub struct PaoliSchatzman {
@@ -48,7 +49,9 @@ pub struct PaoliSchatzman {
     next: Vec<f64>,
     /// Vⁿ (central) and the contact force at t_n.
     v: Vec<f64>,
-    lambda: f64,
+    lambda: [f64; 1],
+    /// The obstacle bound lb = −gap.
+    obstacle: f64,
     /// `2U^{n+1} − Uⁿ` and `(1−2β)U^{n+1} + βUⁿ`.
     inertia: Vec<f64>,
     elastic: Vec<f64>,
@@ -58,7 +61,7 @@ impl PaoliSchatzman {
     pub const NAME: &'static str = "paoli-schatzman";
 
     pub fn new(
-        system: &System,
+        bar: &BarSystem,
         beta: f64,
         restitution: f64,
         dt: f64,
@@ -68,12 +71,13 @@ impl PaoliSchatzman {
         check_range(Self::NAME, "beta", beta, beta > 0.0 && beta <= 1.0, "(0, 1]")?;
         check_range(Self::NAME, "restitution", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
+        let system = &bar.system;
         let k = system.mass.combine(1.0, &system.stiffness, beta * dt * dt);
         let factor = k.factor_twisted().map_err(factor_err("M + β Δt² S"))?;
         let response = factor.unit_response(0);
         let mut start = Newmark::crank_nicolson(system, dt, u0.clone(), v0.clone())?;
         start.step()?;
-        let m = system.m();
+        let m = bar.m();
         Ok(Self {
             beta,
             restitution,
@@ -81,7 +85,8 @@ impl PaoliSchatzman {
             mass: system.mass.clone(),
             stiffness: system.stiffness.clone(),
             load: system.load.clone(),
-            project: system.massless_contact(),
+            project: bar.massless_contact(),
+            obstacle: system.lower[0],
             factor,
             response,
             n: 0,
@@ -89,7 +94,7 @@ impl PaoliSchatzman {
             cur: u0,
             next: start.state().u.to_vec(),
             v: v0,
-            lambda: 0.0,
+            lambda: [0.0],
             inertia: vec![0.0; m],
             elastic: vec![0.0; m],
         })
@@ -103,7 +108,7 @@ impl PaoliSchatzman {
 
 impl Scheme for PaoliSchatzman {
     fn state(&self) -> StateView<'_> {
-        StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.cur, v: &self.v, lambda: self.lambda }
+        StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.cur, v: &self.v, lambda: &self.lambda }
     }
 
     /// Computes U^{n+2} from (U^{n+1}, Uⁿ), then reports t_{n+1}.
@@ -125,7 +130,8 @@ impl Scheme for PaoliSchatzman {
             self.prev[0] = self.mass.mul_row(inertia, 0) + dt2 * self.load[0];
         }
         self.factor.solve_in_place(&mut self.prev);
-        let lower = -e * u_old[0];
+        // Impact law on the shifted u − lb: u_0^{n+2} − lb ≥ −e (u_0ⁿ − lb).
+        let lower = self.obstacle - e * (u_old[0] - self.obstacle);
         let lambda = contact_multiplier(self.prev[0], lower, dt2, self.response[0]);
         let s = dt2 * lambda;
         // prev now holds U^{n+2} before the contact correction; V^{n+1} = (U^{n+2} − Uⁿ)/(2Δt).
@@ -140,11 +146,11 @@ impl Scheme for PaoliSchatzman {
             x[0] = lower;
             v[0] = (lower - u_old[0]) * inv_2dt;
         }
-        self.lambda = if self.project { lambda / beta } else { lambda };
+        self.lambda[0] = if self.project { lambda / beta } else { lambda };
         // Rotate (U^{n}, U^{n+1}, U^{n+2}) -> (prev, cur, next).
         std::mem::swap(&mut self.prev, &mut self.cur); // cur = U^{n+2}, prev = Uⁿ
         std::mem::swap(&mut self.cur, &mut self.next); // cur = U^{n+1}, next = U^{n+2}
         self.n += 1;
-        check_finite(&self.next, self.lambda, self.n, self.n as f64 * dt)
+        check_finite(&self.next, &self.lambda, true, self.n, self.n as f64 * dt)
     }
 }

@@ -24,7 +24,7 @@ impl Observer for Recorder {
     }
     fn observe(&mut self, s: &Sample) {
         let st = s.state;
-        self.0.push(Frame { t: st.t, u: st.u.to_vec(), v: st.v.to_vec(), lambda: st.lambda, energy: s.energy });
+        self.0.push(Frame { t: st.t, u: st.u.to_vec(), v: st.v.to_vec(), lambda: st.lambda[0], energy: s.energy });
     }
 }
 

@@ -1,5 +1,5 @@
-//! Exact solution of the many-node Signorini condition inside an implicit step (the 2D form of
-//! `schemes::contact_multiplier`).
+//! Exact solution of the many-node Signorini condition inside an implicit step, for sparse
+//! back-ends (plates and solids; with one contact node it is [`super::OneNode`]'s formula).
 //!
 //! Each full-system scheme solves, per step,
 //!
@@ -20,11 +20,12 @@
 //! solve, the LCP on the contact nodes, and `n × (active nodes)` multiply-adds. With one contact
 //! node this is the 1D formula `λ = (u*_0 − lb)/(σ z_0)`.
 
+use super::ContactSolver;
 use super::lcp::{Lcp, LcpError};
-use super::sparse::{SpMat, SparseError, SparseLlt};
+use crate::linalg::sparse::{SpMat, SparseError, SparseLlt};
 
 #[derive(Debug)]
-pub struct ContactSolver2d {
+pub struct Schur {
     factor: SparseLlt,
     contact: Vec<usize>,
     /// Column c of Z = K⁻¹ e_{contact[c]}, stored column after column (n per column).
@@ -33,7 +34,7 @@ pub struct ContactSolver2d {
     q: Vec<f64>,
 }
 
-impl ContactSolver2d {
+impl Schur {
     /// Factors K and precomputes Z and D = Z_C (symmetrised: D is symmetric in exact
     /// arithmetic, the computed columns differ by round-off).
     pub fn new(k: &SpMat, contact: &[usize], matrix: &'static str) -> Result<Self, SparseError> {
@@ -54,10 +55,12 @@ impl ContactSolver2d {
         }
         Ok(Self { factor, contact: contact.to_vec(), z, lcp: Lcp::new(d, nc), q: vec![0.0; nc] })
     }
+}
 
+impl ContactSolver for Schur {
     /// Solves `K U = r − σ Σ λ_c e_c`, `lb ≤ u_C ⊥ λ ≤ 0` in place (`rhs` = r on entry, U on
     /// exit) and writes λ. On active nodes `u_c = lb_c` is set exactly. Returns the pivot count.
-    pub fn solve(&mut self, rhs: &mut [f64], lower: &[f64], sigma: f64, lambda: &mut [f64]) -> Result<usize, LcpError> {
+    fn solve(&mut self, rhs: &mut [f64], lower: &[f64], sigma: f64, lambda: &mut [f64]) -> Result<usize, LcpError> {
         let n = rhs.len();
         self.factor.solve_in_place(rhs);
         for (c, &i) in self.contact.iter().enumerate() {
@@ -82,7 +85,7 @@ impl ContactSolver2d {
     }
 
     /// Solves `K x = b` in place without contact (for diagnostics).
-    pub fn solve_free(&mut self, b: &mut [f64]) {
+    fn solve_free(&mut self, b: &mut [f64]) {
         self.factor.solve_in_place(b);
     }
 }

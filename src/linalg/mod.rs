@@ -1,0 +1,186 @@
+//! Linear-algebra back-ends of the contact system: symmetric tridiagonal matrices for bars
+//! ([`tridiag`]: the two-sided "twisted" LDLᵀ solve) and sparse symmetric matrices for plates and
+//! solids ([`sparse`]: faer's sparse Cholesky with an AMD ordering).
+//!
+//! The schemes of [`crate::schemes`] are written once, generic over [`SymMatrix`]; each back-end
+//! says how to multiply, combine, factor and solve the contact problem of one implicit step
+//! (its [`SymMatrix::Solver`], see [`crate::contact`]). This is diffsol's split of a method from
+//! its matrix and linear-solver types (`ode_solver/bdf.rs` over `linear_solver/{faer,nalgebra}`).
+
+pub mod sparse;
+pub mod tridiag;
+
+use crate::contact::{ContactSolver, OneNode, Schur};
+use sparse::{SpMat, SparseError, SparseLlt};
+use std::fmt::Debug;
+use thiserror::Error;
+use tridiag::{FactorError, SymTridiag};
+
+/// Failure to build, combine or factor a matrix of the contact system.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum LinalgError {
+    #[error("the {matrix} matrix cannot be factored: {source}")]
+    Factor { matrix: &'static str, source: FactorError },
+    #[error(transparent)]
+    Sparse(#[from] SparseError),
+    #[error("the {matrix} matrix: {detail}")]
+    Unsupported { matrix: &'static str, detail: String },
+}
+
+/// A symmetric matrix of the contact system (mass M, stiffness S, an iteration matrix
+/// `M + σ S`): what the schemes need of it, implemented once per back-end.
+pub trait SymMatrix: Clone + Debug + Send + Sync + 'static {
+    /// The exact solver of one implicit step with contact (`K U = r − σ Σ λ_c e_c`,
+    /// `lb ≤ u_C ⊥ λ ≤ 0`) for `K = self`.
+    type Solver: ContactSolver;
+
+    /// Whether a NaN or ∞ anywhere in a right-hand side reaches the first and last entries of
+    /// the solution (true for a tridiagonal chain), so that checking those two suffices.
+    const SOLVE_SPREADS_NAN: bool;
+
+    /// Number of rows (= columns).
+    fn dim(&self) -> usize;
+
+    /// Diagonal entry `A_ii`.
+    fn diag(&self, i: usize) -> f64;
+
+    /// `y = A x + c f` (one pass where the back-end can fuse it).
+    fn mul_add_into(&self, x: &[f64], c: f64, f: &[f64], y: &mut [f64]);
+
+    /// `y = A x`.
+    fn mul_into(&self, x: &[f64], y: &mut [f64]);
+
+    /// `xᵀ A x`.
+    fn quad_form(&self, x: &[f64]) -> f64;
+
+    /// Sum of all entries, `1ᵀ A 1`.
+    fn total(&self) -> f64;
+
+    /// `a·self + b·other` (`other` has the same dimension; patterns are merged).
+    fn combine(&self, a: f64, other: &Self, b: f64, matrix: &'static str) -> Result<Self, LinalgError>;
+
+    /// Calls `f(i, j, A_ij)` for every stored entry (both triangles).
+    fn for_each_entry(&self, f: &mut dyn FnMut(usize, usize, f64));
+
+    /// Overwrites `b` (indexed like `keep`) with `A_KK⁻¹ b`, `A_KK` the principal submatrix on
+    /// the rows and columns `keep` (increasing), which must be positive definite.
+    fn solve_principal(&self, keep: &[usize], b: &mut [f64], matrix: &'static str) -> Result<(), LinalgError>;
+
+    /// Factors `self` once and prepares the contact solves on the unknowns `contact`.
+    fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<Self::Solver, LinalgError>;
+}
+
+impl SymMatrix for SymTridiag {
+    type Solver = OneNode;
+    const SOLVE_SPREADS_NAN: bool = true;
+
+    fn dim(&self) -> usize {
+        self.len()
+    }
+
+    fn diag(&self, i: usize) -> f64 {
+        self.diag[i]
+    }
+
+    fn mul_add_into(&self, x: &[f64], c: f64, f: &[f64], y: &mut [f64]) {
+        SymTridiag::mul_add_into(self, x, c, Some(f), y)
+    }
+
+    fn mul_into(&self, x: &[f64], y: &mut [f64]) {
+        SymTridiag::mul_into(self, x, y)
+    }
+
+    fn quad_form(&self, x: &[f64]) -> f64 {
+        SymTridiag::quad_form(self, x)
+    }
+
+    fn total(&self) -> f64 {
+        SymTridiag::total(self)
+    }
+
+    fn combine(&self, a: f64, other: &Self, b: f64, _matrix: &'static str) -> Result<Self, LinalgError> {
+        Ok(SymTridiag::combine(self, a, other, b))
+    }
+
+    fn for_each_entry(&self, f: &mut dyn FnMut(usize, usize, f64)) {
+        for i in 0..self.len() {
+            if i > 0 {
+                f(i, i - 1, self.off[i - 1]);
+            }
+            f(i, i, self.diag[i]);
+            if i + 1 < self.len() {
+                f(i, i + 1, self.off[i]);
+            }
+        }
+    }
+
+    /// Bars have massless nodes only at the contact end, so `keep` is a trailing range
+    /// `k..n`; it is factored by LDLᵀ (as the 1D code always did).
+    fn solve_principal(&self, keep: &[usize], b: &mut [f64], matrix: &'static str) -> Result<(), LinalgError> {
+        let n = self.len();
+        let k = n - keep.len();
+        if keep.iter().enumerate().any(|(p, &i)| i != k + p) {
+            let detail = "a tridiagonal principal solve needs a trailing range of rows".to_string();
+            return Err(LinalgError::Unsupported { matrix, detail });
+        }
+        let factor = self.trailing(k).factor().map_err(|source| LinalgError::Factor { matrix, source })?;
+        factor.solve_in_place(b);
+        Ok(())
+    }
+
+    fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<OneNode, LinalgError> {
+        OneNode::new(self, contact, matrix)
+    }
+}
+
+impl SymMatrix for SpMat {
+    type Solver = Schur;
+    const SOLVE_SPREADS_NAN: bool = false;
+
+    fn dim(&self) -> usize {
+        self.nrows()
+    }
+
+    fn diag(&self, i: usize) -> f64 {
+        sparse::get(self, i, i)
+    }
+
+    fn mul_add_into(&self, x: &[f64], c: f64, f: &[f64], y: &mut [f64]) {
+        sparse::sym_mul_into(self, x, y);
+        for (yi, fi) in y.iter_mut().zip(f) {
+            *yi += c * fi;
+        }
+    }
+
+    fn mul_into(&self, x: &[f64], y: &mut [f64]) {
+        sparse::sym_mul_into(self, x, y)
+    }
+
+    fn quad_form(&self, x: &[f64]) -> f64 {
+        sparse::quad_form(self, x)
+    }
+
+    fn total(&self) -> f64 {
+        sparse::total(self)
+    }
+
+    fn combine(&self, a: f64, other: &Self, b: f64, matrix: &'static str) -> Result<Self, LinalgError> {
+        Ok(sparse::combine(self, a, other, b, matrix)?)
+    }
+
+    fn for_each_entry(&self, f: &mut dyn FnMut(usize, usize, f64)) {
+        for (i, j, v) in sparse::triplets(self) {
+            f(i, j, v);
+        }
+    }
+
+    fn solve_principal(&self, keep: &[usize], b: &mut [f64], matrix: &'static str) -> Result<(), LinalgError> {
+        let sub = sparse::principal(self, keep, matrix)?;
+        SparseLlt::new(&sub, matrix)?.solve_in_place(b);
+        Ok(())
+    }
+
+    fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<Schur, LinalgError> {
+        Ok(Schur::new(self, contact, matrix)?)
+    }
+}
