@@ -1,5 +1,7 @@
 //! The `massredist` command line: run, check, reproduce, bench, crosscheck.
 
+mod exit;
+
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use massredist::run::{Observer, Sample, run_scene};
@@ -73,7 +75,7 @@ fn main() -> ExitCode {
         Command::Bench { quick, out } => {
             let report = massredist::bench::run(quick);
             if let Err(e) = massredist::bench::write(&out, &report) {
-                return fail(&out, e.to_string(), 1);
+                return fail(&out, e.to_string(), exit::FAILURE);
             }
             eprintln!("{}: {} runs in {:.1} s; see report.md", out.display(), report.results.len(), report.seconds);
             ExitCode::SUCCESS
@@ -86,7 +88,7 @@ fn main() -> ExitCode {
                     print!("{}", s.resolved_toml());
                     ExitCode::SUCCESS
                 }
-                Err(e) => fail(&scene, e.to_string(), 2),
+                Err(e) => fail(&scene, e.to_string(), exit::INVALID),
             }
         }
         Command::Run { scene, out } if massredist::plate::scene::is_plate_file(&scene) => run_plate(scene, out),
@@ -95,7 +97,7 @@ fn main() -> ExitCode {
                 print!("{}", s.resolved_toml());
                 ExitCode::SUCCESS
             }
-            Err(e) => fail(&scene, e.to_string(), 2),
+            Err(e) => fail(&scene, e.to_string(), exit::INVALID),
         },
         Command::Reproduce { out, quick } => {
             let config =
@@ -119,23 +121,23 @@ fn main() -> ExitCode {
                     );
                     ExitCode::SUCCESS
                 }
-                Err(e) => fail(&out, e.to_string(), 1),
+                Err(e) => fail(&out, e.to_string(), exit::FAILURE),
             }
         }
         Command::Run { scene, out } => {
             let s = match Scene::from_file(&scene) {
                 Ok(s) => s,
-                Err(e) => return fail(&scene, e.to_string(), 2),
+                Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
             };
             let mut bar = progress(s.time.steps as u64);
             let result = run_scene(&s, &mut [&mut bar]);
             bar.0.finish_and_clear();
             let (summary, series) = match result {
                 Ok(r) => r,
-                Err(e) => return fail(&scene, e.to_string(), 1),
+                Err(e) => return fail(&scene, e.to_string(), exit::FAILURE),
             };
             if let Err(e) = massredist::output::write_run(&out, &s, &summary, &series) {
-                return fail(&out, e.to_string(), 1);
+                return fail(&out, e.to_string(), exit::FAILURE);
             }
             eprintln!(
                 "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}",
@@ -163,17 +165,17 @@ impl massredist::plate::run::PlateObserver for Progress {
 fn run_plate(scene: PathBuf, out: PathBuf) -> ExitCode {
     let s = match massredist::plate::scene::PlateScene::from_file(&scene) {
         Ok(s) => s,
-        Err(e) => return fail(&scene, e.to_string(), 2),
+        Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
     };
     let mut bar = progress(s.time.steps as u64);
     let result = massredist::plate::run::run_plate_scene(&s, &mut [&mut bar]);
     bar.0.finish_and_clear();
     let run = match result {
         Ok(r) => r,
-        Err(e) => return fail(&scene, e.to_string(), 1),
+        Err(e) => return fail(&scene, e.to_string(), exit::FAILURE),
     };
     if let Err(e) = massredist::plate::output::write_plate_run(&out, &s, &run) {
-        return fail(&out, e.to_string(), 1);
+        return fail(&out, e.to_string(), exit::FAILURE);
     }
     eprintln!(
         "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}, largest step increase {:e}",
@@ -194,21 +196,21 @@ fn crosscheck(json: Option<PathBuf>) -> ExitCode {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: crosscheck: {e}");
-            return ExitCode::from(1);
+            return ExitCode::from(exit::FAILURE);
         }
     };
     print!("{}", massredist::crosscheck::table(&report));
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&report).expect("report serialises") + "\n";
         if let Err(e) = massredist::output::write_file_atomically(&path, text.as_bytes()) {
-            return fail(&path, e.to_string(), 1);
+            return fail(&path, e.to_string(), exit::FAILURE);
         }
     }
     if report.all_pass() {
         ExitCode::SUCCESS
     } else {
         eprintln!("crosscheck: {} case(s) outside tolerance", report.cases.iter().filter(|c| !c.pass).count());
-        ExitCode::from(1)
+        ExitCode::from(exit::FAILURE)
     }
 }
 
