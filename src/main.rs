@@ -4,9 +4,10 @@ mod exit;
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use massredist::output::OutputDir;
 use massredist::run::{Observer, Sample, run_scene};
 use massredist::scene::Scene;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -23,6 +24,8 @@ enum Command {
         scene: PathBuf,
         #[arg(long)]
         out: PathBuf,
+        #[command(flatten)]
+        force: Force,
     },
     /// Validate a scene and print it with every default filled in.
     Check { scene: PathBuf },
@@ -40,6 +43,8 @@ enum Command {
         /// Shorter horizons (T = 3, 6; long run T = 30): every output, in less time.
         #[arg(long)]
         quick: bool,
+        #[command(flatten)]
+        force: Force,
     },
     /// Work–precision sweep, per-step performance against a bare solve and a Python stepper;
     /// writes CSV, tables, figure and report.md into DIR.
@@ -49,7 +54,31 @@ enum Command {
         quick: bool,
         #[arg(long, default_value = "bench-out")]
         out: PathBuf,
+        #[command(flatten)]
+        force: Force,
     },
+}
+
+impl Command {
+    /// The output folder this command writes, its `--force`, and the inputs it must not replace.
+    fn output(&self) -> Option<(&Path, bool, Vec<&Path>)> {
+        match self {
+            Command::Run { scene, out, force } => Some((out, force.force, vec![scene])),
+            Command::Reproduce { out, force, .. } | Command::Bench { out, force, .. } => {
+                Some((out, force.force, vec![]))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// `--force` of the commands that write an output folder.
+#[derive(clap::Args)]
+struct Force {
+    /// Replace DIR even if massredist did not write it (deleting what it holds); never a file, a
+    /// folder holding the scene, the current folder or the home folder.
+    #[arg(long)]
+    force: bool,
 }
 
 /// A progress bar on stderr, drawn only when stderr is a terminal.
@@ -71,8 +100,23 @@ fn progress(len: u64) -> Progress {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // The output folder is checked and its temporary sibling created before anything is
+    // computed; the writer at the end commits it (`massredist::output::write_dir_atomically`).
+    let _staged = match cli.command.output().map(|(out, force, inputs)| OutputDir::prepare(out, force, &inputs)) {
+        None => None,
+        Some(Ok(dir)) => {
+            for p in dir.removed_left_overs() {
+                eprintln!("removed {}, the partial output of an interrupted run", p.display());
+            }
+            Some(dir.stage())
+        }
+        Some(Err(e)) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(exit::INVALID);
+        }
+    };
     match cli.command {
-        Command::Bench { quick, out } => {
+        Command::Bench { quick, out, .. } => {
             let report = massredist::bench::run(quick);
             if let Err(e) = massredist::bench::write(&out, &report) {
                 return fail(&out, e.to_string(), exit::FAILURE);
@@ -91,7 +135,7 @@ fn main() -> ExitCode {
                 Err(e) => fail(&scene, e.to_string(), exit::INVALID),
             }
         }
-        Command::Run { scene, out } if massredist::plate::scene::is_plate_file(&scene) => run_plate(scene, out),
+        Command::Run { scene, out, .. } if massredist::plate::scene::is_plate_file(&scene) => run_plate(scene, out),
         Command::Check { scene } => match Scene::from_file(&scene) {
             Ok(s) => {
                 print!("{}", s.resolved_toml());
@@ -99,7 +143,7 @@ fn main() -> ExitCode {
             }
             Err(e) => fail(&scene, e.to_string(), exit::INVALID),
         },
-        Command::Reproduce { out, quick } => {
+        Command::Reproduce { out, quick, .. } => {
             let config =
                 if quick { massredist::reproduce::Config::quick() } else { massredist::reproduce::Config::paper() };
             let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
@@ -124,7 +168,7 @@ fn main() -> ExitCode {
                 Err(e) => fail(&out, e.to_string(), exit::FAILURE),
             }
         }
-        Command::Run { scene, out } => {
+        Command::Run { scene, out, .. } => {
             let s = match Scene::from_file(&scene) {
                 Ok(s) => s,
                 Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
