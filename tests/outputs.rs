@@ -96,6 +96,11 @@ fn out_at_a_file_or_at_the_scene_file_is_refused() {
         assert_eq!(std::fs::read(&scene).unwrap(), std::fs::read(shipped_scene()).unwrap());
         assert_eq!(names(tmp.path()), set(&["results.txt", "s.toml"]), "{extra:?}: nothing else created");
     }
+    // The same for a plate scene (the 2D path of `run`).
+    let plate = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/plate-table-mod3.toml");
+    assert_refused(&run(&plate, &file, &[]), &["results.txt", "is a file"]);
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine\n");
+    assert_eq!(names(tmp.path()), set(&["results.txt", "s.toml"]));
 }
 
 /// `reproduce --out FILE` is refused before its experiments run; the file stays.
