@@ -1,10 +1,13 @@
 //! The `massredist` command line: run, check, reproduce, bench, crosscheck.
 
+mod exit;
+
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use massredist::output::OutputDir;
 use massredist::run::{Observer, Sample, run_scene};
 use massredist::scene::Scene;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -21,6 +24,8 @@ enum Command {
         scene: PathBuf,
         #[arg(long)]
         out: PathBuf,
+        #[command(flatten)]
+        force: Force,
     },
     /// Validate a scene and print it with every default filled in.
     Check { scene: PathBuf },
@@ -38,6 +43,8 @@ enum Command {
         /// Shorter horizons (T = 3, 6; long run T = 30): every output, in less time.
         #[arg(long)]
         quick: bool,
+        #[command(flatten)]
+        force: Force,
     },
     /// Work–precision sweep, per-step performance against a bare solve and a Python stepper;
     /// writes CSV, tables, figure and report.md into DIR.
@@ -47,7 +54,31 @@ enum Command {
         quick: bool,
         #[arg(long, default_value = "bench-out")]
         out: PathBuf,
+        #[command(flatten)]
+        force: Force,
     },
+}
+
+impl Command {
+    /// The output folder this command writes, its `--force`, and the inputs it must not replace.
+    fn output(&self) -> Option<(&Path, bool, Vec<&Path>)> {
+        match self {
+            Command::Run { scene, out, force } => Some((out, force.force, vec![scene])),
+            Command::Reproduce { out, force, .. } | Command::Bench { out, force, .. } => {
+                Some((out, force.force, vec![]))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// `--force` of the commands that write an output folder.
+#[derive(clap::Args)]
+struct Force {
+    /// Replace DIR even if massredist did not write it (deleting what it holds); never a file, a
+    /// folder holding the scene, the current folder or the home folder.
+    #[arg(long)]
+    force: bool,
 }
 
 /// A progress bar on stderr, drawn only when stderr is a terminal.
@@ -69,11 +100,26 @@ fn progress(len: u64) -> Progress {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // The output folder is checked and its temporary sibling created before anything is
+    // computed; the writer at the end commits it (`massredist::output::write_dir_atomically`).
+    let _staged = match cli.command.output().map(|(out, force, inputs)| OutputDir::prepare(out, force, &inputs)) {
+        None => None,
+        Some(Ok(dir)) => {
+            for p in dir.removed_left_overs() {
+                eprintln!("removed {}, the partial output of an interrupted run", p.display());
+            }
+            Some(dir.stage())
+        }
+        Some(Err(e)) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(exit::INVALID);
+        }
+    };
     match cli.command {
-        Command::Bench { quick, out } => {
+        Command::Bench { quick, out, .. } => {
             let report = massredist::bench::run(quick);
             if let Err(e) = massredist::bench::write(&out, &report) {
-                return fail(&out, e.to_string(), 1);
+                return fail(&out, e.to_string(), exit::FAILURE);
             }
             eprintln!("{}: {} runs in {:.1} s; see report.md", out.display(), report.results.len(), report.seconds);
             ExitCode::SUCCESS
@@ -86,18 +132,18 @@ fn main() -> ExitCode {
                     print!("{}", s.resolved_toml());
                     ExitCode::SUCCESS
                 }
-                Err(e) => fail(&scene, e.to_string(), 2),
+                Err(e) => fail(&scene, e.to_string(), exit::INVALID),
             }
         }
-        Command::Run { scene, out } if massredist::plate::scene::is_plate_file(&scene) => run_plate(scene, out),
+        Command::Run { scene, out, .. } if massredist::plate::scene::is_plate_file(&scene) => run_plate(scene, out),
         Command::Check { scene } => match Scene::from_file(&scene) {
             Ok(s) => {
                 print!("{}", s.resolved_toml());
                 ExitCode::SUCCESS
             }
-            Err(e) => fail(&scene, e.to_string(), 2),
+            Err(e) => fail(&scene, e.to_string(), exit::INVALID),
         },
-        Command::Reproduce { out, quick } => {
+        Command::Reproduce { out, quick, .. } => {
             let config =
                 if quick { massredist::reproduce::Config::quick() } else { massredist::reproduce::Config::paper() };
             let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
@@ -119,23 +165,23 @@ fn main() -> ExitCode {
                     );
                     ExitCode::SUCCESS
                 }
-                Err(e) => fail(&out, e.to_string(), 1),
+                Err(e) => fail(&out, e.to_string(), exit::FAILURE),
             }
         }
-        Command::Run { scene, out } => {
+        Command::Run { scene, out, .. } => {
             let s = match Scene::from_file(&scene) {
                 Ok(s) => s,
-                Err(e) => return fail(&scene, e.to_string(), 2),
+                Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
             };
             let mut bar = progress(s.time.steps as u64);
             let result = run_scene(&s, &mut [&mut bar]);
             bar.0.finish_and_clear();
             let (summary, series) = match result {
                 Ok(r) => r,
-                Err(e) => return fail(&scene, e.to_string(), 1),
+                Err(e) => return fail(&scene, e.to_string(), exit::FAILURE),
             };
             if let Err(e) = massredist::output::write_run(&out, &s, &summary, &series) {
-                return fail(&out, e.to_string(), 1);
+                return fail(&out, e.to_string(), exit::FAILURE);
             }
             eprintln!(
                 "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}",
@@ -163,17 +209,17 @@ impl massredist::plate::run::PlateObserver for Progress {
 fn run_plate(scene: PathBuf, out: PathBuf) -> ExitCode {
     let s = match massredist::plate::scene::PlateScene::from_file(&scene) {
         Ok(s) => s,
-        Err(e) => return fail(&scene, e.to_string(), 2),
+        Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
     };
     let mut bar = progress(s.time.steps as u64);
     let result = massredist::plate::run::run_plate_scene(&s, &mut [&mut bar]);
     bar.0.finish_and_clear();
     let run = match result {
         Ok(r) => r,
-        Err(e) => return fail(&scene, e.to_string(), 1),
+        Err(e) => return fail(&scene, e.to_string(), exit::FAILURE),
     };
     if let Err(e) = massredist::plate::output::write_plate_run(&out, &s, &run) {
-        return fail(&out, e.to_string(), 1);
+        return fail(&out, e.to_string(), exit::FAILURE);
     }
     eprintln!(
         "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}, largest step increase {:e}",
@@ -194,21 +240,21 @@ fn crosscheck(json: Option<PathBuf>) -> ExitCode {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: crosscheck: {e}");
-            return ExitCode::from(1);
+            return ExitCode::from(exit::FAILURE);
         }
     };
     print!("{}", massredist::crosscheck::table(&report));
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&report).expect("report serialises") + "\n";
         if let Err(e) = massredist::output::write_file_atomically(&path, text.as_bytes()) {
-            return fail(&path, e.to_string(), 1);
+            return fail(&path, e.to_string(), exit::FAILURE);
         }
     }
     if report.all_pass() {
         ExitCode::SUCCESS
     } else {
         eprintln!("crosscheck: {} case(s) outside tolerance", report.cases.iter().filter(|c| !c.pass).count());
-        ExitCode::from(1)
+        ExitCode::from(exit::FAILURE)
     }
 }
 

@@ -64,7 +64,8 @@ fn quick_reproduce_writes_every_file_well_formed() {
     // The directory holds exactly these files (no temporary leftovers), none of them empty.
     let on_disk: BTreeSet<String> =
         std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
-    assert_eq!(on_disk, expected);
+    let marked: BTreeSet<String> = expected.iter().cloned().chain([massredist::output::MARKER.to_string()]).collect();
+    assert_eq!(on_disk, marked, "the files and the output marker");
     for f in &expected {
         let bytes = std::fs::read(dir.join(f)).unwrap();
         assert!(!bytes.is_empty(), "{f} is empty");

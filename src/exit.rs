@@ -1,0 +1,17 @@
+//! The exit codes of the `massredist` command, in one place (README, "Exit codes").
+
+/// Success (`main` returns `ExitCode::SUCCESS`, the same value).
+#[allow(dead_code)]
+pub const SUCCESS: u8 = 0;
+
+/// A failure while computing or writing, after the checks passed: the run failed, a write
+/// failed, a cross-check was outside its tolerance.
+pub const FAILURE: u8 = 1;
+
+/// The command cannot start: invalid arguments (clap also exits with 2) or scene, or an output
+/// folder that is refused or cannot be created. Nothing was computed and nothing written.
+pub const INVALID: u8 = 2;
+
+/// Reserved: the run diverged (a non-finite state).
+#[allow(dead_code)]
+pub const DIVERGED: u8 = 3;
