@@ -9,6 +9,7 @@ pub mod crosscheck;
 pub mod assembly;
 pub mod bench;
 pub mod exact;
+pub mod expr;
 pub mod mass;
 pub mod norms;
 pub mod output;
