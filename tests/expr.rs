@@ -138,8 +138,8 @@ fn parse_error(text: &str) -> (usize, String) {
     }
 }
 
-// Mutations: (1) the column of a token counted in bytes (`start + 1`) instead of characters →
-// the `π*(x` row reports 6; (2) `close` reporting the column of the `(` instead of the end →
+// Mutations: (1) the column of a token counted in bytes (`byte_at(first) + 1`) instead of
+// characters → the `π * x)` row reports 7; (2) `close` reporting the column of the `(` instead of the end →
 // the `sin(x` row reports 4; (3) the comma check `args.len() == arity` dropped → `sin(x, 1)`
 // passes the front end and exmex's panic fails the test.
 #[test]
@@ -174,8 +174,14 @@ fn parse_errors_carry_their_column() {
         assert!(got.contains(message), "{text:?}: {got:?} does not contain {message:?}");
     }
     // Columns count characters, not bytes: π is two bytes in UTF-8.
-    let e = Expr::parse("plate.force", "π*(x", &["x", "y"], &[("π", PI)]).unwrap_err();
-    assert!(matches!(e, ExprError::Parse { position: 5, .. }), "{e:?}");
+    for (text, column) in [("π*(x", 5), ("π * x)", 6), ("ππ + é", 6)] {
+        let e = Expr::parse("plate.force", text, &["x", "y"], &[("π", PI), ("ππ", PI * PI)]).unwrap_err();
+        let position = match &e {
+            ExprError::Parse { position, .. } | ExprError::UnknownName { position, .. } => *position,
+            _ => panic!("{e:?}"),
+        };
+        assert_eq!(position, column, "{text}: {e}");
+    }
     // Deep nesting is refused, not a stack overflow.
     let deep = format!("{}x{}", "(".repeat(1000), ")".repeat(1000));
     assert!(parse_error(&deep).1.contains("nested more than 100 levels deep"));
