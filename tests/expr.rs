@@ -64,7 +64,8 @@ fn grid(n: usize, a: f64, b: f64) -> impl Iterator<Item = f64> + Clone {
 // Mutation: `log` bound to `f64::log10` in `Ops::make` → the `log(1 + x)` row fails.
 #[test]
 fn values_match_rust() {
-    let cases: [(&str, fn(f64, f64) -> f64); 10] = [
+    type Reference = fn(f64, f64) -> f64;
+    let cases: [(&str, Reference); 10] = [
         ("sin(pi*x/L)*exp(-t)", |x, t| (PI * x / L).sin() * (-t).exp()),
         ("1e-3*x^2 - 2.5E+2*t", |x, t| 1e-3 * x.powf(2.0) - 2.5e2 * t),
         ("sqrt(x + 1) / (1 + t**2)", |x, t| (x + 1.0).sqrt() / (1.0 + t.powf(2.0))),
@@ -111,7 +112,7 @@ fn precedence_is_mathematical() {
         ("2 * 3 ^ 2", 18.0),
         ("-sin(x)^2", -(x.sin().powf(2.0))),
         ("x - -1", 4.0),
-        ("min(max(x, 1), 2) * max(-x, min(-1, x))", 2.0 * (-1.0)),
+        ("min(max(x, 1), 2) * max(-x, min(-1, x))", -2.0), // 2 · max(−3, −1)
     ];
     for (text, expected) in cases {
         let got = initial(text).unwrap().eval(&[x]);
