@@ -10,6 +10,7 @@ pub mod assembly;
 pub mod bench;
 pub mod contact;
 pub mod exact;
+pub mod expr;
 pub mod linalg;
 pub mod mass;
 pub mod norms;

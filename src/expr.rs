@@ -1,0 +1,722 @@
+//! Scene expressions: initial data and forces written as formulas in the scene, e.g.
+//! `force = "sin(pi*x/L)*exp(-t)"`, parsed once and evaluated at every node (and time step).
+//!
+//! # Language
+//! - numbers: `2`, `0.5`, `.5`, `1e-3`, `2.5E+2` (no sign: `-1` is unary minus applied to `1`);
+//! - the variables the caller lists (`["x", "t"]` for a bar's force, `["x", "y"]` for a plate's
+//!   data) and the constants it binds by name (`L`, `H`, `pi`), both plain identifiers;
+//! - `+ - * /`, unary `-` and `+`, powers `^` and its synonym `**`, parentheses;
+//! - functions `sin cos tan exp log sqrt abs` (one argument, `log` is the natural logarithm) and
+//!   `min max` (two arguments, written `min(a, b)`; like [`f64::min`] they return the other argument
+//!   when one is NaN).
+//!
+//! Precedence is the mathematical one, as in Python and Fortran: `^` binds tighter than unary minus
+//! and is right-associative, so `-x^2` is `-(x^2)` (−9 at x = 3), `2^3^2` is `2^(3^2)` = 512, and an
+//! exponent may carry its own sign (`2^-x^2` is `2^(-(x^2))`). `*`, `/`, `+`, `-` are
+//! left-associative. There is no implicit multiplication (`2x` is an error at the `x`).
+//!
+//! # The crate behind it
+//! [exmex] 0.21 compiles and evaluates the expression. Chosen among the candidates because it is
+//! actively developed, MIT/Apache-2.0 like this crate, brings only `regex` (already in our tree)
+//! and `smallvec`, and parses once into a flat representation, folding constant sub-expressions,
+//! whose evaluation `eval(&[f64])` works on a stack buffer (no allocation up to 32 operands).
+//! The others: evalexpr 13 is AGPL-3.0 (incompatible with our licence), meval 0.2 (2017, on nom 1)
+//! and fasteval 0.2 (2020) are unmaintained.
+//!
+//! exmex lacks four things this module supplies with a small front end (tokenizer and
+//! recursive-descent parser, below) that validates the text and hands exmex a canonical, fully
+//! parenthesised form of it:
+//! - exmex's unary operators bind tighter than `^` (`-1^2 == 1` in its docs, so `-x^2` would be 9):
+//!   the canonical form puts every operation in its own parentheses, so exmex evaluates exactly
+//!   the tree parsed here, with the convention above;
+//! - its errors are messages without a position: here every error carries the 1-based character
+//!   column of the offending token in the scene's text;
+//! - its numbers have no exponent (`1e-3` reads as `1` next to Euler's `e`) and its constants are
+//!   fixed at compile time (`π`, `E`, ...): numbers and the caller's constants reach exmex as
+//!   literals in Rust's round-trip scientific form (`{:e}`), read back exactly by a literal matcher
+//!   of our own; exmex's own constants and functions are not offered (only the list above is);
+//! - it orders variables alphabetically and accepts any name: here names are checked against the
+//!   caller's lists ([`ExprError::UnknownName`] lists what is allowed), and [`Expr::eval`] takes the
+//!   caller's order.
+//!
+//! exmex has `^` only; `**` is accepted by the front end as the same operator.
+
+use exmex::{BinOp, Express, FlatEx, MakeOperators, MatchLiteral, Operator};
+
+/// Most variables an expression may take (x, y, z, t with room to spare); [`Expr::eval`] gathers
+/// them on the stack.
+const MAX_VARS: usize = 8;
+
+/// Deepest nesting of parentheses, signs and powers accepted; keeps the recursive parser's stack
+/// bounded on hostile input such as ten thousand `(`.
+const MAX_DEPTH: usize = 100;
+
+/// The functions of the language with their number of arguments.
+const FUNCTIONS: [(&str, usize); 9] =
+    [("sin", 1), ("cos", 1), ("tan", 1), ("exp", 1), ("log", 1), ("sqrt", 1), ("abs", 1), ("min", 2), ("max", 2)];
+
+/// Errors of parsing or evaluating a scene expression. Each message starts with
+/// `key = "text": ` so that it points into the scene file.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ExprError {
+    /// The text is not an expression; `position` is the 1-based character column in `text` of the
+    /// offending token (`text.chars().count() + 1` when the text ends too early).
+    #[error("{key} = {text:?}: parse error at column {position}: {message}\n{}", caret(text, *position))]
+    Parse { key: String, text: String, position: usize, message: String },
+    /// A name that is neither one of the caller's variables or constants nor a function.
+    #[error("{key} = {text:?}: unknown name '{name}' at column {position}; allowed: {}", allowed.join(", "))]
+    UnknownName { key: String, text: String, name: String, position: usize, allowed: Vec<String> },
+    /// An expression without variables whose value is infinite or NaN (e.g. `1/0`).
+    #[error("{key} = {text:?}: evaluates to {}, which is not finite", sci(*value))]
+    ConstantNotFinite { key: String, text: String, value: f64 },
+    /// The value at point number `node` (0-based, in the order of the points given), with
+    /// coordinates `at` (one per variable in `vars`), is infinite or NaN.
+    #[error("{key} = {text:?}: evaluates to {} at node {node} ({}), which is not finite", sci(*value), coordinates(vars, at))]
+    NotFinite { key: String, text: String, node: usize, vars: Vec<String>, at: Vec<f64>, value: f64 },
+}
+
+/// A number in short scientific form: at most 5 significant digits, trailing zeros dropped
+/// (`1.5e0`, `0e0`, `-3.3333e-1`, `inf`, `NaN`).
+pub fn sci(value: f64) -> String {
+    if !value.is_finite() {
+        return format!("{value}");
+    }
+    let full = format!("{value:.4e}");
+    let (mantissa, exponent) = full.split_once('e').expect("{:e} writes an exponent");
+    let mantissa = if mantissa.contains('.') { mantissa.trim_end_matches('0').trim_end_matches('.') } else { mantissa };
+    format!("{mantissa}e{exponent}")
+}
+
+fn coordinates(vars: &[String], at: &[f64]) -> String {
+    let pairs: Vec<String> = vars.iter().zip(at).map(|(name, value)| format!("{name} = {}", sci(*value))).collect();
+    pairs.join(", ")
+}
+
+/// The text again with a `^` under column `position`, indented by four spaces.
+fn caret(text: &str, position: usize) -> String {
+    format!("    {text}\n    {}^", " ".repeat(position.saturating_sub(1)))
+}
+
+/// A parsed expression: its scene key and source text, the variable names in evaluation order,
+/// and the compiled form. Cheap to share between threads (`Send + Sync`); evaluation does not
+/// mutate it.
+#[derive(Clone, Debug)]
+pub struct Expr {
+    key: String,
+    text: String,
+    vars: Vec<String>,
+    /// `used[i]`: variable `vars[i]` occurs in the text.
+    used: Vec<bool>,
+    /// exmex's variable slot `j` takes the caller's variable `slots[j]`.
+    slots: Vec<usize>,
+    /// The value when no variable occurs.
+    constant: Option<f64>,
+    compiled: FlatEx<f64, Ops, CanonicalLiteral>,
+}
+
+impl Expr {
+    /// Parses `text`. `key` is the scene key (e.g. `"bar.initial.velocity"`) repeated in errors,
+    /// `vars` the variable names in the order [`Expr::eval`] takes their values, `consts` the
+    /// named constants (e.g. `[("L", 1.0), ("pi", PI)]`).
+    ///
+    /// # Panics
+    /// If the caller's names are not identifiers, collide with each other or with a function, a
+    /// constant is not finite, or there are more than 8 variables: these are bugs of the caller, not
+    /// of the scene.
+    pub fn parse(key: &str, text: &str, vars: &[&str], consts: &[(&str, f64)]) -> Result<Expr, ExprError> {
+        check_names(vars, consts);
+        let tokens = tokenize(text).map_err(|f| f.into_error(key, text, vars, consts))?;
+        let mut parser = Parser { text, tokens, next: 0, vars, consts, used: vec![false; vars.len()], depth: 0 };
+        let canonical = parser.parse().map_err(|f| f.into_error(key, text, vars, consts))?;
+        let used = parser.used;
+        let compiled = FlatEx::<f64, Ops, CanonicalLiteral>::parse(&canonical)
+            .unwrap_or_else(|e| panic!("exmex rejected the canonical form {canonical:?} of {text:?}: {e}"));
+        let slots: Vec<usize> = compiled
+            .var_names()
+            .iter()
+            .map(|name| name.strip_prefix('v').and_then(|i| i.parse().ok()).expect("canonical variables are v<index>"))
+            .collect();
+        debug_assert_eq!(slots.len(), used.iter().filter(|u| **u).count());
+        let constant = if slots.is_empty() {
+            let value = compiled.eval(&[]).expect("no variable, no value needed");
+            if !value.is_finite() {
+                return Err(ExprError::ConstantNotFinite { key: key.into(), text: text.into(), value });
+            }
+            Some(value)
+        } else {
+            None
+        };
+        let vars = vars.iter().map(|v| v.to_string()).collect();
+        Ok(Expr { key: key.into(), text: text.into(), vars, used, slots, constant, compiled })
+    }
+
+    /// The value at `args`, one value per variable in the order given to [`Expr::parse`]. Does not
+    /// allocate for up to 32 operands. May be infinite or NaN: [`Expr::eval_into`] and
+    /// [`Expr::eval_at_nodes`] check.
+    ///
+    /// # Panics
+    /// If `args` has not one value per variable.
+    #[inline]
+    pub fn eval(&self, args: &[f64]) -> f64 {
+        assert_eq!(args.len(), self.vars.len(), "{}: one value per variable {:?}", self.key, self.vars);
+        if let Some(value) = self.constant {
+            return value;
+        }
+        let mut values = [0.0; MAX_VARS];
+        for (value, &i) in values.iter_mut().zip(&self.slots) {
+            *value = args[i];
+        }
+        self.compiled.eval(&values[..self.slots.len()]).expect("one value per exmex variable")
+    }
+
+    /// Writes the value at each point into `out` (one point per entry), rejecting the first value
+    /// that is not finite with its node index and coordinates. Allocates nothing unless it fails.
+    ///
+    /// # Panics
+    /// If `N` is not the number of variables or the points do not fill `out` exactly.
+    pub fn eval_into<const N: usize>(
+        &self,
+        points: impl IntoIterator<Item = [f64; N]>,
+        out: &mut [f64],
+    ) -> Result<(), ExprError> {
+        let mut count = 0;
+        for (node, point) in points.into_iter().enumerate() {
+            assert!(node < out.len(), "{}: more points than output slots ({})", self.key, out.len());
+            let value = self.eval(&point);
+            if !value.is_finite() {
+                return Err(self.not_finite(node, &point, value));
+            }
+            out[node] = value;
+            count = node + 1;
+        }
+        assert_eq!(count, out.len(), "{}: fewer points than output slots", self.key);
+        Ok(())
+    }
+
+    /// The value at each point, rejecting the first value that is not finite with its node index
+    /// and coordinates.
+    ///
+    /// # Panics
+    /// If `N` is not the number of variables.
+    pub fn eval_at_nodes<const N: usize>(
+        &self,
+        points: impl IntoIterator<Item = [f64; N]>,
+    ) -> Result<Vec<f64>, ExprError> {
+        points
+            .into_iter()
+            .enumerate()
+            .map(|(node, point)| {
+                let value = self.eval(&point);
+                if value.is_finite() { Ok(value) } else { Err(self.not_finite(node, &point, value)) }
+            })
+            .collect()
+    }
+
+    fn not_finite(&self, node: usize, point: &[f64], value: f64) -> ExprError {
+        ExprError::NotFinite {
+            key: self.key.clone(),
+            text: self.text.clone(),
+            node,
+            vars: self.vars.clone(),
+            at: point.to_vec(),
+            value,
+        }
+    }
+
+    /// The source text, as written in the scene.
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// The scene key given to [`Expr::parse`].
+    pub fn key(&self) -> &str {
+        &self.key
+    }
+
+    /// The variable names, in evaluation order.
+    pub fn vars(&self) -> &[String] {
+        &self.vars
+    }
+
+    /// `Some(value)` when no variable occurs in the text (so a constant force stays on the fast
+    /// path); the value is finite. Syntactic: `x - x` depends on `x`.
+    pub fn is_constant(&self) -> Option<f64> {
+        self.constant
+    }
+
+    /// Whether the variable `var` occurs in the text (false for a name that is not a variable).
+    pub fn depends_on(&self, var: &str) -> bool {
+        self.vars.iter().zip(&self.used).any(|(name, used)| name == var && *used)
+    }
+}
+
+/// Caller bugs, not scene errors: see the panics of [`Expr::parse`].
+fn check_names(vars: &[&str], consts: &[(&str, f64)]) {
+    assert!(vars.len() <= MAX_VARS, "at most {MAX_VARS} variables, got {vars:?}");
+    let names: Vec<&str> = vars.iter().copied().chain(consts.iter().map(|(name, _)| *name)).collect();
+    for (i, name) in names.iter().enumerate() {
+        let mut chars = name.chars();
+        let identifier = chars.next().is_some_and(is_name_start) && chars.all(is_name_continue);
+        assert!(identifier, "{name:?} is not an identifier");
+        assert!(!FUNCTIONS.iter().any(|(f, _)| f == name), "{name:?} is a function");
+        assert!(!names[..i].contains(name), "{name:?} is bound twice");
+    }
+    for (name, value) in consts {
+        assert!(value.is_finite(), "constant {name} = {value} is not finite");
+    }
+}
+
+fn is_name_start(c: char) -> bool {
+    c.is_alphabetic() || c == '_'
+}
+
+fn is_name_continue(c: char) -> bool {
+    c.is_alphanumeric() || c == '_'
+}
+
+// ---------------------------------------------------------------------------------------------
+// The exmex side: operators and the literal form of the canonical text.
+
+/// The operators of the canonical form. Priorities follow exmex's defaults but do not matter: the
+/// canonical form parenthesises every operation.
+#[derive(Clone, Debug)]
+struct Ops;
+
+impl MakeOperators<f64> for Ops {
+    fn make<'a>() -> Vec<Operator<'a, f64>> {
+        let bin = |apply: fn(f64, f64) -> f64, prio, is_commutative| BinOp { apply, prio, is_commutative };
+        vec![
+            Operator::make_bin("^", bin(f64::powf, 4, false)),
+            Operator::make_bin("*", bin(|a, b| a * b, 2, true)),
+            Operator::make_bin("/", bin(|a, b| a / b, 3, false)),
+            Operator::make_bin_unary("+", bin(|a, b| a + b, 0, true), |a| a),
+            Operator::make_bin_unary("-", bin(|a, b| a - b, 1, false), |a| -a),
+            Operator::make_bin("min", bin(f64::min, 0, true)),
+            Operator::make_bin("max", bin(f64::max, 0, true)),
+            Operator::make_unary("sin", f64::sin),
+            Operator::make_unary("cos", f64::cos),
+            Operator::make_unary("tan", f64::tan),
+            Operator::make_unary("exp", f64::exp),
+            Operator::make_unary("log", f64::ln),
+            Operator::make_unary("sqrt", f64::sqrt),
+            Operator::make_unary("abs", f64::abs),
+        ]
+    }
+}
+
+/// Literals of the canonical form: Rust's `{:e}` of a finite non-negative f64 (`2.5e0`,
+/// `1e-3`), which `f64::from_str` reads back exactly.
+#[derive(Clone, Debug)]
+struct CanonicalLiteral;
+
+impl MatchLiteral for CanonicalLiteral {
+    fn is_literal(text: &str) -> Option<&str> {
+        let bytes = text.as_bytes();
+        let digits = |from: usize| bytes[from..].iter().take_while(|b| b.is_ascii_digit()).count();
+        let mut end = digits(0);
+        if end == 0 {
+            return None;
+        }
+        if bytes.get(end) == Some(&b'.') {
+            end += 1 + digits(end + 1);
+        }
+        if bytes.get(end) == Some(&b'e') {
+            let sign = usize::from(bytes.get(end + 1) == Some(&b'-'));
+            end += 1 + sign + digits(end + 1 + sign);
+        }
+        Some(&text[..end])
+    }
+}
+
+/// `value` as a canonical literal, negative values as `(-literal)`.
+fn literal(value: f64) -> String {
+    if value.is_sign_negative() { format!("(-{:e})", -value) } else { format!("{value:e}") }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The front end: tokens with their columns, and a recursive-descent parser that emits the
+// canonical form.
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    Number(f64),
+    Name,
+    Plus,
+    Minus,
+    Star,
+    Slash,
+    Power,
+    Open,
+    Close,
+    Comma,
+    End,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Token {
+    kind: Kind,
+    /// 1-based character column of the first character.
+    column: usize,
+    /// Byte range in the text.
+    start: usize,
+    end: usize,
+}
+
+/// A failure before the key and text are attached.
+#[derive(Debug)]
+enum Failure {
+    Parse { position: usize, message: String },
+    Unknown { position: usize, name: String },
+}
+
+impl Failure {
+    fn into_error(self, key: &str, text: &str, vars: &[&str], consts: &[(&str, f64)]) -> ExprError {
+        let (key, text) = (key.to_string(), text.to_string());
+        match self {
+            Failure::Parse { position, message } => ExprError::Parse { key, text, position, message },
+            Failure::Unknown { position, name } => {
+                let allowed = vars
+                    .iter()
+                    .copied()
+                    .chain(consts.iter().map(|(name, _)| *name))
+                    .chain(FUNCTIONS.iter().map(|(name, _)| *name))
+                    .map(String::from)
+                    .collect();
+                ExprError::UnknownName { key, text, name, position, allowed }
+            }
+        }
+    }
+}
+
+fn parse_failure(position: usize, message: impl Into<String>) -> Failure {
+    Failure::Parse { position, message: message.into() }
+}
+
+fn tokenize(text: &str) -> Result<Vec<Token>, Failure> {
+    let chars: Vec<(usize, char)> = text.char_indices().collect();
+    let byte_at = |i: usize| chars.get(i).map_or(text.len(), |(b, _)| *b);
+    let char_at = |i: usize| chars.get(i).map(|(_, c)| *c);
+    let mut tokens = Vec::new();
+    let mut i = 0;
+    while let Some(c) = char_at(i) {
+        let first = i;
+        let kind = match c {
+            _ if c.is_whitespace() => {
+                i += 1;
+                continue;
+            }
+            '0'..='9' | '.' => {
+                let digits = |i: &mut usize| {
+                    let from = *i;
+                    while char_at(*i).is_some_and(|c| c.is_ascii_digit()) {
+                        *i += 1;
+                    }
+                    *i - from
+                };
+                let mut count = digits(&mut i);
+                if char_at(i) == Some('.') {
+                    i += 1;
+                    count += digits(&mut i);
+                }
+                if count == 0 {
+                    return Err(parse_failure(first + 1, "a '.' without digits is not a number"));
+                }
+                if matches!(char_at(i), Some('e' | 'E')) {
+                    i += 1;
+                    if matches!(char_at(i), Some('+' | '-')) {
+                        i += 1;
+                    }
+                    if digits(&mut i) == 0 {
+                        let written = &text[byte_at(first)..byte_at(i)];
+                        return Err(parse_failure(
+                            first + 1,
+                            format!("malformed number '{written}' (exponent without digits)"),
+                        ));
+                    }
+                }
+                let written = &text[byte_at(first)..byte_at(i)];
+                let value: f64 = written.parse().expect("digits, one '.', an exponent: a valid f64 literal");
+                if !value.is_finite() {
+                    return Err(parse_failure(first + 1, format!("number {written} is too large for f64")));
+                }
+                Kind::Number(value)
+            }
+            _ if is_name_start(c) => {
+                while char_at(i).is_some_and(is_name_continue) {
+                    i += 1;
+                }
+                Kind::Name
+            }
+            '*' if char_at(i + 1) == Some('*') => {
+                i += 2;
+                Kind::Power
+            }
+            '+' | '-' | '*' | '/' | '^' | '(' | ')' | ',' => {
+                i += 1;
+                match c {
+                    '+' => Kind::Plus,
+                    '-' => Kind::Minus,
+                    '*' => Kind::Star,
+                    '/' => Kind::Slash,
+                    '^' => Kind::Power,
+                    '(' => Kind::Open,
+                    ')' => Kind::Close,
+                    _ => Kind::Comma,
+                }
+            }
+            _ => return Err(parse_failure(first + 1, format!("unexpected character '{c}'"))),
+        };
+        tokens.push(Token { kind, column: first + 1, start: byte_at(first), end: byte_at(i) });
+    }
+    tokens.push(Token { kind: Kind::End, column: chars.len() + 1, start: text.len(), end: text.len() });
+    Ok(tokens)
+}
+
+/// Grammar (lowest precedence first):
+/// ```text
+/// sum     = product { ("+" | "-") product }
+/// product = signed { ("*" | "/") signed }
+/// signed  = ("-" | "+") signed | power
+/// power   = primary [ ("^" | "**") signed ]
+/// primary = number | variable | constant | function "(" sum { "," sum } ")" | "(" sum ")"
+/// ```
+/// Each rule returns its canonical text: a literal, `{v<i>}`, or a parenthesised operation.
+struct Parser<'a> {
+    text: &'a str,
+    tokens: Vec<Token>,
+    next: usize,
+    vars: &'a [&'a str],
+    consts: &'a [(&'a str, f64)],
+    used: Vec<bool>,
+    depth: usize,
+}
+
+impl Parser<'_> {
+    fn parse(&mut self) -> Result<String, Failure> {
+        if self.peek().kind == Kind::End {
+            return Err(parse_failure(1, "empty expression"));
+        }
+        let canonical = self.sum()?;
+        let token = self.peek();
+        match token.kind {
+            Kind::End => Ok(canonical),
+            Kind::Close => Err(parse_failure(token.column, "unbalanced parenthesis: ')' without a matching '('")),
+            Kind::Comma => Err(parse_failure(token.column, "',' outside the arguments of min or max")),
+            _ => Err(self.expected("an operator", token)),
+        }
+    }
+
+    fn peek(&self) -> Token {
+        self.tokens[self.next]
+    }
+
+    fn bump(&mut self) -> Token {
+        let token = self.tokens[self.next];
+        self.next += 1;
+        token
+    }
+
+    fn written(&self, token: Token) -> &str {
+        &self.text[token.start..token.end]
+    }
+
+    fn expected(&self, what: &str, found: Token) -> Failure {
+        let written =
+            if found.kind == Kind::End { "the end".to_string() } else { format!("'{}'", self.written(found)) };
+        parse_failure(found.column, format!("expected {what}, found {written}"))
+    }
+
+    fn sum(&mut self) -> Result<String, Failure> {
+        self.left_associative(Self::product, |kind| match kind {
+            Kind::Plus => Some('+'),
+            Kind::Minus => Some('-'),
+            _ => None,
+        })
+    }
+
+    fn product(&mut self) -> Result<String, Failure> {
+        self.left_associative(Self::signed, |kind| match kind {
+            Kind::Star => Some('*'),
+            Kind::Slash => Some('/'),
+            _ => None,
+        })
+    }
+
+    /// `operand { op operand }`, grouped from the left; `op` names the operator of a token of this
+    /// level.
+    fn left_associative(
+        &mut self,
+        operand: fn(&mut Self) -> Result<String, Failure>,
+        op: fn(Kind) -> Option<char>,
+    ) -> Result<String, Failure> {
+        let mut canonical = operand(self)?;
+        while let Some(op) = op(self.peek().kind) {
+            self.bump();
+            let right = operand(self)?;
+            canonical = format!("({canonical}{op}{right})");
+        }
+        Ok(canonical)
+    }
+
+    /// Every level of nesting passes through here, so the depth is counted here.
+    fn signed(&mut self) -> Result<String, Failure> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(parse_failure(self.peek().column, format!("nested more than {MAX_DEPTH} levels deep")));
+        }
+        let canonical = match self.peek().kind {
+            Kind::Minus => {
+                self.bump();
+                format!("(-{})", self.signed()?)
+            }
+            Kind::Plus => {
+                self.bump();
+                self.signed()?
+            }
+            _ => self.power()?,
+        };
+        self.depth -= 1;
+        Ok(canonical)
+    }
+
+    fn power(&mut self) -> Result<String, Failure> {
+        let base = self.primary()?;
+        if self.peek().kind != Kind::Power {
+            return Ok(base);
+        }
+        self.bump();
+        // The exponent is `signed`, not `power`: right-associative, and `2^-1` is allowed.
+        let exponent = self.signed()?;
+        Ok(format!("({base}^{exponent})"))
+    }
+
+    fn primary(&mut self) -> Result<String, Failure> {
+        let token = self.peek();
+        match token.kind {
+            Kind::Number(value) => {
+                self.bump();
+                Ok(literal(value))
+            }
+            Kind::Open => {
+                self.bump();
+                let inner = self.sum()?;
+                self.close(token)?;
+                Ok(inner)
+            }
+            Kind::Name => {
+                self.bump();
+                self.name(token)
+            }
+            Kind::Close if !self.inside_parentheses() => {
+                Err(parse_failure(token.column, "unbalanced parenthesis: ')' without a matching '('"))
+            }
+            _ => Err(self.expected("a number, a name or '('", token)),
+        }
+    }
+
+    /// Whether an `(` before the current token is still open.
+    fn inside_parentheses(&self) -> bool {
+        let mut open = 0i64;
+        for token in &self.tokens[..self.next] {
+            match token.kind {
+                Kind::Open => open += 1,
+                Kind::Close => open -= 1,
+                _ => {}
+            }
+        }
+        open > 0
+    }
+
+    /// Consumes the `)` matching `open`.
+    fn close(&mut self, open: Token) -> Result<(), Failure> {
+        let token = self.peek();
+        match token.kind {
+            Kind::Close => {
+                self.bump();
+                Ok(())
+            }
+            Kind::End => Err(parse_failure(
+                token.column,
+                format!("unbalanced parenthesis: the '(' at column {} is not closed", open.column),
+            )),
+            _ => Err(self.expected("an operator or ')'", token)),
+        }
+    }
+
+    fn name(&mut self, token: Token) -> Result<String, Failure> {
+        let name = self.written(token);
+        let call = self.peek().kind == Kind::Open;
+        if let Some(i) = self.vars.iter().position(|v| *v == name) {
+            if call {
+                return Err(parse_failure(self.peek().column, format!("'{name}' is a variable, not a function")));
+            }
+            self.used[i] = true;
+            return Ok(format!("{{v{i}}}"));
+        }
+        if let Some((_, value)) = self.consts.iter().find(|(c, _)| *c == name) {
+            if call {
+                return Err(parse_failure(self.peek().column, format!("'{name}' is a constant, not a function")));
+            }
+            return Ok(literal(*value));
+        }
+        let Some(&(function, arity)) = FUNCTIONS.iter().find(|(f, _)| *f == name) else {
+            return Err(Failure::Unknown { position: token.column, name: name.to_string() });
+        };
+        if !call {
+            return Err(self.expected(&format!("'(' after the function '{function}'"), self.peek()));
+        }
+        let open = self.bump();
+        let mut args = vec![self.sum()?];
+        while self.peek().kind == Kind::Comma {
+            let comma = self.bump();
+            if args.len() == arity {
+                return Err(parse_failure(comma.column, format!("{function} takes {}", arguments(arity))));
+            }
+            args.push(self.sum()?);
+        }
+        if args.len() < arity && self.peek().kind == Kind::Close {
+            return Err(parse_failure(self.peek().column, format!("{function} takes {}", arguments(arity))));
+        }
+        self.close(open)?;
+        Ok(match args.as_slice() {
+            [arg] => format!("{function}({arg})"),
+            [a, b] => format!("({a} {function} {b})"),
+            _ => unreachable!("arities are 1 and 2"),
+        })
+    }
+}
+
+fn arguments(arity: usize) -> String {
+    if arity == 1 { "one argument".into() } else { format!("{arity} arguments") }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_scientific_form() {
+        let cases = [(0.0, "0e0"), (1.5, "1.5e0"), (-1.0 / 3.0, "-3.3333e-1"), (1e-3, "1e-3"), (123456.0, "1.2346e5")];
+        for (value, written) in cases {
+            assert_eq!(sci(value), written);
+        }
+        assert_eq!(sci(f64::INFINITY), "inf");
+        assert_eq!(sci(f64::NAN), "NaN");
+    }
+
+    #[test]
+    fn canonical_form_is_fully_parenthesised() {
+        let mut parser = Parser {
+            text: "-x^2 + min(1e-3, pi)",
+            tokens: tokenize("-x^2 + min(1e-3, pi)").unwrap(),
+            next: 0,
+            vars: &["x"],
+            consts: &[("pi", std::f64::consts::PI)],
+            used: vec![false],
+            depth: 0,
+        };
+        let canonical = parser.parse().unwrap();
+        assert_eq!(canonical, "((-({v0}^2e0))+(1e-3 min 3.141592653589793e0))");
+        assert_eq!(literal(-2.5), "(-2.5e0)");
+    }
+}
