@@ -89,7 +89,7 @@ impl BarSystem {
 
     /// The same system with the obstacle at `u_0 = −gap` (gap ≥ 0).
     pub fn with_gap(mut self, gap: f64) -> Self {
-        self.system.lower = vec![-gap];
+        self.system.lower = vec![0.0 - gap];
         self
     }
 

@@ -197,14 +197,6 @@ fn main() -> ExitCode {
     }
 }
 
-impl massredist::plate::run::PlateObserver for Progress {
-    fn observe(&mut self, s: &massredist::plate::run::PlateSample) {
-        if s.state.n.is_multiple_of(256) {
-            self.0.set_position(s.state.n as u64);
-        }
-    }
-}
-
 /// `run` for a scene with a `[plate]` table (2D).
 fn run_plate(scene: PathBuf, out: PathBuf) -> ExitCode {
     let s = match massredist::plate::scene::PlateScene::from_file(&scene) {
@@ -229,7 +221,7 @@ fn run_plate(scene: PathBuf, out: PathBuf) -> ExitCode {
         run.summary.linf_l2_error.map_or("n/a".into(), |e| format!("{e:.4e}")),
         run.summary.energy_initial,
         run.summary.energy_final,
-        run.extras.energy_max_increase
+        run.summary.energy_max_increase
     );
     ExitCode::SUCCESS
 }

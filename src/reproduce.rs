@@ -318,7 +318,7 @@ impl PeriodEnergy {
 
 impl Observer for PeriodEnergy {
     fn needs(&self) -> Needs {
-        Needs { energy: true, l2: false }
+        Needs { energy: true, ..Needs::default() }
     }
 
     fn observe(&mut self, s: &Sample) {

@@ -190,6 +190,22 @@ pub enum SchemeSpec {
 }
 
 impl SchemeSpec {
+    /// Why other geometries reject this scheme, if it is bar-only (Paoli–Schatzman and the
+    /// reduced Newmark formulation use the bar's one contact node): the scene key and the reason.
+    /// The one place that decides it, for scenes ([`crate::plate::scene`]) and problems
+    /// ([`crate::problem::Problem::scheme`]) alike.
+    pub fn bar_only(&self) -> Option<(&'static str, &'static str)> {
+        const WHY: &str = "a bar-only scheme (it uses the bar's one contact node); use crank-nicolson, newmark, backward-euler or hybrid";
+        match self {
+            SchemeSpec::PaoliSchatzman { .. } => Some(("scheme.kind = \"paoli-schatzman\"", WHY)),
+            SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
+            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. } => {
+                Some(("scheme.formulation = \"reduced\"", WHY))
+            }
+            _ => None,
+        }
+    }
+
     pub fn name(&self) -> &'static str {
         match self {
             SchemeSpec::CrankNicolson { .. } => "crank-nicolson",
@@ -211,12 +227,17 @@ pub struct TimeSpec {
 /// A per-step diagnostic that can be recorded in `series.csv`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Column {
-    /// Contact-node displacement u_0ⁿ.
+    /// Contact-node displacement u_0ⁿ (plates: the contact node at the lowest y).
     U0,
-    /// Displacement of node 1.
+    /// Displacement of node 1 (bars only).
     U1,
-    /// Contact force λⁿ.
+    /// Mean of u on Γ_C (plates).
+    UMean,
+    /// Contact force λⁿ (plates: the mean pressure Σ_c λ_c / |Γ_C|, the 1D λ for y-independent
+    /// fields).
     Lambda,
+    /// Total contact force Σ_c λ_c (plates).
+    ContactForce,
     /// Discrete energy ½VᵀMV + ½UᵀSU − UᵀF.
     Energy,
     /// Exact ‖u_h(t_n) − u(t_n)‖_{L²(0,L)}.
@@ -225,21 +246,39 @@ pub enum Column {
     ExactU0,
     /// Exact λ(t_n).
     ExactLambda,
+    /// Principal pivots of the step's contact solves (plates).
+    Pivots,
 }
 
 impl Column {
-    pub const ALL: [Column; 7] =
+    /// The columns of a bar scene.
+    pub const BAR: [Column; 7] =
         [Column::U0, Column::U1, Column::Lambda, Column::Energy, Column::L2Error, Column::ExactU0, Column::ExactLambda];
+    /// The columns of a plate scene.
+    pub const PLATE: [Column; 9] = [
+        Column::U0,
+        Column::UMean,
+        Column::Lambda,
+        Column::ContactForce,
+        Column::Energy,
+        Column::L2Error,
+        Column::ExactU0,
+        Column::ExactLambda,
+        Column::Pivots,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             Column::U0 => "u0",
             Column::U1 => "u1",
+            Column::UMean => "u_mean",
             Column::Lambda => "lambda",
+            Column::ContactForce => "contact_force",
             Column::Energy => "energy",
             Column::L2Error => "l2_error",
             Column::ExactU0 => "exact_u0",
             Column::ExactLambda => "exact_lambda",
+            Column::Pivots => "pivots",
         }
     }
 
@@ -324,7 +363,7 @@ impl Scene {
         let names = o.series.unwrap_or_else(|| vec!["u0".into(), "lambda".into(), "energy".into(), "l2_error".into()]);
         let mut series = Vec::new();
         for name in names {
-            let col = Column::ALL.into_iter().find(|c| c.name() == name).ok_or_else(|| SceneError::Range {
+            let col = Column::BAR.into_iter().find(|c| c.name() == name).ok_or_else(|| SceneError::Range {
                 key: "output.series",
                 value: format!("\"{name}\""),
                 range: "any subset of u0, u1, lambda, energy, l2_error, exact_u0, exact_lambda",

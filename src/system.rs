@@ -31,7 +31,8 @@ impl<A: SymMatrix> ContactSystem<A> {
     /// massless unknowns are those with a zero mass diagonal.
     pub fn new(mass: A, stiffness: A, load: Vec<f64>, contact: Vec<usize>, gap: f64) -> Self {
         let massless = (0..mass.dim()).map(|i| mass.diag(i) == 0.0).collect();
-        let lower = vec![-gap; contact.len()];
+        // 0 − gap, not −gap: no −0.0 bound (u_c = lb is then +0.0 as the closed forms give).
+        let lower = vec![0.0 - gap; contact.len()];
         Self { mass, stiffness, load, contact, lower, massless }
     }
 

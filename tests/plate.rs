@@ -3,13 +3,13 @@
 //! bar, scenes, VTU read-back and the paper's 2D table.
 
 use massredist::assembly::{Bar, BarSystem};
+use massredist::driver::{Observer, Sample, integrate};
 use massredist::linalg::sparse::{self, SpMat};
 use massredist::linalg::tridiag::SymTridiag;
 use massredist::mass::MassKind;
+use massredist::observe::{EnergyRecorder, SummaryObserver};
 use massredist::plate::mass::{cell_weights, layers, total_mass};
-use massredist::plate::run::{
-    EnergyRecorder, PlateInitial, PlateObserver, PlateProblem, PlateSample, PlateSpec, PlateSummary, integrate,
-};
+use massredist::plate::run::{PlateInitial, PlateProblem, PlateSpec};
 use massredist::plate::{CellKind, Mesh2d};
 use massredist::run::Problem;
 use massredist::scene::{Formulation, SchemeSpec};
@@ -56,7 +56,7 @@ fn q1_vs_1d(nx: usize, ny: usize, mass: &MassKind, scheme: &SchemeSpec, dt: f64,
     let (mut du, mut dv) = (0.0f64, 0.0f64);
     for n in 0..=steps {
         let (a, b) = (s2.state(), s1.state());
-        for (d, &node) in p2.plate.dofs.iter().enumerate() {
+        for (d, &node) in p2.system.dofs.iter().enumerate() {
             let i = node % (nx + 1);
             du = du.max((a.u[d] - b.u[i]).abs());
             dv = dv.max((a.v[d] - b.v[i]).abs());
@@ -105,13 +105,13 @@ fn q1_l2_error_equals_the_1d_error_times_sqrt_height() {
     let p2 = PlateProblem::new(&spec(20, 3, h, CellKind::Quad, PlateInitial::Paper), &MassKind::Mod3).unwrap();
     let p1 = Problem::benchmark(1.0, 20, &MassKind::Mod3).unwrap();
     let steps = 300;
-    let mut sum2 = PlateSummary::new(&p2, steps, 0.01, true);
+    let mut sum2 = SummaryObserver::new(&p2, steps, 0.01, true);
     let mut s2 = p2.scheme(&CN, 0.01).unwrap();
     integrate(&p2, s2.as_mut(), steps, &mut [&mut sum2]).unwrap();
-    let mut sum1 = massredist::run::SummaryObserver::new(&p1, steps, 0.01, true);
+    let mut sum1 = SummaryObserver::new(&p1, steps, 0.01, true);
     let mut s1 = p1.scheme(&CN, 0.01).unwrap();
-    massredist::run::integrate(&p1, s1.as_mut(), steps, &mut [&mut sum1]).unwrap();
-    let (e2, e1) = (sum2.finish().0.linf_l2_error.unwrap(), sum1.finish().linf_l2_error.unwrap());
+    integrate(&p1, s1.as_mut(), steps, &mut [&mut sum1]).unwrap();
+    let (e2, e1) = (sum2.finish().linf_l2_error.unwrap(), sum1.finish().linf_l2_error.unwrap());
     // Both are exact integrals (kinks split); the states agree to ~1e-12 (test above).
     assert!((e2 - h.sqrt() * e1).abs() <= 1e-10, "{e2} vs {}", h.sqrt() * e1);
 }
@@ -124,15 +124,15 @@ fn exact_l2_norm_of_the_benchmark_on_triangles_and_quads() {
     let bar = Bar { length: 1.0, elements: 7 };
     for kind in [CellKind::Triangle, CellKind::Quad] {
         let p = PlateProblem::new(&spec(7, 3, 0.6, kind, PlateInitial::Paper), &MassKind::Standard).unwrap();
-        let zero = vec![0.0; p.plate.system.n()];
+        let zero = vec![0.0; p.system.system.n()];
         for &t in &[0.0, 0.33, 1.21, 1.5, 1.77, 2.4, 2.999] {
-            let e2 = massredist::plate::norms::l2_error(&p.plate, &zero, &exact, t);
+            let e2 = massredist::plate::norms::l2_error(&p.system, &zero, &exact, t);
             let e1 = massredist::norms::l2_error(&bar, &vec![0.0; 7], &exact, t);
             // Sums of ~100 exact cell integrals of size ≤ 1: round-off only.
             assert!((e2 - 0.6f64.sqrt() * e1).abs() <= 1e-14, "{kind:?} t={t}: {e2} vs {}", 0.6f64.sqrt() * e1);
         }
         // And with u_h = the interpolant at t = 0 (u⁰ is in the FE space): error 0.
-        let e = massredist::plate::norms::l2_error(&p.plate, &p.u0, &exact, 0.0);
+        let e = massredist::plate::norms::l2_error(&p.system, &p.u0, &exact, 0.0);
         assert!(e <= 1e-15, "{kind:?}: {e}");
     }
 }
@@ -270,9 +270,9 @@ struct Complementarity {
     max_lambda: f64,
 }
 
-impl PlateObserver for Complementarity {
-    fn observe(&mut self, s: &PlateSample) {
-        for (c, &i) in s.plate.system.contact.iter().enumerate() {
+impl Observer for Complementarity {
+    fn observe(&mut self, s: &Sample) {
+        for (c, &i) in s.geometry.contact().iter().enumerate() {
             let (u, l) = (s.state.u[i], s.state.lambda[c]);
             self.worst = self.worst.max((u * l).abs());
             self.min_u = self.min_u.min(u);
@@ -309,8 +309,8 @@ struct PressureSpread {
     mixed_steps: usize,
 }
 
-impl PlateObserver for PressureSpread {
-    fn observe(&mut self, s: &PlateSample) {
+impl Observer for PressureSpread {
+    fn observe(&mut self, s: &Sample) {
         let active = s.state.lambda.iter().filter(|&&l| l < 0.0).count();
         if active > 0 && active < s.state.lambda.len() {
             self.mixed_steps += 1;
@@ -398,7 +398,7 @@ fn backward_euler_energy_never_increases_in_2d() {
 
 /// Runs the 2D hybrid scheme; per step n → n+1: (ΔE, the three energy terms).
 fn hybrid_energy(problem: &PlateProblem, dt: f64, steps: usize) -> Vec<(f64, [f64; 3])> {
-    let sys = &problem.plate.system;
+    let sys = &problem.system.system;
     let mut h = Hybrid::new(sys, dt, problem.u0.clone(), problem.v0.clone()).unwrap();
     let mut out = Vec::new();
     let mut e = sys.energy(h.state().u, h.state().v);
@@ -486,7 +486,10 @@ fn plate_scene_errors_name_the_key() {
     let err = |t: &str| PlateScene::from_toml(t).unwrap_err().to_string();
     assert!(err("[plate]\ncells = \"hex\"\n").contains("plate.cells"));
     assert!(err("[plate]\nnx = 1\n").contains("plate.nx"));
-    assert!(err("[plate]\n[scheme]\nkind = \"paoli-schatzman\"\n").contains("not ported"));
+    let e = err("[plate]\n[scheme]\nkind = \"paoli-schatzman\"\n");
+    assert!(e.contains("scheme.kind = \"paoli-schatzman\"") && e.contains("bar-only"), "{e}");
+    let e = err("[plate]\n[scheme]\nkind = \"crank-nicolson\"\nformulation = \"reduced\"\n");
+    assert!(e.contains("scheme.formulation = \"reduced\"") && e.contains("bar-only"), "{e}");
     assert!(err("[plate]\n[mass]\nkind = \"standard\"\n[scheme]\nkind = \"hybrid\"\n").contains("hybrid"));
     assert!(err("[plate]\ninitial = \"bump\"\n[output]\nseries = [\"l2_error\"]\n").contains("exact solution"));
     assert!(err("[plate]\nnx = 4\nny = 2\n[mass]\nkind = \"custom\"\nweights = [1.0]\n").contains("8 cells"));
@@ -495,7 +498,8 @@ fn plate_scene_errors_name_the_key() {
 
 #[test]
 fn a_y_dependent_run_writes_vtu_that_reads_back() {
-    use massredist::plate::run::{FrameRecorder, run_plate_scene};
+    use massredist::observe::FrameRecorder;
+    use massredist::plate::run::run_plate_scene;
     use massredist::plate::scene::PlateScene;
     use massredist::plate::vtu::{read_pvd, read_vtu};
     let text = "[plate]\nnx = 40\nny = 40\ncells = \"triangle\"\ninitial = \"bump\"\n[mass]\nkind = \"mod3\"\n\
@@ -507,9 +511,9 @@ fn a_y_dependent_run_writes_vtu_that_reads_back() {
         run.summary.energy_initial,
         run.summary.energy_final,
         run.summary.energy_min,
-        run.extras.energy_max_increase,
-        run.extras.energy_max_increase_after_first,
-        run.extras.max_y_variation
+        run.summary.energy_max_increase,
+        run.summary.energy_max_increase_after_first,
+        run.summary.max_y_variation.unwrap()
     );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run");
@@ -517,7 +521,7 @@ fn a_y_dependent_run_writes_vtu_that_reads_back() {
     let frames: &FrameRecorder = run.frames.as_ref().unwrap();
     let pvd = read_pvd(&std::fs::read_to_string(out.join("plate.pvd")).unwrap());
     assert_eq!(pvd.len(), 7); // t = 0, 0.5, …, 3
-    let mesh = &run.problem.plate.mesh;
+    let mesh = &run.problem.system.mesh;
     for ((t, file), frame) in pvd.iter().zip(&frames.frames) {
         assert_eq!(*t, frame.t);
         let data = read_vtu(&std::fs::read_to_string(out.join(file)).unwrap()).unwrap();
@@ -527,7 +531,7 @@ fn a_y_dependent_run_writes_vtu_that_reads_back() {
         // Shortest round-trip formatting: bit-for-bit equal.
         assert_eq!(data.point_array("u").unwrap().values, frame.u);
         assert_eq!(data.point_array("v").unwrap().values, frame.v);
-        assert_eq!(data.cell_array("weight").unwrap().values, run.problem.plate.weights);
+        assert_eq!(data.cell_array("weight").unwrap().values, run.problem.system.weights);
         let xy: Vec<f64> = data.points.chunks(3).flat_map(|p| [p[0], p[1]]).collect();
         assert_eq!(xy, mesh.points_flat());
     }
@@ -554,8 +558,8 @@ fn the_judged_table_rows_are_the_1d_errors_with_h_005() {
         };
         let p1 = Problem::benchmark(1.0, 20, &mass).unwrap();
         let mut s1 = p1.scheme(&CN, 0.01).unwrap();
-        let mut sum = massredist::run::SummaryObserver::new(&p1, 300, 0.01, true);
-        massredist::run::integrate(&p1, s1.as_mut(), 300, &mut [&mut sum]).unwrap();
+        let mut sum = SummaryObserver::new(&p1, 300, 0.01, true);
+        integrate(&p1, s1.as_mut(), 300, &mut [&mut sum]).unwrap();
         let e1 = sum.finish().linf_l2_error.unwrap();
         let e2 = r.linf_l2_error.unwrap();
         assert!((e2 - e1).abs() <= 1e-10, "{}: {e2} vs {e1}", r.mass);
@@ -574,7 +578,7 @@ fn a_gmsh_triangle_mesh_runs_through_meshio() {
     assert_eq!((mesh.n_nodes(), mesh.n_cells(), mesh.kind), (20, 24, CellKind::Triangle));
     assert!((mesh.total_area() - 1.0).abs() <= 16.0 * f64::EPSILON);
     let p = PlateProblem::from_mesh(mesh, &MassKind::Mod3, PlateInitial::Bump, 0.0).unwrap();
-    assert_eq!(p.plate.system.contact.len(), 4);
+    assert_eq!(p.system.system.contact.len(), 4);
     let steps = hybrid_energy(&p, 0.01, 300);
     let worst = steps.iter().map(|s| s.0).fold(f64::NEG_INFINITY, f64::max);
     assert!(worst <= 1e4 * f64::EPSILON, "largest increase {worst:e}");

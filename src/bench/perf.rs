@@ -204,7 +204,7 @@ pub struct PlateTimings {
 pub fn time_plate(nx: usize, ny: usize, min_total: f64) -> Option<PlateTimings> {
     use crate::linalg::sparse;
     use crate::plate::CellKind;
-    use crate::plate::run::{PlateInitial, PlateProblem, PlateSpec, integrate as integrate2d};
+    use crate::plate::run::{PlateInitial, PlateProblem, PlateSpec};
     let spec = PlateSpec {
         length: 1.0,
         height: ny as f64 / nx as f64,
@@ -217,7 +217,7 @@ pub fn time_plate(nx: usize, ny: usize, min_total: f64) -> Option<PlateTimings> 
     let mass = MassKind::Mod3;
     let problem = PlateProblem::new(&spec, &mass).ok()?;
     let dt = 1.0 / nx as f64;
-    let sys = &problem.plate.system;
+    let sys = &problem.system.system;
     let k = sparse::combine(&sys.mass, 1.0, &sys.stiffness, dt * dt / 4.0, "M + Δt²/4 S").ok()?;
     let mut llt = sparse::SparseLlt::new(&k, "M + Δt²/4 S").ok()?;
     let n = sys.mass.nrows();
@@ -246,7 +246,7 @@ pub fn time_plate(nx: usize, ny: usize, min_total: f64) -> Option<PlateTimings> 
                     return f64::NAN;
                 };
                 let t = Instant::now();
-                failed |= integrate2d(&problem, s.as_mut(), steps, &mut []).is_err();
+                failed |= integrate(&problem, s.as_mut(), steps, &mut []).is_err();
                 t.elapsed().as_secs_f64()
             }) * 1e-3;
             (c.label, (!failed && us.is_finite()).then_some(us))

@@ -107,6 +107,9 @@ pub struct PlateSystem {
     pub system: ContactSystem<SpMat>,
     /// The unweighted mass matrix on the free nodes (for L² norms).
     pub mass_unit: SpMat,
+    /// For each free unknown, the free unknown at the same x on the lowest y (for the
+    /// y-variation of a solution; exact coordinates, so structured meshes only).
+    pub base: Vec<Option<usize>>,
     /// `∫_{Γ_C} φ_c dy` for each contact unknown (trace weights: the mean of u on Γ_C is
     /// `Σ_c ℓ_c u_c / |Γ_C|`, exact for the piecewise-linear trace).
     pub contact_lengths: Vec<f64>,
@@ -163,7 +166,15 @@ impl PlateSystem {
             }
         }
         let system = ContactSystem::new(mass, stiffness, load, contact, 0.0);
-        Ok(Self { mesh, weights, dofs, node_dof, system, mass_unit, contact_lengths })
+        let ymin = dofs.iter().map(|&v| mesh.points[v][1]).fold(f64::INFINITY, f64::min);
+        let bottom: std::collections::HashMap<u64, usize> = dofs
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| mesh.points[**v][1] == ymin)
+            .map(|(d, &v)| (mesh.points[v][0].to_bits(), d))
+            .collect();
+        let base = dofs.iter().map(|&v| bottom.get(&mesh.points[v][0].to_bits()).copied()).collect();
+        Ok(Self { mesh, weights, dofs, node_dof, system, mass_unit, base, contact_lengths })
     }
 
     /// Nodal interpolant of g(x, y) on the free nodes.

@@ -2,17 +2,17 @@
 //! `scene.resolved.toml`, and with VTU output `plate.pvd` + `vtu/frame_NNNNN.vtu`. Written
 //! atomically ([`crate::output::write_dir_atomically`]).
 
-use super::run::{PlateExtras, PlateRun, PlateSeries};
+use super::run::PlateRun;
 use super::scene::PlateScene;
 use super::vtu;
+use crate::observe::{SeriesRecorder, Summary};
 use crate::output::write_dir_atomically;
-use crate::run::Summary;
 use serde::Serialize;
 use std::io::Write;
 use std::path::Path;
 
 /// Writes `series` as CSV (header `t` then the columns).
-pub fn write_series_csv<W: Write>(series: &PlateSeries, w: W) -> csv::Result<()> {
+pub fn write_series_csv<W: Write>(series: &SeriesRecorder, w: W) -> csv::Result<()> {
     let mut header = vec!["t"];
     header.extend(series.columns.iter().map(|c| c.name()));
     crate::output::write_number_csv(&header, series.iter_rows(), w)
@@ -34,8 +34,6 @@ struct PlateSummaryFile<'a> {
     total_mass: f64,
     #[serde(flatten)]
     summary: &'a Summary,
-    #[serde(flatten)]
-    extras: &'a PlateExtras,
 }
 
 /// `summary.json` text.
@@ -52,9 +50,8 @@ pub fn summary_json(scene: &PlateScene, run: &PlateRun) -> String {
         ny: p.ny,
         cells: p.cells.name(),
         initial: p.initial.name(),
-        total_mass: run.problem.plate.total_mass(),
+        total_mass: run.problem.system.total_mass(),
         summary: &run.summary,
-        extras: &run.extras,
     };
     serde_json::to_string_pretty(&file).expect("summary serialises") + "\n"
 }
@@ -70,7 +67,7 @@ pub fn write_plate_run(dir: &Path, scene: &PlateScene, run: &PlateRun) -> std::i
         std::fs::write(tmp.join("scene.resolved.toml"), scene.resolved_toml())?;
         if let Some(frames) = &run.frames {
             std::fs::create_dir(tmp.join("vtu"))?;
-            let plate = &run.problem.plate;
+            let plate = &run.problem.system;
             let mut entries = Vec::with_capacity(frames.frames.len());
             for (k, fr) in frames.frames.iter().enumerate() {
                 let name = format!("vtu/frame_{k:05}.vtu");

@@ -29,10 +29,10 @@
 
 use super::mass::{PlateMassError, cell_weights, layers};
 use super::mesh::{CellKind, Mesh2d, MeshError};
-use super::run::{PlateColumn, PlateInitial, PlateSpec};
+use super::run::{PlateInitial, PlateSpec};
 use crate::mass::MassKind;
 use crate::scene::{
-    Formulation, Number, RawMass, RawScheme, RawTime, SceneError, SchemeSpec, TimeSpec, finite_in, forbid, parse_mass,
+    Column, Number, RawMass, RawScheme, RawTime, SceneError, SchemeSpec, TimeSpec, finite_in, forbid, parse_mass,
     parse_scheme, parse_time, raw_mass, raw_scheme, raw_time,
 };
 use serde::{Deserialize, Serialize};
@@ -106,7 +106,7 @@ struct RawPlateOutput {
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlateOutputSpec {
-    pub series: Vec<PlateColumn>,
+    pub series: Vec<Column>,
     pub every: usize,
     /// Steps between VTU frames, None for no VTU output.
     pub vtu_every: Option<usize>,
@@ -222,26 +222,8 @@ impl PlateScene {
         // scheme parser calls the largest of those weights w_0.
         let w0 = layers(&mesh).iter().zip(&weights).filter(|(l, _)| **l == 0).map(|(_, w)| *w).fold(0.0, f64::max);
         let scheme = parse_scheme(raw.scheme, w0, &mass)?;
-        match scheme {
-            SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
-            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. } => {
-                return Err(SceneError::Inapplicable {
-                    key: "scheme.formulation = \"reduced\"",
-                    context:
-                        "[plate] scenes (the 2D Newmark is the full formulation, which equals the reduced one in 1D)"
-                            .into(),
-                }
-                .into());
-            }
-            SchemeSpec::PaoliSchatzman { .. } => {
-                return Err(SceneError::Inapplicable {
-                    key: "scheme.kind = \"paoli-schatzman\"",
-                    context: "[plate] scenes (not ported to 2D; use crank-nicolson, newmark, backward-euler or hybrid)"
-                        .into(),
-                }
-                .into());
-            }
-            _ => {}
+        if let Some((key, why)) = scheme.bar_only() {
+            return Err(SceneError::Inapplicable { key, context: format!("[plate] scenes ({why})") }.into());
         }
         let time = parse_time(raw.time, 3.0 * length, free).map_err(|e| match e {
             SceneError::TooMuchWork { work, limit } => PlateSceneError::TooMuchWork { work, limit },
@@ -259,7 +241,7 @@ impl PlateScene {
         });
         let mut series = Vec::new();
         for name in names {
-            let col = PlateColumn::ALL.into_iter().find(|c| c.name() == name).ok_or_else(|| SceneError::Range {
+            let col = Column::PLATE.into_iter().find(|c| c.name() == name).ok_or_else(|| SceneError::Range {
                 key: "output.series",
                 value: format!("\"{name}\""),
                 range: SERIES_NAMES,

@@ -70,6 +70,8 @@ pub enum SchemeError {
     NeedsMasslessContact { scheme: &'static str, w0: f64 },
     #[error("the solution is not finite at step {step} (t = {time}): the scheme is unstable for this Δt / mass")]
     NonFinite { step: usize, time: f64 },
+    #[error("{key} is not available for {geometry} scenes: {reason}")]
+    Unsupported { key: &'static str, geometry: &'static str, reason: &'static str },
     #[error("step {step} (t = {time}): {source}")]
     Contact { step: usize, time: f64, source: LcpError },
 }

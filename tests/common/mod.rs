@@ -20,7 +20,7 @@ pub struct Recorder(pub Vec<Frame>);
 
 impl Observer for Recorder {
     fn needs(&self) -> massredist::run::Needs {
-        massredist::run::Needs { energy: true, l2: false }
+        massredist::run::Needs { energy: true, ..Default::default() }
     }
     fn observe(&mut self, s: &Sample) {
         let st = s.state;

@@ -1,0 +1,350 @@
+//! The observers of a run, for every geometry: the series recorder (`series.csv`), the summary
+//! (`summary.json`), VTU frames and an energy recorder. Their cadence is kept by the driver
+//! ([`crate::driver::Observer::every`]).
+
+use crate::driver::{Needs, Observer, Sample};
+use crate::problem::{Geometry, Problem};
+use crate::scene::Column;
+use serde::Serialize;
+
+/// Records the requested columns every `every` steps (t_0 included).
+#[derive(Debug, Clone)]
+pub struct SeriesRecorder {
+    pub columns: Vec<Column>,
+    pub every: usize,
+    /// Row-major: t, then one value per column.
+    pub rows: Vec<f64>,
+}
+
+impl SeriesRecorder {
+    pub fn new(columns: Vec<Column>, every: usize, expected_rows: usize) -> Self {
+        let rows = Vec::with_capacity(expected_rows * (columns.len() + 1));
+        Self { columns, every: every.max(1), rows }
+    }
+
+    pub fn width(&self) -> usize {
+        self.columns.len() + 1
+    }
+
+    /// Iterates over recorded rows (t first).
+    pub fn iter_rows(&self) -> impl Iterator<Item = &[f64]> {
+        self.rows.chunks(self.width())
+    }
+
+    /// The recorded values of one column (None if not recorded).
+    pub fn column(&self, c: Column) -> Option<Vec<f64>> {
+        let k = self.columns.iter().position(|&x| x == c)? + 1;
+        Some(self.iter_rows().map(|r| r[k]).collect())
+    }
+
+    pub fn times(&self) -> Vec<f64> {
+        self.iter_rows().map(|r| r[0]).collect()
+    }
+}
+
+impl Observer for SeriesRecorder {
+    fn needs(&self) -> Needs {
+        Needs {
+            energy: self.columns.contains(&Column::Energy),
+            l2: self.columns.contains(&Column::L2Error),
+            y_variation: false,
+        }
+    }
+
+    fn every(&self) -> usize {
+        self.every
+    }
+
+    fn observe(&mut self, s: &Sample) {
+        if self.columns.is_empty() {
+            return;
+        }
+        let st = s.state;
+        self.rows.push(st.t);
+        for &c in &self.columns {
+            self.rows.push(match c {
+                Column::U0 => s.u0,
+                Column::U1 => st.u[1],
+                Column::UMean => s.u_mean,
+                Column::Lambda => s.pressure,
+                Column::ContactForce => s.contact_force,
+                Column::Energy => s.energy,
+                Column::L2Error => s.l2_error,
+                Column::ExactU0 => s.exact.map_or(f64::NAN, |e| e.u0(st.t)),
+                Column::ExactLambda => s.exact.map_or(f64::NAN, |e| e.lambda(st.t)),
+                Column::Pivots => s.pivots as f64,
+            });
+        }
+    }
+}
+
+/// The summary of a run (`summary.json`), accumulated in the step loop.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    pub steps: usize,
+    pub h: f64,
+    pub dt: f64,
+    /// max over t_n of ‖u_h(t_n) − u(t_n)‖_{L²(Ω)} (null without exact solution).
+    pub linf_l2_error: Option<f64>,
+    /// `linf_l2_error` / max over t_n of ‖I_h u(t_n)‖_{L²(Ω)}.
+    pub linf_l2_error_relative: Option<f64>,
+    /// max over n of |u_0ⁿ − u(0, t_n)| (u_0 at the reference contact node).
+    pub max_contact_error: Option<f64>,
+    /// sqrt(Σ_n w_n Δt (λⁿ − λ(t_n))²) with trapezoidal weights w_n: the L²(0,T) error of the
+    /// contact pressure λ = Σ_c λ_c / |Γ_C|.
+    pub l2_lambda_error: Option<f64>,
+    pub energy_initial: f64,
+    pub energy_final: f64,
+    pub energy_min: f64,
+    pub energy_max: f64,
+    /// Exact energy L|Ω|/(8L) of the benchmark (null without exact solution).
+    pub energy_exact: Option<f64>,
+    /// First t_n with u_0ⁿ ≤ −gap (reference contact node).
+    pub first_impact_time: Option<f64>,
+    /// First t_n after the first impact with u_0ⁿ > −gap.
+    pub first_release_time: Option<f64>,
+    /// `first_impact_time` − L (exact first impact), null if no impact or no exact solution.
+    pub impact_time_shift: Option<f64>,
+    /// `first_release_time` − 2L (exact release), null if no release or no exact solution.
+    pub release_time_shift: Option<f64>,
+    pub final_u0: f64,
+    /// min over n and contact nodes of u_c (≥ −gap by complementarity).
+    pub min_u0: f64,
+    /// max over n and contact nodes of λ_c (≤ 0 by complementarity).
+    pub max_lambda: f64,
+    /// max over n and contact nodes of |(u_c + gap) λ_c| (0 by complementarity).
+    pub max_complementarity_product: f64,
+    /// Largest per-step energy increase `max_n (E^{n+1} − Eⁿ)` (≤ 0 for a dissipative scheme).
+    pub energy_max_increase: f64,
+    /// The step n+1 at which it happened.
+    pub energy_max_increase_step: usize,
+    /// The same, over the steps n ≥ 1 only.
+    pub energy_max_increase_after_first: f64,
+    /// max over t_n of `max_{nodes} |u(x, y) − u(x, y_min)|` (plates only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_y_variation: Option<f64>,
+    /// Largest pivot count of one step's contact solves.
+    pub max_pivots: usize,
+    pub final_u_mean: f64,
+    pub final_contact_force: f64,
+    pub wall_seconds: f64,
+}
+
+/// Accumulates a [`Summary`] in the step loop (O(1) memory).
+#[derive(Debug, Clone)]
+pub struct SummaryObserver {
+    steps: usize,
+    h: f64,
+    dt: f64,
+    length: f64,
+    exact_energy: f64,
+    has_exact: bool,
+    with_l2: bool,
+    with_y: bool,
+    /// Obstacle bound lb = −gap of the reference contact node, and of every contact node.
+    lower0: f64,
+    lower: Vec<f64>,
+    linf_l2: f64,
+    linf_interp: f64,
+    max_contact: f64,
+    lambda_sq: f64,
+    energy: [f64; 4],
+    prev_energy: f64,
+    max_increase: (f64, usize),
+    max_increase_after_first: f64,
+    first_impact: Option<f64>,
+    first_release: Option<f64>,
+    final_u0: f64,
+    min_u0: f64,
+    max_lambda: f64,
+    max_product: f64,
+    max_y_variation: f64,
+    max_pivots: usize,
+    final_u_mean: f64,
+    final_force: f64,
+    started: std::time::Instant,
+}
+
+impl SummaryObserver {
+    /// `with_l2 = false` skips the per-step L² error (the L² fields are then null).
+    pub fn new<G: Geometry>(problem: &Problem<G>, steps: usize, dt: f64, with_l2: bool) -> Self {
+        let g = &problem.system;
+        let lower = g.system().lower.clone();
+        Self {
+            steps,
+            h: g.h(),
+            dt,
+            length: g.length(),
+            exact_energy: g.length() * g.section() / 8.0,
+            has_exact: problem.exact.is_some(),
+            with_l2,
+            with_y: g.dim() > 1,
+            lower0: lower[0],
+            lower,
+            linf_l2: 0.0,
+            linf_interp: 0.0,
+            max_contact: 0.0,
+            lambda_sq: 0.0,
+            energy: [f64::NAN, f64::NAN, f64::INFINITY, f64::NEG_INFINITY],
+            prev_energy: f64::NAN,
+            max_increase: (f64::NEG_INFINITY, 0),
+            max_increase_after_first: f64::NEG_INFINITY,
+            first_impact: None,
+            first_release: None,
+            final_u0: f64::NAN,
+            min_u0: f64::INFINITY,
+            max_lambda: f64::NEG_INFINITY,
+            max_product: 0.0,
+            max_y_variation: 0.0,
+            max_pivots: 0,
+            final_u_mean: f64::NAN,
+            final_force: f64::NAN,
+            started: std::time::Instant::now(),
+        }
+    }
+
+    pub fn finish(&self) -> Summary {
+        let exact = |v: f64| self.has_exact.then_some(v);
+        let l2 = |v: f64| (self.has_exact && self.with_l2).then_some(v);
+        Summary {
+            steps: self.steps,
+            h: self.h,
+            dt: self.dt,
+            linf_l2_error: l2(self.linf_l2),
+            linf_l2_error_relative: l2(self.linf_l2 / self.linf_interp),
+            max_contact_error: exact(self.max_contact),
+            l2_lambda_error: exact(self.lambda_sq.sqrt()),
+            energy_initial: self.energy[0],
+            energy_final: self.energy[1],
+            energy_min: self.energy[2],
+            energy_max: self.energy[3],
+            energy_exact: exact(self.exact_energy),
+            first_impact_time: self.first_impact,
+            first_release_time: self.first_release,
+            impact_time_shift: self.first_impact.filter(|_| self.has_exact).map(|t| t - self.length),
+            release_time_shift: self.first_release.filter(|_| self.has_exact).map(|t| t - 2.0 * self.length),
+            final_u0: self.final_u0,
+            min_u0: self.min_u0,
+            max_lambda: self.max_lambda,
+            max_complementarity_product: self.max_product,
+            energy_max_increase: self.max_increase.0,
+            energy_max_increase_step: self.max_increase.1,
+            energy_max_increase_after_first: self.max_increase_after_first,
+            max_y_variation: self.with_y.then_some(self.max_y_variation),
+            max_pivots: self.max_pivots,
+            final_u_mean: self.final_u_mean,
+            final_contact_force: self.final_force,
+            wall_seconds: self.started.elapsed().as_secs_f64(),
+        }
+    }
+
+    fn energy(&mut self, n: usize, e: f64) {
+        if n == 0 {
+            self.energy[0] = e;
+        } else {
+            let de = e - self.prev_energy;
+            if de > self.max_increase.0 {
+                self.max_increase = (de, n);
+            }
+            if n >= 2 {
+                self.max_increase_after_first = self.max_increase_after_first.max(de);
+            }
+        }
+        self.prev_energy = e;
+        self.energy[1] = e;
+        self.energy[2] = self.energy[2].min(e);
+        self.energy[3] = self.energy[3].max(e);
+    }
+}
+
+impl Observer for SummaryObserver {
+    fn needs(&self) -> Needs {
+        Needs { energy: true, l2: self.with_l2 && self.has_exact, y_variation: self.with_y }
+    }
+
+    fn observe(&mut self, s: &Sample) {
+        let st = s.state;
+        self.energy(st.n, s.energy);
+        let u0 = s.u0;
+        self.final_u0 = u0;
+        for (c, &i) in s.geometry.contact().iter().enumerate() {
+            self.min_u0 = self.min_u0.min(st.u[i]);
+            self.max_lambda = self.max_lambda.max(st.lambda[c]);
+            self.max_product = self.max_product.max(((st.u[i] - self.lower[c]) * st.lambda[c]).abs());
+        }
+        if self.with_y {
+            self.max_y_variation = self.max_y_variation.max(s.y_variation);
+        }
+        self.max_pivots = self.max_pivots.max(s.pivots);
+        self.final_u_mean = s.u_mean;
+        self.final_force = s.contact_force;
+        if self.first_impact.is_none() {
+            if u0 <= self.lower0 {
+                self.first_impact = Some(st.t);
+            }
+        } else if self.first_release.is_none() && u0 > self.lower0 {
+            self.first_release = Some(st.t);
+        }
+        if let Some(ex) = s.exact {
+            self.max_contact = self.max_contact.max((u0 - ex.u0(st.t)).abs());
+            let w = if st.n == 0 || st.n == self.steps { 0.5 } else { 1.0 };
+            self.lambda_sq += w * self.dt * (s.pressure - ex.lambda(st.t)).powi(2);
+            if self.with_l2 {
+                self.linf_l2 = self.linf_l2.max(s.l2_error);
+                self.linf_interp = self.linf_interp.max(s.exact_interp_norm);
+            }
+        }
+    }
+}
+
+/// One recorded frame of the displacement and velocity at all mesh nodes.
+#[derive(Debug, Clone)]
+pub struct Frame {
+    pub t: f64,
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+}
+
+/// Records [`Frame`]s every `every` steps (for VTU output at the edge).
+#[derive(Debug, Clone)]
+pub struct FrameRecorder {
+    pub every: usize,
+    pub frames: Vec<Frame>,
+}
+
+impl FrameRecorder {
+    pub fn new(every: usize) -> Self {
+        Self { every: every.max(1), frames: Vec::new() }
+    }
+}
+
+impl Observer for FrameRecorder {
+    fn every(&self) -> usize {
+        self.every
+    }
+
+    fn observe(&mut self, s: &Sample) {
+        let n = s.geometry.n_nodes();
+        let mut u = vec![0.0; n];
+        let mut v = vec![0.0; n];
+        s.geometry.nodal_values(s.state.u, &mut u);
+        s.geometry.nodal_values(s.state.v, &mut v);
+        self.frames.push(Frame { t: s.state.t, u, v });
+    }
+}
+
+/// Energies `Eⁿ` of every step (for energy analyses).
+#[derive(Debug, Clone, Default)]
+pub struct EnergyRecorder {
+    pub energy: Vec<f64>,
+}
+
+impl Observer for EnergyRecorder {
+    fn needs(&self) -> Needs {
+        Needs { energy: true, ..Needs::default() }
+    }
+
+    fn observe(&mut self, s: &Sample) {
+        self.energy.push(s.energy);
+    }
+}

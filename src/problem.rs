@@ -1,0 +1,246 @@
+//! A discretised problem of any geometry: its contact system, initial data and (if known) exact
+//! solution, and the one place where a scene's scheme is built on it.
+//!
+//! A geometry ([`Geometry`]) is a mesh with its assembled [`ContactSystem`] and what reports
+//! need of it (contact means, exact L² norms, nodal values). A bar ([`BarSystem`]) is one over
+//! a tridiagonal back-end, a plate ([`PlateSystem`]) one over a sparse back-end. Schemes are
+//! generic; only the bar-only schemes (Paoli–Schatzman and the reduced Newmark formulation)
+//! need the bar itself, and [`Geometry::bar`] is how they get it — every other geometry rejects
+//! them here, in [`Problem::scheme`].
+
+use crate::assembly::BarSystem;
+use crate::exact::ImpactingBar;
+use crate::linalg::SymMatrix;
+use crate::plate::PlateSystem;
+use crate::scene::{Formulation, SchemeSpec};
+use crate::schemes::{BackwardEuler, Hybrid, Newmark, NewmarkReduced, PaoliSchatzman, Scheme, SchemeError};
+use crate::system::ContactSystem;
+
+/// What the driver and the observers need of a geometry (object safe).
+pub trait GeometryView: std::fmt::Debug + Send + Sync {
+    /// "bar" or "plate", for messages.
+    fn name(&self) -> &'static str;
+    /// Space dimension of the mesh (1 for a bar, 2 for a plate).
+    fn dim(&self) -> usize;
+    /// The mesh size along x.
+    fn h(&self) -> f64;
+    /// The extent L along x (contact at x = 0, far end at x = L).
+    fn length(&self) -> f64;
+    /// `|Ω|/L`: 1 for a bar, the height H for a plate.
+    fn section(&self) -> f64;
+    /// `|Γ_C|`: 1 for a bar (a point), the length of the contact edge for a plate.
+    fn contact_measure(&self) -> f64;
+    /// The contact unknowns (λ order); the first is the reference node (x = 0, lowest y).
+    fn contact(&self) -> &[usize];
+    /// The mean of u over Γ_C (u_0 for a bar).
+    fn contact_mean(&self, u: &[f64]) -> f64;
+    /// `‖u_h − u(·, t)‖_{L²(Ω)}` against an x-only exact solution, exact.
+    fn l2_error(&self, u: &[f64], exact: &ImpactingBar, t: f64) -> f64;
+    /// `‖I_h u(·, t)‖_{L²(Ω)}`; `scratch` holds the interpolant (reused between calls).
+    fn interp_norm(&self, exact: &ImpactingBar, t: f64, scratch: &mut Vec<f64>) -> f64;
+    /// `max |u(x, y) − u(x, y_min)|` over the unknowns (0 for a bar).
+    fn y_variation(&self, _u: &[f64]) -> f64 {
+        0.0
+    }
+    /// Number of mesh nodes (Dirichlet nodes included).
+    fn n_nodes(&self) -> usize;
+    /// Values at all mesh nodes (0 on the Dirichlet boundary) from values on the unknowns.
+    fn nodal_values(&self, u: &[f64], out: &mut [f64]);
+}
+
+/// A geometry with its contact system over a linear-algebra back-end.
+pub trait Geometry: GeometryView {
+    type Matrix: SymMatrix;
+    fn system(&self) -> &ContactSystem<Self::Matrix>;
+    /// The bar, for the bar-only schemes (None for other geometries).
+    fn bar(&self) -> Option<&BarSystem> {
+        None
+    }
+}
+
+/// A discretised problem: the geometry with its system, initial data and (if known) the exact
+/// solution. `Problem` alone is a bar problem.
+#[derive(Debug, Clone)]
+pub struct Problem<G = BarSystem> {
+    pub system: G,
+    pub u0: Vec<f64>,
+    pub v0: Vec<f64>,
+    pub exact: Option<ImpactingBar>,
+}
+
+/// A plate problem.
+pub type PlateProblem = Problem<PlateSystem>;
+
+impl<G: Geometry> Problem<G> {
+    /// Builds the scheme of a scene on this problem (factors its matrices once).
+    pub fn scheme(&self, spec: &SchemeSpec, dt: f64) -> Result<Box<dyn Scheme>, SchemeError> {
+        let (u, v) = (self.u0.clone(), self.v0.clone());
+        let s = self.system.system();
+        Ok(match *spec {
+            SchemeSpec::CrankNicolson { formulation: Formulation::Full } => {
+                Box::new(Newmark::crank_nicolson(s, dt, u, v)?)
+            }
+            SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Full } => {
+                Box::new(Newmark::new(s, beta, gamma, dt, u, v)?)
+            }
+            SchemeSpec::BackwardEuler => Box::new(BackwardEuler::new(s, dt, u, v)?),
+            SchemeSpec::Hybrid => Box::new(Hybrid::new(s, dt, u, v)?),
+            // Bar-only schemes (module docs of `schemes`).
+            SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
+            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. }
+            | SchemeSpec::PaoliSchatzman { .. } => {
+                let Some(bar) = self.system.bar() else {
+                    let (key, reason) = spec.bar_only().expect("these schemes are bar-only");
+                    return Err(SchemeError::Unsupported { key, geometry: self.system.name(), reason });
+                };
+                match *spec {
+                    SchemeSpec::PaoliSchatzman { beta, restitution } => {
+                        Box::new(PaoliSchatzman::new(bar, beta, restitution, dt, u, v)?)
+                    }
+                    SchemeSpec::Newmark { beta, gamma, .. } => {
+                        Box::new(NewmarkReduced::new(bar, beta, gamma, dt, u, v)?)
+                    }
+                    _ => Box::new(NewmarkReduced::new(bar, 0.25, 0.5, dt, u, v)?),
+                }
+            }
+        })
+    }
+
+    /// The discrete energy `½VᵀMV + ½UᵀSU − UᵀF` of a state.
+    pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
+        self.system.system().energy(u, v)
+    }
+}
+
+impl GeometryView for BarSystem {
+    fn name(&self) -> &'static str {
+        "bar"
+    }
+
+    fn dim(&self) -> usize {
+        1
+    }
+
+    fn h(&self) -> f64 {
+        self.bar.h()
+    }
+
+    fn length(&self) -> f64 {
+        self.bar.length
+    }
+
+    fn section(&self) -> f64 {
+        1.0
+    }
+
+    fn contact_measure(&self) -> f64 {
+        1.0
+    }
+
+    fn contact(&self) -> &[usize] {
+        &self.system.contact
+    }
+
+    fn contact_mean(&self, u: &[f64]) -> f64 {
+        u[0]
+    }
+
+    fn l2_error(&self, u: &[f64], exact: &ImpactingBar, t: f64) -> f64 {
+        crate::norms::l2_error(&self.bar, u, exact, t)
+    }
+
+    fn interp_norm(&self, exact: &ImpactingBar, t: f64, scratch: &mut Vec<f64>) -> f64 {
+        scratch.resize(self.m(), 0.0);
+        for (i, e) in scratch.iter_mut().enumerate() {
+            *e = exact.u(self.bar.x(i), t);
+        }
+        crate::norms::l2_norm_p1(&self.bar, scratch)
+    }
+
+    fn n_nodes(&self) -> usize {
+        self.m() + 1
+    }
+
+    fn nodal_values(&self, u: &[f64], out: &mut [f64]) {
+        out[..u.len()].copy_from_slice(u);
+        out[u.len()] = 0.0;
+    }
+}
+
+impl Geometry for BarSystem {
+    type Matrix = crate::linalg::tridiag::SymTridiag;
+
+    fn system(&self) -> &ContactSystem<Self::Matrix> {
+        &self.system
+    }
+
+    fn bar(&self) -> Option<&BarSystem> {
+        Some(self)
+    }
+}
+
+impl GeometryView for PlateSystem {
+    fn name(&self) -> &'static str {
+        "plate"
+    }
+
+    fn dim(&self) -> usize {
+        2
+    }
+
+    fn h(&self) -> f64 {
+        self.mesh.h()
+    }
+
+    fn length(&self) -> f64 {
+        self.mesh.length
+    }
+
+    fn section(&self) -> f64 {
+        self.mesh.height
+    }
+
+    fn contact_measure(&self) -> f64 {
+        self.contact_length()
+    }
+
+    fn contact(&self) -> &[usize] {
+        &self.system.contact
+    }
+
+    fn contact_mean(&self, u: &[f64]) -> f64 {
+        PlateSystem::contact_mean(self, u)
+    }
+
+    fn l2_error(&self, u: &[f64], exact: &ImpactingBar, t: f64) -> f64 {
+        crate::plate::norms::l2_error(self, u, exact, t)
+    }
+
+    fn interp_norm(&self, exact: &ImpactingBar, t: f64, scratch: &mut Vec<f64>) -> f64 {
+        scratch.resize(self.dofs.len(), 0.0);
+        for (e, &v) in scratch.iter_mut().zip(&self.dofs) {
+            *e = exact.u(self.mesh.points[v][0], t);
+        }
+        crate::plate::norms::l2_norm(self, scratch)
+    }
+
+    fn y_variation(&self, u: &[f64]) -> f64 {
+        self.base.iter().enumerate().filter_map(|(d, b)| b.map(|b| (u[d] - u[b]).abs())).fold(0.0, f64::max)
+    }
+
+    fn n_nodes(&self) -> usize {
+        self.mesh.n_nodes()
+    }
+
+    fn nodal_values(&self, u: &[f64], out: &mut [f64]) {
+        self.to_nodes(u, out)
+    }
+}
+
+impl Geometry for PlateSystem {
+    type Matrix = crate::linalg::sparse::SpMat;
+
+    fn system(&self) -> &ContactSystem<Self::Matrix> {
+        &self.system
+    }
+}
