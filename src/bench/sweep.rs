@@ -7,7 +7,7 @@
 //! contact displacement max_n |u_0ⁿ − u(0,t_n)|, the wall time of the solve alone (no
 //! diagnostics) and the ns per node-step.
 
-use super::perf::best_timed;
+use super::timing::best_timed;
 use crate::mass::MassKind;
 use crate::run::{Problem, SummaryObserver, integrate};
 use crate::scene::{Formulation, SchemeSpec};
