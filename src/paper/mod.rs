@@ -16,13 +16,13 @@
 //! over 100 and 1000 periods ([`Config::long_ends`]), where energy drift shows. The paper's
 //! Table 1 (2D) has its own section, [`table_2d`], to be filled in by the plate code.
 //!
-//! Layout: [`experiments`](self::experiments) is the registry ([`Experiment`], [`Case`],
-//! [`cases`]), `runs` holds one pure run ([`run_case`], only the observers the figures and tables
-//! need), all of them in parallel ([`compute`], rayon) and what is derived from them; `figures`,
-//! `tables`, `claims`, `report` and `table2d` turn results into figure data, tables and text
-//! (pure); [`reproduce`] writes figures (PNG and SVG), the CSV behind each, tables and
-//! `report.md` into a directory that appears complete or not at all. Every number in the report
-//! is computed here, none is typed in.
+//! Layout: `experiments` is the registry ([`Experiment`], [`Case`], [`cases`]); `runs` holds one
+//! pure run ([`run_case`], only the observers the figures and tables need), all of them in
+//! parallel ([`compute`], rayon) and what is derived from them; `figures`, `tables`, `claims`,
+//! `report` and `table2d` turn results into figure data, tables and text (pure); [`reproduce`]
+//! writes figures (PNG and SVG), the CSV behind each, tables and `report.md` into a directory
+//! that appears complete or not at all. Every number in the report is computed here, none is
+//! typed in.
 
 mod claims;
 mod config;
