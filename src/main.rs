@@ -144,12 +144,11 @@ fn main() -> ExitCode {
             Err(e) => fail(&scene, e.to_string(), exit::INVALID),
         },
         Command::Reproduce { out, quick, .. } => {
-            let config =
-                if quick { massredist::reproduce::Config::quick() } else { massredist::reproduce::Config::paper() };
+            let config = if quick { massredist::paper::Config::quick() } else { massredist::paper::Config::paper() };
             let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
             bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} {msg} {elapsed_precise}").unwrap());
             let started = std::time::Instant::now();
-            let result = massredist::reproduce::reproduce(&out, &config, &bar);
+            let result = massredist::paper::reproduce(&out, &config, &bar);
             bar.finish_and_clear();
             match result {
                 Ok(o) => {

@@ -5,14 +5,14 @@
 
 use indicatif::ProgressBar;
 use massredist::mass::MassKind;
-use massredist::reproduce::{self, Config, EVENT_COLUMNS, Experiment, Outcome, TABLE_COLUMNS, horizon_tag};
+use massredist::paper::{self, Config, EVENT_COLUMNS, Experiment, Outcome, TABLE_COLUMNS, horizon_tag};
 use massredist::run::{Problem, SeriesRecorder, SummaryObserver, integrate, run_scene};
 use massredist::scene::{Column, Scene};
 use std::collections::BTreeSet;
 use std::path::Path;
 
 fn quick(dir: &Path) -> Outcome {
-    reproduce::reproduce(dir, &Config::quick(), &ProgressBar::hidden()).expect("quick reproduce runs")
+    paper::reproduce(dir, &Config::quick(), &ProgressBar::hidden()).expect("quick reproduce runs")
 }
 
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
@@ -258,13 +258,13 @@ fn the_2d_table_row_is_the_plate_code_s_error() {
     use massredist::mass::MassKind;
     use massredist::plate::CellKind;
     use massredist::scene::{Formulation, SchemeSpec};
-    let t = massredist::reproduce::plate_2d_errors(&Config::quick()).expect("judged runs succeed");
+    let t = massredist::paper::plate_2d_errors(&Config::quick()).expect("judged runs succeed");
     let cn = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
     for (mass, value) in [(MassKind::Mod1, t.mod1), (MassKind::Mod2, t.mod2), (MassKind::Mod3, t.mod3)] {
         let direct = massredist::plate::table::linf_l2_error(CellKind::Quad, 20, &mass, &cn, 0.01, 3.0).unwrap();
         assert_eq!(value, direct, "{}", mass.name());
     }
-    let section = massredist::reproduce::table_2d(Some(&t));
+    let section = massredist::paper::table_2d(Some(&t));
     assert!(section.contains("| paper | 0.0104 | 0.0046 | 0.0038 |"));
     // The section shows the judged values (3 significant digits) next to the paper's.
     let row = section.lines().find(|l| l.starts_with("| this project |")).expect("project row");

@@ -4,7 +4,8 @@
 //! - [`sweep`]: scheme × mass × h × Δt on the exact benchmark, errors and times, fitted rates;
 //! - [`perf`]: ns per node-step of each scheme next to a bare LDLᵀ / two-sided solve;
 //! - [`mod@env`]: the environment record and the Python peer (subprocess, at the edge);
-//! - [`report`]: CSV, Markdown tables, the work–precision figure (PNG and SVG).
+//! - [`report`]: CSV, Markdown tables, the work–precision figure (PNG and SVG);
+//! - [`timing`]: the repeated, fastest-run clock both [`sweep`] and [`perf`] use.
 //!
 //! Everything is measured in the same process and the same run, so the ratios quoted in
 //! `report.md` compare like with like. This module is an edge (it times, spawns and writes);
@@ -14,6 +15,7 @@ pub mod env;
 pub mod perf;
 pub mod report;
 pub mod sweep;
+pub mod timing;
 
 use crate::mass::MassKind;
 use crate::scene::{Formulation, SchemeSpec};

@@ -7,8 +7,10 @@
 //! contact displacement max_n |u_0ⁿ − u(0,t_n)|, the wall time of the solve alone (no
 //! diagnostics) and the ns per node-step.
 
-use super::perf::best_timed;
+use super::timing::best_timed;
 use crate::mass::MassKind;
+use crate::paper::Experiment;
+pub use crate::paper::masses;
 use crate::run::{Problem, SummaryObserver, integrate};
 use crate::scene::{Formulation, SchemeSpec};
 use serde::Serialize;
@@ -23,33 +25,21 @@ pub struct SchemeCase {
     pub needs_massless: bool,
 }
 
-/// The paper's schemes: Crank–Nicolson (full and reduced formulation), backward Euler,
-/// Paoli–Schatzman with (β, e) = (1/4, 1) (§4.2.3) and the hybrid scheme (§5).
+/// The paper's schemes ([`Experiment::ALL`], in that order; labels are their slugs), with
+/// Crank–Nicolson also in its reduced formulation (P^mod_U, w_0 = 0) right after the full one.
 pub fn scheme_cases() -> Vec<SchemeCase> {
-    vec![
-        SchemeCase {
-            label: "crank-nicolson",
-            spec: SchemeSpec::CrankNicolson { formulation: Formulation::Full },
-            needs_massless: false,
-        },
-        SchemeCase {
-            label: "crank-nicolson-reduced",
-            spec: SchemeSpec::CrankNicolson { formulation: Formulation::Reduced },
-            needs_massless: true,
-        },
-        SchemeCase { label: "backward-euler", spec: SchemeSpec::BackwardEuler, needs_massless: false },
-        SchemeCase {
-            label: "paoli-schatzman",
-            spec: SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: 1.0 },
-            needs_massless: false,
-        },
-        SchemeCase { label: "hybrid", spec: SchemeSpec::Hybrid, needs_massless: true },
-    ]
-}
-
-/// The standard mass and the paper's three redistributions.
-pub fn masses() -> Vec<MassKind> {
-    vec![MassKind::Standard, MassKind::Mod1, MassKind::Mod2, MassKind::Mod3]
+    let mut out = Vec::new();
+    for e in Experiment::ALL {
+        out.push(SchemeCase { label: e.slug(), spec: e.spec(), needs_massless: e.needs_massless() });
+        if e == Experiment::CrankNicolson {
+            out.push(SchemeCase {
+                label: "crank-nicolson-reduced",
+                spec: SchemeSpec::CrankNicolson { formulation: Formulation::Reduced },
+                needs_massless: true,
+            });
+        }
+    }
+    out
 }
 
 /// What to sweep.
@@ -339,6 +329,16 @@ mod tests {
         assert!((r.l2_space_fine_dt.unwrap() - (p + q)).abs() < 1e-12);
         assert!((r.l2_time.unwrap() - q).abs() < 1e-12);
         assert_eq!(r.finest_l2_error, results.last().unwrap().linf_l2_error);
+    }
+
+    #[test]
+    fn scheme_cases_are_the_paper_schemes_in_file_and_colour_order() {
+        // The labels name the sweep's files and fix each scheme's colour (report.rs, by position).
+        let labels: Vec<&str> = scheme_cases().iter().map(|c| c.label).collect();
+        assert_eq!(labels, ["crank-nicolson", "crank-nicolson-reduced", "backward-euler", "paoli-schatzman", "hybrid"]);
+        let massless: Vec<bool> = scheme_cases().iter().map(|c| c.needs_massless).collect();
+        assert_eq!(massless, [false, true, false, false, true]);
+        assert!(scheme_cases().iter().all(|c| c.spec.name() == c.label.trim_end_matches("-reduced")));
     }
 
     #[test]

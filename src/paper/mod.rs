@@ -1,0 +1,145 @@
+//! `massredist reproduce`: every numerical experiment of the paper, from scratch, in seconds.
+//!
+//! The paper's §4.2 and §5 run the impacting-bar benchmark (§4.1: L = 1, u⁰ = (1−x)/2, v⁰ = 0,
+//! f = 0, exact solution 3-periodic with energy 1/8) with Δx = 1/6, Δt = 1/100, T = 3, for four
+//! time schemes and several mass redistributions:
+//!
+//! | paper figures | scheme                                  | masses                      |
+//! |---------------|-----------------------------------------|-----------------------------|
+//! | 11, 12        | Crank–Nicolson (Newmark β = ¼, γ = ½)   | standard, mod1, mod2, mod3  |
+//! | 21, 22        | backward Euler                          | standard, mod1, mod2, mod3  |
+//! | 31, 32        | Paoli–Schatzman, β = ¼, e = 1 (eq. 4.6) | standard, mod1, mod2, mod3  |
+//! | 34, 35        | hybrid (P^hyb) (§5)                     | mod1, mod2, mod3 (w_0 = 0)  |
+//!
+//! Odd figures show u_0(t) and λ(t) against the exact solution, even ones the energy. We run each
+//! at the paper's horizon and over several periods ([`Config::horizons`]), plus Paoli–Schatzman
+//! over 100 and 1000 periods ([`Config::long_ends`]), where energy drift shows. The paper's
+//! Table 1 (2D) has its own section, [`table_2d`], to be filled in by the plate code.
+//!
+//! Layout: `experiments` is the registry ([`Experiment`], [`Case`], [`cases`]); `runs` holds one
+//! pure run ([`run_case`], only the observers the figures and tables need), all of them in
+//! parallel ([`compute`], rayon) and what is derived from them; `figures`, `tables`, `claims`,
+//! `report` and `table2d` turn results into figure data, tables and text (pure); [`reproduce`]
+//! writes figures (PNG and SVG), the CSV behind each, tables and `report.md` into a directory
+//! that appears complete or not at all. Every number in the report is computed here, none is
+//! typed in.
+
+mod claims;
+mod config;
+mod experiments;
+mod figures;
+mod report;
+mod runs;
+mod table2d;
+mod tables;
+
+pub use config::Config;
+pub use experiments::{Case, Experiment, Purpose, cases, masses};
+pub use figures::{exact_lambda_polyline, exact_u0_polyline};
+pub use report::report_markdown;
+pub use runs::{
+    CaseResult, DRIFT_FACTOR, EnergyVariation, PeriodEnergy, PeriodEvents, compute, energy_variation, events,
+    period_events, run_case,
+};
+pub use table2d::{PAPER_TABLE_2D, Table2d, plate_2d_errors, table_2d};
+pub use tables::{EVENT_COLUMNS, TABLE_COLUMNS, horizon_tag, sig};
+
+use crate::output::write_dir_atomically;
+use crate::run::{RunError, Summary};
+use figures::{FigureFile, figure_files};
+use indicatif::ProgressBar;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::Path;
+use thiserror::Error;
+
+#[derive(Debug, Error)]
+pub enum ReproduceError {
+    #[error("{what} = {value}: must be a positive whole multiple of dt = {dt} (within 1e-9 relative)")]
+    Horizon { what: &'static str, value: f64, dt: f64 },
+    #[error("{case}: {source}")]
+    Run { case: String, source: RunError },
+    #[error("writing {dir}: {source}")]
+    Io { dir: String, source: std::io::Error },
+}
+
+/// What [`reproduce`] wrote.
+#[derive(Debug)]
+pub struct Outcome {
+    pub results: Vec<CaseResult>,
+    /// File names written into the output directory, report.md last.
+    pub files: Vec<String>,
+    pub report: String,
+}
+
+/// Runs every experiment of `config` and writes into `dir` (atomically: complete or absent):
+/// per figure `<stem>.png`, `<stem>.svg`, `<stem>.csv`; `table-T*.csv`, `table-long-T*.csv`,
+/// `table-2d.csv`, `summaries.json`, `report.md`. `progress` is advanced once per case and per
+/// figure (pass `ProgressBar::hidden()` for none).
+pub fn reproduce(dir: &Path, config: &Config, progress: &ProgressBar) -> Result<Outcome, ReproduceError> {
+    for &t in &config.horizons {
+        config.steps("horizon", t)?;
+    }
+    for &t in &config.long_ends {
+        config.steps("long_ends", t)?;
+    }
+    let n_cases = cases(config).len() as u64;
+    progress.set_length(n_cases + (2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len()) as u64);
+    progress.set_message("running");
+    let results = compute(config, &|| progress.inc(1))?;
+    progress.set_message("drawing");
+    let figures = figure_files(config, &results);
+    let tables = tables::result_tables(config, &results);
+    let table2d = plate_2d_errors(config);
+    let files = file_names(config, &figures, &tables, table2d.is_some());
+    let report = report_markdown(config, &results, &files, table2d.as_ref());
+    write_dir_atomically(dir, |tmp| {
+        figures.par_iter().try_for_each(|f| -> std::io::Result<()> {
+            f.write(tmp)?;
+            progress.inc(1);
+            Ok(())
+        })?;
+        tables::write_tables(tmp, config, &results, &tables)?;
+        table2d::write_csvs(tmp, table2d.as_ref())?;
+        std::fs::write(tmp.join("summaries.json"), summaries_json(config, &results)?)?;
+        std::fs::write(tmp.join("report.md"), &report)
+    })
+    .map_err(|source| ReproduceError::Io { dir: dir.display().to_string(), source })?;
+    progress.set_message("done");
+    Ok(Outcome { results, files, report })
+}
+
+/// The files [`reproduce`] writes, in the order of [`Outcome::files`]: figures, tables, events,
+/// `table-2d.csv`, `summaries.json`, `report.md`, and `table-2d-sweep.csv` if the 2D runs gave one.
+fn file_names(
+    config: &Config,
+    figures: &[FigureFile],
+    tables: &[(String, Vec<&CaseResult>)],
+    with_2d_sweep: bool,
+) -> Vec<String> {
+    let mut files: Vec<String> = figures.iter().flat_map(FigureFile::file_names).collect();
+    files.extend(tables.iter().map(|(n, _)| n.clone()));
+    files.extend(config.horizons.iter().map(|&end| tables::events_file(end)));
+    files.extend(["table-2d.csv".to_string(), "summaries.json".into(), "report.md".into()]);
+    if with_2d_sweep {
+        files.push("table-2d-sweep.csv".into());
+    }
+    files
+}
+
+/// `summaries.json`: the configuration and, per run, its case, failure and [`Summary`].
+fn summaries_json(config: &Config, results: &[CaseResult]) -> std::io::Result<String> {
+    #[derive(Serialize)]
+    struct Entry<'a> {
+        case: &'a Case,
+        failure: Option<String>,
+        #[serde(flatten)]
+        summary: &'a Summary,
+    }
+    let entries: Vec<Entry> = results
+        .iter()
+        .map(|r| Entry { case: &r.case, failure: r.failure.as_ref().map(|e| e.to_string()), summary: &r.summary })
+        .collect();
+    let json = serde_json::json!({ "config": config, "runs": entries });
+    Ok(serde_json::to_string_pretty(&json).map_err(std::io::Error::other)? + "\n")
+}

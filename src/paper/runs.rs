@@ -1,0 +1,265 @@
+//! The runs and what is derived from them: one pure run per [`Case`] with only the observers its
+//! outputs need ([`run_case`]), all of them in parallel ([`compute`]), and the quantities the
+//! figures, tables and claims read off the recorded series (period events, energy variation,
+//! per-period growth).
+
+use super::{Case, Config, Purpose, ReproduceError, cases};
+use crate::exact::ImpactingBar;
+use crate::run::{Needs, Observer, Problem, RunError, Sample, SeriesRecorder, Summary, SummaryObserver, integrate};
+use crate::scene::Column;
+use crate::schemes::SchemeError;
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// The outcome of one case. A scheme that fails mid-run (non-finite state: unstable) keeps what
+/// was observed up to the failure, and the failure is reported, not hidden.
+#[derive(Debug, Clone)]
+pub struct CaseResult {
+    pub case: Case,
+    pub summary: Summary,
+    pub series: SeriesRecorder,
+    /// Per-period energy extremes (long runs only; empty otherwise).
+    pub periods: PeriodEnergy,
+    pub failure: Option<SchemeError>,
+}
+
+impl CaseResult {
+    /// A recorded column (empty if not recorded).
+    pub(super) fn col(&self, c: Column) -> Vec<f64> {
+        self.series.column(c).unwrap_or_default()
+    }
+}
+
+/// Runs one case on the paper's benchmark with a [`SummaryObserver`] (L² error on: every case
+/// has a table row) and a [`SeriesRecorder`] of [`Case::columns`].
+pub fn run_case(config: &Config, case: &Case) -> Result<CaseResult, ReproduceError> {
+    let wrap = |source: RunError| ReproduceError::Run { case: case.name(), source };
+    let long = case.purpose == Purpose::LongEnergy;
+    let steps = config.steps(if long { "long_ends" } else { "horizons" }, case.end)?;
+    let problem = Problem::benchmark(config.length, config.elements, &case.mass).map_err(wrap)?;
+    let mut scheme = problem.scheme(&case.experiment.spec(), config.dt).map_err(|e| wrap(e.into()))?;
+    let every = if long { config.long_every(steps) } else { 1 };
+    let mut summary = SummaryObserver::new(&problem, steps, config.dt, true);
+    let mut series = SeriesRecorder::new(case.columns(), every, steps / every + 1);
+    let mut periods = PeriodEnergy::new(config.exact().period(), config.dt);
+    let failure = if long {
+        integrate(&problem, scheme.as_mut(), steps, &mut [&mut summary, &mut series, &mut periods])
+    } else {
+        integrate(&problem, scheme.as_mut(), steps, &mut [&mut summary, &mut series])
+    }
+    .err();
+    Ok(CaseResult { case: case.clone(), summary: summary.finish(), series, periods, failure })
+}
+
+/// Runs every case of [`cases`] in parallel; `done` is called after each.
+pub fn compute(config: &Config, done: &(dyn Fn() + Sync)) -> Result<Vec<CaseResult>, ReproduceError> {
+    cases(config)
+        .par_iter()
+        .map(|c| {
+            let r = run_case(config, c);
+            done();
+            r
+        })
+        .collect()
+}
+
+/// Energy extremes per period 3L of the exact solution, from every step after the first
+/// (t_0 is left out: with w_0 = 0 the first step drops the energy by about h/8, see the report).
+/// Period j holds the steps with t_n in [3jL, 3(j+1)L); the last one may be partial.
+#[derive(Debug, Clone, Default)]
+pub struct PeriodEnergy {
+    period: f64,
+    dt: f64,
+    pub max: Vec<f64>,
+    pub min: Vec<f64>,
+}
+
+impl PeriodEnergy {
+    pub fn new(period: f64, dt: f64) -> Self {
+        Self { period, dt, max: Vec::new(), min: Vec::new() }
+    }
+
+    /// The end time of period j.
+    pub fn end_of(&self, j: usize) -> f64 {
+        (j + 1) as f64 * self.period
+    }
+}
+
+impl Observer for PeriodEnergy {
+    fn needs(&self) -> Needs {
+        Needs { energy: true, ..Needs::default() }
+    }
+
+    fn observe(&mut self, s: &Sample) {
+        if s.state.n == 0 {
+            return;
+        }
+        // Half a step of slack: t_n = n·Δt may round just below a period boundary.
+        let j = ((s.state.t + 0.5 * self.dt) / self.period).floor() as usize;
+        if self.max.len() <= j {
+            self.max.resize(j + 1, f64::NEG_INFINITY);
+            self.min.resize(j + 1, f64::INFINITY);
+        }
+        self.max[j] = self.max[j].max(s.energy);
+        self.min[j] = self.min[j].min(s.energy);
+    }
+}
+
+/// The results of `purpose` at horizon `end`, in the order of [`cases`].
+pub(super) fn runs_of(results: &[CaseResult], purpose: Purpose, end: f64) -> Vec<&CaseResult> {
+    results.iter().filter(|r| r.case.purpose == purpose && r.case.end == end).collect()
+}
+
+/// Groups results by (purpose, horizon, scheme), in the order of [`cases`].
+pub(super) fn groups(results: &[CaseResult]) -> Vec<Vec<&CaseResult>> {
+    let mut out: Vec<Vec<&CaseResult>> = Vec::new();
+    for r in results {
+        let key = |c: &Case| (c.purpose, c.end.to_bits(), c.experiment);
+        match out.iter_mut().find(|g| key(&g[0].case) == key(&r.case)) {
+            Some(g) => g.push(r),
+            None => out.push(vec![r]),
+        }
+    }
+    out
+}
+
+// ---------------------------------------------------------------------------------------------
+// Quantities derived from the recorded series (pure).
+
+/// Contact events in one period of the exact solution.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PeriodEvents {
+    /// Period index j: the window [3jL, 3(j+1)L), exact impact (3j+1)L, release (3j+2)L.
+    pub period: usize,
+    /// First t_n in the window with u_0ⁿ ≤ 0, minus (3j+1)L (the rule of
+    /// [`Summary::impact_time_shift`], period by period).
+    pub impact_shift: Option<f64>,
+    /// First t_n after that impact with u_0ⁿ > 0 and λⁿ = 0, minus (3j+2)L. Unlike
+    /// [`Summary::release_time_shift`] (u_0ⁿ > 0 alone) this also reads Paoli–Schatzman right,
+    /// whose contact condition holds for (u_0^{n+1} + u_0^{n−1})/2, so that u_0ⁿ alternates in sign
+    /// while λⁿ < 0. For the other schemes (u_0ⁿ λⁿ = 0) both rules agree.
+    pub release_shift: Option<f64>,
+}
+
+/// Impact and release shifts of every period that the series covers completely.
+pub fn period_events(times: &[f64], u0: &[f64], lambda: &[f64], exact: &ImpactingBar, dt: f64) -> Vec<PeriodEvents> {
+    let l = exact.length;
+    let period = exact.period();
+    let end = times.last().copied().unwrap_or(0.0);
+    // Periods that end by the last recorded time (up to half a step of rounding in t_n).
+    let full = ((end + 0.5 * dt) / period).floor() as usize;
+    (0..full)
+        .map(|j| {
+            let (lo, hi) = (j as f64 * period, (j + 1) as f64 * period);
+            let start = times.partition_point(|&t| t < lo - 0.5 * dt);
+            let stop = times.partition_point(|&t| t < hi - 0.5 * dt);
+            let impact = (start..stop).find(|&n| u0[n] <= 0.0);
+            let release = impact.and_then(|i| (i + 1..times.len()).find(|&n| u0[n] > 0.0 && lambda[n] == 0.0));
+            let t_impact = lo + l;
+            PeriodEvents {
+                period: j,
+                impact_shift: impact.map(|n| times[n] - t_impact),
+                release_shift: release.map(|n| times[n] - (t_impact + l)),
+            }
+        })
+        .collect()
+}
+
+/// How the energy moves from t ≥ `from` on.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct EnergyVariation {
+    /// Σ (E_{n+1} − E_n)⁺.
+    pub up: f64,
+    /// Σ (E_{n+1} − E_n)⁻ (≥ 0).
+    pub down: f64,
+    /// Steps with E_{n+1} − E_n > `floor`, and < −`floor`.
+    pub up_steps: usize,
+    pub down_steps: usize,
+}
+
+/// The energy's total upward and downward variation from t ≥ `from` on, and how many steps move
+/// it by more than `floor` each way. A conserving scheme has both at round-off level, a
+/// dissipative one (Lemma 5.1) no upward steps, an oscillating one both.
+pub fn energy_variation(times: &[f64], energy: &[f64], from: f64, floor: f64) -> EnergyVariation {
+    let start = times.partition_point(|&t| t < from);
+    energy[start.min(energy.len())..].windows(2).fold(EnergyVariation::default(), |mut v, w| {
+        let d = w[1] - w[0];
+        if d > 0.0 {
+            v.up += d;
+        } else {
+            v.down -= d;
+        }
+        v.up_steps += usize::from(d > floor);
+        v.down_steps += usize::from(d < -floor);
+        v
+    })
+}
+
+/// Round-off floor of an energy step: E is a sum of O(m) products, each rounded to ε relative,
+/// so 1e3·ε·E bounds the noise of one step with room to spare for m ≤ 100 (here m = 6).
+pub(super) fn energy_floor(config: &Config) -> f64 {
+    1e3 * f64::EPSILON * config.exact().energy()
+}
+
+/// [`energy_variation`] of a case from one step before its first impact (so the impact step
+/// itself counts).
+pub(super) fn variation_after_impact(config: &Config, r: &CaseResult) -> Option<EnergyVariation> {
+    let from = r.summary.first_impact_time? - config.dt;
+    Some(energy_variation(&r.series.times(), &r.col(Column::Energy), from - 0.5 * config.dt, energy_floor(config)))
+}
+
+/// The case's contact events per period (none for the long runs, which record no u_0).
+pub fn events(config: &Config, r: &CaseResult) -> Vec<PeriodEvents> {
+    match (r.series.column(Column::U0), r.series.column(Column::Lambda)) {
+        (Some(u0), Some(lambda)) => period_events(&r.series.times(), &u0, &lambda, &config.exact(), config.dt),
+        _ => Vec::new(),
+    }
+}
+
+/// (max energy over the first k full periods, over the last k, k) with k = min(10, full/2).
+pub(super) fn period_growth(r: &CaseResult) -> Option<(f64, f64, usize)> {
+    let p = &r.periods;
+    // Full periods: those ending by the final time (the sample at t = end may open a new one).
+    let full = (0..p.max.len()).take_while(|&j| p.end_of(j) <= r.case.end + 1e-9 * r.case.end).count();
+    let k = (full / 2).min(10);
+    if k == 0 {
+        return None;
+    }
+    let max = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    Some((max(&p.max[..k]), max(&p.max[full - k..full]), k))
+}
+
+/// Growth factor of the per-period maximum energy above which a long run counts as drifting.
+pub const DRIFT_FACTOR: f64 = 1.05;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn period_events_of_the_exact_solution_are_on_time() {
+        // The exact u(0, t) sampled on the grid: impacts at 1, 4 and releases just after 2, 5
+        // (u(0, t) > 0 starts one step after 2L).
+        let b = ImpactingBar { length: 1.0 };
+        let dt = 0.01;
+        let t: Vec<f64> = (0..=600).map(|n| n as f64 * dt).collect();
+        let u: Vec<f64> = t.iter().map(|&t| b.u0(t)).collect();
+        let lambda: Vec<f64> = t.iter().map(|&t| b.lambda(t)).collect();
+        let ev = period_events(&t, &u, &lambda, &b, dt);
+        assert_eq!(ev.len(), 2);
+        for p in ev {
+            // Grid times n·dt differ from the exact event by rounding of n·dt only.
+            assert!(p.impact_shift.unwrap().abs() < 1e-12);
+            assert!((p.release_shift.unwrap() - dt).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn energy_variation_splits_up_and_down() {
+        let t = [0.0, 1.0, 2.0, 3.0, 4.0];
+        let e = [5.0, 1.0, 2.0, 1.5, 1.5];
+        // From t = 1 on: +1 (1→2), −0.5 (2→1.5), 0 (1.5→1.5, below any floor).
+        let v = energy_variation(&t, &e, 1.0, 1e-12);
+        assert_eq!(v, EnergyVariation { up: 1.0, down: 0.5, up_steps: 1, down_steps: 1 });
+    }
+}

@@ -1,0 +1,225 @@
+//! The result tables (CSV with full precision, Markdown for the report) and the number formats
+//! of the report text.
+
+use super::runs::{CaseResult, events, runs_of};
+use super::{Config, Purpose};
+use crate::output::fmt_f64;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// `x` with `digits` significant digits, plain for moderate magnitudes.
+pub fn sig(x: f64, digits: usize) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let e = x.abs().log10().floor() as i32;
+    if (-3..5).contains(&e) {
+        let decimals = (digits as i32 - 1 - e).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.*e}", digits - 1)
+    }
+}
+
+/// `x` to `digits` significant digits, or a dash.
+pub(super) fn opt(x: Option<f64>, digits: usize) -> String {
+    x.map_or("—".into(), |v| sig(v, digits))
+}
+
+/// A grid time t_n with as many decimals as Δt has.
+pub(super) fn time(t: f64, dt: f64) -> String {
+    let d = (-(dt.log10().floor())).max(0.0) as usize;
+    format!("{t:.d$}")
+}
+
+/// A time shift, with as many decimals as Δt has (shifts are multiples of Δt), signed.
+pub(super) fn shift(x: Option<f64>, dt: f64) -> String {
+    let d = (-(dt.log10().floor())).max(0.0) as usize;
+    x.map_or("—".into(), |v| {
+        let v = if v.abs() < 0.5 * dt { 0.0 } else { v };
+        format!("{v:+.d$}")
+    })
+}
+
+/// `x` as a percentage, 3 significant digits.
+pub(super) fn pct(x: f64) -> String {
+    format!("{} %", sig(100.0 * x, 3))
+}
+
+/// `T3`, `T9`, `T2.5`: the horizon in file names.
+pub fn horizon_tag(end: f64) -> String {
+    if end.fract() == 0.0 && end.abs() < 1e15 { format!("T{}", end as i64) } else { format!("T{end}") }
+}
+
+/// Header of the result tables (report.md and the table CSVs).
+pub const TABLE_COLUMNS: [&str; 13] = [
+    "scheme",
+    "mass",
+    "end",
+    "status",
+    "linf_l2_error",
+    "linf_l2_error_relative",
+    "max_contact_error",
+    "l2_lambda_error",
+    "energy_min",
+    "energy_max",
+    "energy_final",
+    "impact_time_shift",
+    "release_time_shift",
+];
+
+/// Header of the per-period contact events CSVs (`events-T*.csv`).
+pub const EVENT_COLUMNS: [&str; 5] = ["scheme", "mass", "period", "impact_shift", "release_shift"];
+
+fn status(r: &CaseResult) -> String {
+    match &r.failure {
+        None => "ok".into(),
+        Some(e) => format!("stopped: {e}"),
+    }
+}
+
+/// The rows of a result table CSV ([`TABLE_COLUMNS`]), full precision.
+fn table_csv_rows(rows: &[&CaseResult]) -> Vec<Vec<String>> {
+    let o = |x: Option<f64>| x.map_or(String::new(), fmt_f64);
+    rows.iter()
+        .map(|r| {
+            let s = &r.summary;
+            vec![
+                r.case.experiment.slug().to_string(),
+                r.case.mass.name().into(),
+                fmt_f64(r.case.end),
+                status(r),
+                o(s.linf_l2_error),
+                o(s.linf_l2_error_relative),
+                o(s.max_contact_error),
+                o(s.l2_lambda_error),
+                fmt_f64(s.energy_min),
+                fmt_f64(s.energy_max),
+                fmt_f64(s.energy_final),
+                o(s.impact_time_shift),
+                o(s.release_time_shift),
+            ]
+        })
+        .collect()
+}
+
+/// The rows of an events CSV ([`EVENT_COLUMNS`]): one per case and period.
+fn events_csv_rows(config: &Config, rows: &[&CaseResult]) -> Vec<Vec<String>> {
+    let o = |x: Option<f64>| x.map_or(String::new(), fmt_f64);
+    rows.iter()
+        .flat_map(|r| {
+            events(config, r).into_iter().map(|p| {
+                vec![
+                    r.case.experiment.slug().to_string(),
+                    r.case.mass.name().into(),
+                    p.period.to_string(),
+                    o(p.impact_shift),
+                    o(p.release_shift),
+                ]
+            })
+        })
+        .collect()
+}
+
+/// A result table in Markdown, with the per-period shifts where the cases recorded u_0.
+pub(super) fn table_markdown(config: &Config, rows: &[&CaseResult]) -> String {
+    let with_events = rows.iter().any(|r| !events(config, r).is_empty());
+    let mut s = String::from(
+        "| scheme | mass | L∞(0,T;L²) error | relative | max \\|u_0 − u(0,t)\\| | L²(0,T) error of λ | E min | E max | E final | impact shift | release shift |",
+    );
+    s.push_str(if with_events { " shifts per period (impact / release) | status |\n" } else { " status |\n" });
+    s.push_str(&"|---".repeat(if with_events { 13 } else { 12 }));
+    s.push_str("|\n");
+    for r in rows {
+        let m = &r.summary;
+        let _ = write!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            r.case.experiment.title(),
+            r.case.mass.name(),
+            opt(m.linf_l2_error, 4),
+            opt(m.linf_l2_error_relative, 3),
+            opt(m.max_contact_error, 4),
+            opt(m.l2_lambda_error, 4),
+            sig(m.energy_min, 6),
+            sig(m.energy_max, 6),
+            sig(m.energy_final, 6),
+            shift(m.impact_time_shift, config.dt),
+            shift(m.release_time_shift, config.dt),
+        );
+        if with_events {
+            let ev: Vec<String> = events(config, r)
+                .iter()
+                .map(|p| format!("{} / {}", shift(p.impact_shift, config.dt), shift(p.release_shift, config.dt)))
+                .collect();
+            let _ = write!(s, " {} |", ev.join(", "));
+        }
+        let _ = writeln!(s, " {} |", if r.failure.is_some() { "**non-finite**" } else { "ok" });
+    }
+    s
+}
+
+/// The result tables, each under its CSV name: `table-T*.csv` per horizon, then
+/// `table-long-T*.csv` per long run.
+pub(super) fn result_tables<'a>(config: &Config, results: &'a [CaseResult]) -> Vec<(String, Vec<&'a CaseResult>)> {
+    let short = config
+        .horizons
+        .iter()
+        .map(|&end| (format!("table-{}.csv", horizon_tag(end)), runs_of(results, Purpose::Figures, end)));
+    let long = config
+        .long_ends
+        .iter()
+        .map(|&end| (format!("table-long-{}.csv", horizon_tag(end)), runs_of(results, Purpose::LongEnergy, end)));
+    short.chain(long).collect()
+}
+
+/// The per-period contact events CSV of horizon `end`.
+pub(super) fn events_file(end: f64) -> String {
+    format!("events-{}.csv", horizon_tag(end))
+}
+
+/// Writes the result `tables` and, per horizon, [`events_file`] into `dir`.
+pub(super) fn write_tables(
+    dir: &Path,
+    config: &Config,
+    results: &[CaseResult],
+    tables: &[(String, Vec<&CaseResult>)],
+) -> std::io::Result<()> {
+    let header: Vec<String> = TABLE_COLUMNS.iter().map(|s| s.to_string()).collect();
+    for (name, rows) in tables {
+        write_csv(&dir.join(name), &header, &table_csv_rows(rows))?;
+    }
+    let header: Vec<String> = EVENT_COLUMNS.iter().map(|s| s.to_string()).collect();
+    for &end in &config.horizons {
+        let rows = runs_of(results, Purpose::Figures, end);
+        write_csv(&dir.join(events_file(end)), &header, &events_csv_rows(config, &rows))?;
+    }
+    Ok(())
+}
+
+/// Writes one CSV file: `header`, then `rows`.
+pub(super) fn write_csv(path: &Path, header: &[String], rows: &[Vec<String>]) -> std::io::Result<()> {
+    let mut w = csv::Writer::from_path(path).map_err(std::io::Error::other)?;
+    w.write_record(header).map_err(std::io::Error::other)?;
+    for r in rows {
+        w.write_record(r).map_err(std::io::Error::other)?;
+    }
+    w.flush()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn significant_digits() {
+        assert_eq!(sig(0.041641900, 4), "0.04164");
+        assert_eq!(sig(11.42214, 4), "11.42");
+        assert_eq!(sig(2.5e-6, 2), "2.5e-6");
+        assert_eq!(shift(Some(0.010000000000000231), 0.01), "+0.01");
+        assert_eq!(shift(Some(-1e-17), 0.01), "+0.00");
+    }
+}
