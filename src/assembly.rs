@@ -55,36 +55,121 @@ pub struct BarSystem {
     /// Element weights `w_0 … w_{m−1}`.
     pub weights: Vec<f64>,
     pub system: ContactSystem<SymTridiag>,
+    pub far_end: FarEnd,
 }
+
+/// Density ρ > 0 and Young's modulus E > 0 (wave speed `c = sqrt(E/ρ)`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material {
+    pub density: f64,
+    pub modulus: f64,
+}
+
+impl Material {
+    /// ρ = E = 1: the paper's bar.
+    pub const UNIT: Material = Material { density: 1.0, modulus: 1.0 };
+
+    pub fn wave_speed(&self) -> f64 {
+        (self.modulus / self.density).sqrt()
+    }
+}
+
+/// The condition at x = L.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FarEnd {
+    /// u(L, t) = 0.
+    Clamped,
+    /// E u_x(L, t) = 0.
+    Free,
+}
+
+impl FarEnd {
+    pub fn name(self) -> &'static str {
+        match self {
+            FarEnd::Clamped => "clamped",
+            FarEnd::Free => "free",
+        }
+    }
+}
+
+/// The body force f of the bar.
+pub enum Load<'a> {
+    Constant(f64),
+    /// f(x), time-independent.
+    Field(&'a dyn Fn(f64) -> f64),
+}
+
+/// 3-point Gauss–Legendre nodes on (0, 1) and weights (summing to 1).
+const GAUSS3: [(f64, f64); 3] =
+    [(0.5 - 0.387_298_334_620_741_7, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + 0.387_298_334_620_741_7, 5.0 / 18.0)];
 
 impl BarSystem {
     /// Assembles M, S and F for the given mass redistribution and a constant body force f.
     pub fn new(bar: Bar, mass: &MassKind, force: f64) -> Result<Self, AssemblyError> {
+        Ok(Self::from_weights(bar, Self::weights(bar, mass)?, force))
+    }
+
+    /// Checks the mesh and returns the element weights of a mass redistribution on it.
+    pub fn weights(bar: Bar, mass: &MassKind) -> Result<Vec<f64>, AssemblyError> {
         if !(bar.length.is_finite() && bar.length > 0.0) {
             return Err(AssemblyError::Length(bar.length));
         }
         if bar.elements < 2 {
             return Err(AssemblyError::Elements(bar.elements));
         }
-        let weights = mass.weights(bar.elements)?;
-        Ok(Self::from_weights(bar, weights, force))
+        Ok(mass.weights(bar.elements)?)
     }
 
     /// Assembly from already validated weights (one per element): the leading m×m block of
-    /// [`full_matrices`] (node m is Dirichlet).
+    /// [`full_matrices`] (node m is Dirichlet), unit density and modulus, constant force.
     pub fn from_weights(bar: Bar, weights: Vec<f64>, force: f64) -> Self {
+        Self::assemble(bar, weights, Material::UNIT, FarEnd::Clamped, &Load::Constant(force))
+    }
+
+    /// The general bar: `ρ u_tt − E u_xx = f` with weighted mass `ρ ∫ w_h u v`, stiffness
+    /// `E ∫ u' v'` and load `∫ f w_h φ_i`. A clamped far end eliminates node m (unknowns
+    /// 0..m−1); a free one keeps it (unknowns 0..m, natural condition `E u_x(L) = 0`).
+    ///
+    /// The load: a constant f gives the closed form `F_i = f h/2 (w_{i−1} + w_i)`; f(x) is
+    /// integrated by 3-point Gauss–Legendre on each element (exact for f of degree ≤ 4).
+    pub fn assemble(bar: Bar, weights: Vec<f64>, material: Material, far_end: FarEnd, force: &Load) -> Self {
         let m = bar.elements;
         let h = bar.h();
+        let n = match far_end {
+            FarEnd::Clamped => m,
+            FarEnd::Free => m + 1,
+        };
         let (mass, stiffness) = full_matrices(&bar, &weights);
-        let (mass, stiffness) = (mass.leading(m), stiffness.leading(m));
-        let mut load = vec![0.0; m];
+        let (mut mass, mut stiffness) = (mass.leading(n), stiffness.leading(n));
+        if material != Material::UNIT {
+            mass = mass.combine(material.density, &mass, 0.0);
+            stiffness = stiffness.combine(material.modulus, &stiffness, 0.0);
+        }
+        let mut load = vec![0.0; n];
         for (j, &w) in weights.iter().enumerate() {
-            load[j] += force * h / 2.0 * w;
-            if j + 1 < m {
-                load[j + 1] += force * h / 2.0 * w;
+            let (fa, fb) = match force {
+                Load::Constant(f) => (f * h / 2.0 * w, f * h / 2.0 * w),
+                Load::Field(f) => {
+                    let (xa, mut a, mut b) = (bar.x(j), 0.0, 0.0);
+                    for (g, gw) in GAUSS3 {
+                        let fx = f(xa + g * h);
+                        a += gw * h * fx * (1.0 - g);
+                        b += gw * h * fx * g;
+                    }
+                    (w * a, w * b)
+                }
+            };
+            load[j] += fa;
+            if j + 1 < n {
+                load[j + 1] += fb;
             }
         }
-        Self { bar, weights, system: ContactSystem::new(mass, stiffness, load, vec![0], 0.0) }
+        Self { bar, weights, system: ContactSystem::new(mass, stiffness, load, vec![0], 0.0), far_end }
+    }
+
+    /// Number of unknowns (m clamped, m + 1 free).
+    pub fn n(&self) -> usize {
+        self.system.n()
     }
 
     /// The same system with the obstacle at `u_0 = −gap` (gap ≥ 0).
@@ -119,7 +204,10 @@ impl BarSystem {
     /// Total mass `1ᵀ M_full 1 = ∫ w_h`: the sum of all entries of the mass matrix over all
     /// nodes, the Dirichlet node m included (its row adds `M_mm + 2 M_{m−1,m} = 2h/3 w_{m−1}`).
     pub fn total_mass(&self) -> f64 {
-        self.system.mass.total() + 2.0 * self.h() / 3.0 * self.weights[self.m() - 1]
+        match self.far_end {
+            FarEnd::Clamped => self.system.mass.total() + 2.0 * self.h() / 3.0 * self.weights[self.m() - 1],
+            FarEnd::Free => self.system.mass.total(),
+        }
     }
 
     /// Discrete energy `½ VᵀMV + ½ UᵀSU − UᵀF` (paper eq. (3.4) in full-system form; with
@@ -130,7 +218,7 @@ impl BarSystem {
 
     /// Nodal interpolant of g at the free nodes 0..m−1.
     pub fn interpolate(&self, g: impl Fn(f64) -> f64) -> Vec<f64> {
-        (0..self.m()).map(|i| g(self.bar.x(i))).collect()
+        (0..self.n()).map(|i| g(self.bar.x(i))).collect()
     }
 }
 

@@ -720,3 +720,11 @@ mod tests {
         assert_eq!(literal(-2.5), "(-2.5e0)");
     }
 }
+
+/// Two expressions are equal when they were written the same for the same key and variables
+/// (what a resolved scene reading back to itself needs).
+impl PartialEq for Expr {
+    fn eq(&self, other: &Self) -> bool {
+        self.key == other.key && self.text == other.text && self.vars == other.vars
+    }
+}

@@ -15,14 +15,15 @@ fn affine_square(p: f64, q: f64, ep: f64, eq: f64) -> f64 {
     (q - p) * (ep * ep + ep * eq + eq * eq) / 3.0
 }
 
-/// `‖u_h‖_{L²(0,L)}` of the P1 function with values `u` at nodes 0..m−1 and 0 at node m.
+/// `‖u_h‖_{L²(0,L)}` of the P1 function with values `u` at nodes 0..m−1 and 0 at node m (or
+/// at nodes 0..m for a free far end).
 pub fn l2_norm_p1(bar: &Bar, u: &[f64]) -> f64 {
     let m = bar.elements;
     let h = bar.h();
     let mut s = 0.0;
     for j in 0..m {
         let a = u[j];
-        let b = if j + 1 < m { u[j + 1] } else { 0.0 };
+        let b = u.get(j + 1).copied().unwrap_or(0.0); // u_m = 0 when clamped
         s += h * (a * a + a * b + b * b) / 3.0;
     }
     s.sqrt()
@@ -39,7 +40,8 @@ pub fn l2_error(bar: &Bar, u: &[f64], exact: &ImpactingBar, t: f64) -> f64 {
     let mut s = 0.0;
     for j in 0..m {
         let (xa, xb) = (bar.x(j), bar.x(j + 1));
-        let (ua, ub) = (u[j], if j + 1 < m { u[j + 1] } else { 0.0 });
+        // u has m values (clamped: u_m = 0) or m + 1 (free far end).
+        let (ua, ub) = (u[j], u.get(j + 1).copied().unwrap_or(0.0));
         let uh = |x: f64| ua + (ub - ua) * (x - xa) / (xb - xa);
         let mut p = xa;
         let mut ep = ua - exact.u(xa, t);

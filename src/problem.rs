@@ -150,7 +150,7 @@ impl GeometryView for BarSystem {
     }
 
     fn interp_norm(&self, exact: &ImpactingBar, t: f64, scratch: &mut Vec<f64>) -> f64 {
-        scratch.resize(self.m(), 0.0);
+        scratch.resize(self.n(), 0.0);
         for (i, e) in scratch.iter_mut().enumerate() {
             *e = exact.u(self.bar.x(i), t);
         }
@@ -163,7 +163,7 @@ impl GeometryView for BarSystem {
 
     fn nodal_values(&self, u: &[f64], out: &mut [f64]) {
         out[..u.len()].copy_from_slice(u);
-        out[u.len()] = 0.0;
+        out[u.len()..].fill(0.0);
     }
 }
 

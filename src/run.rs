@@ -1,9 +1,9 @@
 //! Bar scenes: the problem of a `[bar]` scene and its run (the driver is [`crate::driver`],
 //! the observers [`crate::observe`]). Nothing here does I/O.
 
-use crate::assembly::{AssemblyError, Bar, BarSystem};
+use crate::assembly::{AssemblyError, Bar, BarSystem, Load};
 use crate::exact::ImpactingBar;
-use crate::scene::{Initial, Scene};
+use crate::scene::{Force, Initial, Scene};
 use crate::schemes::SchemeError;
 use thiserror::Error;
 
@@ -21,18 +21,32 @@ pub use crate::driver::{Needs, Observer, Sample, integrate};
 pub use crate::observe::{SeriesRecorder, Summary, SummaryObserver};
 
 impl Problem {
-    /// The paper's benchmark (u⁰ = (L−x)/2, v⁰ = 0) with a constant body force.
+    /// The bar of a scene: material, far end, gap, initial data and force (module docs of
+    /// [`crate::assembly`]); the exact solution where it is known.
     pub fn from_scene(scene: &Scene) -> Result<Problem, RunError> {
-        let bar = Bar { length: scene.bar.length, elements: scene.bar.elements };
-        let system = BarSystem::new(bar, &scene.mass, scene.bar.force)?;
-        match scene.bar.initial {
+        let spec = &scene.bar;
+        let bar = Bar { length: spec.length, elements: spec.elements };
+        let weights = BarSystem::weights(bar, &scene.mass)?;
+        let field;
+        let load = match &spec.force {
+            Force::Constant(f) => Load::Constant(*f),
+            Force::Field(e) => {
+                field = |x: f64| e.eval(&[x]);
+                Load::Field(&field)
+            }
+        };
+        let system = BarSystem::assemble(bar, weights, spec.material, spec.far_end, &load).with_gap(spec.gap);
+        let (u0, v0, exact) = match &spec.initial {
             Initial::Paper => {
                 let exact = ImpactingBar { length: bar.length };
                 let u0 = system.interpolate(|x| exact.initial_displacement(x));
-                let v0 = vec![0.0; bar.elements];
-                Ok(Problem { system, u0, v0, exact: scene.has_exact_solution().then_some(exact) })
+                (u0, vec![0.0; system.n()], scene.has_exact_solution().then_some(exact))
             }
-        }
+            Initial::Fields { displacement, velocity } => {
+                (system.interpolate(|x| displacement.eval(&[x])), system.interpolate(|x| velocity.eval(&[x])), None)
+            }
+        };
+        Ok(Problem { system, u0, v0, exact })
     }
 
     /// The benchmark problem for a mass on a bar of length L with m elements (f = 0).

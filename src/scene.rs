@@ -24,6 +24,8 @@
 //! Every error names the key and its allowed range; the resolved scene (all defaults filled in)
 //! serialises back to TOML.
 
+use crate::assembly::{FarEnd, Material};
+use crate::expr::Expr;
 use crate::mass::MassKind;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -61,6 +63,8 @@ pub enum SceneError {
     DuplicateColumn(String),
     #[error(transparent)]
     Mass(#[from] crate::mass::MassError),
+    #[error(transparent)]
+    Expr(#[from] crate::expr::ExprError),
 }
 
 impl SceneError {
@@ -105,9 +109,42 @@ struct RawBar {
     #[serde(skip_serializing_if = "Option::is_none")]
     elements: Option<i64>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    initial: Option<String>,
+    density: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    force: Option<Number>,
+    modulus: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    far_end: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gap: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    initial: Option<RawInitial>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    force: Option<RawField>,
+}
+
+/// `initial = "paper"` or `initial = { displacement = "…", velocity = "…" }`.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(untagged)]
+enum RawInitial {
+    Name(String),
+    Fields(RawInitialFields),
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct RawInitialFields {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    displacement: Option<RawField>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    velocity: Option<RawField>,
+}
+
+/// A number or an expression (a string).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(untagged)]
+pub(crate) enum RawField {
+    Number(Number),
+    Expr(String),
 }
 
 /// The `[mass]` table (shared with the plate scenes of `crate::plate::scene`).
@@ -158,18 +195,48 @@ struct RawOutput {
 }
 
 /// Initial data of the bar.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Initial {
     /// u⁰ = (L − x)/2, v⁰ = 0: the paper's benchmark (exact solution known when f = 0).
     Paper,
+    /// u⁰(x), v⁰(x) as expressions in x (and L, pi), interpolated at every node.
+    Fields { displacement: Expr, velocity: Expr },
+}
+
+/// The body force: a constant, or an expression in x (and L, pi).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Force {
+    Constant(f64),
+    Field(Expr),
+}
+
+impl Force {
+    /// The constant value, if the force does not depend on x.
+    pub fn constant(&self) -> Option<f64> {
+        match self {
+            Force::Constant(f) => Some(*f),
+            Force::Field(e) => e.is_constant(),
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct BarSpec {
     pub length: f64,
     pub elements: usize,
+    pub material: Material,
+    pub far_end: FarEnd,
+    /// The obstacle at x = 0: u(0, t) ≥ −gap.
+    pub gap: f64,
     pub initial: Initial,
-    pub force: f64,
+    pub force: Force,
+}
+
+impl BarSpec {
+    /// The paper's bar: ρ = E = 1, clamped at L, no gap.
+    pub fn is_paper_bar(&self) -> bool {
+        self.material == Material::UNIT && self.far_end == FarEnd::Clamped && self.gap == 0.0
+    }
 }
 
 /// Which form of Newmark to solve: the full m-unknown system with the contact multiplier, or the
@@ -340,17 +407,78 @@ impl Scene {
             return Err(SceneError::Range { key: "bar.elements", value: elements.to_string(), range: "[2, 10000000]" });
         }
         let elements = elements as usize;
-        let initial = match bar.initial.as_deref().unwrap_or("paper") {
-            "paper" => Initial::Paper,
+        let density = finite_in("bar.density", bar.density.map_or(1.0, Number::get), true, "(0, ∞)")?;
+        finite_in("bar.density", density, density > 0.0, "(0, ∞)")?;
+        let modulus = finite_in("bar.modulus", bar.modulus.map_or(1.0, Number::get), true, "(0, ∞)")?;
+        finite_in("bar.modulus", modulus, modulus > 0.0, "(0, ∞)")?;
+        let far_end = match bar.far_end.as_deref().unwrap_or("clamped") {
+            "clamped" => FarEnd::Clamped,
+            "free" => FarEnd::Free,
             other => {
                 return Err(SceneError::Range {
-                    key: "bar.initial",
+                    key: "bar.far_end",
                     value: format!("\"{other}\""),
-                    range: "\"paper\" (u0 = (L-x)/2, v0 = 0)",
+                    range: "\"clamped\" (u(L,t) = 0) or \"free\" (E u_x(L,t) = 0)",
                 });
             }
         };
-        let force = finite_in("bar.force", bar.force.map_or(0.0, Number::get), true, "finite real numbers")?;
+        let gap = finite_in("bar.gap", bar.gap.map_or(0.0, Number::get), true, "[0, ∞)")?;
+        finite_in("bar.gap", gap, gap >= 0.0, "[0, ∞)")?;
+        let consts = [("L", length), ("pi", std::f64::consts::PI)];
+        let field = |key: &'static str, raw: Option<RawField>, vars: &[&str]| -> Result<Expr, SceneError> {
+            let text = match raw {
+                None => "0".to_string(),
+                Some(RawField::Number(n)) => crate::expr::sci(n.get()),
+                Some(RawField::Expr(t)) => t,
+            };
+            Ok(Expr::parse(key, &text, vars, &consts)?)
+        };
+        let initial = match bar.initial {
+            None => Initial::Paper,
+            Some(RawInitial::Name(name)) if name == "paper" => Initial::Paper,
+            Some(RawInitial::Name(other)) => {
+                return Err(SceneError::Range {
+                    key: "bar.initial",
+                    value: format!("\"{other}\""),
+                    range: "\"paper\" (u0 = (L-x)/2, v0 = 0) or a table { displacement = \"expression in x\", velocity = \"expression in x\" }",
+                });
+            }
+            Some(RawInitial::Fields(f)) => Initial::Fields {
+                displacement: field("bar.initial.displacement", f.displacement, &["x"])?,
+                velocity: field("bar.initial.velocity", f.velocity, &["x"])?,
+            },
+        };
+        let force = match bar.force {
+            None => Force::Constant(0.0),
+            Some(RawField::Number(n)) => {
+                Force::Constant(finite_in("bar.force", n.get(), true, "finite real numbers, or an expression in x")?)
+            }
+            Some(raw) => {
+                let e = field("bar.force", Some(raw), &["x", "t"])?;
+                if e.depends_on("t") {
+                    return Err(SceneError::Inapplicable {
+                        key: "bar.force",
+                        context: format!(
+                            "time: \"{}\" depends on t, and time-dependent forces are not supported yet (the schemes assume a constant load); write an expression in x only",
+                            e.text()
+                        ),
+                    });
+                }
+                match e.is_constant() {
+                    Some(c) => Force::Constant(c),
+                    None => Force::Field(Expr::parse("bar.force", e.text(), &["x"], &consts)?),
+                }
+            }
+        };
+        if let Initial::Fields { displacement, velocity } = &initial {
+            let nodes = || (0..=elements).map(|i| [length * i as f64 / elements as f64]);
+            displacement.eval_at_nodes(nodes())?;
+            velocity.eval_at_nodes(nodes())?;
+        }
+        if let Force::Field(f) = &force {
+            // The load is integrated at Gauss points inside the elements (assembly.rs).
+            f.eval_at_nodes((0..=elements).map(|i| [length * i as f64 / elements as f64]))?;
+        }
 
         let mass = parse_mass(raw.mass)?;
         let weights = mass.weights(elements)?;
@@ -384,15 +512,15 @@ impl Scene {
             return Err(SceneError::TooManyValues { values, limit: MAX_SERIES_VALUES, every: min_every });
         }
         let output = OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true) };
-        let scene = Scene { bar: BarSpec { length, elements, initial, force }, mass, scheme, time, output };
+        let bar = BarSpec { length, elements, material: Material { density, modulus }, far_end, gap, initial, force };
+        let scene = Scene { bar, mass, scheme, time, output };
         if !scene.has_exact_solution() {
             if let Some(c) = scene.output.series.iter().find(|c| c.needs_exact()) {
                 return Err(SceneError::Inapplicable {
                     key: "output.series",
                     context: format!(
-                        "column \"{}\" with bar.force = {}: the exact solution is known only for initial = \"paper\" and force = 0",
+                        "column \"{}\" of this scene: the exact solution is known only without body force (bar.force = 0) and for initial = \"paper\" on the paper's bar",
                         c.name(),
-                        force
                     ),
                 });
             }
@@ -402,7 +530,7 @@ impl Scene {
 
     /// The exact solution is known for the paper's initial data without body force.
     pub fn has_exact_solution(&self) -> bool {
-        self.bar.initial == Initial::Paper && self.bar.force == 0.0
+        self.bar.initial == Initial::Paper && self.bar.force.constant() == Some(0.0) && self.bar.is_paper_bar()
     }
 
     /// The scene with every default filled in, as TOML.
@@ -412,8 +540,21 @@ impl Scene {
             bar: Some(RawBar {
                 length: Some(f(self.bar.length)),
                 elements: Some(self.bar.elements as i64),
-                initial: Some("paper".into()),
-                force: Some(f(self.bar.force)),
+                density: Some(f(self.bar.material.density)),
+                modulus: Some(f(self.bar.material.modulus)),
+                far_end: Some(self.bar.far_end.name().into()),
+                gap: Some(f(self.bar.gap)),
+                initial: Some(match &self.bar.initial {
+                    Initial::Paper => RawInitial::Name("paper".into()),
+                    Initial::Fields { displacement, velocity } => RawInitial::Fields(RawInitialFields {
+                        displacement: Some(RawField::Expr(displacement.text().into())),
+                        velocity: Some(RawField::Expr(velocity.text().into())),
+                    }),
+                }),
+                force: Some(match &self.bar.force {
+                    Force::Constant(c) => RawField::Number(f(*c)),
+                    Force::Field(e) => RawField::Expr(e.text().into()),
+                }),
             }),
             mass: Some(raw_mass(&self.mass)),
             scheme: Some(raw_scheme(&self.scheme)),

@@ -71,7 +71,7 @@ impl NewmarkReduced {
         let a = system.initial_acceleration(&u0)?;
         let c = (0.5 - beta) * dt * dt;
         let pred = (1..u0.len()).map(|i| u0[i] + dt * v0[i] + c * a[i]).collect();
-        let m = bar.m();
+        let m = bar.n();
         Ok(Self {
             beta,
             gamma,

@@ -77,7 +77,7 @@ impl PaoliSchatzman {
         let response = factor.unit_response(0);
         let mut start = Newmark::crank_nicolson(system, dt, u0.clone(), v0.clone())?;
         start.step()?;
-        let m = bar.m();
+        let m = bar.n();
         Ok(Self {
             beta,
             restitution,
