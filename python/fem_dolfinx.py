@@ -3,6 +3,8 @@
 Import this module only after ``OMPI_MCA_ess_singleton_isolated=1`` is in the environment, or
 Open MPI starts an ``orted`` daemon (the Rust bridge and gen_fixtures.py both set it).
 """
+import threading
+
 import numpy as np
 import scipy.sparse as sp
 import ufl
@@ -10,6 +12,13 @@ from dolfinx import fem, mesh
 from mpi4py import MPI
 
 from fem_common import csr_triplets, normalize
+
+# dolfinx 0.5's JIT (ffcx + cffi) compiles a new form with gcc into a shared cache folder; two
+# threads compiling the same form at once race on its object file ("ld: cannot find
+# ./libffcx_forms_<hash>.o", seen with a cold cache when the live tests run in parallel threads,
+# which release the GIL while gcc runs; function spaces compile elements the same way). One
+# assembly at a time removes the race; with a warm cache it costs nothing noticeable.
+_JIT_LOCK = threading.Lock()
 
 # dolfinx orders quadrilateral vertices as a tensor product (0,0), (1,0), (0,1), (1,1); our input
 # is counter-clockwise (0,0), (1,0), (1,1), (0,1).
@@ -40,6 +49,12 @@ def _to_input_order(matrix, vertex_of_dof):
 
 
 def assemble(points, cells, weights):
+    """[`_assemble`], one call at a time (see `_JIT_LOCK`)."""
+    with _JIT_LOCK:
+        return _assemble(points, cells, weights)
+
+
+def _assemble(points, cells, weights):
     """Mass ``∫ w u v dx`` and stiffness ``∫ ∇u·∇v dx`` as CSR triplets in input vertex order.
 
     Returns ``{"mass": (indptr, indices, data), "stiffness": (...), "n": n}``. The weight is a
