@@ -165,7 +165,8 @@ fn a_free_bar_away_from_the_obstacle_moves_rigidly() {
     // scheme's state is exact; the energy is ½ ρ L with the redistributed mass ρ ∫ w_h = ρ L for
     // mod3. Mutation check: keeping node m Dirichlet (the clamped system) breaks u = t at once.
     for scheme in ["crank-nicolson", "backward-euler"] {
-        let bar = "far_end = \"free\"\ndensity = 2.0\ninitial = { displacement = \"0\", velocity = \"1\" }\nelements = 20";
+        let bar =
+            "far_end = \"free\"\ndensity = 2.0\ninitial = { displacement = \"0\", velocity = \"1\" }\nelements = 20";
         let scene = Scene::from_toml(&bar_scene(bar, scheme, 0.01, 1.0)).unwrap();
         let p = Problem::from_scene(&scene).unwrap();
         assert_eq!(p.u0.len(), 21, "a free far end keeps node m");
