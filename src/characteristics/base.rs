@@ -16,6 +16,9 @@ const SMOOTH_POINTS: usize = 32;
 /// Relative size of the three trailing Chebyshev coefficients at which a smooth panel is
 /// accepted; 100 ulps, above the round-off floor of the sampled coefficients (~ε·scale).
 pub(super) const TAIL_TOL: f64 = 1e-14;
+/// Coefficients below this many ulps of the data's scale are round-off and are dropped: the
+/// naive transform sums 32 samples, so its noise is up to ~32 ulps of the scale.
+const CHOP_ULPS: f64 = 64.0 * f64::EPSILON;
 /// A smooth panel is never narrower than L·2⁻²⁰; data still unresolved there are rejected.
 const MAX_DEPTH: u32 = 20;
 
@@ -155,9 +158,14 @@ impl Fit<'_> {
                 }
                 vals.push(y);
             }
-            let c = cheb::interpolate(&vals);
+            let mut c = cheb::interpolate(&vals);
             let tail = c[SMOOTH_POINTS - 3..].iter().fold(0.0f64, |m, c| m.max(c.abs()));
             resolved &= tail <= TAIL_TOL * self.scales[i];
+            // Drop trailing coefficients at the round-off floor of the samples: they carry no
+            // information, and differentiation would amplify them by up to k² ≈ 10³.
+            let floor = CHOP_ULPS * self.scales[i];
+            let keep = c.iter().rposition(|c| c.abs() > floor).map_or(1, |k| k + 1);
+            c.truncate(keep);
             fits[i] = c;
         }
         if resolved {

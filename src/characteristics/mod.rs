@@ -189,17 +189,17 @@ fn nodes(x: &[f64], u: &[f64], v: &[f64], length: f64) -> Result<Vec<f64>, Chara
     if m < 2 || u.len() != m || v.len() != m {
         return Err(CharacteristicsError::DataLengths { x: m, u: u.len(), v: v.len() });
     }
-    if x[0] != 0.0 || !((x[m - 1] - length).abs() <= END_ULPS * length) {
+    for (what, f) in [("x", x), ("u⁰", u), ("v⁰", v)] {
+        if let Some(i) = f.iter().position(|y| !y.is_finite()) {
+            return Err(CharacteristicsError::NonFinite { what, x: x[i] });
+        }
+    }
+    if x[0] != 0.0 || (x[m - 1] - length).abs() > END_ULPS * length {
         return Err(CharacteristicsError::NodeEnds { first: x[0], last: x[m - 1], length });
     }
     for i in 1..m {
-        if !(x[i] > x[i - 1]) {
+        if x[i] <= x[i - 1] {
             return Err(CharacteristicsError::NodesNotIncreasing { index: i, value: x[i], previous: x[i - 1] });
-        }
-    }
-    for (what, f) in [("u⁰", u), ("v⁰", v)] {
-        if let Some(i) = f.iter().position(|y| !y.is_finite()) {
-            return Err(CharacteristicsError::NonFinite { what, x: x[i] });
         }
     }
     let mut x = x.to_vec();

@@ -72,7 +72,7 @@ pub(super) fn first_descent(
     hi: f64,
     tol: f64,
 ) -> Result<Option<f64>, Exhausted> {
-    if !(hi > lo) {
+    if hi <= lo || hi.is_nan() || lo.is_nan() {
         return Ok(None);
     }
     let mut search = Search { f, m2, evals: 0 };
