@@ -5,7 +5,7 @@
 //! step need (energy, exact L² error, y-variation) once, for all of them. Recording, summaries,
 //! progress bars and files are observers or live at the edge; nothing here does I/O.
 
-use crate::exact::ImpactingBar;
+use crate::exact::Exact;
 use crate::problem::{Geometry, GeometryView, Problem};
 use crate::schemes::{Scheme, SchemeError, StateView};
 
@@ -33,7 +33,7 @@ impl Needs {
 pub struct Sample<'a> {
     pub state: StateView<'a>,
     pub geometry: &'a dyn GeometryView,
-    pub exact: Option<&'a ImpactingBar>,
+    pub exact: Option<&'a Exact>,
     pub energy: f64,
     /// Exact ‖u_h − u(·, t_n)‖_{L²(Ω)}.
     pub l2_error: f64,

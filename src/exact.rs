@@ -161,6 +161,65 @@ impl ImpactingBar {
     }
 }
 
+/// The exact solution a run is measured against: the paper's closed form ([`ImpactingBar`]), or
+/// the general solution by characteristics ([`crate::characteristics::Characteristics`]) for
+/// any material, far end, gap and initial data without body force. Both are x-only, so a plate
+/// with y-independent data is measured against them too.
+#[derive(Debug, Clone)]
+pub enum Exact {
+    Paper(ImpactingBar),
+    General(std::sync::Arc<crate::characteristics::Characteristics>),
+}
+
+impl Exact {
+    pub fn u(&self, x: f64, t: f64) -> f64 {
+        match self {
+            Exact::Paper(e) => e.u(x, t),
+            Exact::General(c) => c.u(x, t),
+        }
+    }
+
+    /// u(0, t).
+    pub fn u0(&self, t: f64) -> f64 {
+        match self {
+            Exact::Paper(e) => e.u0(t),
+            Exact::General(c) => c.u0(t),
+        }
+    }
+
+    /// The contact force λ(t) = E u_x(0+, t).
+    pub fn lambda(&self, t: f64) -> f64 {
+        match self {
+            Exact::Paper(e) => e.lambda(t),
+            Exact::General(c) => c.lambda(t),
+        }
+    }
+
+    /// Start and end of the first contact phase (the paper's: [L, 2L]).
+    pub fn first_contact(&self) -> Option<(f64, f64)> {
+        match self {
+            Exact::Paper(e) => Some((e.length, 2.0 * e.length)),
+            Exact::General(c) => c.contact_intervals().first().copied(),
+        }
+    }
+
+    /// The energy `½∫ρu_t² + ½∫E u_x²` (constant in time) per unit cross-section.
+    pub fn energy(&self) -> f64 {
+        match self {
+            Exact::Paper(e) => e.energy(),
+            Exact::General(c) => c.energy(0.0),
+        }
+    }
+
+    /// The paper's closed form, if that is what this is.
+    pub fn paper(&self) -> Option<&ImpactingBar> {
+        match self {
+            Exact::Paper(e) => Some(e),
+            Exact::General(_) => None,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

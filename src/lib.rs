@@ -8,6 +8,7 @@ pub mod crosscheck;
 
 pub mod assembly;
 pub mod bench;
+pub mod characteristics;
 pub mod contact;
 pub mod driver;
 pub mod exact;

@@ -3,6 +3,7 @@
 //! ([`crate::driver::Observer::every`]).
 
 use crate::driver::{Needs, Observer, Sample};
+use crate::exact::Exact;
 use crate::problem::{Geometry, Problem};
 use crate::scene::Column;
 use serde::Serialize;
@@ -97,15 +98,16 @@ pub struct Summary {
     pub energy_final: f64,
     pub energy_min: f64,
     pub energy_max: f64,
-    /// Exact energy L|Ω|/(8L) of the benchmark (null without exact solution).
+    /// Exact energy (null without exact solution; L|Ω|/(8L) for the paper's benchmark).
     pub energy_exact: Option<f64>,
     /// First t_n with u_0ⁿ ≤ −gap (reference contact node).
     pub first_impact_time: Option<f64>,
     /// First t_n after the first impact with u_0ⁿ > −gap.
     pub first_release_time: Option<f64>,
-    /// `first_impact_time` − L (exact first impact), null if no impact or no exact solution.
+    /// `first_impact_time` − the exact first impact (L for the paper's benchmark), null if no
+    /// impact or no exact solution.
     pub impact_time_shift: Option<f64>,
-    /// `first_release_time` − 2L (exact release), null if no release or no exact solution.
+    /// `first_release_time` − the exact end of the first contact (2L for the paper's benchmark).
     pub release_time_shift: Option<f64>,
     pub final_u0: f64,
     /// min over n and contact nodes of u_c (≥ −gap by complementarity).
@@ -136,8 +138,9 @@ pub struct SummaryObserver {
     steps: usize,
     h: f64,
     dt: f64,
-    length: f64,
     exact_energy: f64,
+    /// The exact solution's first contact phase (for the impact and release shifts).
+    first_contact: Option<(f64, f64)>,
     has_exact: bool,
     with_l2: bool,
     with_y: bool,
@@ -174,8 +177,12 @@ impl SummaryObserver {
             steps,
             h: g.h(),
             dt,
-            length: g.length(),
-            exact_energy: g.length() * g.section() / 8.0,
+            exact_energy: match &problem.exact {
+                Some(Exact::Paper(_)) => g.length() * g.section() / 8.0,
+                Some(e) => e.energy() * g.section(),
+                None => f64::NAN,
+            },
+            first_contact: problem.exact.as_ref().and_then(|e| e.first_contact()),
             has_exact: problem.exact.is_some(),
             with_l2,
             with_y: g.dim() > 1,
@@ -221,8 +228,8 @@ impl SummaryObserver {
             energy_exact: exact(self.exact_energy),
             first_impact_time: self.first_impact,
             first_release_time: self.first_release,
-            impact_time_shift: self.first_impact.filter(|_| self.has_exact).map(|t| t - self.length),
-            release_time_shift: self.first_release.filter(|_| self.has_exact).map(|t| t - 2.0 * self.length),
+            impact_time_shift: self.first_impact.zip(self.first_contact).map(|(t, c)| t - c.0),
+            release_time_shift: self.first_release.zip(self.first_contact).map(|(t, c)| t - c.1),
             final_u0: self.final_u0,
             min_u0: self.min_u0,
             max_lambda: self.max_lambda,

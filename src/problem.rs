@@ -9,7 +9,7 @@
 //! them here, in [`Problem::scheme`].
 
 use crate::assembly::BarSystem;
-use crate::exact::ImpactingBar;
+use crate::exact::Exact;
 use crate::linalg::SymMatrix;
 use crate::plate::PlateSystem;
 use crate::scene::{Formulation, SchemeSpec};
@@ -34,10 +34,11 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
     fn contact(&self) -> &[usize];
     /// The mean of u over Γ_C (u_0 for a bar).
     fn contact_mean(&self, u: &[f64]) -> f64;
-    /// `‖u_h − u(·, t)‖_{L²(Ω)}` against an x-only exact solution, exact.
-    fn l2_error(&self, u: &[f64], exact: &ImpactingBar, t: f64) -> f64;
+    /// `‖u_h − u(·, t)‖_{L²(Ω)}` against an x-only exact solution (NaN where the geometry
+    /// cannot integrate it).
+    fn l2_error(&self, u: &[f64], exact: &Exact, t: f64) -> f64;
     /// `‖I_h u(·, t)‖_{L²(Ω)}`; `scratch` holds the interpolant (reused between calls).
-    fn interp_norm(&self, exact: &ImpactingBar, t: f64, scratch: &mut Vec<f64>) -> f64;
+    fn interp_norm(&self, exact: &Exact, t: f64, scratch: &mut Vec<f64>) -> f64;
     /// `max |u(x, y) − u(x, y_min)|` over the unknowns (0 for a bar).
     fn y_variation(&self, _u: &[f64]) -> f64 {
         0.0
@@ -65,7 +66,7 @@ pub struct Problem<G = BarSystem> {
     pub system: G,
     pub u0: Vec<f64>,
     pub v0: Vec<f64>,
-    pub exact: Option<ImpactingBar>,
+    pub exact: Option<Exact>,
 }
 
 /// A plate problem.
@@ -145,11 +146,21 @@ impl GeometryView for BarSystem {
         u[0]
     }
 
-    fn l2_error(&self, u: &[f64], exact: &ImpactingBar, t: f64) -> f64 {
-        crate::norms::l2_error(&self.bar, u, exact, t)
+    /// The paper's closed form is integrated split at its kinks ([`crate::norms::l2_error`]);
+    /// the general solution by its own exact cell rule (`Characteristics::l2_error_p1`).
+    fn l2_error(&self, u: &[f64], exact: &Exact, t: f64) -> f64 {
+        match exact {
+            Exact::Paper(e) => crate::norms::l2_error(&self.bar, u, e, t),
+            Exact::General(c) => {
+                let nodes: Vec<f64> = (0..=self.m()).map(|i| self.bar.x(i)).collect();
+                let mut values = u.to_vec();
+                values.resize(self.m() + 1, 0.0); // u_m = 0 when clamped
+                c.l2_error_p1(&nodes, &values, t)
+            }
+        }
     }
 
-    fn interp_norm(&self, exact: &ImpactingBar, t: f64, scratch: &mut Vec<f64>) -> f64 {
+    fn interp_norm(&self, exact: &Exact, t: f64, scratch: &mut Vec<f64>) -> f64 {
         scratch.resize(self.n(), 0.0);
         for (i, e) in scratch.iter_mut().enumerate() {
             *e = exact.u(self.bar.x(i), t);
@@ -212,11 +223,12 @@ impl GeometryView for PlateSystem {
         PlateSystem::contact_mean(self, u)
     }
 
-    fn l2_error(&self, u: &[f64], exact: &ImpactingBar, t: f64) -> f64 {
-        crate::plate::norms::l2_error(self, u, exact, t)
+    /// The paper's closed form only (the plate norms split cells at its kinks); NaN otherwise.
+    fn l2_error(&self, u: &[f64], exact: &Exact, t: f64) -> f64 {
+        exact.paper().map_or(f64::NAN, |e| crate::plate::norms::l2_error(self, u, e, t))
     }
 
-    fn interp_norm(&self, exact: &ImpactingBar, t: f64, scratch: &mut Vec<f64>) -> f64 {
+    fn interp_norm(&self, exact: &Exact, t: f64, scratch: &mut Vec<f64>) -> f64 {
         scratch.resize(self.dofs.len(), 0.0);
         for (e, &v) in scratch.iter_mut().zip(&self.dofs) {
             *e = exact.u(self.mesh.points[v][0], t);

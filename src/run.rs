@@ -1,8 +1,9 @@
 //! Bar scenes: the problem of a `[bar]` scene and its run (the driver is [`crate::driver`],
 //! the observers [`crate::observe`]). Nothing here does I/O.
 
-use crate::assembly::{AssemblyError, Bar, BarSystem, Load};
-use crate::exact::ImpactingBar;
+use crate::assembly::{AssemblyError, Bar, BarSystem, FarEnd, Load};
+use crate::characteristics::{self, BarData, Characteristics, CharacteristicsError, InitialData};
+use crate::exact::{Exact, ImpactingBar};
 use crate::scene::{Force, Initial, Scene};
 use crate::schemes::SchemeError;
 use thiserror::Error;
@@ -13,6 +14,8 @@ pub enum RunError {
     Assembly(#[from] AssemblyError),
     #[error(transparent)]
     Scheme(#[from] SchemeError),
+    #[error("the exact solution of this scene: {0}")]
+    Exact(#[from] CharacteristicsError),
 }
 
 pub use crate::problem::Problem;
@@ -36,15 +39,19 @@ impl Problem {
             }
         };
         let system = BarSystem::assemble(bar, weights, spec.material, spec.far_end, &load).with_gap(spec.gap);
-        let (u0, v0, exact) = match &spec.initial {
-            Initial::Paper => {
-                let exact = ImpactingBar { length: bar.length };
-                let u0 = system.interpolate(|x| exact.initial_displacement(x));
-                (u0, vec![0.0; system.n()], scene.has_exact_solution().then_some(exact))
-            }
+        let paper = ImpactingBar { length: bar.length };
+        let (u0, v0) = match &spec.initial {
+            Initial::Paper => (system.interpolate(|x| paper.initial_displacement(x)), vec![0.0; system.n()]),
             Initial::Fields { displacement, velocity } => {
-                (system.interpolate(|x| displacement.eval(&[x])), system.interpolate(|x| velocity.eval(&[x])), None)
+                (system.interpolate(|x| displacement.eval(&[x])), system.interpolate(|x| velocity.eval(&[x])))
             }
+        };
+        let exact = if !scene.has_exact_solution() {
+            None
+        } else if spec.initial == Initial::Paper && spec.is_paper_bar() {
+            Some(Exact::Paper(paper))
+        } else {
+            Some(Exact::General(std::sync::Arc::new(general_exact(scene)?)))
         };
         Ok(Problem { system, u0, v0, exact })
     }
@@ -54,7 +61,34 @@ impl Problem {
         let system = BarSystem::new(Bar { length, elements }, mass, 0.0)?;
         let exact = ImpactingBar { length };
         let u0 = system.interpolate(|x| exact.initial_displacement(x));
-        Ok(Problem { system, u0, v0: vec![0.0; elements], exact: Some(exact) })
+        Ok(Problem { system, u0, v0: vec![0.0; elements], exact: Some(Exact::Paper(exact)) })
+    }
+}
+
+/// The exact solution by characteristics of a bar scene without body force: the continuous
+/// initial data (expressions are smooth closures, resolved to about 1e-14 by the solver; the
+/// paper's data piecewise linear, exact).
+fn general_exact(scene: &Scene) -> Result<Characteristics, CharacteristicsError> {
+    let spec = &scene.bar;
+    let data = BarData {
+        length: spec.length,
+        density: spec.material.density,
+        modulus: spec.material.modulus,
+        far_end: match spec.far_end {
+            FarEnd::Clamped => characteristics::FarEnd::Clamped,
+            FarEnd::Free => characteristics::FarEnd::Free,
+        },
+        gap: spec.gap,
+    };
+    match &spec.initial {
+        Initial::Paper => {
+            let (x, u, v) = ([0.0, spec.length], [spec.length / 2.0, 0.0], [0.0, 0.0]);
+            Characteristics::new(&data, InitialData::PiecewiseLinear { x: &x, u: &u, v: &v }, scene.time.end)
+        }
+        Initial::Fields { displacement, velocity } => {
+            let (u, v) = (|x: f64| displacement.eval(&[x]), |x: f64| velocity.eval(&[x]));
+            Characteristics::new(&data, InitialData::Smooth { u: &u, v: &v }, scene.time.end)
+        }
     }
 }
 

@@ -519,7 +519,7 @@ impl Scene {
                 return Err(SceneError::Inapplicable {
                     key: "output.series",
                     context: format!(
-                        "column \"{}\" of this scene: the exact solution is known only without body force (bar.force = 0) and for initial = \"paper\" on the paper's bar",
+                        "column \"{}\" of this scene: the exact solution is known only without body force (bar.force = 0)",
                         c.name(),
                     ),
                 });
@@ -528,9 +528,10 @@ impl Scene {
         Ok(scene)
     }
 
-    /// The exact solution is known for the paper's initial data without body force.
+    /// The exact solution is known without body force: the paper's closed form on its bar, the
+    /// solution by characteristics otherwise ([`crate::characteristics`]).
     pub fn has_exact_solution(&self) -> bool {
-        self.bar.initial == Initial::Paper && self.bar.force.constant() == Some(0.0) && self.bar.is_paper_bar()
+        self.bar.force.constant() == Some(0.0)
     }
 
     /// The scene with every default filled in, as TOML.

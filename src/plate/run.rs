@@ -4,7 +4,7 @@
 use super::assembly::{PlateAssemblyError, PlateSystem};
 use super::mesh::{CellKind, Mesh2d, MeshError};
 use crate::driver::{Observer, integrate};
-use crate::exact::ImpactingBar;
+use crate::exact::{Exact, ImpactingBar};
 use crate::mass::MassKind;
 use crate::observe::{FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
 use crate::schemes::SchemeError;
@@ -82,7 +82,7 @@ impl PlateProblem {
         let plate = PlateSystem::new(mesh, mass, force)?;
         let u0 = plate.interpolate(|x, y| initial.displacement(l, h, x, y - ymin));
         let v0 = vec![0.0; u0.len()];
-        let exact = (initial == PlateInitial::Paper && force == 0.0).then_some(ImpactingBar { length: l });
+        let exact = (initial == PlateInitial::Paper && force == 0.0).then_some(Exact::Paper(ImpactingBar { length: l }));
         Ok(Self { system: plate, u0, v0, exact })
     }
 }
