@@ -235,7 +235,11 @@ fn schemes_converge_to_the_exact_solution_by_characteristics_on_three_new_proble
             0.5,
             6.0,
         ),
-        ("modulus = 4.0\nfar_end = \"free\"\ngap = 0.02\ninitial = { displacement = \"0\", velocity = \"-0.5+0.2*x\" }", 2.0, 2.0),
+        (
+            "modulus = 4.0\nfar_end = \"free\"\ngap = 0.02\ninitial = { displacement = \"0\", velocity = \"-0.5+0.2*x\" }",
+            2.0,
+            2.0,
+        ),
     ];
     for (k, (bar, c, end)) in problems.iter().enumerate() {
         for scheme in SCHEMES {

@@ -82,7 +82,8 @@ impl PlateProblem {
         let plate = PlateSystem::new(mesh, mass, force)?;
         let u0 = plate.interpolate(|x, y| initial.displacement(l, h, x, y - ymin));
         let v0 = vec![0.0; u0.len()];
-        let exact = (initial == PlateInitial::Paper && force == 0.0).then_some(Exact::Paper(ImpactingBar { length: l }));
+        let exact =
+            (initial == PlateInitial::Paper && force == 0.0).then_some(Exact::Paper(ImpactingBar { length: l }));
         Ok(Self { system: plate, u0, v0, exact })
     }
 }
