@@ -2,7 +2,8 @@
 //! [`crate::driver`], the observers [`crate::observe`]). Nothing here does I/O.
 
 use super::assembly::{PlateAssemblyError, PlateSystem};
-use super::mesh::{CellKind, Mesh2d, MeshError};
+use super::mesh::{Mesh2d, MeshError};
+use super::scene::{PlateInitial, PlateScene, PlateSpec};
 use crate::driver::{Observer, integrate};
 use crate::exact::{Exact, ImpactingBar};
 use crate::mass::MassKind;
@@ -20,49 +21,6 @@ pub enum PlateRunError {
     Scheme(#[from] SchemeError),
     #[error("the 1D reference run failed: {0}")]
     Reference(String),
-}
-
-/// Initial data of the plate.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum PlateInitial {
-    /// u⁰ = (L − x)/2, v⁰ = 0: the 1D benchmark extended constantly in y (exact solution known
-    /// for f = 0: the 1D one).
-    Paper,
-    /// u⁰ = (L − x)/2 · (1 + ½ cos(π y/H)), v⁰ = 0: y-dependent (no exact solution). The
-    /// edge x = 0 starts at heights 3/4 (y = 0) to 1/4 (y = H) above the obstacle, so its parts
-    /// hit it at different times and the contact state varies along Γ_C. `∂_y u⁰ = 0` on
-    /// y = 0, H (compatible with the Neumann condition) and u⁰ = 0 on x = L.
-    Bump,
-}
-
-impl PlateInitial {
-    pub fn name(self) -> &'static str {
-        match self {
-            PlateInitial::Paper => "paper",
-            PlateInitial::Bump => "bump",
-        }
-    }
-
-    /// `u⁰(x, y)` on the plate (0, L) × (0, H).
-    pub fn displacement(self, length: f64, height: f64, x: f64, y: f64) -> f64 {
-        let base = (length - x) / 2.0;
-        match self {
-            PlateInitial::Paper => base,
-            PlateInitial::Bump => base * (1.0 + 0.5 * (std::f64::consts::PI * y / height).cos()),
-        }
-    }
-}
-
-/// The geometry and discretisation of a plate run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PlateSpec {
-    pub length: f64,
-    pub height: f64,
-    pub nx: usize,
-    pub ny: usize,
-    pub cells: CellKind,
-    pub initial: PlateInitial,
-    pub force: f64,
 }
 
 pub use crate::problem::PlateProblem;
@@ -98,10 +56,7 @@ pub struct PlateRun {
 }
 
 /// Runs a plate scene: the summary always, plus the requested series and VTU frames.
-pub fn run_plate_scene(
-    scene: &super::scene::PlateScene,
-    extra: &mut [&mut dyn Observer],
-) -> Result<PlateRun, PlateRunError> {
+pub fn run_plate_scene(scene: &PlateScene, extra: &mut [&mut dyn Observer]) -> Result<PlateRun, PlateRunError> {
     let problem = match &scene.mesh_file {
         None => PlateProblem::new(&scene.plate, &scene.mass)?,
         Some(path) => {

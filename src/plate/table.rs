@@ -13,7 +13,8 @@
 //! over the steps; nothing is tuned to match the paper.
 
 use super::mesh::CellKind;
-use super::run::{PlateInitial, PlateProblem, PlateRunError, PlateSpec};
+use super::run::{PlateProblem, PlateRunError};
+use super::scene::{PlateInitial, PlateSpec};
 use crate::driver::{Observer, Sample, integrate};
 use crate::mass::MassKind;
 use crate::observe::SummaryObserver;
