@@ -88,7 +88,7 @@ fn reproduces_the_paper_benchmark_for_three_periods() {
 
 /// Mutation that made it fail: the round-off chop of the smooth fit keeping one coefficient
 /// too few (`map_or(1, |k| k + 1)` → `map_or(1, |k| k)` in `base.rs`), which turns the linear
-/// u⁰ into a constant.
+/// u⁰ into a constant (the construction then already fails: u⁰(L) ≠ 0 at the clamped end).
 #[test]
 fn smooth_closures_reproduce_the_paper_benchmark() {
     for l in [1.0, 2.5] {
@@ -387,8 +387,10 @@ fn l2_error_is_exact_on_cells() {
 /// that error to be far smaller still; the measured numbers are printed
 /// (`cargo test --test characteristics smooth_data -- --nocapture`).
 ///
-/// Mutation that made it fail: the round-off chop of the Chebyshev coefficients raised from 64
-/// ulps to 1e−9 of the scale (`CHOP_ULPS`), i.e. a cruder fit of the data.
+/// Mutation that made it fail: the smooth cells integrated with 2 Gauss points instead of 8
+/// (`gauss_legendre(if smooth { 8 } else { 3 })` → `if smooth { 2 } ...`): |Δ l2_error_p1|
+/// rose to 3.5e−7. (A cruder fit, `CHOP_ULPS` = 1e−9, fails at construction on u⁰(L) ≠ 0;
+/// `TAIL_TOL` = 1e−3 passes, as cos is resolved by degree 31 on one panel anyway.)
 #[test]
 fn smooth_data_meet_the_stated_accuracy() {
     let l = 1.0;
