@@ -125,18 +125,18 @@ struct RawBar {
 /// `initial = "paper"` or `initial = { displacement = "…", velocity = "…" }`.
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(untagged)]
-enum RawInitial {
+pub(crate) enum RawInitial {
     Name(String),
     Fields(RawInitialFields),
 }
 
 #[derive(Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-struct RawInitialFields {
+pub(crate) struct RawInitialFields {
     #[serde(skip_serializing_if = "Option::is_none")]
-    displacement: Option<RawField>,
+    pub(crate) displacement: Option<RawField>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    velocity: Option<RawField>,
+    pub(crate) velocity: Option<RawField>,
 }
 
 /// A number or an expression (a string).
@@ -216,6 +216,107 @@ impl Force {
         match self {
             Force::Constant(f) => Some(*f),
             Force::Field(e) => e.is_constant(),
+        }
+    }
+}
+
+/// The material, far end, gap and force of a body (bar or plate).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    pub material: Material,
+    pub far_end: FarEnd,
+    /// The obstacle at x = 0: u ≥ −gap on the contact boundary.
+    pub gap: f64,
+    pub force: Force,
+}
+
+impl Default for Body {
+    /// The paper's body: ρ = E = 1, clamped at x = L, no gap, no force.
+    fn default() -> Self {
+        Body { material: Material::UNIT, far_end: FarEnd::Clamped, gap: 0.0, force: Force::Constant(0.0) }
+    }
+}
+
+/// The scene keys of a body's table (`bar.*` or `plate.*`).
+pub(crate) struct BodyKeys {
+    pub density: &'static str,
+    pub modulus: &'static str,
+    pub far_end: &'static str,
+    pub gap: &'static str,
+}
+
+/// Density, modulus, far end and gap, validated (defaults: 1, 1, clamped, 0).
+pub(crate) fn parse_body(
+    keys: &BodyKeys,
+    density: Option<Number>,
+    modulus: Option<Number>,
+    far_end: Option<&str>,
+    gap: Option<Number>,
+) -> Result<(Material, FarEnd, f64), SceneError> {
+    let positive = |key, v: Option<Number>| {
+        let v = finite_in(key, v.map_or(1.0, Number::get), true, "(0, ∞)")?;
+        finite_in(key, v, v > 0.0, "(0, ∞)")
+    };
+    let (density, modulus) = (positive(keys.density, density)?, positive(keys.modulus, modulus)?);
+    let far_end = match far_end.unwrap_or("clamped") {
+        "clamped" => FarEnd::Clamped,
+        "free" => FarEnd::Free,
+        other => {
+            return Err(SceneError::Range {
+                key: keys.far_end,
+                value: format!("\"{other}\""),
+                range: "\"clamped\" (u(L,t) = 0) or \"free\" (E u_x(L,t) = 0)",
+            });
+        }
+    };
+    let gap = finite_in(keys.gap, gap.map_or(0.0, Number::get), true, "[0, ∞)")?;
+    finite_in(keys.gap, gap, gap >= 0.0, "[0, ∞)")?;
+    Ok((Material { density, modulus }, far_end, gap))
+}
+
+/// A number or an expression as an [`Expr`] (absent: 0).
+pub(crate) fn parse_field(
+    key: &str,
+    raw: Option<RawField>,
+    vars: &[&str],
+    consts: &[(&str, f64)],
+) -> Result<Expr, SceneError> {
+    let text = match raw {
+        None => "0".to_string(),
+        Some(RawField::Number(n)) => crate::expr::sci(n.get()),
+        Some(RawField::Expr(t)) => t,
+    };
+    Ok(Expr::parse(key, &text, vars, consts)?)
+}
+
+/// A force: a number, or an expression in `vars` (time-dependent forces are refused).
+pub(crate) fn parse_force(
+    key: &'static str,
+    raw: Option<RawField>,
+    vars: &[&str],
+    consts: &[(&str, f64)],
+) -> Result<Force, SceneError> {
+    match raw {
+        None => Ok(Force::Constant(0.0)),
+        Some(RawField::Number(n)) => {
+            Ok(Force::Constant(finite_in(key, n.get(), true, "finite real numbers, or an expression")?))
+        }
+        Some(raw) => {
+            let with_t: Vec<&str> = vars.iter().copied().chain(["t"]).collect();
+            let e = parse_field(key, Some(raw), &with_t, consts)?;
+            if e.depends_on("t") {
+                return Err(SceneError::Inapplicable {
+                    key,
+                    context: format!(
+                        "time: \"{}\" depends on t, and time-dependent forces are not supported yet (the schemes assume a constant load); write an expression without t",
+                        e.text()
+                    ),
+                });
+            }
+            Ok(match e.is_constant() {
+                Some(c) => Force::Constant(c),
+                None => Force::Field(Expr::parse(key, e.text(), vars, consts)?),
+            })
         }
     }
 }
@@ -407,32 +508,11 @@ impl Scene {
             return Err(SceneError::Range { key: "bar.elements", value: elements.to_string(), range: "[2, 10000000]" });
         }
         let elements = elements as usize;
-        let density = finite_in("bar.density", bar.density.map_or(1.0, Number::get), true, "(0, ∞)")?;
-        finite_in("bar.density", density, density > 0.0, "(0, ∞)")?;
-        let modulus = finite_in("bar.modulus", bar.modulus.map_or(1.0, Number::get), true, "(0, ∞)")?;
-        finite_in("bar.modulus", modulus, modulus > 0.0, "(0, ∞)")?;
-        let far_end = match bar.far_end.as_deref().unwrap_or("clamped") {
-            "clamped" => FarEnd::Clamped,
-            "free" => FarEnd::Free,
-            other => {
-                return Err(SceneError::Range {
-                    key: "bar.far_end",
-                    value: format!("\"{other}\""),
-                    range: "\"clamped\" (u(L,t) = 0) or \"free\" (E u_x(L,t) = 0)",
-                });
-            }
-        };
-        let gap = finite_in("bar.gap", bar.gap.map_or(0.0, Number::get), true, "[0, ∞)")?;
-        finite_in("bar.gap", gap, gap >= 0.0, "[0, ∞)")?;
+        let keys = BodyKeys { density: "bar.density", modulus: "bar.modulus", far_end: "bar.far_end", gap: "bar.gap" };
+        let (Material { density, modulus }, far_end, gap) =
+            parse_body(&keys, bar.density, bar.modulus, bar.far_end.as_deref(), bar.gap)?;
         let consts = [("L", length), ("pi", std::f64::consts::PI)];
-        let field = |key: &'static str, raw: Option<RawField>, vars: &[&str]| -> Result<Expr, SceneError> {
-            let text = match raw {
-                None => "0".to_string(),
-                Some(RawField::Number(n)) => crate::expr::sci(n.get()),
-                Some(RawField::Expr(t)) => t,
-            };
-            Ok(Expr::parse(key, &text, vars, &consts)?)
-        };
+        let field = |key: &'static str, raw: Option<RawField>, vars: &[&str]| parse_field(key, raw, vars, &consts);
         let initial = match bar.initial {
             None => Initial::Paper,
             Some(RawInitial::Name(name)) if name == "paper" => Initial::Paper,
@@ -448,28 +528,7 @@ impl Scene {
                 velocity: field("bar.initial.velocity", f.velocity, &["x"])?,
             },
         };
-        let force = match bar.force {
-            None => Force::Constant(0.0),
-            Some(RawField::Number(n)) => {
-                Force::Constant(finite_in("bar.force", n.get(), true, "finite real numbers, or an expression in x")?)
-            }
-            Some(raw) => {
-                let e = field("bar.force", Some(raw), &["x", "t"])?;
-                if e.depends_on("t") {
-                    return Err(SceneError::Inapplicable {
-                        key: "bar.force",
-                        context: format!(
-                            "time: \"{}\" depends on t, and time-dependent forces are not supported yet (the schemes assume a constant load); write an expression in x only",
-                            e.text()
-                        ),
-                    });
-                }
-                match e.is_constant() {
-                    Some(c) => Force::Constant(c),
-                    None => Force::Field(Expr::parse("bar.force", e.text(), &["x"], &consts)?),
-                }
-            }
-        };
+        let force = parse_force("bar.force", bar.force, &["x"], &consts)?;
         if let Initial::Fields { displacement, velocity } = &initial {
             let nodes = || (0..=elements).map(|i| [length * i as f64 / elements as f64]);
             displacement.eval_at_nodes(nodes())?;

@@ -44,7 +44,7 @@ static GLOBAL: CountingAlloc = CountingAlloc;
 const CN: SchemeSpec = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
 
 fn spec(nx: usize, ny: usize, height: f64, cells: CellKind, initial: PlateInitial) -> PlateSpec {
-    PlateSpec { length: 1.0, height, nx, ny, cells, initial, force: 0.0 }
+    PlateSpec { length: 1.0, height, nx, ny, cells, initial, body: massredist::scene::Body::default() }
 }
 
 /// Max over steps 0..=steps and all nodes of |u_2D(x_i, y_j) − u_1D(x_i)| and the same for v,
@@ -429,7 +429,7 @@ fn hybrid_energy_never_increases_in_2d() {
     ];
     for (cells, nx, ny, init, dt) in cases {
         for mass in [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3] {
-            let p = PlateProblem::new(&spec(nx, ny, 1.0, cells, init), &mass).unwrap();
+            let p = PlateProblem::new(&spec(nx, ny, 1.0, cells, init.clone()), &mass).unwrap();
             let steps = hybrid_energy(&p, dt, (3.0 / dt).round() as usize);
             // E = O(0.1) is a sum of O(n) products: its evaluation error is ~ n ε · 0.1.
             let tol = 1e4 * f64::EPSILON;
@@ -578,7 +578,8 @@ fn a_gmsh_triangle_mesh_runs_through_meshio() {
     let mesh = Mesh2d::read_file(&path).unwrap();
     assert_eq!((mesh.n_nodes(), mesh.n_cells(), mesh.kind), (20, 24, CellKind::Triangle));
     assert!((mesh.total_area() - 1.0).abs() <= 16.0 * f64::EPSILON);
-    let p = PlateProblem::from_mesh(mesh, &MassKind::Mod3, PlateInitial::Bump, 0.0).unwrap();
+    let p = PlateProblem::from_mesh(mesh, &MassKind::Mod3, &PlateInitial::Bump, &massredist::scene::Body::default())
+        .unwrap();
     assert_eq!(p.system.system.contact.len(), 4);
     let steps = hybrid_energy(&p, 0.01, 300);
     let worst = steps.iter().map(|s| s.0).fold(f64::NEG_INFINITY, f64::max);
@@ -636,4 +637,47 @@ fn a_failed_contact_step_names_the_step_and_the_residual() {
         SchemeError::Contact { step: 17, time: 0.17, source: LcpError::NotConverged { pivots: 1151, residual: 3e-3 } };
     let msg = e.to_string();
     assert!(msg.contains("step 17") && msg.contains("1151") && msg.contains("3e-3"), "{msg}");
+}
+
+#[test]
+fn plates_take_the_bar_keys_and_reduce_to_the_bar_with_x_only_data() {
+    // The same keys as bars (density, modulus, far_end, gap, expressions): with Q1 cells, x-only
+    // weights and y-independent data the plate is the bar extended in y (tensor products, as in
+    // the test above), so both scenes built from text must step alike to round-off, for a free
+    // far end, a gap, another material and expression data. Mutation check: assembling the
+    // plate's density into its stiffness, or ignoring plate.gap, breaks the comparison.
+    use massredist::plate::run::PlateProblem;
+    use massredist::plate::scene::PlateScene;
+    let body = "density = 4.0\nmodulus = 2.25\nfar_end = \"free\"\ngap = 0.05\n\
+                initial = { displacement = \"0.1*x\", velocity = \"-1+0.3*x\" }";
+    let tail = "[mass]\nkind = \"mod3\"\n[scheme]\nkind = \"KIND\"\n[time]\ndt = 0.01\nend = 2.0\n[output]\nseries = [\"u0\"]\n";
+    for kind in ["crank-nicolson", "backward-euler", "hybrid"] {
+        let tail = tail.replace("KIND", kind);
+        let plate = PlateScene::from_toml(&format!("[plate]\nnx = 20\nny = 3\nheight = 0.5\n{body}\n{tail}")).unwrap();
+        let bar = massredist::scene::Scene::from_toml(&format!("[bar]\nelements = 20\n{body}\n{tail}")).unwrap();
+        let p2 = PlateProblem::new(&plate.plate, &plate.mass).unwrap();
+        let p1 = Problem::from_scene(&bar).unwrap();
+        assert_eq!(p2.system.system.lower, vec![-0.05; 4], "the gap on every contact node");
+        let (mut s2, mut s1) = (p2.scheme(&plate.scheme, 0.01).unwrap(), p1.scheme(&bar.scheme, 0.01).unwrap());
+        let mut worst = 0.0f64;
+        let mut contact = 0;
+        for _ in 0..200 {
+            s2.step().unwrap();
+            s1.step().unwrap();
+            let (a, b) = (s2.state(), s1.state());
+            for (d, &node) in p2.system.dofs.iter().enumerate() {
+                worst = worst.max((a.u[d] - b.u[node % 21]).abs());
+            }
+            contact += usize::from(b.lambda[0] < 0.0);
+        }
+        assert!(contact > 0, "{kind}: the bar must reach the obstacle");
+        // As in the test above: linear growth of per-step round-off, 64 ε per step.
+        assert!(worst <= 200.0 * 64.0 * f64::EPSILON, "{kind}: max |u_2D − u_1D| = {worst:e}");
+    }
+    let err = |t: &str| PlateScene::from_toml(&format!("[plate]\n{t}\n")).unwrap_err().to_string();
+    assert!(err("density = 0").contains("plate.density"));
+    assert!(err("far_end = \"hinged\"").contains("plate.far_end"));
+    assert!(err("gap = -1").contains("plate.gap"));
+    assert!(err("force = \"y*t\"").contains("plate.force"));
+    assert!(err("initial = { displacement = \"x+\" }").starts_with("plate.initial.displacement"));
 }

@@ -191,7 +191,7 @@ pub fn time_plate(nx: usize, ny: usize, min_total: f64) -> Option<PlateTimings> 
         ny,
         cells: CellKind::Quad,
         initial: PlateInitial::Paper,
-        force: 0.0,
+        body: crate::scene::Body::default(),
     };
     let mass = MassKind::Mod3;
     let problem = PlateProblem::new(&spec, &mass).ok()?;

@@ -18,9 +18,17 @@
 
 use super::mass::{PlateMassError, cell_weights};
 use super::mesh::{CellKind, Mesh2d};
+use crate::assembly::{FarEnd, Material};
 use crate::linalg::sparse::{self, SpMat, SparseError};
 use crate::mass::MassKind;
 use crate::system::ContactSystem;
+
+/// The body force of a plate.
+pub enum PlateLoad<'a> {
+    Constant(f64),
+    /// f(x, y), time-independent.
+    Field(&'a dyn Fn(f64, f64) -> f64),
+}
 use thiserror::Error;
 
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -124,24 +132,54 @@ impl PlateSystem {
         Self::from_weights(mesh, weights, force)
     }
 
-    /// Assembly from validated cell weights.
+    /// Assembly from validated cell weights (ρ = E = 1, clamped at x = L, constant force).
     pub fn from_weights(mesh: Mesh2d, weights: Vec<f64>, force: f64) -> Result<Self, PlateAssemblyError> {
-        if !force.is_finite() {
-            return Err(PlateAssemblyError::Force(force));
+        Self::assemble(mesh, weights, Material::UNIT, FarEnd::Clamped, &PlateLoad::Constant(force))
+    }
+
+    /// The general plate: mass `ρ ∫ w_h u v`, stiffness `E ∫ ∇u·∇v`, the nodes of x = L
+    /// eliminated when clamped and kept (natural condition) when free, and the load
+    /// `F_i = ∫ f w_h φ_i`: for a constant f exactly `f (M 1)_i`, for f(x, y) with f
+    /// interpolated at the nodes, `F = M I_h f` (exact for f in the finite element space).
+    pub fn assemble(
+        mesh: Mesh2d,
+        weights: Vec<f64>,
+        material: Material,
+        far_end: FarEnd,
+        force: &PlateLoad,
+    ) -> Result<Self, PlateAssemblyError> {
+        if let PlateLoad::Constant(f) = force
+            && !f.is_finite()
+        {
+            return Err(PlateAssemblyError::Force(*f));
         }
-        let (mass_all, stiff_all) = assemble(&mesh, &weights)?;
+        let (mut mass_all, mut stiff_all) = assemble(&mesh, &weights)?;
+        if material != Material::UNIT {
+            mass_all = sparse::combine(&mass_all, material.density, &mass_all, 0.0, "mass")?;
+            stiff_all = sparse::combine(&stiff_all, material.modulus, &stiff_all, 0.0, "stiffness")?;
+        }
         let (unit_all, _) = assemble(&mesh, &vec![1.0; mesh.n_cells()])?;
-        let dofs: Vec<usize> = (0..mesh.n_nodes()).filter(|&v| !mesh.on_dirichlet(v)).collect();
+        let eliminated = |v: usize| far_end == FarEnd::Clamped && mesh.on_dirichlet(v);
+        let dofs: Vec<usize> = (0..mesh.n_nodes()).filter(|&v| !eliminated(v)).collect();
         let mut node_dof = vec![None; mesh.n_nodes()];
         for (d, &v) in dofs.iter().enumerate() {
             node_dof[v] = Some(d);
         }
-        // F_i = f ∫ w_h φ_i = f Σ_j M_ij (the basis functions sum to 1), over all nodes.
+        // Constant f: F_i = f ∫ w_h φ_i = f Σ_j M_ij (the basis functions sum to 1); a field:
+        // F_i = Σ_j M_ij f(x_j). The weighted mass is per unit density here.
+        let f_nodes: Vec<f64> = match force {
+            PlateLoad::Constant(_) => vec![1.0; mesh.n_nodes()],
+            PlateLoad::Field(f) => mesh.points.iter().map(|p| f(p[0], p[1])).collect(),
+        };
+        let scale = match force {
+            PlateLoad::Constant(f) => *f / material.density,
+            PlateLoad::Field(_) => 1.0 / material.density,
+        };
         let mut row_sums = vec![0.0; mesh.n_nodes()];
-        for (i, _, v) in sparse::triplets(&mass_all) {
-            row_sums[i] += v;
+        for (i, j, v) in sparse::triplets(&mass_all) {
+            row_sums[i] += v * f_nodes[j];
         }
-        let load: Vec<f64> = dofs.iter().map(|&v| force * row_sums[v]).collect();
+        let load: Vec<f64> = dofs.iter().map(|&v| scale * row_sums[v]).collect();
         let mass = sparse::principal(&mass_all, &dofs, "mass")?;
         let stiffness = sparse::principal(&stiff_all, &dofs, "stiffness")?;
         let mass_unit = sparse::principal(&unit_all, &dofs, "mass")?;
@@ -175,6 +213,12 @@ impl PlateSystem {
             .collect();
         let base = dofs.iter().map(|&v| bottom.get(&mesh.points[v][0].to_bits()).copied()).collect();
         Ok(Self { mesh, weights, dofs, node_dof, system, mass_unit, base, contact_lengths })
+    }
+
+    /// The same system with the obstacle at `u_c = −gap` on every contact node (gap ≥ 0).
+    pub fn with_gap(mut self, gap: f64) -> Self {
+        self.system.lower = vec![0.0 - gap; self.system.contact.len()];
+        self
     }
 
     /// Nodal interpolant of g(x, y) on the free nodes.

@@ -1,13 +1,15 @@
 //! Plate scenes: the problem of a `[plate]` scene and its run (the driver is
 //! [`crate::driver`], the observers [`crate::observe`]). Nothing here does I/O.
 
-use super::assembly::{PlateAssemblyError, PlateSystem};
+use super::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
+use super::mass::cell_weights;
 use super::mesh::{Mesh2d, MeshError};
 use super::scene::{PlateInitial, PlateScene, PlateSpec};
 use crate::driver::{Observer, integrate};
 use crate::exact::{Exact, ImpactingBar};
 use crate::mass::MassKind;
 use crate::observe::{FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
+use crate::scene::{Body, Force};
 use crate::schemes::SchemeError;
 use thiserror::Error;
 
@@ -29,19 +31,33 @@ impl PlateProblem {
     /// The structured plate of `spec`.
     pub fn new(spec: &PlateSpec, mass: &MassKind) -> Result<Self, PlateRunError> {
         let mesh = Mesh2d::structured(spec.length, spec.height, spec.nx, spec.ny, spec.cells)?;
-        Self::from_mesh(mesh, mass, spec.initial, spec.force)
+        Self::from_mesh(mesh, mass, &spec.initial, &spec.body)
     }
 
     /// Any mesh of (0, L) × (y_min, y_min + H) (e.g. a triangle mesh read from a file with
     /// [`Mesh2d::from_arrays`]); the initial data use `y − y_min`.
-    pub fn from_mesh(mesh: Mesh2d, mass: &MassKind, initial: PlateInitial, force: f64) -> Result<Self, PlateRunError> {
+    pub fn from_mesh(
+        mesh: Mesh2d,
+        mass: &MassKind,
+        initial: &PlateInitial,
+        body: &Body,
+    ) -> Result<Self, PlateRunError> {
         let (l, h) = (mesh.length, mesh.height);
         let ymin = mesh.points.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
-        let plate = PlateSystem::new(mesh, mass, force)?;
+        let weights = cell_weights(&mesh, mass).map_err(PlateAssemblyError::from)?;
+        let field;
+        let load = match &body.force {
+            Force::Constant(f) => PlateLoad::Constant(*f),
+            Force::Field(e) => {
+                field = move |x: f64, y: f64| e.eval(&[x, y - ymin]);
+                PlateLoad::Field(&field)
+            }
+        };
+        let plate = PlateSystem::assemble(mesh, weights, body.material, body.far_end, &load)?.with_gap(body.gap);
         let u0 = plate.interpolate(|x, y| initial.displacement(l, h, x, y - ymin));
-        let v0 = vec![0.0; u0.len()];
-        let exact =
-            (initial == PlateInitial::Paper && force == 0.0).then_some(Exact::Paper(ImpactingBar { length: l }));
+        let v0 = plate.interpolate(|x, y| initial.velocity(x, y - ymin));
+        let paper = *initial == PlateInitial::Paper && *body == Body::default();
+        let exact = paper.then_some(Exact::Paper(ImpactingBar { length: l }));
         Ok(Self { system: plate, u0, v0, exact })
     }
 }
@@ -61,7 +77,7 @@ pub fn run_plate_scene(scene: &PlateScene, extra: &mut [&mut dyn Observer]) -> R
         None => PlateProblem::new(&scene.plate, &scene.mass)?,
         Some(path) => {
             let mesh = read_mesh_file(path)?;
-            PlateProblem::from_mesh(mesh, &scene.mass, scene.plate.initial, scene.plate.force)?
+            PlateProblem::from_mesh(mesh, &scene.mass, &scene.plate.initial, &scene.plate.body)?
         }
     };
     let mut scheme = problem.scheme(&scene.scheme, scene.time.dt)?;

@@ -29,9 +29,11 @@
 
 use super::mass::{PlateMassError, cell_weights, layers};
 use super::mesh::{CellKind, Mesh2d, MeshError};
+use crate::expr::Expr;
 use crate::mass::MassKind;
 use crate::scene::{
-    Column, Number, RawMass, RawScheme, RawTime, SceneError, SchemeSpec, TimeSpec, finite_in, forbid, parse_mass,
+    Body, BodyKeys, Column, Force, Number, RawField, RawInitial, RawInitialFields, RawMass, RawScheme, RawTime,
+    SceneError, SchemeSpec, TimeSpec, finite_in, forbid, parse_body, parse_field, parse_force, parse_mass,
     parse_scheme, parse_time, raw_mass, raw_scheme, raw_time,
 };
 use serde::{Deserialize, Serialize};
@@ -83,9 +85,17 @@ struct RawPlate {
     #[serde(skip_serializing_if = "Option::is_none")]
     cells: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    initial: Option<String>,
+    density: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    force: Option<Number>,
+    modulus: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    far_end: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gap: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    initial: Option<RawInitial>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    force: Option<RawField>,
     #[serde(skip_serializing_if = "Option::is_none")]
     mesh: Option<String>,
 }
@@ -104,7 +114,7 @@ struct RawPlateOutput {
 }
 
 /// Initial data of the plate.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum PlateInitial {
     /// u⁰ = (L − x)/2, v⁰ = 0: the 1D benchmark extended constantly in y (exact solution known
     /// for f = 0: the 1D one).
@@ -114,22 +124,34 @@ pub enum PlateInitial {
     /// hit it at different times and the contact state varies along Γ_C. `∂_y u⁰ = 0` on
     /// y = 0, H (compatible with the Neumann condition) and u⁰ = 0 on x = L.
     Bump,
+    /// u⁰(x, y), v⁰(x, y) as expressions (in x, y, L, H, pi), interpolated at every node.
+    Fields { displacement: Expr, velocity: Expr },
 }
 
 impl PlateInitial {
-    pub fn name(self) -> &'static str {
+    pub fn name(&self) -> &'static str {
         match self {
             PlateInitial::Paper => "paper",
             PlateInitial::Bump => "bump",
+            PlateInitial::Fields { .. } => "expressions",
         }
     }
 
     /// `u⁰(x, y)` on the plate (0, L) × (0, H).
-    pub fn displacement(self, length: f64, height: f64, x: f64, y: f64) -> f64 {
+    pub fn displacement(&self, length: f64, height: f64, x: f64, y: f64) -> f64 {
         let base = (length - x) / 2.0;
         match self {
             PlateInitial::Paper => base,
             PlateInitial::Bump => base * (1.0 + 0.5 * (std::f64::consts::PI * y / height).cos()),
+            PlateInitial::Fields { displacement, .. } => displacement.eval(&[x, y]),
+        }
+    }
+
+    /// `v⁰(x, y)` (0 for the named data).
+    pub fn velocity(&self, x: f64, y: f64) -> f64 {
+        match self {
+            PlateInitial::Fields { velocity, .. } => velocity.eval(&[x, y]),
+            _ => 0.0,
         }
     }
 }
@@ -143,7 +165,8 @@ pub struct PlateSpec {
     pub ny: usize,
     pub cells: CellKind,
     pub initial: PlateInitial,
-    pub force: f64,
+    /// Material, far end (x = L), gap and force.
+    pub body: Body,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -233,7 +256,6 @@ impl PlateScene {
                 .into());
             }
         };
-        parse_initial(p.initial.as_deref())?;
         // Checked before the mesh is built: a hostile nx, ny must fail fast.
         check_contact_work(nx * (ny + 1), ny + 1)?;
         let mesh = Mesh2d::structured(length, height, nx, ny, cells)?;
@@ -248,9 +270,22 @@ impl PlateScene {
         mesh: Mesh2d,
         mesh_file: Option<std::path::PathBuf>,
     ) -> Result<PlateScene, PlateSceneError> {
-        let initial = parse_initial(p.initial.as_deref())?;
-        let force = finite_in("plate.force", p.force.map_or(0.0, Number::get), true, "finite real numbers")?;
         let (length, height, cells) = (mesh.length, mesh.height, mesh.kind);
+        let keys =
+            BodyKeys { density: "plate.density", modulus: "plate.modulus", far_end: "plate.far_end", gap: "plate.gap" };
+        let (material, far_end, gap) = parse_body(&keys, p.density, p.modulus, p.far_end.as_deref(), p.gap)?;
+        let consts = [("L", length), ("H", height), ("pi", std::f64::consts::PI)];
+        let initial = parse_initial(p.initial, &consts)?;
+        let force = parse_force("plate.force", p.force, &["x", "y"], &consts)?;
+        let points = || mesh.points.iter().copied();
+        if let PlateInitial::Fields { displacement, velocity } = &initial {
+            displacement.eval_at_nodes(points()).map_err(SceneError::from)?;
+            velocity.eval_at_nodes(points()).map_err(SceneError::from)?;
+        }
+        if let Force::Field(f) = &force {
+            f.eval_at_nodes(points()).map_err(SceneError::from)?;
+        }
+        let body = Body { material, far_end, gap, force };
         let (nx, ny) = match (&mesh_file, p.nx, p.ny) {
             (None, nx, ny) => (nx.unwrap_or(20) as usize, ny.unwrap_or(20) as usize),
             (Some(_), _, _) => (0, 0),
@@ -272,7 +307,7 @@ impl PlateScene {
             e => e.into(),
         })?;
 
-        let has_exact = initial == PlateInitial::Paper && force == 0.0;
+        let has_exact = initial == PlateInitial::Paper && body == Body::default();
         let o = raw.output.unwrap_or_default();
         let names = o.series.unwrap_or_else(|| {
             let mut d = vec!["u0", "u_mean", "lambda", "contact_force", "energy"];
@@ -295,7 +330,7 @@ impl PlateScene {
                 return Err(SceneError::Inapplicable {
                     key: "output.series",
                     context: format!(
-                        "column \"{}\" with plate.initial = \"{}\", plate.force = {force}: the exact solution is known only for initial = \"paper\" and force = 0",
+                        "column \"{}\" with plate.initial = \"{}\": the plate's exact solution is known only for initial = \"paper\" on the paper's body (density = modulus = 1, clamped, gap = 0, force = 0)",
                         col.name(),
                         initial.name()
                     ),
@@ -326,7 +361,7 @@ impl PlateScene {
             None
         };
         Ok(PlateScene {
-            plate: PlateSpec { length, height, nx, ny, cells, initial, force },
+            plate: PlateSpec { length, height, nx, ny, cells, initial, body },
             mesh_file,
             mass,
             scheme,
@@ -337,7 +372,7 @@ impl PlateScene {
 
     /// The exact solution is known for the paper's initial data without body force.
     pub fn has_exact_solution(&self) -> bool {
-        self.plate.initial == PlateInitial::Paper && self.plate.force == 0.0
+        self.plate.initial == PlateInitial::Paper && self.plate.body == Body::default()
     }
 
     /// The scene with every default filled in, as TOML.
@@ -352,8 +387,21 @@ impl PlateScene {
                 nx: structured.then_some(p.nx as i64),
                 ny: structured.then_some(p.ny as i64),
                 cells: structured.then(|| p.cells.name().into()),
-                initial: Some(p.initial.name().into()),
-                force: Some(f(p.force)),
+                density: Some(f(p.body.material.density)),
+                modulus: Some(f(p.body.material.modulus)),
+                far_end: Some(p.body.far_end.name().into()),
+                gap: Some(f(p.body.gap)),
+                initial: Some(match &p.initial {
+                    PlateInitial::Fields { displacement, velocity } => RawInitial::Fields(RawInitialFields {
+                        displacement: Some(RawField::Expr(displacement.text().into())),
+                        velocity: Some(RawField::Expr(velocity.text().into())),
+                    }),
+                    named => RawInitial::Name(named.name().into()),
+                }),
+                force: Some(match &p.body.force {
+                    Force::Constant(c) => RawField::Number(f(*c)),
+                    Force::Field(e) => RawField::Expr(e.text().into()),
+                }),
                 mesh: self.mesh_file.as_ref().map(|m| m.display().to_string()),
             }),
             mass: Some(raw_mass(&self.mass)),
@@ -381,17 +429,22 @@ impl PlateScene {
     }
 }
 
-/// `plate.initial`.
-fn parse_initial(name: Option<&str>) -> Result<PlateInitial, PlateSceneError> {
-    match name.unwrap_or("paper") {
-        "paper" => Ok(PlateInitial::Paper),
-        "bump" => Ok(PlateInitial::Bump),
-        other => Err(SceneError::Range {
+/// `plate.initial`: "paper", "bump" or a table of expressions in x, y.
+fn parse_initial(raw: Option<RawInitial>, consts: &[(&str, f64)]) -> Result<PlateInitial, PlateSceneError> {
+    match raw {
+        None => Ok(PlateInitial::Paper),
+        Some(RawInitial::Name(name)) if name == "paper" => Ok(PlateInitial::Paper),
+        Some(RawInitial::Name(name)) if name == "bump" => Ok(PlateInitial::Bump),
+        Some(RawInitial::Name(other)) => Err(SceneError::Range {
             key: "plate.initial",
             value: format!("\"{other}\""),
-            range: "\"paper\" (u0 = (L-x)/2) | \"bump\" (u0 = (L-x)/2 (1 + cos(pi y/H)/2))",
+            range: "\"paper\" (u0 = (L-x)/2) | \"bump\" (u0 = (L-x)/2 (1 + cos(pi y/H)/2)) | { displacement = \"expression in x, y\", velocity = \"…\" }",
         }
         .into()),
+        Some(RawInitial::Fields(f)) => Ok(PlateInitial::Fields {
+            displacement: parse_field("plate.initial.displacement", f.displacement, &["x", "y"], consts)?,
+            velocity: parse_field("plate.initial.velocity", f.velocity, &["x", "y"], consts)?,
+        }),
     }
 }
 

@@ -18,6 +18,7 @@ use super::scene::{PlateInitial, PlateSpec};
 use crate::driver::{Observer, Sample, integrate};
 use crate::mass::MassKind;
 use crate::observe::SummaryObserver;
+use crate::scene::Body;
 use crate::scene::{Formulation, SchemeSpec};
 use serde::Serialize;
 
@@ -49,7 +50,7 @@ pub struct Row {
 
 /// The paper's initial data on an n × n mesh of the unit square.
 fn unit_square(cells: CellKind, n: usize) -> PlateSpec {
-    PlateSpec { length: 1.0, height: 1.0, nx: n, ny: n, cells, initial: PlateInitial::Paper, force: 0.0 }
+    PlateSpec { length: 1.0, height: 1.0, nx: n, ny: n, cells, initial: PlateInitial::Paper, body: Body::default() }
 }
 
 /// `max_n ‖u_h(t_n) − u(t_n)‖_{L²(Ω)}` for the paper's initial data on the unit square.
