@@ -161,6 +161,31 @@ impl ImpactingBar {
     }
 }
 
+/// The exact solution by characteristics of a body without force (bar, or a plate with
+/// y-independent data: a plane wave), for its material, far end and gap.
+pub fn by_characteristics(
+    length: f64,
+    material: crate::assembly::Material,
+    far_end: crate::assembly::FarEnd,
+    gap: f64,
+    initial: crate::characteristics::InitialData<'_>,
+    t_end: f64,
+) -> Result<crate::characteristics::Characteristics, crate::characteristics::CharacteristicsError> {
+    use crate::characteristics::{BarData, Characteristics, FarEnd};
+    let far_end = match far_end {
+        crate::assembly::FarEnd::Clamped => FarEnd::Clamped,
+        crate::assembly::FarEnd::Free => FarEnd::Free,
+    };
+    let data = BarData { length, density: material.density, modulus: material.modulus, far_end, gap };
+    Characteristics::new(&data, initial, t_end)
+}
+
+/// The paper's initial data u⁰ = (L − x)/2, v⁰ = 0 as piecewise-linear data for
+/// [`by_characteristics`]: (x, u, v) at the two ends.
+pub fn paper_data(length: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
+    ([0.0, length], [length / 2.0, 0.0], [0.0, 0.0])
+}
+
 /// The exact solution a run is measured against: the paper's closed form ([`ImpactingBar`]), or
 /// the general solution by characteristics ([`crate::characteristics::Characteristics`]) for
 /// any material, far end, gap and initial data without body force. Both are x-only, so a plate

@@ -1,9 +1,9 @@
 //! Bar scenes: the problem of a `[bar]` scene and its run (the driver is [`crate::driver`],
 //! the observers [`crate::observe`]). Nothing here does I/O.
 
-use crate::assembly::{AssemblyError, Bar, BarSystem, FarEnd, Load};
-use crate::characteristics::{self, BarData, Characteristics, CharacteristicsError, InitialData};
-use crate::exact::{Exact, ImpactingBar};
+use crate::assembly::{AssemblyError, Bar, BarSystem, Load};
+use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
+use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::scene::{Force, Initial, Scene};
 use crate::schemes::SchemeError;
 use thiserror::Error;
@@ -69,25 +69,16 @@ impl Problem {
 /// initial data (expressions are smooth closures, resolved to about 1e-14 by the solver; the
 /// paper's data piecewise linear, exact).
 fn general_exact(scene: &Scene) -> Result<Characteristics, CharacteristicsError> {
-    let spec = &scene.bar;
-    let data = BarData {
-        length: spec.length,
-        density: spec.material.density,
-        modulus: spec.material.modulus,
-        far_end: match spec.far_end {
-            FarEnd::Clamped => characteristics::FarEnd::Clamped,
-            FarEnd::Free => characteristics::FarEnd::Free,
-        },
-        gap: spec.gap,
-    };
-    match &spec.initial {
+    let s = &scene.bar;
+    let exact = |data| by_characteristics(s.length, s.material, s.far_end, s.gap, data, scene.time.end);
+    match &s.initial {
         Initial::Paper => {
-            let (x, u, v) = ([0.0, spec.length], [spec.length / 2.0, 0.0], [0.0, 0.0]);
-            Characteristics::new(&data, InitialData::PiecewiseLinear { x: &x, u: &u, v: &v }, scene.time.end)
+            let (x, u, v) = paper_data(s.length);
+            exact(InitialData::PiecewiseLinear { x: &x, u: &u, v: &v })
         }
         Initial::Fields { displacement, velocity } => {
             let (u, v) = (|x: f64| displacement.eval(&[x]), |x: f64| velocity.eval(&[x]));
-            Characteristics::new(&data, InitialData::Smooth { u: &u, v: &v }, scene.time.end)
+            exact(InitialData::Smooth { u: &u, v: &v })
         }
     }
 }

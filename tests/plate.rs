@@ -681,3 +681,32 @@ fn plates_take_the_bar_keys_and_reduce_to_the_bar_with_x_only_data() {
     assert!(err("force = \"y*t\"").contains("plate.force"));
     assert!(err("initial = { displacement = \"x+\" }").starts_with("plate.initial.displacement"));
 }
+
+#[test]
+fn y_independent_plates_are_measured_against_the_plane_wave() {
+    // Without force and with y-independent data, the plate's reference is the bar's solution by
+    // characteristics extended in y: its contact errors equal the bar's (the Q1 plate steps as
+    // the bar, test above), its L² error is not offered (null, never a false 0), and exact_u0 is
+    // a column. Mutation check: building the plane wave without the plate's gap changes
+    // max_contact_error by O(gap).
+    use massredist::plate::run::run_plate_scene;
+    use massredist::plate::scene::PlateScene;
+    let body = "modulus = 4.0\nfar_end = \"free\"\ngap = 0.1\ninitial = { displacement = \"0\", velocity = \"-1\" }";
+    let tail = "[mass]\nkind = \"mod3\"\n[scheme]\nkind = \"hybrid\"\n[time]\ndt = 0.005\nend = 1.5\n";
+    let plate_text =
+        format!("[plate]\nnx = 40\nny = 2\nheight = 0.2\n{body}\n{tail}[output]\nseries = [\"u0\", \"exact_u0\"]\n");
+    let plate = PlateScene::from_toml(&plate_text).unwrap();
+    let bar = massredist::scene::Scene::from_toml(&format!("[bar]\nelements = 40\n{body}\n{tail}")).unwrap();
+    let run = run_plate_scene(&plate, &mut []).unwrap();
+    let (summary, _) = massredist::run::run_scene(&bar, &mut []).unwrap();
+    let (e2, e1) = (run.summary.max_contact_error.unwrap(), summary.max_contact_error.unwrap());
+    assert!((e2 - e1).abs() <= 1e-12, "max contact error: plate {e2} vs bar {e1}");
+    let (l2, l1) = (run.summary.l2_lambda_error.unwrap(), summary.l2_lambda_error.unwrap());
+    assert!((l2 - l1).abs() <= 1e-10, "λ error: plate {l2} vs bar {l1}");
+    assert!(run.summary.linf_l2_error.is_none() && summary.linf_l2_error.is_some());
+    // Impact is the first t_n with u_0 ≤ −gap: round-off between the two may move it by a step.
+    let (a, b) = (run.summary.impact_time_shift.unwrap(), summary.impact_time_shift.unwrap());
+    assert!((a - b).abs() <= 0.005 * (1.0 + 1e-9), "impact shift: plate {a} vs bar {b}");
+    let e = PlateScene::from_toml("[plate]\ninitial = \"bump\"\n[output]\nseries = [\"exact_u0\"]\n").unwrap_err();
+    assert!(e.to_string().contains("exact_u0"), "{e}");
+}

@@ -5,8 +5,9 @@ use super::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
 use super::mass::cell_weights;
 use super::mesh::{Mesh2d, MeshError};
 use super::scene::{PlateInitial, PlateScene, PlateSpec};
+use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::driver::{Observer, integrate};
-use crate::exact::{Exact, ImpactingBar};
+use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::mass::MassKind;
 use crate::observe::{FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
 use crate::scene::{Body, Force};
@@ -21,6 +22,8 @@ pub enum PlateRunError {
     Assembly(#[from] PlateAssemblyError),
     #[error(transparent)]
     Scheme(#[from] SchemeError),
+    #[error("the plane-wave exact solution of this scene: {0}")]
+    Exact(CharacteristicsError),
     #[error("the 1D reference run failed: {0}")]
     Reference(String),
 }
@@ -62,6 +65,25 @@ impl PlateProblem {
     }
 }
 
+/// The plane-wave solution of a plate with y-independent data and no force: the bar's solution
+/// by characteristics, extended in y (None otherwise).
+fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, PlateRunError> {
+    let b = &spec.body;
+    if !spec.initial.y_independent() || b.force.constant() != Some(0.0) {
+        return Ok(None);
+    }
+    let exact = |data| by_characteristics(spec.length, b.material, b.far_end, b.gap, data, t_end);
+    let (x, u, v) = paper_data(spec.length);
+    let solution = match &spec.initial {
+        PlateInitial::Fields { displacement, velocity } => {
+            let (u, v) = (|x: f64| displacement.eval(&[x, 0.0]), |x: f64| velocity.eval(&[x, 0.0]));
+            exact(InitialData::Smooth { u: &u, v: &v })
+        }
+        _ => exact(InitialData::PiecewiseLinear { x: &x, u: &u, v: &v }),
+    };
+    Ok(Some(solution.map_err(PlateRunError::Exact)?))
+}
+
 /// Everything a plate scene run produces (the problem is kept for the VTU writer).
 #[derive(Debug)]
 pub struct PlateRun {
@@ -80,6 +102,10 @@ pub fn run_plate_scene(scene: &PlateScene, extra: &mut [&mut dyn Observer]) -> R
             PlateProblem::from_mesh(mesh, &scene.mass, &scene.plate.initial, &scene.plate.body)?
         }
     };
+    let mut problem = problem;
+    if problem.exact.is_none() {
+        problem.exact = plane_wave(&scene.plate, scene.time.end)?.map(|c| Exact::General(std::sync::Arc::new(c)));
+    }
     let mut scheme = problem.scheme(&scene.scheme, scene.time.dt)?;
     let steps = scene.time.steps;
     let mut summary = SummaryObserver::new(&problem, steps, scene.time.dt, true);
