@@ -492,7 +492,7 @@ fn plate_scene_errors_name_the_key() {
     let e = err("[plate]\n[scheme]\nkind = \"crank-nicolson\"\nformulation = \"reduced\"\n");
     assert!(e.contains("scheme.formulation = \"reduced\"") && e.contains("bar-only"), "{e}");
     assert!(err("[plate]\n[mass]\nkind = \"standard\"\n[scheme]\nkind = \"hybrid\"\n").contains("hybrid"));
-    assert!(err("[plate]\ninitial = \"bump\"\n[output]\nseries = [\"l2_error\"]\n").contains("exact solution"));
+    assert!(err("[plate]\ninitial = \"bump\"\n[output]\nseries = [\"l2_error\"]\n").contains("exact L² error"));
     assert!(err("[plate]\nnx = 4\nny = 2\n[mass]\nkind = \"custom\"\nweights = [1.0]\n").contains("8 cells"));
     assert!(err("[plate]\n[output]\nvtu_every = 3\n").contains("vtu"));
 }
