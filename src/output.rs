@@ -3,7 +3,7 @@
 //! before computing and carry a marker; only a marked folder is replaced without `--force`
 //! ([`OutputDir`]).
 
-use crate::run::{SeriesRecorder, Summary};
+use crate::observe::{SeriesRecorder, Summary};
 use crate::scene::Scene;
 use serde::Serialize;
 use std::io::Write;

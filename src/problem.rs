@@ -3,15 +3,14 @@
 //!
 //! A geometry ([`Geometry`]) is a mesh with its assembled [`ContactSystem`] and what reports
 //! need of it (contact means, exact L² norms, nodal values). A bar ([`BarSystem`]) is one over
-//! a tridiagonal back-end, a plate ([`PlateSystem`]) one over a sparse back-end. Schemes are
+//! a tridiagonal back-end, a plate (`crate::plate::PlateSystem`, its impl in `crate::plate::geometry`) one over a sparse back-end. Schemes are
 //! generic; only the bar-only schemes (Paoli–Schatzman and the reduced Newmark formulation)
 //! need the bar itself, and [`Geometry::bar`] is how they get it — every other geometry rejects
 //! them here, in [`Problem::scheme`].
 
 use crate::assembly::BarSystem;
+use crate::contact::Backend;
 use crate::exact::Exact;
-use crate::linalg::SymMatrix;
-use crate::plate::PlateSystem;
 use crate::scene::{Formulation, SchemeSpec};
 use crate::schemes::{BackwardEuler, Hybrid, Newmark, NewmarkReduced, PaoliSchatzman, Scheme, SchemeError};
 use crate::system::ContactSystem;
@@ -55,7 +54,7 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
 
 /// A geometry with its contact system over a linear-algebra back-end.
 pub trait Geometry: GeometryView {
-    type Matrix: SymMatrix;
+    type Matrix: Backend;
     fn system(&self) -> &ContactSystem<Self::Matrix>;
     /// The bar, for the bar-only schemes (None for other geometries).
     fn bar(&self) -> Option<&BarSystem> {
@@ -72,9 +71,6 @@ pub struct Problem<G = BarSystem> {
     pub v0: Vec<f64>,
     pub exact: Option<Exact>,
 }
-
-/// A plate problem.
-pub type PlateProblem = Problem<PlateSystem>;
 
 impl<G: Geometry> Problem<G> {
     /// Builds the scheme of a scene on this problem (factors its matrices once).
@@ -191,78 +187,5 @@ impl Geometry for BarSystem {
 
     fn bar(&self) -> Option<&BarSystem> {
         Some(self)
-    }
-}
-
-impl GeometryView for PlateSystem {
-    fn name(&self) -> &'static str {
-        "plate"
-    }
-
-    fn dim(&self) -> usize {
-        2
-    }
-
-    fn h(&self) -> f64 {
-        self.mesh.h()
-    }
-
-    fn length(&self) -> f64 {
-        self.mesh.length
-    }
-
-    fn section(&self) -> f64 {
-        self.mesh.height
-    }
-
-    fn contact_measure(&self) -> f64 {
-        self.contact_length()
-    }
-
-    fn contact(&self) -> &[usize] {
-        &self.system.contact
-    }
-
-    fn contact_mean(&self, u: &[f64]) -> f64 {
-        PlateSystem::contact_mean(self, u)
-    }
-
-    /// The paper's closed form only (the plate norms split cells at its kinks); NaN otherwise.
-    fn l2_error(&self, u: &[f64], exact: &Exact, t: f64) -> f64 {
-        exact.paper().map_or(f64::NAN, |e| crate::plate::norms::l2_error(self, u, e, t))
-    }
-
-    /// The plate norms split cells at the closed form's kinks, where it is affine; the general
-    /// solution is not (its waves are quadratic or smooth), so its L² error is not offered yet.
-    fn integrates(&self, exact: &Exact) -> bool {
-        exact.paper().is_some()
-    }
-
-    fn interp_norm(&self, exact: &Exact, t: f64, scratch: &mut Vec<f64>) -> f64 {
-        scratch.resize(self.dofs.len(), 0.0);
-        for (e, &v) in scratch.iter_mut().zip(&self.dofs) {
-            *e = exact.u(self.mesh.points[v][0], t);
-        }
-        crate::plate::norms::l2_norm(self, scratch)
-    }
-
-    fn y_variation(&self, u: &[f64]) -> f64 {
-        self.base.iter().enumerate().filter_map(|(d, b)| b.map(|b| (u[d] - u[b]).abs())).fold(0.0, f64::max)
-    }
-
-    fn n_nodes(&self) -> usize {
-        self.mesh.n_nodes()
-    }
-
-    fn nodal_values(&self, u: &[f64], out: &mut [f64]) {
-        self.to_nodes(u, out)
-    }
-}
-
-impl Geometry for PlateSystem {
-    type Matrix = crate::linalg::sparse::SpMat;
-
-    fn system(&self) -> &ContactSystem<Self::Matrix> {
-        &self.system
     }
 }

@@ -22,6 +22,34 @@ use lcp::{Lcp, LcpError};
 pub use schur::Schur;
 use std::fmt::Debug;
 
+/// A matrix back-end with its exact contact solver: what the schemes need to factor an iteration
+/// matrix `K` once and solve each step's contact problem with it.
+pub trait Backend: SymMatrix {
+    /// The exact solver of one implicit step with contact for `K = self`.
+    type Solver: ContactSolver;
+
+    /// Factors `self` once and prepares the contact solves on the unknowns `contact`.
+    fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<Self::Solver, LinalgError>;
+}
+
+/// Bars: one contact node, closed form.
+impl Backend for SymTridiag {
+    type Solver = OneNode;
+
+    fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<OneNode, LinalgError> {
+        OneNode::new(self, contact, matrix)
+    }
+}
+
+/// Plates and solids: many contact nodes, the exact LCP on the Schur complement.
+impl Backend for crate::linalg::sparse::SpMat {
+    type Solver = Schur;
+
+    fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<Schur, LinalgError> {
+        Ok(Schur::new(self, contact, matrix)?)
+    }
+}
+
 /// The exact contact solve of one implicit step (module docs).
 pub trait ContactSolver: Debug + Send {
     /// Solves `K U = r − σ Σ λ_c e_c`, `lb ≤ u_C ⊥ λ ≤ 0` in place (`rhs` = r on entry, U on

@@ -2,15 +2,14 @@
 //! ([`tridiag`]: the two-sided "twisted" LDLᵀ solve) and sparse symmetric matrices for plates and
 //! solids ([`sparse`]: faer's sparse Cholesky with an AMD ordering).
 //!
-//! The schemes of [`crate::schemes`] are written once, generic over [`SymMatrix`]; each back-end
-//! says how to multiply, combine, factor and solve the contact problem of one implicit step
-//! (its [`SymMatrix::Solver`], see [`crate::contact`]). This is diffsol's split of a method from
-//! its matrix and linear-solver types (`ode_solver/bdf.rs` over `linear_solver/{faer,nalgebra}`).
+//! The schemes of [`crate::schemes`] are written once, generic over [`SymMatrix`] (how to
+//! multiply, combine and factor) and [`crate::contact::Backend`] (which exact contact solver a
+//! back-end factors into). This is diffsol's split of a method from its matrix and
+//! linear-solver types (`ode_solver/bdf.rs` over `linear_solver/{faer,nalgebra}`).
 
 pub mod sparse;
 pub mod tridiag;
 
-use crate::contact::{ContactSolver, OneNode, Schur};
 use sparse::{SpMat, SparseError, SparseLlt};
 use std::fmt::Debug;
 use thiserror::Error;
@@ -30,10 +29,6 @@ pub enum LinalgError {
 /// A symmetric matrix of the contact system (mass M, stiffness S, an iteration matrix
 /// `M + σ S`): what the schemes need of it, implemented once per back-end.
 pub trait SymMatrix: Clone + Debug + Send + Sync + 'static {
-    /// The exact solver of one implicit step with contact (`K U = r − σ Σ λ_c e_c`,
-    /// `lb ≤ u_C ⊥ λ ≤ 0`) for `K = self`.
-    type Solver: ContactSolver;
-
     /// Whether a NaN or ∞ anywhere in a right-hand side reaches the first and last entries of
     /// the solution (true for a tridiagonal chain), so that checking those two suffices.
     const SOLVE_SPREADS_NAN: bool;
@@ -65,13 +60,9 @@ pub trait SymMatrix: Clone + Debug + Send + Sync + 'static {
     /// Overwrites `b` (indexed like `keep`) with `A_KK⁻¹ b`, `A_KK` the principal submatrix on
     /// the rows and columns `keep` (increasing), which must be positive definite.
     fn solve_principal(&self, keep: &[usize], b: &mut [f64], matrix: &'static str) -> Result<(), LinalgError>;
-
-    /// Factors `self` once and prepares the contact solves on the unknowns `contact`.
-    fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<Self::Solver, LinalgError>;
 }
 
 impl SymMatrix for SymTridiag {
-    type Solver = OneNode;
     const SOLVE_SPREADS_NAN: bool = true;
 
     fn dim(&self) -> usize {
@@ -127,14 +118,9 @@ impl SymMatrix for SymTridiag {
         factor.solve_in_place(b);
         Ok(())
     }
-
-    fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<OneNode, LinalgError> {
-        OneNode::new(self, contact, matrix)
-    }
 }
 
 impl SymMatrix for SpMat {
-    type Solver = Schur;
     const SOLVE_SPREADS_NAN: bool = false;
 
     fn dim(&self) -> usize {
@@ -178,9 +164,5 @@ impl SymMatrix for SpMat {
         let sub = sparse::principal(self, keep, matrix)?;
         SparseLlt::new(&sub, matrix)?.solve_in_place(b);
         Ok(())
-    }
-
-    fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<Schur, LinalgError> {
-        Ok(Schur::new(self, contact, matrix)?)
     }
 }

@@ -40,6 +40,7 @@
 //! [`crate::output`]'s atomic writers.
 
 pub mod assembly;
+pub mod geometry;
 pub mod mass;
 pub mod mesh;
 pub mod norms;

@@ -28,7 +28,8 @@ pub enum PlateRunError {
     Reference(String),
 }
 
-pub use crate::problem::PlateProblem;
+/// A plate problem.
+pub type PlateProblem = crate::problem::Problem<PlateSystem>;
 
 impl PlateProblem {
     /// The structured plate of `spec`.

@@ -16,12 +16,11 @@
 //! predictor U^{n+1} + Δt V^{n+1}).
 
 use super::{SchemeError, StateView, check_finite, check_range, contact_err};
-use crate::contact::ContactSolver;
-use crate::linalg::SymMatrix;
+use crate::contact::{Backend, ContactSolver};
 use crate::system::ContactSystem;
 
 #[derive(Debug)]
-pub struct BackwardEuler<A: SymMatrix> {
+pub struct BackwardEuler<A: Backend> {
     dt: f64,
     mass: A,
     load: Vec<f64>,
@@ -37,7 +36,7 @@ pub struct BackwardEuler<A: SymMatrix> {
     pivots: usize,
 }
 
-impl<A: SymMatrix> BackwardEuler<A> {
+impl<A: Backend> BackwardEuler<A> {
     pub const NAME: &'static str = "backward-euler";
 
     pub fn new(system: &ContactSystem<A>, dt: f64, u0: Vec<f64>, v0: Vec<f64>) -> Result<Self, SchemeError> {
@@ -63,7 +62,7 @@ impl<A: SymMatrix> BackwardEuler<A> {
     }
 }
 
-impl<A: SymMatrix> super::Scheme for BackwardEuler<A> {
+impl<A: Backend> super::Scheme for BackwardEuler<A> {
     fn state(&self) -> StateView<'_> {
         StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.u, v: &self.v, lambda: &self.lambda }
     }

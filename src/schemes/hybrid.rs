@@ -64,12 +64,11 @@
 //! last step (the tests check that they add up to the measured ΔE).
 
 use super::{SchemeError, StateView, check_finite, check_range, contact_err};
-use crate::contact::{ContactSolver, QuasiStatic};
-use crate::linalg::SymMatrix;
+use crate::contact::{Backend, ContactSolver, QuasiStatic};
 use crate::system::ContactSystem;
 
 #[derive(Debug)]
-pub struct Hybrid<A: SymMatrix> {
+pub struct Hybrid<A: Backend> {
     dt: f64,
     mass: A,
     load: Vec<f64>,
@@ -97,7 +96,7 @@ pub struct Hybrid<A: SymMatrix> {
     pivots: usize,
 }
 
-impl<A: SymMatrix> Hybrid<A> {
+impl<A: Backend> Hybrid<A> {
     pub const NAME: &'static str = "hybrid";
 
     /// Needs every contact unknown massless (quasi-static contact rows). The contact entries of
@@ -167,7 +166,7 @@ impl<A: SymMatrix> Hybrid<A> {
     }
 }
 
-impl<A: SymMatrix> super::Scheme for Hybrid<A> {
+impl<A: Backend> super::Scheme for Hybrid<A> {
     fn state(&self) -> StateView<'_> {
         StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.u, v: &self.v, lambda: &self.lambda }
     }

@@ -1,7 +1,7 @@
 //! Time schemes for `M Ü + S U = F − Σ_c λ_c e_c`, `0 ≤ u_c − lb_c ⊥ λ_c ≤ 0` (paper §4.2 and
 //! §5), written once for every geometry: generic over the linear-algebra back-end
 //! ([`crate::linalg::SymMatrix`]: tridiagonal for bars, sparse for plates and solids) and its exact contact
-//! solver ([`crate::contact::ContactSolver`]).
+//! solver ([`crate::contact::Backend`], [`crate::contact::ContactSolver`]).
 //!
 //! One file per scheme of the paper. Each scheme factors its iteration matrix once in `new`,
 //! allocates its work vectors once, and then `step` advances one Δt without allocating.

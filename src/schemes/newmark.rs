@@ -18,12 +18,11 @@
 //! contact, and one update pass that forms A^{n+1}, V^{n+1} and the next predictor Ũ.
 
 use super::{SchemeError, StateView, check_finite, check_range, contact_err};
-use crate::contact::ContactSolver;
-use crate::linalg::SymMatrix;
+use crate::contact::{Backend, ContactSolver};
 use crate::system::ContactSystem;
 
 #[derive(Debug)]
-pub struct Newmark<A: SymMatrix> {
+pub struct Newmark<A: Backend> {
     beta: f64,
     gamma: f64,
     dt: f64,
@@ -45,7 +44,7 @@ pub struct Newmark<A: SymMatrix> {
     pivots: usize,
 }
 
-impl<A: SymMatrix> Newmark<A> {
+impl<A: Backend> Newmark<A> {
     pub const NAME: &'static str = "newmark";
 
     /// Newmark(β, γ) with 0 < β ≤ 1 and 0 ≤ γ ≤ 1 (unconditionally stable without contact for
@@ -100,7 +99,7 @@ impl<A: SymMatrix> Newmark<A> {
     }
 }
 
-impl<A: SymMatrix> super::Scheme for Newmark<A> {
+impl<A: Backend> super::Scheme for Newmark<A> {
     fn state(&self) -> StateView<'_> {
         StateView { n: self.n, t: self.n as f64 * self.dt, u: &self.u, v: &self.v, lambda: &self.lambda }
     }

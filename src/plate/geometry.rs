@@ -1,0 +1,80 @@
+//! The plate as a [`Geometry`] of the one driver: contact means over Γ_C, the exact L² norms of
+//! [`super::norms`], nodal values for VTU.
+
+use super::assembly::PlateSystem;
+use crate::exact::Exact;
+use crate::problem::{Geometry, GeometryView};
+use crate::system::ContactSystem;
+
+impl GeometryView for PlateSystem {
+    fn name(&self) -> &'static str {
+        "plate"
+    }
+
+    fn dim(&self) -> usize {
+        2
+    }
+
+    fn h(&self) -> f64 {
+        self.mesh.h()
+    }
+
+    fn length(&self) -> f64 {
+        self.mesh.length
+    }
+
+    fn section(&self) -> f64 {
+        self.mesh.height
+    }
+
+    fn contact_measure(&self) -> f64 {
+        self.contact_length()
+    }
+
+    fn contact(&self) -> &[usize] {
+        &self.system.contact
+    }
+
+    fn contact_mean(&self, u: &[f64]) -> f64 {
+        PlateSystem::contact_mean(self, u)
+    }
+
+    /// The paper's closed form only (the plate norms split cells at its kinks); NaN otherwise.
+    fn l2_error(&self, u: &[f64], exact: &Exact, t: f64) -> f64 {
+        exact.paper().map_or(f64::NAN, |e| crate::plate::norms::l2_error(self, u, e, t))
+    }
+
+    /// The plate norms split cells at the closed form's kinks, where it is affine; the general
+    /// solution is not (its waves are quadratic or smooth), so its L² error is not offered yet.
+    fn integrates(&self, exact: &Exact) -> bool {
+        exact.paper().is_some()
+    }
+
+    fn interp_norm(&self, exact: &Exact, t: f64, scratch: &mut Vec<f64>) -> f64 {
+        scratch.resize(self.dofs.len(), 0.0);
+        for (e, &v) in scratch.iter_mut().zip(&self.dofs) {
+            *e = exact.u(self.mesh.points[v][0], t);
+        }
+        crate::plate::norms::l2_norm(self, scratch)
+    }
+
+    fn y_variation(&self, u: &[f64]) -> f64 {
+        self.base.iter().enumerate().filter_map(|(d, b)| b.map(|b| (u[d] - u[b]).abs())).fold(0.0, f64::max)
+    }
+
+    fn n_nodes(&self) -> usize {
+        self.mesh.n_nodes()
+    }
+
+    fn nodal_values(&self, u: &[f64], out: &mut [f64]) {
+        self.to_nodes(u, out)
+    }
+}
+
+impl Geometry for PlateSystem {
+    type Matrix = crate::linalg::sparse::SpMat;
+
+    fn system(&self) -> &ContactSystem<Self::Matrix> {
+        &self.system
+    }
+}
