@@ -102,24 +102,76 @@ struct RawScene {
 }
 
 #[derive(Debug, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
 struct RawBar {
     #[serde(skip_serializing_if = "Option::is_none")]
     length: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
     elements: Option<i64>,
+    #[serde(flatten)]
+    body: RawBody,
+    /// Keys no field takes (serde's `deny_unknown_fields` does not combine with `flatten`):
+    /// refused by [`RawBody::refuse_unknown`].
+    #[serde(flatten, skip_serializing)]
+    unknown: std::collections::BTreeMap<String, toml::Value>,
+}
+
+/// The keys a bar's and a plate's table share: material, far end, gap, initial data, force.
+#[derive(Debug, Default, Deserialize, Serialize)]
+pub(crate) struct RawBody {
     #[serde(skip_serializing_if = "Option::is_none")]
-    density: Option<Number>,
+    pub(crate) density: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    modulus: Option<Number>,
+    pub(crate) modulus: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    far_end: Option<String>,
+    pub(crate) far_end: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    gap: Option<Number>,
+    pub(crate) gap: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    initial: Option<RawInitial>,
+    pub(crate) initial: Option<RawInitial>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    force: Option<RawField>,
+    pub(crate) force: Option<RawField>,
+}
+
+impl RawBody {
+    /// The resolved table of a body (every default filled in).
+    pub(crate) fn resolved(material: Material, far_end: FarEnd, gap: f64, initial: RawInitial, force: &Force) -> Self {
+        let f = Number::Float;
+        RawBody {
+            density: Some(f(material.density)),
+            modulus: Some(f(material.modulus)),
+            far_end: Some(far_end.name().into()),
+            gap: Some(f(gap)),
+            initial: Some(initial),
+            force: Some(match force {
+                Force::Constant(c) => RawField::Number(f(*c)),
+                Force::Field(e) => RawField::Expr(e.text().into()),
+            }),
+        }
+    }
+
+    /// Refuses the keys of a flattened table that no field took, naming the table and its keys.
+    pub(crate) fn refuse_unknown(
+        table: &str,
+        unknown: &std::collections::BTreeMap<String, toml::Value>,
+        expected: &str,
+    ) -> Result<(), SceneError> {
+        match unknown.keys().next() {
+            Some(key) => {
+                Err(SceneError::Parse(format!("unknown field `{key}` in [{table}], expected one of {expected}")))
+            }
+            None => Ok(()),
+        }
+    }
+}
+
+impl RawInitial {
+    /// The table of expressions as written.
+    pub(crate) fn fields(displacement: &Expr, velocity: &Expr) -> Self {
+        RawInitial::Fields(RawInitialFields {
+            displacement: Some(RawField::Expr(displacement.text().into())),
+            velocity: Some(RawField::Expr(velocity.text().into())),
+        })
+    }
 }
 
 /// `initial = "paper"` or `initial = { displacement = "…", velocity = "…" }`.
@@ -508,12 +560,18 @@ impl Scene {
             return Err(SceneError::Range { key: "bar.elements", value: elements.to_string(), range: "[2, 10000000]" });
         }
         let elements = elements as usize;
+        RawBody::refuse_unknown(
+            "bar",
+            &bar.unknown,
+            "length, elements, density, modulus, far_end, gap, initial, force",
+        )?;
+        let body = bar.body;
         let keys = BodyKeys { density: "bar.density", modulus: "bar.modulus", far_end: "bar.far_end", gap: "bar.gap" };
         let (Material { density, modulus }, far_end, gap) =
-            parse_body(&keys, bar.density, bar.modulus, bar.far_end.as_deref(), bar.gap)?;
+            parse_body(&keys, body.density, body.modulus, body.far_end.as_deref(), body.gap)?;
         let consts = [("L", length), ("pi", std::f64::consts::PI)];
         let field = |key: &'static str, raw: Option<RawField>, vars: &[&str]| parse_field(key, raw, vars, &consts);
-        let initial = match bar.initial {
+        let initial = match body.initial {
             None => Initial::Paper,
             Some(RawInitial::Name(name)) if name == "paper" => Initial::Paper,
             Some(RawInitial::Name(other)) => {
@@ -528,7 +586,7 @@ impl Scene {
                 velocity: field("bar.initial.velocity", f.velocity, &["x"])?,
             },
         };
-        let force = parse_force("bar.force", bar.force, &["x"], &consts)?;
+        let force = parse_force("bar.force", body.force, &["x"], &consts)?;
         if let Initial::Fields { displacement, velocity } = &initial {
             let nodes = || (0..=elements).map(|i| [length * i as f64 / elements as f64]);
             displacement.eval_at_nodes(nodes())?;
@@ -600,21 +658,17 @@ impl Scene {
             bar: Some(RawBar {
                 length: Some(f(self.bar.length)),
                 elements: Some(self.bar.elements as i64),
-                density: Some(f(self.bar.material.density)),
-                modulus: Some(f(self.bar.material.modulus)),
-                far_end: Some(self.bar.far_end.name().into()),
-                gap: Some(f(self.bar.gap)),
-                initial: Some(match &self.bar.initial {
-                    Initial::Paper => RawInitial::Name("paper".into()),
-                    Initial::Fields { displacement, velocity } => RawInitial::Fields(RawInitialFields {
-                        displacement: Some(RawField::Expr(displacement.text().into())),
-                        velocity: Some(RawField::Expr(velocity.text().into())),
-                    }),
-                }),
-                force: Some(match &self.bar.force {
-                    Force::Constant(c) => RawField::Number(f(*c)),
-                    Force::Field(e) => RawField::Expr(e.text().into()),
-                }),
+                body: RawBody::resolved(
+                    self.bar.material,
+                    self.bar.far_end,
+                    self.bar.gap,
+                    match &self.bar.initial {
+                        Initial::Paper => RawInitial::Name("paper".into()),
+                        Initial::Fields { displacement, velocity } => RawInitial::fields(displacement, velocity),
+                    },
+                    &self.bar.force,
+                ),
+                unknown: Default::default(),
             }),
             mass: Some(raw_mass(&self.mass)),
             scheme: Some(raw_scheme(&self.scheme)),

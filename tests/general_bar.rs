@@ -35,6 +35,9 @@ fn every_new_key_is_validated_naming_the_key_and_the_range() {
         let e = err(bar);
         assert!(e.contains(key) && e.contains(range), "{bar}: {e}");
     }
+    // Unknown keys are refused with the table named (the body keys are a flattened table).
+    let e = err("elemnts = 4");
+    assert!(e.contains("unknown field `elemnts`") && e.contains("[bar]"), "{e}");
     // Expressions: a parse error names the key and the column, a non-finite value the node.
     let e = err("initial = { displacement = \"sin(x\", velocity = \"0\" }");
     assert!(e.starts_with("bar.initial.displacement") && e.contains("column"), "{e}");

@@ -680,6 +680,7 @@ fn plates_take_the_bar_keys_and_reduce_to_the_bar_with_x_only_data() {
     assert!(err("gap = -1").contains("plate.gap"));
     assert!(err("force = \"y*t\"").contains("plate.force"));
     assert!(err("initial = { displacement = \"x+\" }").starts_with("plate.initial.displacement"));
+    assert!(err("heigth = 2").contains("unknown field `heigth` in [plate]"));
 }
 
 #[test]

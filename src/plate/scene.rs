@@ -32,9 +32,9 @@ use super::mesh::{CellKind, Mesh2d, MeshError};
 use crate::expr::Expr;
 use crate::mass::MassKind;
 use crate::scene::{
-    Body, BodyKeys, Column, Force, Number, RawField, RawInitial, RawInitialFields, RawMass, RawScheme, RawTime,
-    SceneError, SchemeSpec, TimeSpec, finite_in, forbid, parse_body, parse_field, parse_force, parse_mass,
-    parse_scheme, parse_time, raw_mass, raw_scheme, raw_time,
+    Body, BodyKeys, Column, Force, Number, RawBody, RawInitial, RawMass, RawScheme, RawTime, SceneError, SchemeSpec,
+    TimeSpec, finite_in, forbid, parse_body, parse_field, parse_force, parse_mass, parse_scheme, parse_time, raw_mass,
+    raw_scheme, raw_time,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -72,7 +72,6 @@ struct RawPlateScene {
 }
 
 #[derive(Debug, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
 struct RawPlate {
     #[serde(skip_serializing_if = "Option::is_none")]
     length: Option<Number>,
@@ -85,19 +84,12 @@ struct RawPlate {
     #[serde(skip_serializing_if = "Option::is_none")]
     cells: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    density: Option<Number>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    modulus: Option<Number>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    far_end: Option<String>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    gap: Option<Number>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    initial: Option<RawInitial>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    force: Option<RawField>,
-    #[serde(skip_serializing_if = "Option::is_none")]
     mesh: Option<String>,
+    #[serde(flatten)]
+    body: RawBody,
+    /// Keys no field takes, refused by `RawBody::refuse_unknown`.
+    #[serde(flatten, skip_serializing)]
+    unknown: std::collections::BTreeMap<String, toml::Value>,
 }
 
 #[derive(Debug, Default, Deserialize, Serialize)]
@@ -285,10 +277,13 @@ impl PlateScene {
         let (length, height, cells) = (mesh.length, mesh.height, mesh.kind);
         let keys =
             BodyKeys { density: "plate.density", modulus: "plate.modulus", far_end: "plate.far_end", gap: "plate.gap" };
-        let (material, far_end, gap) = parse_body(&keys, p.density, p.modulus, p.far_end.as_deref(), p.gap)?;
+        let expected = "length, height, nx, ny, cells, mesh, density, modulus, far_end, gap, initial, force";
+        RawBody::refuse_unknown("plate", &p.unknown, expected)?;
+        let b = p.body;
+        let (material, far_end, gap) = parse_body(&keys, b.density, b.modulus, b.far_end.as_deref(), b.gap)?;
         let consts = [("L", length), ("H", height), ("pi", std::f64::consts::PI)];
-        let initial = parse_initial(p.initial, &consts)?;
-        let force = parse_force("plate.force", p.force, &["x", "y"], &consts)?;
+        let initial = parse_initial(b.initial, &consts)?;
+        let force = parse_force("plate.force", b.force, &["x", "y"], &consts)?;
         let points = || mesh.points.iter().copied();
         if let PlateInitial::Fields { displacement, velocity } = &initial {
             displacement.eval_at_nodes(points()).map_err(SceneError::from)?;
@@ -403,21 +398,17 @@ impl PlateScene {
                 nx: structured.then_some(p.nx as i64),
                 ny: structured.then_some(p.ny as i64),
                 cells: structured.then(|| p.cells.name().into()),
-                density: Some(f(p.body.material.density)),
-                modulus: Some(f(p.body.material.modulus)),
-                far_end: Some(p.body.far_end.name().into()),
-                gap: Some(f(p.body.gap)),
-                initial: Some(match &p.initial {
-                    PlateInitial::Fields { displacement, velocity } => RawInitial::Fields(RawInitialFields {
-                        displacement: Some(RawField::Expr(displacement.text().into())),
-                        velocity: Some(RawField::Expr(velocity.text().into())),
-                    }),
-                    named => RawInitial::Name(named.name().into()),
-                }),
-                force: Some(match &p.body.force {
-                    Force::Constant(c) => RawField::Number(f(*c)),
-                    Force::Field(e) => RawField::Expr(e.text().into()),
-                }),
+                body: RawBody::resolved(
+                    p.body.material,
+                    p.body.far_end,
+                    p.body.gap,
+                    match &p.initial {
+                        PlateInitial::Fields { displacement, velocity } => RawInitial::fields(displacement, velocity),
+                        named => RawInitial::Name(named.name().into()),
+                    },
+                    &p.body.force,
+                ),
+                unknown: Default::default(),
                 mesh: self.mesh_file.as_ref().map(|m| m.display().to_string()),
             }),
             mass: Some(raw_mass(&self.mass)),
