@@ -3,7 +3,7 @@
 
 use super::assembly::{PlateAssemblyError, PlateSystem};
 use super::mesh::{CellKind, Mesh2d, MeshError};
-use crate::driver::{Observer, integrate};
+use crate::driver::{DivergenceCriterion, Observer, integrate_watched};
 use crate::exact::{Exact, ImpactingBar};
 use crate::mass::MassKind;
 use crate::observe::{FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
@@ -97,7 +97,8 @@ pub struct PlateRun {
     pub frames: Option<FrameRecorder>,
 }
 
-/// Runs a plate scene: the summary always, plus the requested series and VTU frames.
+/// Runs a plate scene: the summary always, plus the requested series and VTU frames. A run that
+/// diverges stops there and is still a result (as [`crate::run::run_scene`]).
 pub fn run_plate_scene(
     scene: &super::scene::PlateScene,
     extra: &mut [&mut dyn Observer],
@@ -122,7 +123,9 @@ pub fn run_plate_scene(
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
-        integrate(&problem, scheme.as_mut(), steps, &mut observers)?;
+        let criterion = DivergenceCriterion { energy_factor: scene.output.divergence_factor };
+        // The outcome reaches the summary through `Observer::diverged`.
+        let _ = integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut observers)?;
     }
     Ok(PlateRun { problem, summary: summary.finish(), series, frames })
 }

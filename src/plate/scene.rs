@@ -25,6 +25,7 @@
 //! every = 1
 //! vtu = false                # write vtu/frame_*.vtu and plate.pvd
 //! vtu_every = 10             # steps between VTU frames (only with vtu = true)
+//! divergence_factor = 1e6    # stop as diverged when |E| > factor · max(|E⁰|, E_F), in (1, ∞)
 //! ```
 
 use super::mass::{PlateMassError, cell_weights, layers};
@@ -32,8 +33,8 @@ use super::mesh::{CellKind, Mesh2d, MeshError};
 use super::run::{PlateInitial, PlateSpec};
 use crate::mass::MassKind;
 use crate::scene::{
-    Column, Number, RawMass, RawScheme, RawTime, SceneError, SchemeSpec, TimeSpec, finite_in, forbid, parse_mass,
-    parse_scheme, parse_time, raw_mass, raw_scheme, raw_time,
+    Column, Number, RawMass, RawScheme, RawTime, SceneError, SchemeSpec, TimeSpec, finite_in, forbid,
+    parse_divergence_factor, parse_mass, parse_scheme, parse_time, raw_mass, raw_scheme, raw_time,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -102,6 +103,8 @@ struct RawPlateOutput {
     vtu: Option<bool>,
     #[serde(skip_serializing_if = "Option::is_none")]
     vtu_every: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    divergence_factor: Option<Number>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -110,6 +113,8 @@ pub struct PlateOutputSpec {
     pub every: usize,
     /// Steps between VTU frames, None for no VTU output.
     pub vtu_every: Option<usize>,
+    /// As for bars ([`crate::scene::OutputSpec::divergence_factor`]).
+    pub divergence_factor: f64,
 }
 
 /// A validated plate scene.
@@ -283,13 +288,14 @@ impl PlateScene {
             forbid("output.vtu_every", &o.vtu_every, "output.vtu = false (set vtu = true)")?;
             None
         };
+        let divergence_factor = parse_divergence_factor(o.divergence_factor)?;
         Ok(PlateScene {
             plate: PlateSpec { length, height, nx, ny, cells, initial, force },
             mesh_file,
             mass,
             scheme,
             time,
-            output: PlateOutputSpec { series, every: every as usize, vtu_every },
+            output: PlateOutputSpec { series, every: every as usize, vtu_every, divergence_factor },
         })
     }
 
@@ -322,6 +328,7 @@ impl PlateScene {
                 every: Some(self.output.every as i64),
                 vtu: Some(self.output.vtu_every.is_some()),
                 vtu_every: self.output.vtu_every.map(|k| k as i64),
+                divergence_factor: Some(f(self.output.divergence_factor)),
             }),
         };
         let mut text = if structured {
