@@ -154,7 +154,7 @@ fn main() -> ExitCode {
                 Ok(o) => {
                     let stopped = o.results.iter().filter(|r| r.failure.is_some()).count();
                     eprintln!(
-                        "{}: {} runs ({} stopped on a non-finite state), {} files in {:.2} s; see {}",
+                        "{}: {} runs ({} diverged), {} files in {:.2} s; see {}",
                         out.display(),
                         o.results.len(),
                         stopped,
