@@ -277,8 +277,7 @@ fn the_watched_driver_stops_where_the_strict_one_runs_on() {
     let mut sum = SummaryObserver::new(&p, steps, dt, true);
     let mut rec = SeriesRecorder::new(vec![Column::Energy], 1, steps + 1);
     let c = DivergenceCriterion { energy_factor: 1e3 };
-    let Outcome::Diverged(d) = integrate_watched(&p, s.as_mut(), steps, &c, &mut [&mut sum, &mut rec]).unwrap()
-    else {
+    let Outcome::Diverged(d) = integrate_watched(&p, s.as_mut(), steps, &c, &mut [&mut sum, &mut rec]).unwrap() else {
         panic!("Paoli–Schatzman with mod1 at Δt = h gains energy without bound");
     };
     let e = rec.column(Column::Energy).unwrap();
