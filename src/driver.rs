@@ -73,7 +73,8 @@ pub enum DivergenceReason {
     /// The scheme's state (u or λ) is not finite; it is not shown to the observers.
     #[error("the state is not finite (the scheme is unstable for this Δt / mass)")]
     NonFiniteState,
-    /// The state is finite but its energy is not (it overflowed); it is not shown.
+    /// The state is finite but its energy is not (it overflowed); it is not shown. At t_0 (a
+    /// load so large that E⁰ overflows) no state is shown at all.
     #[error("the energy is not finite (the state overflows it)")]
     NonFiniteEnergy,
     /// `|energy| > factor · reference` ([`DivergenceCriterion`]); this finite state is shown, and

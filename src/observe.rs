@@ -133,11 +133,12 @@ pub struct Summary {
     pub max_lambda: f64,
     /// max over n and contact nodes of |(u_c + gap) λ_c| (0 by complementarity).
     pub max_complementarity_product: f64,
-    /// Largest per-step energy increase `max_n (E^{n+1} − Eⁿ)` (≤ 0 for a dissipative scheme).
+    /// Largest per-step energy increase `max_n (E^{n+1} − Eⁿ)` (≤ 0 for a dissipative scheme);
+    /// null if no step was seen (a run that diverged at step 1).
     pub energy_max_increase: f64,
     /// The step n+1 at which it happened.
     pub energy_max_increase_step: usize,
-    /// The same, over the steps n ≥ 1 only.
+    /// The same, over the steps n ≥ 1 only (null if there are none).
     pub energy_max_increase_after_first: f64,
     /// max over t_n of `max_{nodes} |u(x, y) − u(x, y_min)|` (plates only).
     #[serde(skip_serializing_if = "Option::is_none")]
