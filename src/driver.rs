@@ -4,10 +4,104 @@
 //! keeps the cadence (argmin's `ObserverMode::Every`) and computes what the observers due at a
 //! step need (energy, exact L² error, y-variation) once, for all of them. Recording, summaries,
 //! progress bars and files are observers or live at the edge; nothing here does I/O.
+//!
+//! A run that blows up is a result, not an error: [`integrate_watched`] stops at the first state
+//! that meets a [`DivergenceCriterion`] and returns where and why ([`Divergence`]); the observers
+//! have then seen the finite states only, and are told ([`Observer::diverged`]). [`integrate`] is
+//! the strict form for callers with no use for a diverged run (a non-finite state is its error).
 
 use crate::exact::Exact;
+use crate::linalg::SymMatrix;
 use crate::problem::{Geometry, GeometryView, Problem};
 use crate::schemes::{Scheme, SchemeError, StateView};
+use crate::system::ContactSystem;
+use serde::Serialize;
+use thiserror::Error;
+
+/// When a run counts as diverged (and stops).
+///
+/// - **A non-finite state**: the scheme's step reports one ([`SchemeError::NonFinite`]), or the
+///   energy of a finite state is not finite (it overflowed).
+/// - **The energy criterion**: `|Eⁿ| > factor · E_ref` with `E_ref = max(|E⁰|, E_F)` and
+///   `E_F = ½ F_rᵀ S_rr⁻¹ F_r`, the static energy of the load with the contact unknowns held at 0
+///   (r: the other unknowns; the contact unknowns hold every geometry in place, so `S_rr` is SPD
+///   even for a free bar). Why: a scheme that creates no energy keeps `Eⁿ ≤ E⁰`, and where S
+///   is invertible the energy is bounded below by the static minimum
+///   `min_U ½UᵀSU − UᵀF = −½FᵀS⁻¹F`, a few times `E_F` (4 E_F for a uniform load on a clamped
+///   bar: f²L³/6 against f²L³/24); so a bounded run stays within a small multiple of `E_ref`,
+///   and a run a factor 10⁶ above it has blown up (the paper's unstable combinations grow
+///   without bound and overflow to inf/NaN hundreds of periods later). `E_F` is the floor that
+///   makes `E⁰ = 0` work: a structure starting at rest under a load is measured against the
+///   energy of that load; with no load and `E⁰ = 0` the state stays 0 and `|Eⁿ| > 0` never
+///   holds.
+///
+/// The criterion reuses the energy that the observers get ([`Sample::energy`]): with a
+/// criterion the driver computes it at every step (the summary needs it there anyway).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DivergenceCriterion {
+    /// `factor` above, in (1, ∞) (scenes: `output.divergence_factor`).
+    pub energy_factor: f64,
+}
+
+impl DivergenceCriterion {
+    /// The default `output.divergence_factor`: six orders of magnitude above any bounded
+    /// excursion (the standard mass chatters up to about 4 E⁰ by T = 3, Paoli–Schatzman with
+    /// mod3 drifts to 2.4 E⁰ by T = 3000), and some 300 below overflow.
+    pub const DEFAULT_ENERGY_FACTOR: f64 = 1e6;
+}
+
+impl Default for DivergenceCriterion {
+    fn default() -> Self {
+        Self { energy_factor: Self::DEFAULT_ENERGY_FACTOR }
+    }
+}
+
+/// Where a run diverged and why: the first state n that met the [`DivergenceCriterion`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Error)]
+#[error("diverged at step {step} (t = {time}): {reason}")]
+pub struct Divergence {
+    pub step: usize,
+    pub time: f64,
+    #[serde(flatten)]
+    pub reason: DivergenceReason,
+}
+
+/// Why a run diverged (`reason` in `summary.json`, kebab-case).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Error)]
+#[serde(tag = "reason", rename_all = "kebab-case")]
+pub enum DivergenceReason {
+    /// The scheme's state (u or λ) is not finite; it is not shown to the observers.
+    #[error("the state is not finite (the scheme is unstable for this Δt / mass)")]
+    NonFiniteState,
+    /// The state is finite but its energy is not (it overflowed); it is not shown. At t_0 (a
+    /// load so large that E⁰ overflows) no state is shown at all.
+    #[error("the energy is not finite (the state overflows it)")]
+    NonFiniteEnergy,
+    /// `|energy| > factor · reference` ([`DivergenceCriterion`]); this finite state is shown, and
+    /// is the last one.
+    #[error("the energy {energy:.4e} is above {factor:e} times max(|E⁰|, E_F) = {reference:.4e}")]
+    EnergyFactor { energy: f64, reference: f64, factor: f64 },
+}
+
+/// How a run of [`integrate_watched`] ended.
+#[must_use]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Outcome {
+    /// Every step was taken.
+    Completed,
+    /// Stopped at a divergence (a result: the observers hold the finite states before it).
+    Diverged(Divergence),
+}
+
+impl Outcome {
+    /// The divergence, if the run stopped at one.
+    pub fn divergence(&self) -> Option<&Divergence> {
+        match self {
+            Outcome::Completed => None,
+            Outcome::Diverged(d) => Some(d),
+        }
+    }
+}
 
 /// What an observer needs computed at a step, beyond the state itself.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -62,24 +156,83 @@ pub trait Observer {
         1
     }
     fn observe(&mut self, sample: &Sample);
+    /// The run stopped at `divergence`, after the last state shown (called once, at the end).
+    fn diverged(&mut self, _divergence: &Divergence) {}
 }
 
-/// Runs `steps` steps, showing the states (t_0 included) to the observers due at each.
+/// Runs `steps` steps, showing the states (t_0 included) to the observers due at each; a
+/// non-finite state is an error ([`SchemeError::NonFinite`]), nothing else is checked. For
+/// tests, timings and cross-checks; runs that report a divergence use [`integrate_watched`].
 pub fn integrate<G: Geometry>(
     problem: &Problem<G>,
     scheme: &mut dyn Scheme,
     steps: usize,
     observers: &mut [&mut dyn Observer],
 ) -> Result<(), SchemeError> {
+    match drive(problem, scheme, steps, None, observers)? {
+        Outcome::Completed => Ok(()),
+        // Without a criterion the only divergence is the scheme's non-finite state.
+        Outcome::Diverged(d) => Err(SchemeError::NonFinite { step: d.step, time: d.time }),
+    }
+}
+
+/// Runs up to `steps` steps like [`integrate`], and stops at the first state that meets
+/// `criterion` (see [`DivergenceCriterion`] for which states are shown): a divergence is an
+/// [`Outcome`], not an error; errors are the scheme's other failures (contact solves).
+pub fn integrate_watched<G: Geometry>(
+    problem: &Problem<G>,
+    scheme: &mut dyn Scheme,
+    steps: usize,
+    criterion: &DivergenceCriterion,
+    observers: &mut [&mut dyn Observer],
+) -> Result<Outcome, SchemeError> {
+    drive(problem, scheme, steps, Some(criterion), observers)
+}
+
+/// `E_F = ½ F_rᵀ S_rr⁻¹ F_r` of [`DivergenceCriterion`] (0 without load; 0 if the solve fails,
+/// which leaves `|E⁰|` as the reference).
+fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> f64 {
+    if s.load.iter().all(|&f| f == 0.0) {
+        return 0.0;
+    }
+    let mut held = vec![false; s.n()];
+    for &c in &s.contact {
+        held[c] = true;
+    }
+    let rest: Vec<usize> = (0..s.n()).filter(|&i| !held[i]).collect();
+    let f: Vec<f64> = rest.iter().map(|&i| s.load[i]).collect();
+    let mut u = f.clone();
+    match s.stiffness.solve_principal(&rest, &mut u, "stiffness") {
+        Ok(()) => 0.5 * u.iter().zip(&f).map(|(a, b)| a * b).sum::<f64>(),
+        Err(_) => 0.0,
+    }
+}
+
+/// The loop of [`integrate`] and [`integrate_watched`].
+fn drive<G: Geometry>(
+    problem: &Problem<G>,
+    scheme: &mut dyn Scheme,
+    steps: usize,
+    criterion: Option<&DivergenceCriterion>,
+    observers: &mut [&mut dyn Observer],
+) -> Result<Outcome, SchemeError> {
     let cadence: Vec<usize> = observers.iter().map(|o| o.every().max(1)).collect();
     let needs: Vec<Needs> = observers.iter().map(|o| o.needs()).collect();
     let geometry: &dyn GeometryView = &problem.system;
+    let e_load = criterion.map_or(0.0, |_| load_energy(problem.system.system()));
+    // E_ref, set by the first state shown (t_0).
+    let mut reference: Option<f64> = None;
     let mut interp = Vec::new();
-    let mut show = |scheme: &dyn Scheme, observers: &mut [&mut dyn Observer]| {
+    let mut show = |scheme: &dyn Scheme, observers: &mut [&mut dyn Observer]| -> Option<Divergence> {
         let state = scheme.state();
         let due = |k: usize| state.n.is_multiple_of(cadence[k]);
-        let need = (0..observers.len()).filter(|&k| due(k)).fold(Needs::default(), |n, k| n.or(needs[k]));
+        let mut need = (0..observers.len()).filter(|&k| due(k)).fold(Needs::default(), |n, k| n.or(needs[k]));
+        need.energy |= criterion.is_some();
         let energy = if need.energy { problem.energy(state.u, state.v) } else { f64::NAN };
+        let diverged = |reason| Some(Divergence { step: state.n, time: state.t, reason });
+        if criterion.is_some() && !energy.is_finite() {
+            return diverged(DivergenceReason::NonFiniteEnergy);
+        }
         let (l2_error, exact_interp_norm) = match (need.l2, &problem.exact) {
             (true, Some(ex)) => {
                 (geometry.l2_error(state.u, ex, state.t), geometry.interp_norm(ex, state.t, &mut interp))
@@ -106,11 +259,36 @@ pub fn integrate<G: Geometry>(
                 o.observe(&sample);
             }
         }
+        let factor = criterion?.energy_factor;
+        match reference {
+            None => reference = Some(energy.abs().max(e_load)),
+            Some(reference) if energy.abs() > factor * reference => {
+                return diverged(DivergenceReason::EnergyFactor { energy, reference, factor });
+            }
+            Some(_) => {}
+        }
+        None
     };
-    show(scheme, observers);
+    let mut outcome = show(scheme, observers);
     for _ in 0..steps {
-        scheme.step()?;
-        show(scheme, observers);
+        if outcome.is_some() {
+            break;
+        }
+        outcome = match scheme.step() {
+            Ok(()) => show(scheme, observers),
+            Err(SchemeError::NonFinite { step, time }) => {
+                Some(Divergence { step, time, reason: DivergenceReason::NonFiniteState })
+            }
+            Err(e) => return Err(e),
+        };
     }
-    Ok(())
+    Ok(match outcome {
+        None => Outcome::Completed,
+        Some(d) => {
+            for o in observers.iter_mut() {
+                o.diverged(&d);
+            }
+            Outcome::Diverged(d)
+        }
+    })
 }

@@ -12,6 +12,9 @@ pub const FAILURE: u8 = 1;
 /// folder that is refused or cannot be created. Nothing was computed and nothing written.
 pub const INVALID: u8 = 2;
 
-/// Reserved: the run diverged (a non-finite state).
-#[allow(dead_code)]
+/// `run`: the run diverged (a non-finite state, or an energy above `output.divergence_factor`
+/// times its reference; `massredist::driver::DivergenceCriterion`). It stopped there and its
+/// folder is written, a result: `summary.json` has `status = "diverged"` and `divergence`
+/// (step, time, reason) and describes the last finite state, `series.csv` ends at it. `reproduce`
+/// and `bench` report diverged runs in their tables and exit 0.
 pub const DIVERGED: u8 = 3;

@@ -154,7 +154,7 @@ fn main() -> ExitCode {
                 Ok(o) => {
                     let stopped = o.results.iter().filter(|r| r.failure.is_some()).count();
                     eprintln!(
-                        "{}: {} runs ({} stopped on a non-finite state), {} files in {:.2} s; see {}",
+                        "{}: {} runs ({} diverged), {} files in {:.2} s; see {}",
                         out.display(),
                         o.results.len(),
                         stopped,
@@ -185,13 +185,13 @@ fn main() -> ExitCode {
             eprintln!(
                 "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}",
                 out.display(),
-                summary.steps,
+                summary.divergence.map_or(summary.steps, |d| d.step),
                 summary.wall_seconds,
                 summary.linf_l2_error.map_or("n/a".into(), |e| format!("{e:.4e}")),
                 summary.energy_initial,
                 summary.energy_final
             );
-            ExitCode::SUCCESS
+            status(&out, &summary)
         }
     }
 }
@@ -215,14 +215,28 @@ fn run_plate(scene: PathBuf, out: PathBuf) -> ExitCode {
     eprintln!(
         "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}, largest step increase {:e}",
         out.display(),
-        run.summary.steps,
+        run.summary.divergence.map_or(run.summary.steps, |d| d.step),
         run.summary.wall_seconds,
         run.summary.linf_l2_error.map_or("n/a".into(), |e| format!("{e:.4e}")),
         run.summary.energy_initial,
         run.summary.energy_final,
         run.summary.energy_max_increase
     );
-    ExitCode::SUCCESS
+    status(&out, &run.summary)
+}
+
+/// The exit code of a written run: 0, or [`exit::DIVERGED`] with a word on stderr.
+fn status(out: &Path, summary: &massredist::run::Summary) -> ExitCode {
+    match &summary.divergence {
+        None => ExitCode::SUCCESS,
+        Some(d) => {
+            eprintln!(
+                "{}: {d}; the run stopped there (status \"diverged\" in summary.json, which describes the last finite state; series.csv ends at it)",
+                out.display()
+            );
+            ExitCode::from(exit::DIVERGED)
+        }
+    }
 }
 
 #[cfg(feature = "python")]

@@ -2,7 +2,7 @@
 //! (`summary.json`), VTU frames and an energy recorder. Their cadence is kept by the driver
 //! ([`crate::driver::Observer::every`]).
 
-use crate::driver::{Needs, Observer, Sample};
+use crate::driver::{Divergence, Needs, Observer, Sample};
 use crate::exact::Exact;
 use crate::problem::{Geometry, Problem};
 use crate::scene::Column;
@@ -79,9 +79,26 @@ impl Observer for SeriesRecorder {
     }
 }
 
-/// The summary of a run (`summary.json`), accumulated in the step loop.
+/// Whether a run went to its end (`status` in `summary.json`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    /// Every step was taken.
+    Ok,
+    /// The run stopped at a divergence ([`crate::driver::DivergenceCriterion`]).
+    Diverged,
+}
+
+/// The summary of a run (`summary.json`), accumulated in the step loop. A `null` (`None`) means
+/// "not applicable" (no exact solution, no impact, …), never "not finite". A diverged run's
+/// summary describes the states up to the last finite one shown (the energies, errors and
+/// extremes are over t_0 … that state); `divergence` says where it stopped and why.
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
+    pub status: Status,
+    /// Where and why the run stopped (null for a run with status "ok").
+    pub divergence: Option<Divergence>,
+    /// The steps asked for (a diverged run stopped at `divergence.step`).
     pub steps: usize,
     pub h: f64,
     pub dt: f64,
@@ -116,11 +133,12 @@ pub struct Summary {
     pub max_lambda: f64,
     /// max over n and contact nodes of |(u_c + gap) λ_c| (0 by complementarity).
     pub max_complementarity_product: f64,
-    /// Largest per-step energy increase `max_n (E^{n+1} − Eⁿ)` (≤ 0 for a dissipative scheme).
+    /// Largest per-step energy increase `max_n (E^{n+1} − Eⁿ)` (≤ 0 for a dissipative scheme);
+    /// null if no step was seen (a run that diverged at step 1).
     pub energy_max_increase: f64,
     /// The step n+1 at which it happened.
     pub energy_max_increase_step: usize,
-    /// The same, over the steps n ≥ 1 only.
+    /// The same, over the steps n ≥ 1 only (null if there are none).
     pub energy_max_increase_after_first: f64,
     /// max over t_n of `max_{nodes} |u(x, y) − u(x, y_min)|` (plates only).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -165,6 +183,10 @@ pub struct SummaryObserver {
     max_pivots: usize,
     final_u_mean: f64,
     final_force: f64,
+    /// The last state seen, and its λ term `Δt (λⁿ − λ(t_n))²` (weighted 1 unless n = steps).
+    last_n: usize,
+    last_lambda_term: f64,
+    divergence: Option<Divergence>,
     started: std::time::Instant,
 }
 
@@ -206,6 +228,9 @@ impl SummaryObserver {
             max_pivots: 0,
             final_u_mean: f64::NAN,
             final_force: f64::NAN,
+            last_n: 0,
+            last_lambda_term: 0.0,
+            divergence: None,
             started: std::time::Instant::now(),
         }
     }
@@ -214,6 +239,8 @@ impl SummaryObserver {
         let exact = |v: f64| self.has_exact.then_some(v);
         let l2 = |v: f64| (self.has_exact && self.with_l2).then_some(v);
         Summary {
+            status: if self.divergence.is_some() { Status::Diverged } else { Status::Ok },
+            divergence: self.divergence,
             steps: self.steps,
             h: self.h,
             dt: self.dt,
@@ -271,6 +298,7 @@ impl Observer for SummaryObserver {
 
     fn observe(&mut self, s: &Sample) {
         let st = s.state;
+        self.last_n = st.n;
         self.energy(st.n, s.energy);
         let u0 = s.u0;
         self.final_u0 = u0;
@@ -295,12 +323,22 @@ impl Observer for SummaryObserver {
         if let Some(ex) = s.exact {
             self.max_contact = self.max_contact.max((u0 - ex.u0(st.t)).abs());
             let w = if st.n == 0 || st.n == self.steps { 0.5 } else { 1.0 };
-            self.lambda_sq += w * self.dt * (s.pressure - ex.lambda(st.t)).powi(2);
+            self.last_lambda_term = self.dt * (s.pressure - ex.lambda(st.t)).powi(2);
+            self.lambda_sq += w * self.last_lambda_term;
             if self.with_l2 {
                 self.linf_l2 = self.linf_l2.max(s.l2_error);
                 self.linf_interp = self.linf_interp.max(s.exact_interp_norm);
             }
         }
+    }
+
+    /// The trapezoidal rule of `l2_lambda_error` ends at the last state seen: its weight is ½
+    /// (0 at t_0: a rule over [0, 0]).
+    fn diverged(&mut self, divergence: &Divergence) {
+        if self.last_n != self.steps {
+            self.lambda_sq = (self.lambda_sq - 0.5 * self.last_lambda_term).max(0.0);
+        }
+        self.divergence = Some(*divergence);
     }
 }
 

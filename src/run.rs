@@ -20,8 +20,10 @@ pub enum RunError {
 
 pub use crate::problem::Problem;
 // The driver and observers every geometry shares, reachable from the bar's entry point too.
-pub use crate::driver::{Needs, Observer, Sample, integrate};
-pub use crate::observe::{SeriesRecorder, Summary, SummaryObserver};
+pub use crate::driver::{
+    Divergence, DivergenceCriterion, DivergenceReason, Needs, Observer, Outcome, Sample, integrate, integrate_watched,
+};
+pub use crate::observe::{SeriesRecorder, Status, Summary, SummaryObserver};
 
 impl Problem {
     /// The bar of a scene: material, far end, gap, initial data and force (module docs of
@@ -83,7 +85,9 @@ fn general_exact(scene: &Scene) -> Result<Characteristics, CharacteristicsError>
     }
 }
 
-/// Runs a scene: the summary always, plus the requested series.
+/// Runs a scene: the summary always, plus the requested series. A run that diverges
+/// ([`DivergenceCriterion`] with `output.divergence_factor`) stops there and is still a result:
+/// `Summary::divergence` says where and why, the summary and series hold the finite states.
 pub fn run_scene(scene: &Scene, extra: &mut [&mut dyn Observer]) -> Result<(Summary, SeriesRecorder), RunError> {
     let problem = Problem::from_scene(scene)?;
     let mut scheme = problem.scheme(&scene.scheme, scene.time.dt)?;
@@ -95,6 +99,8 @@ pub fn run_scene(scene: &Scene, extra: &mut [&mut dyn Observer]) -> Result<(Summ
     for o in extra.iter_mut() {
         observers.push(&mut **o);
     }
-    integrate(&problem, scheme.as_mut(), steps, &mut observers)?;
+    let criterion = DivergenceCriterion { energy_factor: scene.output.divergence_factor };
+    // The outcome reaches the summary through `Observer::diverged`.
+    let _ = integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut observers)?;
     Ok((summary.finish(), series))
 }

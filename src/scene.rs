@@ -19,6 +19,7 @@
 //! series = ["u0", "lambda", "energy", "l2_error"]
 //! every = 1
 //! summary_l2 = true          # exact L² error every step for summary.linf_l2_error (false: null)
+//! divergence_factor = 1e6    # stop as diverged when |E| > factor · max(|E⁰|, E_F), in (1, ∞)
 //! ```
 //!
 //! Every error names the key and its allowed range; the resolved scene (all defaults filled in)
@@ -244,6 +245,8 @@ struct RawOutput {
     every: Option<i64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     summary_l2: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    divergence_factor: Option<Number>,
 }
 
 /// Initial data of the bar.
@@ -514,6 +517,9 @@ pub struct OutputSpec {
     /// Compute the exact L² error at every step for the summary's `linf_l2_error` (one O(m) pass
     /// per step, about the cost of a step); false leaves those summary keys null.
     pub summary_l2: bool,
+    /// The run stops as diverged when its energy exceeds this factor times its reference
+    /// ([`crate::driver::DivergenceCriterion`]); in (1, ∞), default 1e6.
+    pub divergence_factor: f64,
 }
 
 /// A validated scene.
@@ -628,7 +634,8 @@ impl Scene {
             let min_every = (time.steps as f64 * (series.len() + 1) as f64 / MAX_SERIES_VALUES).ceil() as usize;
             return Err(SceneError::TooManyValues { values, limit: MAX_SERIES_VALUES, every: min_every });
         }
-        let output = OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true) };
+        let divergence_factor = parse_divergence_factor(o.divergence_factor)?;
+        let output = OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true), divergence_factor };
         let bar = BarSpec { length, elements, material: Material { density, modulus }, far_end, gap, initial, force };
         let scene = Scene { bar, mass, scheme, time, output };
         if !scene.has_exact_solution() {
@@ -677,6 +684,7 @@ impl Scene {
                 series: Some(self.output.series.iter().map(|c| c.name().to_string()).collect()),
                 every: Some(self.output.every as i64),
                 summary_l2: Some(self.output.summary_l2),
+                divergence_factor: Some(f(self.output.divergence_factor)),
             }),
         };
         let mut text = format!(
@@ -822,6 +830,13 @@ pub(crate) fn parse_time(raw: Option<RawTime>, default_end: f64, elements: usize
     }
     let time = TimeSpec { dt, end, steps: steps as usize };
     Ok(time)
+}
+
+/// `output.divergence_factor` (shared with the plate scenes): in (1, ∞), default
+/// [`DivergenceCriterion::DEFAULT_ENERGY_FACTOR`](crate::driver::DivergenceCriterion).
+pub(crate) fn parse_divergence_factor(raw: Option<Number>) -> Result<f64, SceneError> {
+    let factor = raw.map_or(crate::driver::DivergenceCriterion::DEFAULT_ENERGY_FACTOR, Number::get);
+    finite_in("output.divergence_factor", factor, factor > 1.0, "(1, ∞)")
 }
 
 /// The resolved `[mass]` table of a mass redistribution.

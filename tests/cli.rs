@@ -1,6 +1,6 @@
-//! The command line: every shipped scene runs, bad input is a clear error with exit code 2 and
-//! leaves no output behind, and the output contract (series.csv, summary.json,
-//! scene.resolved.toml) holds.
+//! The command line: every shipped scene runs (status "ok"), bad input is a clear error with exit
+//! code 2 and leaves no output behind, and the output contract (series.csv, summary.json,
+//! scene.resolved.toml) holds. Diverged runs (exit 3): `tests/divergence.rs`.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -34,6 +34,7 @@ fn every_shipped_scene_checks_and_runs() {
         let summary: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
         assert!(summary["steps"].as_u64().unwrap() > 0);
+        assert_eq!(summary["status"], "ok", "{}", scene.display());
         // The resolved scene is itself a valid scene describing the same run.
         let again = bin().arg("check").arg(out.join("scene.resolved.toml")).output().unwrap();
         assert!(again.status.success());
@@ -83,6 +84,8 @@ fn output_contract() {
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     for key in [
+        "status",
+        "divergence",
         "steps",
         "h",
         "dt",
@@ -101,6 +104,8 @@ fn output_contract() {
         assert!(s.get(key).is_some(), "summary.json has {key}");
     }
     assert_eq!(s["steps"], 300);
+    assert_eq!(s["status"], "ok", "a run that ends normally; `null` divergence: not applicable");
+    assert!(s["divergence"].is_null());
     // linf_l2_error is the max over all steps, so at least the max over the recorded ones.
     let recorded_max = rows.iter().map(|r| r[3]).fold(0.0, f64::max);
     assert!(s["linf_l2_error"].as_f64().unwrap() >= recorded_max);
@@ -161,6 +166,7 @@ fn bad_input_is_a_clear_error() {
             &["scheme.restitution", "[0, 1]"],
         ),
         ("every = 10", "every = 0", &["output.every", ">= 1"]),
+        ("every = 10", "every = 10\ndivergence_factor = 1.0", &["output.divergence_factor", "(1, ∞)"]),
         ("every = 10", "every = 10\nevry = 2", &["unknown field", "evry"]),
         ("elements = 6", "elements = \"six\"", &["elements"]),
         (

@@ -332,7 +332,7 @@ pub fn write(dir: &Path, r: &BenchReport) -> std::io::Result<()> {
     let _ = writeln!(full, "## Observed convergence rates\n\n{rates_md}");
     let _ = writeln!(full, "## Performance\n\n{perf_md}");
     if !failures.is_empty() {
-        let _ = writeln!(full, "## Failed runs\n\n{}\n", failures.join("\n"));
+        let _ = writeln!(full, "## Diverged or failed runs\n\n{}\n", failures.join("\n"));
     }
     crate::output::write_dir_atomically(dir, |tmp| {
         std::fs::write(tmp.join("work_precision.csv"), report::results_csv(&r.results))?;

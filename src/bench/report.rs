@@ -13,13 +13,13 @@ use std::path::Path;
 /// The sweep as CSV, one row per run.
 pub fn results_csv(results: &[CaseResult]) -> String {
     let mut s = String::from(
-        "scheme,mass,elements,h,dt_divisor,dt,steps,linf_l2_error,linf_l2_error_relative,max_contact_error,energy_spread,wall_seconds,ns_per_node_step,failure\n",
+        "scheme,mass,elements,h,dt_divisor,dt,steps,linf_l2_error,linf_l2_error_relative,max_contact_error,energy_spread,wall_seconds,ns_per_node_step,status,failure\n",
     );
     for r in results {
         let f = |x: f64| if x.is_nan() { String::new() } else { fmt_f64(x) };
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.scheme,
             r.mass,
             r.elements,
@@ -33,6 +33,7 @@ pub fn results_csv(results: &[CaseResult]) -> String {
             f(r.energy_spread),
             f(r.wall_seconds),
             f(r.ns_per_node_step),
+            r.status,
             r.failure.as_deref().unwrap_or("").replace(',', ";"),
         );
     }

@@ -11,7 +11,7 @@ use super::timing::best_timed;
 use crate::mass::MassKind;
 use crate::paper::Experiment;
 pub use crate::paper::masses;
-use crate::run::{Problem, SummaryObserver, integrate};
+use crate::run::{DivergenceCriterion, Outcome, Problem, SummaryObserver, integrate, integrate_watched};
 use crate::scene::{Formulation, SchemeSpec};
 use serde::Serialize;
 use std::time::Instant;
@@ -135,7 +135,11 @@ pub struct CaseResult {
     pub wall_seconds: f64,
     /// Stepping only, per node and step.
     pub ns_per_node_step: f64,
-    /// The scheme's error, if the run failed (then the numbers above are NaN).
+    /// "ok"; "diverged": a result, the run stopped at a divergence ([`DivergenceCriterion`],
+    /// default factor) that `failure` describes, and is left out of the fits; "failed": an
+    /// error, in `failure`. The numbers above are NaN unless "ok".
+    pub status: &'static str,
+    /// Where and why the run diverged, or the error.
     pub failure: Option<String>,
 }
 
@@ -155,6 +159,7 @@ pub fn run_case(case: &Case, cfg: &SweepConfig) -> CaseResult {
         energy_spread: f64::NAN,
         wall_seconds: f64::NAN,
         ns_per_node_step: f64::NAN,
+        status: "failed",
         failure: None,
     };
     let problem = match Problem::benchmark(1.0, case.elements, &case.mass) {
@@ -171,16 +176,23 @@ pub fn run_case(case: &Case, cfg: &SweepConfig) -> CaseResult {
     r.steps = steps;
     let errors = problem.scheme(&case.scheme.spec, dt).map_err(|e| e.to_string()).and_then(|mut s| {
         let mut obs = SummaryObserver::new(&problem, steps, dt, true);
-        integrate(&problem, s.as_mut(), steps, &mut [&mut obs]).map_err(|e| e.to_string())?;
-        Ok(obs.finish())
+        let criterion = DivergenceCriterion::default();
+        let outcome = integrate_watched(&problem, s.as_mut(), steps, &criterion, &mut [&mut obs]);
+        Ok((outcome.map_err(|e| e.to_string())?, obs.finish()))
     });
     let summary = match errors {
-        Ok(s) => s,
+        Ok((Outcome::Completed, s)) => s,
+        Ok((Outcome::Diverged(d), _)) => {
+            r.status = "diverged";
+            r.failure = Some(d.to_string());
+            return r;
+        }
         Err(e) => {
             r.failure = Some(e);
             return r;
         }
     };
+    r.status = "ok";
     r.linf_l2_error = summary.linf_l2_error.unwrap_or(f64::NAN);
     r.linf_l2_error_relative = summary.linf_l2_error_relative.unwrap_or(f64::NAN);
     r.max_contact_error = summary.max_contact_error.unwrap_or(f64::NAN);
@@ -320,6 +332,7 @@ mod tests {
                     energy_spread: 0.0,
                     wall_seconds: 1.0,
                     ns_per_node_step: 1.0,
+                    status: "ok",
                     failure: None,
                 });
             }
@@ -339,6 +352,21 @@ mod tests {
         let massless: Vec<bool> = scheme_cases().iter().map(|c| c.needs_massless).collect();
         assert_eq!(massless, [false, true, false, false, true]);
         assert!(scheme_cases().iter().all(|c| c.spec.name() == c.label.trim_end_matches("-reduced")));
+    }
+
+    #[test]
+    fn a_diverged_run_is_reported_as_such_and_left_out_of_the_fits() {
+        // Paoli–Schatzman with mod1 at Δt = h passes 10⁶ E(0) after some 440 steps (m = 6).
+        let ps = scheme_cases().into_iter().find(|c| c.label == "paoli-schatzman").unwrap();
+        let case = Case { scheme: ps, mass: MassKind::Mod1, elements: 6, dt_divisor: 1 };
+        let long = SweepConfig { elements: vec![6], dt_divisors: vec![1], end: 3000.0, min_timing_seconds: 0.0 };
+        let r = run_case(&case, &long);
+        assert_eq!(r.status, "diverged");
+        assert!(r.failure.as_deref().is_some_and(|f| f.starts_with("diverged at step")), "{:?}", r.failure);
+        assert!(r.linf_l2_error.is_nan() && r.wall_seconds.is_nan());
+        assert!(rates(std::slice::from_ref(&r), 6)[0].l2_space.is_none());
+        let one_period = SweepConfig { end: 3.0, ..long };
+        assert_eq!(run_case(&case, &one_period).status, "ok");
     }
 
     #[test]

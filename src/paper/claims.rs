@@ -24,7 +24,7 @@ pub(super) fn claims(config: &Config, results: &[CaseResult]) -> String {
     s.push_str(&dissipation(config, results));
     s.push_str(&long_run_stability(config, results));
     s.push_str(
-        "\nThresholds: \"within one Δt\" because events are read on the time grid; an energy step counts as up or down above the round-off floor 1e3·ε·L/8; \"very light\" is a loss under 1 %, \"a lot\" over 10 % of E(Δt) at the longest horizon; \"drift\" is a per-period maximum energy up by more than 5 % from the first to the last (up to 10) periods, \"unstable\" an energy above 10 E(0) or a non-finite state.\n",
+        "\nThresholds: \"within one Δt\" because events are read on the time grid; an energy step counts as up or down above the round-off floor 1e3·ε·L/8; \"very light\" is a loss under 1 %, \"a lot\" over 10 % of E(Δt) at the longest horizon; \"drift\" is a per-period maximum energy up by more than 5 % from the first to the last (up to 10) periods, \"unstable\" an energy above 10 E(0) or a diverged run (a non-finite state, or an energy above 10⁶ E(0), where the run stops).\n",
     );
     s
 }
@@ -224,7 +224,7 @@ fn long_run_stability(config: &Config, results: &[CaseResult]) -> String {
             .iter()
             .map(|r| {
                 let g = period_growth(r).map_or("—".into(), |(a, b, _)| format!("×{}", sig(b / a, 3)));
-                let status = if r.failure.is_some() { ", non-finite".to_string() } else { String::new() };
+                let status = if r.failure.is_some() { ", diverged".to_string() } else { String::new() };
                 format!("{} max E {} ({g}{status})", r.case.mass.name(), sig(r.summary.energy_max, 3))
             })
             .collect();

@@ -158,7 +158,7 @@ fn solution_text(config: &Config, group: &[&CaseResult]) -> String {
     let failed: Vec<String> =
         group.iter().filter_map(|r| r.failure.as_ref().map(|e| format!("{}: {e}", r.case.mass.name()))).collect();
     if !failed.is_empty() {
-        let _ = write!(s, " **Stopped on a non-finite state**: {}.", failed.join("; "));
+        let _ = write!(s, " **Diverged** (stopped there): {}.", failed.join("; "));
     }
     s
 }

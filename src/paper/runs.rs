@@ -5,14 +5,17 @@
 
 use super::{Case, Config, Purpose, ReproduceError, cases};
 use crate::exact::ImpactingBar;
-use crate::run::{Needs, Observer, Problem, RunError, Sample, SeriesRecorder, Summary, SummaryObserver, integrate};
+use crate::run::{
+    Divergence, DivergenceCriterion, Needs, Observer, Problem, RunError, Sample, SeriesRecorder, Summary,
+    SummaryObserver, integrate_watched,
+};
 use crate::scene::Column;
-use crate::schemes::SchemeError;
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// The outcome of one case. A scheme that fails mid-run (non-finite state: unstable) keeps what
-/// was observed up to the failure, and the failure is reported, not hidden.
+/// The outcome of one case. A run that diverges ([`DivergenceCriterion`], default factor: a
+/// non-finite state or an energy above 10⁶ E(0)) stops there and keeps what was observed up to
+/// it; the divergence is reported, not hidden.
 #[derive(Debug, Clone)]
 pub struct CaseResult {
     pub case: Case,
@@ -20,7 +23,8 @@ pub struct CaseResult {
     pub series: SeriesRecorder,
     /// Per-period energy extremes (long runs only; empty otherwise).
     pub periods: PeriodEnergy,
-    pub failure: Option<SchemeError>,
+    /// Where and why the run diverged (also in `summary.divergence`).
+    pub failure: Option<Divergence>,
 }
 
 impl CaseResult {
@@ -42,12 +46,14 @@ pub fn run_case(config: &Config, case: &Case) -> Result<CaseResult, ReproduceErr
     let mut summary = SummaryObserver::new(&problem, steps, config.dt, true);
     let mut series = SeriesRecorder::new(case.columns(), every, steps / every + 1);
     let mut periods = PeriodEnergy::new(config.exact().period(), config.dt);
-    let failure = if long {
-        integrate(&problem, scheme.as_mut(), steps, &mut [&mut summary, &mut series, &mut periods])
+    let criterion = DivergenceCriterion::default();
+    let outcome = if long {
+        integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut [&mut summary, &mut series, &mut periods])
     } else {
-        integrate(&problem, scheme.as_mut(), steps, &mut [&mut summary, &mut series])
+        integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut [&mut summary, &mut series])
     }
-    .err();
+    .map_err(|e| wrap(e.into()))?;
+    let failure = outcome.divergence().copied();
     Ok(CaseResult { case: case.clone(), summary: summary.finish(), series, periods, failure })
 }
 
@@ -235,6 +241,7 @@ pub const DRIFT_FACTOR: f64 = 1.05;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mass::MassKind;
 
     #[test]
     fn period_events_of_the_exact_solution_are_on_time() {
@@ -252,6 +259,27 @@ mod tests {
             assert!(p.impact_shift.unwrap().abs() < 1e-12);
             assert!((p.release_shift.unwrap() - dt).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn a_diverged_case_is_a_result() {
+        // Paoli–Schatzman with mod1 over the paper's long run: the energy passes 10⁶ E(0) near
+        // t = 1620 (2.6e13 by T = 3000 when nothing stopped it); the run stops there, kept.
+        use super::super::Experiment;
+        use crate::run::{DivergenceReason, Status};
+        let case = Case {
+            experiment: Experiment::PaoliSchatzman,
+            mass: MassKind::Mod1,
+            end: 3000.0,
+            purpose: Purpose::LongEnergy,
+        };
+        let r = run_case(&Config::paper(), &case).unwrap();
+        let d = r.failure.expect("diverged");
+        let DivergenceReason::EnergyFactor { energy, .. } = d.reason else { panic!("{d}") };
+        assert_eq!((r.summary.status, r.summary.divergence), (Status::Diverged, Some(d)));
+        assert_eq!(r.summary.energy_final, energy, "the summary ends at the state that crossed the bound");
+        // The long runs record every k-th step: the last row is at or before the divergence.
+        assert!(r.series.times().last().is_some_and(|&t| t <= d.time && t > 1000.0));
     }
 
     #[test]

@@ -77,7 +77,7 @@ pub const EVENT_COLUMNS: [&str; 5] = ["scheme", "mass", "period", "impact_shift"
 fn status(r: &CaseResult) -> String {
     match &r.failure {
         None => "ok".into(),
-        Some(e) => format!("stopped: {e}"),
+        Some(d) => d.to_string(),
     }
 }
 
@@ -157,7 +157,7 @@ pub(super) fn table_markdown(config: &Config, rows: &[&CaseResult]) -> String {
                 .collect();
             let _ = write!(s, " {} |", ev.join(", "));
         }
-        let _ = writeln!(s, " {} |", if r.failure.is_some() { "**non-finite**" } else { "ok" });
+        let _ = writeln!(s, " {} |", if r.failure.is_some() { "**diverged**" } else { "ok" });
     }
     s
 }

@@ -6,7 +6,7 @@ use super::mass::cell_weights;
 use super::mesh::{Mesh2d, MeshError};
 use super::scene::{PlateInitial, PlateScene, PlateSpec};
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
-use crate::driver::{Observer, integrate};
+use crate::driver::{DivergenceCriterion, Observer, integrate_watched};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::mass::MassKind;
 use crate::observe::{FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
@@ -94,7 +94,8 @@ pub struct PlateRun {
     pub frames: Option<FrameRecorder>,
 }
 
-/// Runs a plate scene: the summary always, plus the requested series and VTU frames.
+/// Runs a plate scene: the summary always, plus the requested series and VTU frames. A run that
+/// diverges stops there and is still a result (as [`crate::run::run_scene`]).
 pub fn run_plate_scene(scene: &PlateScene, extra: &mut [&mut dyn Observer]) -> Result<PlateRun, PlateRunError> {
     let problem = match &scene.mesh_file {
         None => PlateProblem::new(&scene.plate, &scene.mass)?,
@@ -120,7 +121,9 @@ pub fn run_plate_scene(scene: &PlateScene, extra: &mut [&mut dyn Observer]) -> R
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
-        integrate(&problem, scheme.as_mut(), steps, &mut observers)?;
+        let criterion = DivergenceCriterion { energy_factor: scene.output.divergence_factor };
+        // The outcome reaches the summary through `Observer::diverged`.
+        let _ = integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut observers)?;
     }
     Ok(PlateRun { problem, summary: summary.finish(), series, frames })
 }

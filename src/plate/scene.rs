@@ -25,6 +25,7 @@
 //! every = 1
 //! vtu = false                # write vtu/frame_*.vtu and plate.pvd
 //! vtu_every = 10             # steps between VTU frames (only with vtu = true)
+//! divergence_factor = 1e6    # stop as diverged when |E| > factor · max(|E⁰|, E_F), in (1, ∞)
 //! ```
 
 use super::mass::{PlateMassError, cell_weights, layers};
@@ -33,8 +34,8 @@ use crate::expr::Expr;
 use crate::mass::MassKind;
 use crate::scene::{
     Body, BodyKeys, Column, Force, Number, RawBody, RawInitial, RawMass, RawScheme, RawTime, SceneError, SchemeSpec,
-    TimeSpec, finite_in, forbid, parse_body, parse_field, parse_force, parse_mass, parse_scheme, parse_time, raw_mass,
-    raw_scheme, raw_time,
+    TimeSpec, finite_in, forbid, parse_body, parse_divergence_factor, parse_field, parse_force, parse_mass,
+    parse_scheme, parse_time, raw_mass, raw_scheme, raw_time,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -103,6 +104,8 @@ struct RawPlateOutput {
     vtu: Option<bool>,
     #[serde(skip_serializing_if = "Option::is_none")]
     vtu_every: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    divergence_factor: Option<Number>,
 }
 
 /// Initial data of the plate.
@@ -179,6 +182,8 @@ pub struct PlateOutputSpec {
     pub every: usize,
     /// Steps between VTU frames, None for no VTU output.
     pub vtu_every: Option<usize>,
+    /// As for bars ([`crate::scene::OutputSpec::divergence_factor`]).
+    pub divergence_factor: f64,
 }
 
 /// A validated plate scene.
@@ -371,13 +376,14 @@ impl PlateScene {
             forbid("output.vtu_every", &o.vtu_every, "output.vtu = false (set vtu = true)")?;
             None
         };
+        let divergence_factor = parse_divergence_factor(o.divergence_factor)?;
         Ok(PlateScene {
             plate: PlateSpec { length, height, nx, ny, cells, initial, body },
             mesh_file,
             mass,
             scheme,
             time,
-            output: PlateOutputSpec { series, every: every as usize, vtu_every },
+            output: PlateOutputSpec { series, every: every as usize, vtu_every, divergence_factor },
         })
     }
 
@@ -419,6 +425,7 @@ impl PlateScene {
                 every: Some(self.output.every as i64),
                 vtu: Some(self.output.vtu_every.is_some()),
                 vtu_every: self.output.vtu_every.map(|k| k as i64),
+                divergence_factor: Some(f(self.output.divergence_factor)),
             }),
         };
         let mut text = if structured {

@@ -1,0 +1,291 @@
+//! Runs that blow up say so: `summary.json` has `status` "ok" or "diverged" with where and why
+//! (`divergence`: step, time, reason), the run stops at the divergence, its folder is still
+//! written (summary of the last finite state, `series.csv` up to it), stderr says it and the
+//! exit code is 3. The criterion (`massredist::driver::DivergenceCriterion`): a non-finite state,
+//! or `|Eⁿ| > output.divergence_factor · max(|E⁰|, E_F)` with E_F the static energy of the load.
+//!
+//! The seven command-line tests failed on the code before divergence detection (f7eb1ba), run
+//! there with this file: the blow-ups exited 0 with no `status` key (and `null` energies or NaN
+//! rows), the normal runs had no `status` key, and `output.divergence_factor` was an unknown
+//! field (exit 2, but without the allowed range in the message). The two driver tests at the end
+//! use `integrate_watched`, which did not exist (they did not compile).
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_massredist"))
+}
+
+fn shipped(name: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
+    std::fs::read_to_string(path).unwrap()
+}
+
+/// A finished `run` of scene text: the process output and its folder.
+struct Run {
+    out: Output,
+    dir: PathBuf,
+    _tmp: tempfile::TempDir,
+}
+
+impl Run {
+    fn new(text: &str) -> Run {
+        let tmp = tempfile::tempdir().unwrap();
+        let scene = tmp.path().join("s.toml");
+        std::fs::write(&scene, text).unwrap();
+        let dir = tmp.path().join("out");
+        let out = bin().arg("run").arg(&scene).arg("--out").arg(&dir).output().unwrap();
+        Run { out, dir, _tmp: tmp }
+    }
+
+    fn stderr(&self) -> String {
+        String::from_utf8_lossy(&self.out.stderr).into_owned()
+    }
+
+    fn summary(&self) -> Value {
+        let text = std::fs::read_to_string(self.dir.join("summary.json"))
+            .unwrap_or_else(|e| panic!("summary.json: {e}; stderr: {}", self.stderr()));
+        serde_json::from_str(&text).unwrap()
+    }
+
+    /// `series.csv` as (header, rows).
+    fn series(&self) -> (Vec<String>, Vec<Vec<f64>>) {
+        let text = std::fs::read_to_string(self.dir.join("series.csv")).unwrap();
+        let mut lines = text.lines();
+        let header = lines.next().unwrap().split(',').map(String::from).collect();
+        let rows = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+        (header, rows)
+    }
+
+    /// The checks every diverged run passes: exit 3, stderr names it, the folder is written with
+    /// status "diverged" and a divergence object, the energies describe a finite state, and
+    /// `series.csv` holds finite rows only, the last one at or just before the divergence.
+    fn assert_diverged(&self) -> Value {
+        let err = self.stderr();
+        assert_eq!(self.out.status.code(), Some(3), "exit code 3 for a diverged run: {err}");
+        assert!(err.contains("diverged"), "stderr says it: {err}");
+        assert!(self.dir.join(".massredist-output").is_file(), "the folder is written (a result)");
+        let s = self.summary();
+        assert_eq!(s["status"], "diverged", "{s}");
+        let d = &s["divergence"];
+        let step = d["step"].as_u64().expect("divergence.step") as f64;
+        let time = d["time"].as_f64().expect("divergence.time");
+        let dt = s["dt"].as_f64().unwrap();
+        // t_n = n·Δt, up to the rounding of its accumulation.
+        assert!((time - step * dt).abs() <= 1e-9 * time.max(1.0), "t = {time}, step {step}, dt {dt}");
+        assert!(step >= 1.0 && step <= s["steps"].as_f64().unwrap(), "{d}");
+        let reason = d["reason"].as_str().expect("divergence.reason");
+        assert!(["non-finite-state", "non-finite-energy", "energy-factor"].contains(&reason), "{reason}");
+        for key in ["energy_initial", "energy_final", "energy_min", "energy_max", "final_u0", "min_u0"] {
+            assert!(s[key].as_f64().is_some_and(f64::is_finite), "{key} = {} describes a finite state", s[key]);
+        }
+        if self.dir.join("series.csv").exists() {
+            let (_, rows) = self.series();
+            assert!(rows.iter().flatten().all(|x| x.is_finite()), "series.csv holds finite rows only");
+            let last = rows.last().unwrap()[0];
+            // The non-finite state is not shown; the state that crossed the energy bound is.
+            let expected = if reason == "energy-factor" { time } else { time - dt };
+            assert!((last - expected).abs() <= 1e-9 * time.max(1.0), "last row t = {last}, divergence at {time}");
+        }
+        s.clone()
+    }
+}
+
+/// The case: Figure 11's standard mass (Crank–Nicolson chatters and gains energy) over
+/// T = 4000 blew up to inf/NaN from t ≈ 2548 and exited 0 with `null` energies.
+#[test]
+fn figure_11_standard_mass_over_a_long_run_diverges() {
+    let run = Run::new(&shipped("fig11-standard.toml").replace("end = 3.0", "end = 4000.0"));
+    let s = run.assert_diverged();
+    let d = &s["divergence"];
+    assert!(s["linf_l2_error"].as_f64().is_some_and(f64::is_finite), "an exact solution exists: a number");
+    // With f = 0 the reference is |E⁰|, and the run stopped at the first energy above
+    // factor · reference: the shown energy crossed it, no earlier one did.
+    assert_eq!(d["reason"], "energy-factor");
+    let (factor, reference, energy) =
+        (d["factor"].as_f64().unwrap(), d["reference"].as_f64().unwrap(), d["energy"].as_f64().unwrap());
+    assert_eq!(factor, 1e6, "the default output.divergence_factor");
+    assert_eq!(reference, s["energy_initial"].as_f64().unwrap().abs());
+    assert!(energy.abs() > factor * reference);
+    let (header, rows) = run.series();
+    let k = header.iter().position(|c| c == "energy").unwrap();
+    let energies: Vec<f64> = rows.iter().map(|r| r[k]).collect();
+    assert_eq!(*energies.last().unwrap(), energy, "the last row is the state that crossed the bound");
+    assert!(energies[..energies.len() - 1].iter().all(|e| e.abs() <= factor * reference));
+    assert_eq!(s["energy_max"].as_f64().unwrap(), energy);
+    assert_eq!(s["energy_final"].as_f64().unwrap(), energy);
+    // One row per step up to the divergence (every = 1), t_0 included.
+    assert_eq!(rows.len() as u64, d["step"].as_u64().unwrap() + 1);
+}
+
+/// A force of 1e200 overflows the energy at the first step (NaN from step 1 before).
+#[test]
+fn a_huge_force_diverges_at_step_1() {
+    let text =
+        "[bar]\nelements = 6\nforce = 1e200\n[time]\ndt = 0.01\nend = 3.0\n[output]\nseries = [\"u0\", \"energy\"]\n";
+    let run = Run::new(text);
+    let s = run.assert_diverged();
+    assert_eq!(s["divergence"]["step"], 1);
+    assert!(s["divergence"]["reason"].as_str().unwrap().starts_with("non-finite"), "{s}");
+    // The summary describes t_0, the last finite state.
+    assert_eq!(s["energy_final"], s["energy_initial"]);
+    assert_eq!(s["final_u0"], 0.5);
+    let (_, rows) = run.series();
+    assert_eq!(rows.len(), 1, "series.csv ends at t_0");
+}
+
+/// Paoli–Schatzman with w_0 = 0 at Δt = h gains energy without bound (mod1: E ≈ 1e288 by
+/// T = 3000, and u_0 far through the obstacle); a lower `output.divergence_factor` stops it
+/// earlier.
+#[test]
+fn paoli_schatzman_mod1_at_dt_h_diverges_and_the_factor_moves_the_stop() {
+    let scene = |factor: &str| {
+        format!(
+            "[bar]\nelements = 6\n[mass]\nkind = \"mod1\"\n[scheme]\nkind = \"paoli-schatzman\"\n[time]\ndt = 0.16666666666666666\nend = 3000\n[output]\nseries = [\"u0\", \"lambda\", \"energy\"]\n{factor}"
+        )
+    };
+    let default = Run::new(&scene(""));
+    let s = default.assert_diverged();
+    assert_eq!(s["divergence"]["reason"], "energy-factor");
+    let low = Run::new(&scene("divergence_factor = 100.0"));
+    let s_low = low.assert_diverged();
+    assert_eq!(s_low["divergence"]["factor"], 100.0);
+    assert!(
+        s_low["divergence"]["step"].as_u64() < s["divergence"]["step"].as_u64(),
+        "a lower factor stops earlier: {} vs {}",
+        s_low["divergence"],
+        s["divergence"]
+    );
+    let resolved = std::fs::read_to_string(low.dir.join("scene.resolved.toml")).unwrap();
+    assert!(resolved.contains("divergence_factor = 100.0"), "{resolved}");
+}
+
+/// A 2D scene diverges the same way (its own summary and exit code).
+#[test]
+fn a_plate_with_a_huge_force_diverges() {
+    let text = "[plate]\nnx = 4\nny = 1\nforce = 1e200\n[time]\ndt = 0.01\nend = 1.0\n[output]\nseries = [\"u0\", \"energy\"]\n";
+    let run = Run::new(text);
+    let s = run.assert_diverged();
+    assert_eq!(s["divergence"]["step"], 1);
+}
+
+/// A normal scene is "ok", exit 0, with `divergence` null (not applicable).
+#[test]
+fn a_normal_run_is_ok() {
+    let run = Run::new(&shipped("fig11-mod3.toml"));
+    assert_eq!(run.out.status.code(), Some(0), "{}", run.stderr());
+    let s = run.summary();
+    assert_eq!(s["status"], "ok");
+    assert!(s.get("divergence").is_some_and(Value::is_null), "{s}");
+    assert!(!run.stderr().contains("diverged"));
+}
+
+/// E⁰ = 0 is no reason to diverge: a bar at rest under a large load (backward Euler dissipates,
+/// so Eⁿ < 0 = E⁰ grows in size) is measured against the static energy of the load.
+#[test]
+fn a_loaded_bar_starting_at_rest_is_ok() {
+    for force in ["-1.0", "-1e100"] {
+        let text = format!(
+            "[bar]\nelements = 8\ninitial = {{ displacement = \"0\", velocity = \"0\" }}\nforce = {force}\n[scheme]\nkind = \"backward-euler\"\n[time]\ndt = 0.01\nend = 30.0\n[output]\nseries = [\"energy\"]\n"
+        );
+        let run = Run::new(&text);
+        assert_eq!(run.out.status.code(), Some(0), "force {force}: {}", run.stderr());
+        let s = run.summary();
+        assert_eq!(s["status"], "ok", "force {force}");
+        assert_eq!(s["energy_initial"], 0.0);
+        assert!(s["energy_final"].as_f64().unwrap() < 0.0, "backward Euler dissipated: {s}");
+    }
+}
+
+/// `output.divergence_factor` is in (1, ∞): an error naming the key and the range, exit 2,
+/// for bar and plate scenes.
+#[test]
+fn the_divergence_factor_is_validated() {
+    let bar = shipped("fig11-mod3.toml");
+    let plate = "[plate]\nnx = 4\nny = 1\n[output]\nseries = [\"u0\"]\n";
+    for value in ["0.5", "1.0", "nan", "inf", "-3.0"] {
+        for text in [&bar, plate] {
+            let run = Run::new(&format!("{text}divergence_factor = {value}\n"));
+            let err = run.stderr();
+            assert_eq!(run.out.status.code(), Some(2), "{value}: {err}");
+            assert!(err.contains("output.divergence_factor") && err.contains("(1, ∞)"), "{value}: {err}");
+            assert!(!run.dir.exists(), "nothing written");
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The driver itself (these two did not compile before: `integrate_watched` is new).
+
+use massredist::bench::sweep::scheme_cases;
+use massredist::mass::MassKind;
+use massredist::run::{
+    DivergenceCriterion, DivergenceReason, Outcome, Problem, SeriesRecorder, SummaryObserver, integrate,
+    integrate_watched,
+};
+use massredist::scene::Column;
+
+/// The summary without its wall time, as JSON.
+fn numbers(s: &SummaryObserver) -> Value {
+    let mut v = serde_json::to_value(s.finish()).unwrap();
+    v.as_object_mut().unwrap().remove("wall_seconds");
+    v
+}
+
+/// Watching for divergence changes nothing in a run that does not diverge: the same states, bit
+/// for bit, and the same summary, for every scheme and mass of the sweep (3 periods, Δt = h/2).
+#[test]
+fn watching_changes_nothing_in_a_run_that_does_not_diverge() {
+    let masses = [MassKind::Standard, MassKind::Mod1, MassKind::Mod2, MassKind::Mod3];
+    for case in scheme_cases() {
+        for mass in masses.iter().filter(|m| !case.needs_massless || **m != MassKind::Standard) {
+            let p = Problem::benchmark(1.0, 12, mass).unwrap();
+            let (dt, steps) = (p.system.h() / 2.0, 3 * 3 * 12 * 2);
+            let run = |watched: bool| {
+                let mut s = p.scheme(&case.spec, dt).unwrap();
+                let mut sum = SummaryObserver::new(&p, steps, dt, true);
+                let mut rec = SeriesRecorder::new(Column::BAR.to_vec(), 1, steps + 1);
+                if watched {
+                    let c = DivergenceCriterion::default();
+                    let outcome = integrate_watched(&p, s.as_mut(), steps, &c, &mut [&mut sum, &mut rec]).unwrap();
+                    assert_eq!(outcome, Outcome::Completed, "{} {}", case.label, mass.name());
+                } else {
+                    integrate(&p, s.as_mut(), steps, &mut [&mut sum, &mut rec]).unwrap();
+                }
+                (numbers(&sum), rec.rows.iter().map(|x| x.to_bits()).collect::<Vec<u64>>())
+            };
+            let (strict, watched) = (run(false), run(true));
+            assert_eq!(strict.1, watched.1, "{} {}: series", case.label, mass.name());
+            assert_eq!(strict.0, watched.0, "{} {}: summary", case.label, mass.name());
+            assert_eq!(watched.0["status"], "ok");
+        }
+    }
+}
+
+/// The strict `integrate` checks only finiteness; `integrate_watched` stops Paoli–Schatzman
+/// (mod1, Δt = h) at the first energy above the bound, and the observers saw t_0 … that state.
+#[test]
+fn the_watched_driver_stops_where_the_strict_one_runs_on() {
+    let p = Problem::benchmark(1.0, 6, &MassKind::Mod1).unwrap();
+    let (dt, steps) = (p.system.h(), 18_000);
+    let spec = massredist::scene::SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: 1.0 };
+    let mut strict = p.scheme(&spec, dt).unwrap();
+    integrate(&p, strict.as_mut(), steps, &mut []).expect("finite states all along");
+    let mut s = p.scheme(&spec, dt).unwrap();
+    let mut sum = SummaryObserver::new(&p, steps, dt, true);
+    let mut rec = SeriesRecorder::new(vec![Column::Energy], 1, steps + 1);
+    let c = DivergenceCriterion { energy_factor: 1e3 };
+    let Outcome::Diverged(d) = integrate_watched(&p, s.as_mut(), steps, &c, &mut [&mut sum, &mut rec]).unwrap() else {
+        panic!("Paoli–Schatzman with mod1 at Δt = h gains energy without bound");
+    };
+    let e = rec.column(Column::Energy).unwrap();
+    assert_eq!(e.len(), d.step + 1, "states 0 ..= {} seen", d.step);
+    let DivergenceReason::EnergyFactor { energy, reference, factor } = d.reason else { panic!("{d}") };
+    assert_eq!((factor, reference, energy), (1e3, e[0].abs(), e[d.step]));
+    assert!(e[..d.step].iter().all(|x| x.abs() <= factor * reference) && energy.abs() > factor * reference);
+    let summary = sum.finish();
+    assert_eq!(summary.divergence, Some(d));
+    assert_eq!(summary.energy_final, energy);
+}
