@@ -115,7 +115,7 @@ fn error_of(r: &ReboundResult) -> f64 {
 
 /// The line of scheme `e` in [`verdict`]: its masses ranked by L∞(0,T;L²) error and the rebound
 /// velocity closest to the exact one; with the best mass.
-fn scheme_line<'a>(rb: &'a Rebound, e: Experiment) -> Option<(String, Vec<&'a ReboundResult>)> {
+fn scheme_line(rb: &Rebound, e: Experiment) -> Option<(String, Vec<&ReboundResult>)> {
     let mut ranked: Vec<&ReboundResult> = rb.runs.iter().filter(|r| r.experiment == e).collect();
     ranked.sort_by(|a, b| error_of(a).total_cmp(&error_of(b)));
     ranked.first()?;
