@@ -63,6 +63,18 @@ pub(super) struct FigureFile {
 }
 
 impl FigureFile {
+    /// Two panels side by side, with the CSV (header, rows) behind them.
+    pub(super) fn two_panels(
+        stem: String,
+        title: String,
+        panels: Vec<Panel>,
+        csv: (Vec<String>, Vec<Vec<String>>),
+    ) -> Self {
+        let (header, rows) = csv;
+        let figure = Figure { title, panels, columns: 2, panel_size: (820, 520) };
+        FigureFile { stem, figure, header, rows, periods: None }
+    }
+
     /// The names of the files [`FigureFile::write`] writes.
     pub(super) fn file_names(&self) -> Vec<String> {
         let mut out: Vec<String> = ["png", "svg", "csv"].map(|x| format!("{}.{x}", self.stem)).into();
@@ -85,13 +97,13 @@ impl FigureFile {
     }
 }
 
-fn points(t: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
+pub(super) fn points(t: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
     t.iter().copied().zip(y.iter().copied()).collect()
 }
 
 /// CSV rows on the time grid of the longest series; a run that stopped early leaves its later
 /// cells empty.
-fn grid_rows(times: &[f64], columns: &[Vec<f64>]) -> Vec<Vec<String>> {
+pub(super) fn grid_rows(times: &[f64], columns: &[Vec<f64>]) -> Vec<Vec<String>> {
     times
         .iter()
         .enumerate()
@@ -107,14 +119,14 @@ fn longest_times(group: &[&CaseResult]) -> Vec<f64> {
     group.iter().map(|r| r.series.times()).max_by_key(|t| t.len()).unwrap_or_default()
 }
 
-fn dx_dt(config: &Config) -> String {
+pub(super) fn dx_dt(config: &Config) -> String {
     format!("Δx = {}/{}, Δt = {}", fmt_f64(config.length), config.elements, fmt_f64(config.dt))
 }
 
 /// A panel's y-range: the data's, clamped to the exact curve's range widened by its length on
 /// both sides (so that a wild numerical curve does not flatten the others), then padded by 5 %.
 /// Curves that leave it are named in the panel title ([`off_scale`]).
-fn clamped_range(data: (f64, f64), exact: (f64, f64)) -> (f64, f64) {
+pub(super) fn clamped_range(data: (f64, f64), exact: (f64, f64)) -> (f64, f64) {
     let span = exact.1 - exact.0;
     let (lo, hi) = (data.0.max(exact.0 - span), data.1.min(exact.1 + span));
     let pad = 0.05 * (hi - lo);
@@ -122,7 +134,7 @@ fn clamped_range(data: (f64, f64), exact: (f64, f64)) -> (f64, f64) {
 }
 
 /// "standard: min −24.9" if some values lie outside `range`, else None.
-fn off_scale(label: &str, values: &[f64], range: (f64, f64)) -> Option<String> {
+pub(super) fn off_scale(label: &str, values: &[f64], range: (f64, f64)) -> Option<String> {
     let (lo, hi) = values
         .iter()
         .filter(|v| v.is_finite())
@@ -138,7 +150,7 @@ fn off_scale(label: &str, values: &[f64], range: (f64, f64)) -> Option<String> {
 }
 
 /// Colour index of a mass, the same in every figure.
-fn mass_style(mass: &MassKind) -> Style {
+pub(super) fn mass_style(mass: &MassKind) -> Style {
     Style::Numeric(match mass {
         MassKind::Standard => 0,
         MassKind::Mod1 => 1,
@@ -197,18 +209,8 @@ fn solution_figure(config: &Config, group: &[&CaseResult]) -> FigureFile {
             y_range: Some(y_range),
         });
     }
-    FigureFile {
-        stem: solution_stem(c0.experiment, end),
-        figure: Figure {
-            title: format!("Fig. {fig} analogue: {}, {}, T = {}", c0.experiment.title(), dx_dt(config), fmt_f64(end)),
-            panels,
-            columns: 2,
-            panel_size: (820, 520),
-        },
-        rows: grid_rows(&times, &columns),
-        header,
-        periods: None,
-    }
+    let title = format!("Fig. {fig} analogue: {}, {}, T = {}", c0.experiment.title(), dx_dt(config), fmt_f64(end));
+    FigureFile::two_panels(solution_stem(c0.experiment, end), title, panels, (header, grid_rows(&times, &columns)))
 }
 
 /// A mass's energy curve.
@@ -247,13 +249,8 @@ fn energy_file(
         header.push(format!("energy_{}", r.case.mass.name()));
         columns.push(r.col(Column::Energy));
     }
-    FigureFile {
-        stem: energy_stem(c0.experiment, c0.end),
-        figure: Figure { title, panels, columns: 2, panel_size: (820, 520) },
-        rows: grid_rows(&times, &columns),
-        header,
-        periods,
-    }
+    let csv = (header, grid_rows(&times, &columns));
+    FigureFile { periods, ..FigureFile::two_panels(energy_stem(c0.experiment, c0.end), title, panels, csv) }
 }
 
 /// A panel of energy against t on [0, end].

@@ -14,7 +14,9 @@
 //! Odd figures show u_0(t) and λ(t) against the exact solution, even ones the energy. We run each
 //! at the paper's horizon and over several periods ([`Config::horizons`]), plus Paoli–Schatzman
 //! over 100 and 1000 periods ([`Config::long_ends`]), where energy drift shows. The paper's
-//! Table 1 (2D) has its own section, [`table_2d`], to be filled in by the plate code.
+//! Table 1 (2D) has its own section, [`table_2d`], to be filled in by the plate code. Beyond
+//! the paper, [`rebound`] runs every scheme × mass on the classic rebounding bar (a free bar
+//! arriving at the obstacle with velocity −1) against its exact solution by characteristics.
 //!
 //! Layout: `experiments` is the registry ([`Experiment`], [`Case`], [`cases`]); `runs` holds one
 //! pure run ([`run_case`], only the observers the figures and tables need), all of them in
@@ -28,6 +30,8 @@ mod claims;
 mod config;
 mod experiments;
 mod figures;
+mod rebound;
+mod rebound_report;
 mod report;
 mod runs;
 mod table2d;
@@ -36,6 +40,11 @@ mod tables;
 pub use config::Config;
 pub use experiments::{Case, Experiment, Purpose, cases, masses};
 pub use figures::{exact_lambda_polyline, exact_u0_polyline};
+pub use rebound::{
+    BarMotion, ExactRebound, REBOUND_BAR, REBOUND_END, REBOUND_WINDOW, Rebound, ReboundResult, compute_rebound,
+    exact_rebound, rebound_cases, rebound_scene_text, run_rebound,
+};
+pub use rebound_report::{REBOUND_COLUMNS, REBOUND_FIGURE, REBOUND_TABLE};
 pub use report::report_markdown;
 pub use runs::{
     CaseResult, DRIFT_FACTOR, EnergyVariation, PeriodEnergy, PeriodEvents, compute, energy_variation, events,
@@ -46,6 +55,7 @@ pub use tables::{EVENT_COLUMNS, TABLE_COLUMNS, horizon_tag, sig};
 
 use crate::output::write_dir_atomically;
 use crate::run::{RunError, Summary};
+use crate::scene::SceneError;
 use figures::{FigureFile, figure_files};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -59,6 +69,10 @@ pub enum ReproduceError {
     Horizon { what: &'static str, value: f64, dt: f64 },
     #[error("{case}: {source}")]
     Run { case: String, source: RunError },
+    #[error("{case}: {source}")]
+    Scene { case: String, source: SceneError },
+    #[error("{case}: no exact solution by characteristics")]
+    NoExact { case: String },
     #[error("writing {dir}: {source}")]
     Io { dir: String, source: std::io::Error },
 }
@@ -67,6 +81,8 @@ pub enum ReproduceError {
 #[derive(Debug)]
 pub struct Outcome {
     pub results: Vec<CaseResult>,
+    /// The rebounding bar's runs (beyond the paper).
+    pub rebound: Rebound,
     /// File names written into the output directory, report.md last.
     pub files: Vec<String>,
     pub report: String,
@@ -74,8 +90,9 @@ pub struct Outcome {
 
 /// Runs every experiment of `config` and writes into `dir` (atomically: complete or absent):
 /// per figure `<stem>.png`, `<stem>.svg`, `<stem>.csv`; `table-T*.csv`, `table-long-T*.csv`,
-/// `table-2d.csv`, `summaries.json`, `report.md`. `progress` is advanced once per case and per
-/// figure (pass `ProgressBar::hidden()` for none).
+/// `table-2d.csv`, `summaries.json`, `report.md`; for the rebounding bar `rebound-u0.png`,
+/// `.svg`, `.csv` and `rebound.csv`. `progress` is advanced once per case and per figure (pass
+/// `ProgressBar::hidden()` for none).
 pub fn reproduce(dir: &Path, config: &Config, progress: &ProgressBar) -> Result<Outcome, ReproduceError> {
     for &t in &config.horizons {
         config.steps("horizon", t)?;
@@ -83,43 +100,53 @@ pub fn reproduce(dir: &Path, config: &Config, progress: &ProgressBar) -> Result<
     for &t in &config.long_ends {
         config.steps("long_ends", t)?;
     }
-    let n_cases = cases(config).len() as u64;
-    progress.set_length(n_cases + (2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len()) as u64);
+    config.steps("rebound end", REBOUND_END)?;
+    let n_cases = (cases(config).len() + rebound_cases().len()) as u64;
+    let n_figures = 2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len() + 1;
+    progress.set_length(n_cases + n_figures as u64);
     progress.set_message("running");
     let results = compute(config, &|| progress.inc(1))?;
+    let rebound = compute_rebound(config, &|| progress.inc(1))?;
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
+    let rebound_figure = rebound_report::rebound_figure(config, &rebound);
     let tables = tables::result_tables(config, &results);
     let table2d = plate_2d_errors(config);
-    let files = file_names(config, &figures, &tables, table2d.is_some());
-    let report = report_markdown(config, &results, &files, table2d.as_ref());
+    let files = file_names(config, &figures, &tables, &rebound_figure, table2d.is_some());
+    let report = report_markdown(config, &results, &rebound, &files, table2d.as_ref());
     write_dir_atomically(dir, |tmp| {
-        figures.par_iter().try_for_each(|f| -> std::io::Result<()> {
+        figures.par_iter().chain([&rebound_figure]).try_for_each(|f| -> std::io::Result<()> {
             f.write(tmp)?;
             progress.inc(1);
             Ok(())
         })?;
         tables::write_tables(tmp, config, &results, &tables)?;
+        let header = REBOUND_COLUMNS.map(String::from);
+        tables::write_csv(&tmp.join(REBOUND_TABLE), &header, &rebound_report::rebound_csv_rows(&rebound))?;
         table2d::write_csvs(tmp, table2d.as_ref())?;
         std::fs::write(tmp.join("summaries.json"), summaries_json(config, &results)?)?;
         std::fs::write(tmp.join("report.md"), &report)
     })
     .map_err(|source| ReproduceError::Io { dir: dir.display().to_string(), source })?;
     progress.set_message("done");
-    Ok(Outcome { results, files, report })
+    Ok(Outcome { results, rebound, files, report })
 }
 
 /// The files [`reproduce`] writes, in the order of [`Outcome::files`]: figures, tables, events,
-/// `table-2d.csv`, `summaries.json`, `report.md`, and `table-2d-sweep.csv` if the 2D runs gave one.
+/// the rebounding bar's figure and table, `table-2d.csv`, `summaries.json`, `report.md`, and
+/// `table-2d-sweep.csv` if the 2D runs gave one.
 fn file_names(
     config: &Config,
     figures: &[FigureFile],
     tables: &[(String, Vec<&CaseResult>)],
+    rebound_figure: &FigureFile,
     with_2d_sweep: bool,
 ) -> Vec<String> {
     let mut files: Vec<String> = figures.iter().flat_map(FigureFile::file_names).collect();
     files.extend(tables.iter().map(|(n, _)| n.clone()));
     files.extend(config.horizons.iter().map(|&end| tables::events_file(end)));
+    files.extend(rebound_figure.file_names());
+    files.push(REBOUND_TABLE.into());
     files.extend(["table-2d.csv".to_string(), "summaries.json".into(), "report.md".into()]);
     if with_2d_sweep {
         files.push("table-2d-sweep.csv".into());

@@ -4,6 +4,8 @@
 use super::claims::claims;
 use super::experiments::massless_contact;
 use super::figures::{energy_stem, solution_stem};
+use super::rebound::Rebound;
+use super::rebound_report::rebound_section;
 use super::runs::{
     CaseResult, DRIFT_FACTOR, energy_floor, events, groups, period_growth, runs_of, variation_after_impact,
 };
@@ -14,13 +16,21 @@ use crate::output::fmt_f64;
 use crate::scene::Column;
 use std::fmt::Write as _;
 
-/// `report.md`: configuration, tables, one paragraph per figure, the claims, the 2D table.
-pub fn report_markdown(config: &Config, results: &[CaseResult], files: &[String], table2d: Option<&Table2d>) -> String {
+/// `report.md`: configuration, tables, one paragraph per figure, the claims, the 2D table, the
+/// rebounding bar (beyond the paper).
+pub fn report_markdown(
+    config: &Config,
+    results: &[CaseResult],
+    rebound: &Rebound,
+    files: &[String],
+    table2d: Option<&Table2d>,
+) -> String {
     let mut s = intro(config);
     s.push_str(&results_tables(config, results));
     s.push_str(&claims(config, results));
     s.push_str(&figure_sections(config, results));
     s.push_str(&table_2d(table2d));
+    s.push_str(&rebound_section(config, rebound));
     s.push_str("\n## Files\n\n");
     for f in files {
         let _ = writeln!(s, "- `{f}`");

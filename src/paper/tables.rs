@@ -2,8 +2,10 @@
 //! of the report text.
 
 use super::runs::{CaseResult, events, runs_of};
-use super::{Config, Purpose};
+use super::{Config, Experiment, Purpose};
+use crate::mass::MassKind;
 use crate::output::fmt_f64;
+use crate::run::Summary;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -81,27 +83,38 @@ fn status(r: &CaseResult) -> String {
     }
 }
 
+/// The first cells of a result row ([`TABLE_COLUMNS`] up to `l2_lambda_error`, full precision):
+/// scheme, mass, end, status and the summary's four errors.
+pub(super) fn leading_cells(e: Experiment, mass: &MassKind, end: f64, status: String, s: &Summary) -> Vec<String> {
+    let o = |x: Option<f64>| x.map_or(String::new(), fmt_f64);
+    vec![
+        e.slug().to_string(),
+        mass.name().into(),
+        fmt_f64(end),
+        status,
+        o(s.linf_l2_error),
+        o(s.linf_l2_error_relative),
+        o(s.max_contact_error),
+        o(s.l2_lambda_error),
+    ]
+}
+
 /// The rows of a result table CSV ([`TABLE_COLUMNS`]), full precision.
 fn table_csv_rows(rows: &[&CaseResult]) -> Vec<Vec<String>> {
     let o = |x: Option<f64>| x.map_or(String::new(), fmt_f64);
     rows.iter()
         .map(|r| {
             let s = &r.summary;
-            vec![
-                r.case.experiment.slug().to_string(),
-                r.case.mass.name().into(),
-                fmt_f64(r.case.end),
-                status(r),
-                o(s.linf_l2_error),
-                o(s.linf_l2_error_relative),
-                o(s.max_contact_error),
-                o(s.l2_lambda_error),
+            let c = &r.case;
+            let mut row = leading_cells(c.experiment, &c.mass, c.end, status(r), s);
+            row.extend([
                 fmt_f64(s.energy_min),
                 fmt_f64(s.energy_max),
                 fmt_f64(s.energy_final),
                 o(s.impact_time_shift),
                 o(s.release_time_shift),
-            ]
+            ]);
+            row
         })
         .collect()
 }
