@@ -154,10 +154,11 @@ fn main() -> ExitCode {
                 Ok(o) => {
                     let stopped = o.results.iter().filter(|r| r.failure.is_some()).count();
                     eprintln!(
-                        "{}: {} runs ({} diverged), {} files in {:.2} s; see {}",
+                        "{}: {} runs of the paper ({} diverged) and {} of the rebounding bar, {} files in {:.2} s; see {}",
                         out.display(),
                         o.results.len(),
                         stopped,
+                        o.rebound.runs.len(),
                         o.files.len(),
                         started.elapsed().as_secs_f64(),
                         out.join("report.md").display()
