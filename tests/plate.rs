@@ -681,6 +681,14 @@ fn plates_take_the_bar_keys_and_reduce_to_the_bar_with_x_only_data() {
     assert!(err("force = \"y*t\"").contains("plate.force"));
     assert!(err("initial = { displacement = \"x+\" }").starts_with("plate.initial.displacement"));
     assert!(err("heigth = 2").contains("unknown field `heigth` in [plate]"));
+    // The series-size limit holds for plates too (it did not: a 2×1 plate with Δt = 1e-6 and
+    // T = 2000 recorded until memory ran out).
+    let e = PlateScene::from_toml(
+        "[plate]\nnx = 2\nny = 1\n[time]\ndt = 1e-6\nend = 2000\n[output]\nseries = [\"u0\", \"lambda\"]\n",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("output.series would record") && e.contains("output.every"), "{e}");
 }
 
 #[test]

@@ -34,8 +34,8 @@ use crate::expr::Expr;
 use crate::mass::MassKind;
 use crate::scene::{
     Body, BodyKeys, Column, Force, Number, RawBody, RawInitial, RawMass, RawScheme, RawTime, SceneError, SchemeSpec,
-    TimeSpec, finite_in, forbid, parse_body, parse_divergence_factor, parse_field, parse_force, parse_mass,
-    parse_scheme, parse_time, raw_mass, raw_scheme, raw_time,
+    TimeSpec, finite_in, forbid, parse_body, parse_divergence_factor, parse_every, parse_field, parse_force,
+    parse_mass, parse_scheme, parse_series, parse_time, raw_mass, raw_scheme, raw_time,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -331,36 +331,21 @@ impl PlateScene {
             }
             d.into_iter().map(String::from).collect()
         });
-        let mut series = Vec::new();
-        for name in names {
-            let col = Column::PLATE.into_iter().find(|c| c.name() == name).ok_or_else(|| SceneError::Range {
+        let series = parse_series(names, &Column::PLATE, SERIES_NAMES)?;
+        if let Some(col) =
+            series.iter().find(|c| c.needs_exact() && !if **c == Column::L2Error { has_exact } else { plane_wave })
+        {
+            return Err(SceneError::Inapplicable {
                 key: "output.series",
-                value: format!("\"{name}\""),
-                range: SERIES_NAMES,
-            })?;
-            if series.contains(&col) {
-                return Err(SceneError::DuplicateColumn(name).into());
+                context: format!(
+                    "column \"{}\" with plate.initial = \"{}\": the plate's exact L² error needs initial = \"paper\" on the paper's body (density = modulus = 1, clamped, gap = 0, force = 0); exact_u0 and exact_lambda need y-independent data without force",
+                    col.name(),
+                    initial.name()
+                ),
             }
-            let known = if col == Column::L2Error { has_exact } else { plane_wave };
-            if col.needs_exact() && !known {
-                return Err(SceneError::Inapplicable {
-                    key: "output.series",
-                    context: format!(
-                        "column \"{}\" with plate.initial = \"{}\": the plate's exact L² error needs initial = \"paper\" on the paper's body (density = modulus = 1, clamped, gap = 0, force = 0); exact_u0 and exact_lambda need y-independent data without force",
-                        col.name(),
-                        initial.name()
-                    ),
-                }
-                .into());
-            }
-            series.push(col);
+            .into());
         }
-        let every = o.every.unwrap_or(1);
-        if every < 1 {
-            return Err(
-                SceneError::Range { key: "output.every", value: every.to_string(), range: "integers >= 1" }.into()
-            );
-        }
+        let every = parse_every(o.every, time.steps, series.len())?;
         let vtu_every = if o.vtu.unwrap_or(false) {
             let k = o.vtu_every.unwrap_or(10);
             if k < 1 {
@@ -383,7 +368,7 @@ impl PlateScene {
             mass,
             scheme,
             time,
-            output: PlateOutputSpec { series, every: every as usize, vtu_every, divergence_factor },
+            output: PlateOutputSpec { series, every, vtu_every, divergence_factor },
         })
     }
 

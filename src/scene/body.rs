@@ -1,0 +1,208 @@
+//! The keys a bar's and a plate's table share: material, far end, gap, initial data and force
+//! (numbers or expressions).
+
+use super::*;
+use crate::assembly::{FarEnd, Material};
+use crate::expr::Expr;
+
+/// The keys a bar's and a plate's table share: material, far end, gap, initial data, force.
+#[derive(Debug, Default, Deserialize, Serialize)]
+pub(crate) struct RawBody {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) density: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) modulus: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) far_end: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) gap: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) initial: Option<RawInitial>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) force: Option<RawField>,
+}
+
+impl RawBody {
+    /// The resolved table of a body (every default filled in).
+    pub(crate) fn resolved(material: Material, far_end: FarEnd, gap: f64, initial: RawInitial, force: &Force) -> Self {
+        let f = Number::Float;
+        RawBody {
+            density: Some(f(material.density)),
+            modulus: Some(f(material.modulus)),
+            far_end: Some(far_end.name().into()),
+            gap: Some(f(gap)),
+            initial: Some(initial),
+            force: Some(match force {
+                Force::Constant(c) => RawField::Number(f(*c)),
+                Force::Field(e) => RawField::Expr(e.text().into()),
+            }),
+        }
+    }
+
+    /// Refuses the keys of a flattened table that no field took, naming the table and its keys.
+    pub(crate) fn refuse_unknown(
+        table: &str,
+        unknown: &std::collections::BTreeMap<String, toml::Value>,
+        expected: &str,
+    ) -> Result<(), SceneError> {
+        match unknown.keys().next() {
+            Some(key) => {
+                Err(SceneError::Parse(format!("unknown field `{key}` in [{table}], expected one of {expected}")))
+            }
+            None => Ok(()),
+        }
+    }
+}
+
+impl RawInitial {
+    /// The table of expressions as written.
+    pub(crate) fn fields(displacement: &Expr, velocity: &Expr) -> Self {
+        RawInitial::Fields(RawInitialFields {
+            displacement: Some(RawField::Expr(displacement.text().into())),
+            velocity: Some(RawField::Expr(velocity.text().into())),
+        })
+    }
+}
+
+/// `initial = "paper"` or `initial = { displacement = "…", velocity = "…" }`.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(untagged)]
+pub(crate) enum RawInitial {
+    Name(String),
+    Fields(RawInitialFields),
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawInitialFields {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) displacement: Option<RawField>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) velocity: Option<RawField>,
+}
+
+/// A number or an expression (a string).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(untagged)]
+pub(crate) enum RawField {
+    Number(Number),
+    Expr(String),
+}
+
+/// The body force: a constant, or an expression in x (and L, pi).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Force {
+    Constant(f64),
+    Field(Expr),
+}
+
+impl Force {
+    /// The constant value, if the force does not depend on x.
+    pub fn constant(&self) -> Option<f64> {
+        match self {
+            Force::Constant(f) => Some(*f),
+            Force::Field(e) => e.is_constant(),
+        }
+    }
+}
+
+/// The material, far end, gap and force of a body (bar or plate).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    pub material: Material,
+    pub far_end: FarEnd,
+    /// The obstacle at x = 0: u ≥ −gap on the contact boundary.
+    pub gap: f64,
+    pub force: Force,
+}
+
+impl Default for Body {
+    /// The paper's body: ρ = E = 1, clamped at x = L, no gap, no force.
+    fn default() -> Self {
+        Body { material: Material::UNIT, far_end: FarEnd::Clamped, gap: 0.0, force: Force::Constant(0.0) }
+    }
+}
+
+/// The scene keys of a body's table (`bar.*` or `plate.*`).
+pub(crate) struct BodyKeys {
+    pub density: &'static str,
+    pub modulus: &'static str,
+    pub far_end: &'static str,
+    pub gap: &'static str,
+}
+
+/// Density, modulus, far end and gap, validated (defaults: 1, 1, clamped, 0).
+pub(crate) fn parse_body(
+    keys: &BodyKeys,
+    density: Option<Number>,
+    modulus: Option<Number>,
+    far_end: Option<&str>,
+    gap: Option<Number>,
+) -> Result<(Material, FarEnd, f64), SceneError> {
+    let positive = |key, v: Option<Number>| {
+        let v = finite_in(key, v.map_or(1.0, Number::get), true, "(0, ∞)")?;
+        finite_in(key, v, v > 0.0, "(0, ∞)")
+    };
+    let (density, modulus) = (positive(keys.density, density)?, positive(keys.modulus, modulus)?);
+    let far_end = match far_end.unwrap_or("clamped") {
+        "clamped" => FarEnd::Clamped,
+        "free" => FarEnd::Free,
+        other => {
+            return Err(SceneError::Range {
+                key: keys.far_end,
+                value: format!("\"{other}\""),
+                range: "\"clamped\" (u(L,t) = 0) or \"free\" (E u_x(L,t) = 0)",
+            });
+        }
+    };
+    let gap = finite_in(keys.gap, gap.map_or(0.0, Number::get), true, "[0, ∞)")?;
+    finite_in(keys.gap, gap, gap >= 0.0, "[0, ∞)")?;
+    Ok((Material { density, modulus }, far_end, gap))
+}
+
+/// A number or an expression as an [`Expr`] (absent: 0).
+pub(crate) fn parse_field(
+    key: &str,
+    raw: Option<RawField>,
+    vars: &[&str],
+    consts: &[(&str, f64)],
+) -> Result<Expr, SceneError> {
+    let text = match raw {
+        None => "0".to_string(),
+        Some(RawField::Number(n)) => crate::expr::sci(n.get()),
+        Some(RawField::Expr(t)) => t,
+    };
+    Ok(Expr::parse(key, &text, vars, consts)?)
+}
+
+/// A force: a number, or an expression in `vars` (time-dependent forces are refused).
+pub(crate) fn parse_force(
+    key: &'static str,
+    raw: Option<RawField>,
+    vars: &[&str],
+    consts: &[(&str, f64)],
+) -> Result<Force, SceneError> {
+    match raw {
+        None => Ok(Force::Constant(0.0)),
+        Some(RawField::Number(n)) => {
+            Ok(Force::Constant(finite_in(key, n.get(), true, "finite real numbers, or an expression")?))
+        }
+        Some(raw) => {
+            let with_t: Vec<&str> = vars.iter().copied().chain(["t"]).collect();
+            let e = parse_field(key, Some(raw), &with_t, consts)?;
+            if e.depends_on("t") {
+                return Err(SceneError::Inapplicable {
+                    key,
+                    context: format!(
+                        "time: \"{}\" depends on t, and time-dependent forces are not supported yet (the schemes assume a constant load); write an expression without t",
+                        e.text()
+                    ),
+                });
+            }
+            Ok(match e.is_constant() {
+                Some(c) => Force::Constant(c),
+                None => Force::Field(Expr::parse(key, e.text(), vars, consts)?),
+            })
+        }
+    }
+}

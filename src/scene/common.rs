@@ -1,0 +1,314 @@
+//! The sections every scene shares: `[mass]`, `[scheme]`, `[time]` (and the output's
+//! divergence factor): raw tables, validation, and the resolved form.
+
+use super::*;
+use crate::mass::MassKind;
+
+/// The `[mass]` table (shared with the plate scenes of `crate::plate::scene`).
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMass {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) kind: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) weights: Option<Vec<Number>>,
+}
+
+/// The `[scheme]` table (shared with the plate scenes).
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawScheme {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) kind: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) beta: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) gamma: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) restitution: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) formulation: Option<String>,
+}
+
+/// The `[time]` table (shared with the plate scenes).
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTime {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) dt: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) end: Option<Number>,
+}
+
+/// Which form of Newmark to solve: the full m-unknown system with the contact multiplier, or the
+/// reduced (P^mod_U) system of a massless contact node.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Formulation {
+    Full,
+    Reduced,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum SchemeSpec {
+    CrankNicolson { formulation: Formulation },
+    Newmark { beta: f64, gamma: f64, formulation: Formulation },
+    BackwardEuler,
+    PaoliSchatzman { beta: f64, restitution: f64 },
+    Hybrid,
+}
+
+impl SchemeSpec {
+    /// Why other geometries reject this scheme, if it is bar-only (Paoli–Schatzman and the
+    /// reduced Newmark formulation use the bar's one contact node): the scene key and the reason.
+    /// The one place that decides it, for scenes ([`crate::plate::scene`]) and problems
+    /// ([`crate::problem::Problem::scheme`]) alike.
+    pub fn bar_only(&self) -> Option<(&'static str, &'static str)> {
+        const WHY: &str = "a bar-only scheme (it uses the bar's one contact node); use crank-nicolson, newmark, backward-euler or hybrid";
+        match self {
+            SchemeSpec::PaoliSchatzman { .. } => Some(("scheme.kind = \"paoli-schatzman\"", WHY)),
+            SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
+            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. } => {
+                Some(("scheme.formulation = \"reduced\"", WHY))
+            }
+            _ => None,
+        }
+    }
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            SchemeSpec::CrankNicolson { .. } => "crank-nicolson",
+            SchemeSpec::Newmark { .. } => "newmark",
+            SchemeSpec::BackwardEuler => "backward-euler",
+            SchemeSpec::PaoliSchatzman { .. } => "paoli-schatzman",
+            SchemeSpec::Hybrid => "hybrid",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeSpec {
+    pub dt: f64,
+    pub end: f64,
+    pub steps: usize,
+}
+
+/// The `[mass]` table as a [`MassKind`] (its weights are validated by the caller, who knows the
+/// mesh).
+pub(crate) fn parse_mass(raw: Option<RawMass>) -> Result<MassKind, SceneError> {
+    let mass = raw.unwrap_or_default();
+    let kind = mass.kind.as_deref().unwrap_or("mod3");
+    let mass = match kind {
+        "custom" => {
+            let w = mass.weights.ok_or(SceneError::Missing {
+                key: "mass.weights",
+                hint: " for mass.kind = \"custom\" (one weight >= 0 per element, element 0 at the contact node)",
+            })?;
+            MassKind::Custom(w.into_iter().map(Number::get).collect())
+        }
+        "standard" | "mod1" | "mod2" | "mod3" => {
+            forbid("mass.weights", &mass.weights, &format!("mass.kind = \"{kind}\" (only to \"custom\")"))?;
+            match kind {
+                "standard" => MassKind::Standard,
+                "mod1" => MassKind::Mod1,
+                "mod2" => MassKind::Mod2,
+                _ => MassKind::Mod3,
+            }
+        }
+        other => {
+            return Err(SceneError::Range {
+                key: "mass.kind",
+                value: format!("\"{other}\""),
+                range: "standard | mod1 | mod2 | mod3 | custom",
+            });
+        }
+    };
+    Ok(mass)
+}
+
+/// The `[scheme]` table; `w0` is the weight of the cells at the contact node (0 iff it is
+/// massless), which the reduced formulation and the hybrid scheme need.
+pub(crate) fn parse_scheme(raw: Option<RawScheme>, w0: f64, mass: &MassKind) -> Result<SchemeSpec, SceneError> {
+    let s = raw.unwrap_or_default();
+    let kind = s.kind.clone().unwrap_or_else(|| "crank-nicolson".into());
+    let ctx = format!("scheme.kind = \"{kind}\"");
+    let formulation = |s: &RawScheme| -> Result<Formulation, SceneError> {
+        match s.formulation.as_deref().unwrap_or("full") {
+            "full" => Ok(Formulation::Full),
+            "reduced" if w0 == 0.0 => Ok(Formulation::Reduced),
+            "reduced" => Err(SceneError::Inapplicable {
+                key: "scheme.formulation = \"reduced\"",
+                context: format!("a mass with w_0 = {} (it needs a massless contact node: mod1, mod2, mod3)", w0),
+            }),
+            other => Err(SceneError::Range {
+                key: "scheme.formulation",
+                value: format!("\"{other}\""),
+                range: "full | reduced",
+            }),
+        }
+    };
+    let beta_range = "(0, 1]";
+    let scheme = match kind.as_str() {
+        "crank-nicolson" => {
+            forbid("scheme.beta", &s.beta, &ctx)?;
+            forbid("scheme.gamma", &s.gamma, &ctx)?;
+            forbid("scheme.restitution", &s.restitution, &ctx)?;
+            SchemeSpec::CrankNicolson { formulation: formulation(&s)? }
+        }
+        "newmark" => {
+            forbid("scheme.restitution", &s.restitution, &ctx)?;
+            let beta = s.beta.map_or(0.25, Number::get);
+            let gamma = s.gamma.map_or(0.5, Number::get);
+            finite_in("scheme.beta", beta, beta > 0.0 && beta <= 1.0, beta_range)?;
+            finite_in("scheme.gamma", gamma, (0.0..=1.0).contains(&gamma), "[0, 1]")?;
+            SchemeSpec::Newmark { beta, gamma, formulation: formulation(&s)? }
+        }
+        "backward-euler" | "hybrid" => {
+            forbid("scheme.beta", &s.beta, &ctx)?;
+            forbid("scheme.gamma", &s.gamma, &ctx)?;
+            forbid("scheme.restitution", &s.restitution, &ctx)?;
+            forbid("scheme.formulation", &s.formulation, &ctx)?;
+            if kind == "hybrid" {
+                if w0 != 0.0 {
+                    return Err(SceneError::Inapplicable {
+                        key: "scheme.kind = \"hybrid\"",
+                        context: format!(
+                            "mass.kind = \"{}\" (w_0 = {}): the hybrid scheme works on the reduced system and needs w_0 = 0 (mod1, mod2, mod3 or custom with weights[0] = 0)",
+                            mass.name(),
+                            w0
+                        ),
+                    });
+                }
+                SchemeSpec::Hybrid
+            } else {
+                SchemeSpec::BackwardEuler
+            }
+        }
+        "paoli-schatzman" => {
+            forbid("scheme.gamma", &s.gamma, &ctx)?;
+            forbid("scheme.formulation", &s.formulation, &ctx)?;
+            let beta = s.beta.map_or(0.25, Number::get);
+            let restitution = s.restitution.map_or(1.0, Number::get);
+            finite_in("scheme.beta", beta, beta > 0.0 && beta <= 1.0, beta_range)?;
+            finite_in("scheme.restitution", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
+            SchemeSpec::PaoliSchatzman { beta, restitution }
+        }
+        other => {
+            return Err(SceneError::Range {
+                key: "scheme.kind",
+                value: format!("\"{other}\""),
+                range: "crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid",
+            });
+        }
+    };
+    Ok(scheme)
+}
+
+/// The `[time]` table; `default_end` is used without `time.end`, `elements` (the unknowns per
+/// step) bounds the work.
+pub(crate) fn parse_time(raw: Option<RawTime>, default_end: f64, elements: usize) -> Result<TimeSpec, SceneError> {
+    let t = raw.unwrap_or_default();
+    let dt = t.dt.map_or(0.01, Number::get);
+    let end = t.end.map_or(default_end, Number::get);
+    finite_in("time.dt", dt, dt > 0.0, "(0, ∞)")?;
+    finite_in("time.end", end, end > 0.0, "(0, ∞)")?;
+    let ratio = end / dt;
+    if !(ratio <= 1e15) {
+        return Err(SceneError::TooMuchWork { work: ratio * elements as f64, limit: MAX_NODE_STEPS });
+    }
+    let steps = ratio.round();
+    if steps < 1.0 || (steps - ratio).abs() > 1e-9 * ratio {
+        return Err(SceneError::NotAnInteger { end, dt, ratio });
+    }
+    let work = steps * elements as f64;
+    if work > MAX_NODE_STEPS {
+        return Err(SceneError::TooMuchWork { work, limit: MAX_NODE_STEPS });
+    }
+    let time = TimeSpec { dt, end, steps: steps as usize };
+    Ok(time)
+}
+
+/// `output.divergence_factor` (shared with the plate scenes): in (1, ∞), default
+/// [`DivergenceCriterion::DEFAULT_ENERGY_FACTOR`](crate::driver::DivergenceCriterion).
+pub(crate) fn parse_divergence_factor(raw: Option<Number>) -> Result<f64, SceneError> {
+    let factor = raw.map_or(crate::driver::DivergenceCriterion::DEFAULT_ENERGY_FACTOR, Number::get);
+    finite_in("output.divergence_factor", factor, factor > 1.0, "(1, ∞)")
+}
+
+/// The resolved `[mass]` table of a mass redistribution.
+pub(crate) fn raw_mass(mass: &MassKind) -> RawMass {
+    RawMass {
+        kind: Some(mass.name().into()),
+        weights: match mass {
+            MassKind::Custom(w) => Some(w.iter().copied().map(Number::Float).collect()),
+            _ => None,
+        },
+    }
+}
+
+/// The resolved `[scheme]` table of a scheme.
+pub(crate) fn raw_scheme(scheme: &SchemeSpec) -> RawScheme {
+    let f = Number::Float;
+    let (kind, beta, gamma, restitution, formulation) = match scheme {
+        SchemeSpec::CrankNicolson { formulation } => ("crank-nicolson", None, None, None, Some(*formulation)),
+        SchemeSpec::Newmark { beta, gamma, formulation } => {
+            ("newmark", Some(*beta), Some(*gamma), None, Some(*formulation))
+        }
+        SchemeSpec::BackwardEuler => ("backward-euler", None, None, None, None),
+        SchemeSpec::PaoliSchatzman { beta, restitution } => {
+            ("paoli-schatzman", Some(*beta), None, Some(*restitution), None)
+        }
+        SchemeSpec::Hybrid => ("hybrid", None, None, None, None),
+    };
+    RawScheme {
+        kind: Some(kind.into()),
+        beta: beta.map(f),
+        gamma: gamma.map(f),
+        restitution: restitution.map(f),
+        formulation: formulation.map(|x| match x {
+            Formulation::Full => "full".into(),
+            Formulation::Reduced => "reduced".into(),
+        }),
+    }
+}
+
+/// The resolved `[time]` table.
+pub(crate) fn raw_time(time: &TimeSpec) -> RawTime {
+    RawTime { dt: Some(Number::Float(time.dt)), end: Some(Number::Float(time.end)) }
+}
+
+/// `output.series`: known columns of the geometry (`allowed`, listed in `range`), each once.
+pub(crate) fn parse_series(
+    names: Vec<String>,
+    allowed: &[Column],
+    range: &'static str,
+) -> Result<Vec<Column>, SceneError> {
+    let mut series = Vec::new();
+    for name in names {
+        let col = allowed.iter().copied().find(|c| c.name() == name).ok_or_else(|| SceneError::Range {
+            key: "output.series",
+            value: format!("\"{name}\""),
+            range,
+        })?;
+        if series.contains(&col) {
+            return Err(SceneError::DuplicateColumn(name));
+        }
+        series.push(col);
+    }
+    Ok(series)
+}
+
+/// `output.every` (≥ 1), with the size limit of the recorded series for every geometry:
+/// `(steps/every + 1)(columns + 1)` values at most [`MAX_SERIES_VALUES`] (its reason there).
+pub(crate) fn parse_every(raw: Option<i64>, steps: usize, columns: usize) -> Result<usize, SceneError> {
+    let every = raw.unwrap_or(1);
+    if every < 1 {
+        return Err(SceneError::Range { key: "output.every", value: every.to_string(), range: "integers >= 1" });
+    }
+    let every = every as usize;
+    let values = ((steps / every + 1) * (columns + 1)) as f64;
+    if columns > 0 && values > MAX_SERIES_VALUES {
+        let min_every = (steps as f64 * (columns + 1) as f64 / MAX_SERIES_VALUES).ceil() as usize;
+        return Err(SceneError::TooManyValues { values, limit: MAX_SERIES_VALUES, every: min_every });
+    }
+    Ok(every)
+}
