@@ -208,7 +208,8 @@ fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> f64 {
     }
 }
 
-/// The loop of [`integrate`] and [`integrate_watched`].
+/// The loop of [`integrate`] and [`integrate_watched`]. (About 80 lines: the per-step sample,
+/// the cadence and the divergence test share its local state; split, they would pass it around.)
 fn drive<G: Geometry>(
     problem: &Problem<G>,
     scheme: &mut dyn Scheme,

@@ -143,58 +143,64 @@ fn main() -> ExitCode {
             }
             Err(e) => fail(&scene, e.to_string(), exit::INVALID),
         },
-        Command::Reproduce { out, quick, .. } => {
-            let config = if quick { massredist::paper::Config::quick() } else { massredist::paper::Config::paper() };
-            let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
-            bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} {msg} {elapsed_precise}").unwrap());
-            let started = std::time::Instant::now();
-            let result = massredist::paper::reproduce(&out, &config, &bar);
-            bar.finish_and_clear();
-            match result {
-                Ok(o) => {
-                    let stopped = o.results.iter().filter(|r| r.failure.is_some()).count();
-                    eprintln!(
-                        "{}: {} runs of the paper ({} diverged) and {} of the rebounding bar, {} files in {:.2} s; see {}",
-                        out.display(),
-                        o.results.len(),
-                        stopped,
-                        o.rebound.runs.len(),
-                        o.files.len(),
-                        started.elapsed().as_secs_f64(),
-                        out.join("report.md").display()
-                    );
-                    ExitCode::SUCCESS
-                }
-                Err(e) => fail(&out, e.to_string(), exit::FAILURE),
-            }
-        }
-        Command::Run { scene, out, .. } => {
-            let s = match Scene::from_file(&scene) {
-                Ok(s) => s,
-                Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
-            };
-            let mut bar = progress(s.time.steps as u64);
-            let result = run_scene(&s, &mut [&mut bar]);
-            bar.0.finish_and_clear();
-            let (summary, series) = match result {
-                Ok(r) => r,
-                Err(e) => return fail(&scene, e.to_string(), exit::FAILURE),
-            };
-            if let Err(e) = massredist::output::write_run(&out, &s, &summary, &series) {
-                return fail(&out, e.to_string(), exit::FAILURE);
-            }
-            eprintln!(
-                "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}",
-                out.display(),
-                summary.divergence.map_or(summary.steps, |d| d.step),
-                summary.wall_seconds,
-                summary.linf_l2_error.map_or("n/a".into(), |e| format!("{e:.4e}")),
-                summary.energy_initial,
-                summary.energy_final
-            );
-            status(&out, &summary)
-        }
+        Command::Reproduce { out, quick, .. } => reproduce(out, quick),
+        Command::Run { scene, out, .. } => run_bar(scene, out),
     }
+}
+
+/// `reproduce`: every experiment of the paper and the rebounding bar into `out`.
+fn reproduce(out: PathBuf, quick: bool) -> ExitCode {
+    let config = if quick { massredist::paper::Config::quick() } else { massredist::paper::Config::paper() };
+    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} {msg} {elapsed_precise}").unwrap());
+    let started = std::time::Instant::now();
+    let result = massredist::paper::reproduce(&out, &config, &bar);
+    bar.finish_and_clear();
+    match result {
+        Ok(o) => {
+            let stopped = o.results.iter().filter(|r| r.failure.is_some()).count();
+            eprintln!(
+                "{}: {} runs of the paper ({} diverged) and {} of the rebounding bar, {} files in {:.2} s; see {}",
+                out.display(),
+                o.results.len(),
+                stopped,
+                o.rebound.runs.len(),
+                o.files.len(),
+                started.elapsed().as_secs_f64(),
+                out.join("report.md").display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => fail(&out, e.to_string(), exit::FAILURE),
+    }
+}
+
+/// `run` for a scene with a `[bar]` table.
+fn run_bar(scene: PathBuf, out: PathBuf) -> ExitCode {
+    let s = match Scene::from_file(&scene) {
+        Ok(s) => s,
+        Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
+    };
+    let mut bar = progress(s.time.steps as u64);
+    let result = run_scene(&s, &mut [&mut bar]);
+    bar.0.finish_and_clear();
+    let (summary, series) = match result {
+        Ok(r) => r,
+        Err(e) => return fail(&scene, e.to_string(), exit::FAILURE),
+    };
+    if let Err(e) = massredist::output::write_run(&out, &s, &summary, &series) {
+        return fail(&out, e.to_string(), exit::FAILURE);
+    }
+    eprintln!(
+        "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}",
+        out.display(),
+        summary.divergence.map_or(summary.steps, |d| d.step),
+        summary.wall_seconds,
+        summary.linf_l2_error.map_or("n/a".into(), |e| format!("{e:.4e}")),
+        summary.energy_initial,
+        summary.energy_final
+    );
+    status(&out, &summary)
 }
 
 /// `run` for a scene with a `[plate]` table (2D).

@@ -280,24 +280,7 @@ impl PlateScene {
         mesh_file: Option<std::path::PathBuf>,
     ) -> Result<PlateScene, PlateSceneError> {
         let (length, height, cells) = (mesh.length, mesh.height, mesh.kind);
-        let keys =
-            BodyKeys { density: "plate.density", modulus: "plate.modulus", far_end: "plate.far_end", gap: "plate.gap" };
-        let expected = "length, height, nx, ny, cells, mesh, density, modulus, far_end, gap, initial, force";
-        RawBody::refuse_unknown("plate", &p.unknown, expected)?;
-        let b = p.body;
-        let (material, far_end, gap) = parse_body(&keys, b.density, b.modulus, b.far_end.as_deref(), b.gap)?;
-        let consts = [("L", length), ("H", height), ("pi", std::f64::consts::PI)];
-        let initial = parse_initial(b.initial, &consts)?;
-        let force = parse_force("plate.force", b.force, &["x", "y"], &consts)?;
-        let points = || mesh.points.iter().copied();
-        if let PlateInitial::Fields { displacement, velocity } = &initial {
-            displacement.eval_at_nodes(points()).map_err(SceneError::from)?;
-            velocity.eval_at_nodes(points()).map_err(SceneError::from)?;
-        }
-        if let Force::Field(f) = &force {
-            f.eval_at_nodes(points()).map_err(SceneError::from)?;
-        }
-        let body = Body { material, far_end, gap, force };
+        let (initial, body) = parse_plate_body(p.body, &p.unknown, &mesh)?;
         let (nx, ny) = match (&mesh_file, p.nx, p.ny) {
             (None, nx, ny) => (nx.unwrap_or(20) as usize, ny.unwrap_or(20) as usize),
             (Some(_), _, _) => (0, 0),
@@ -426,6 +409,33 @@ impl PlateScene {
         text.push_str(&toml::to_string(&raw).expect("a resolved scene always serialises"));
         text
     }
+}
+
+/// The plate's body keys (shared with bars) and its initial data, checked at the mesh nodes.
+fn parse_plate_body(
+    b: RawBody,
+    unknown: &std::collections::BTreeMap<String, toml::Value>,
+    mesh: &Mesh2d,
+) -> Result<(PlateInitial, Body), PlateSceneError> {
+    let (length, height) = (mesh.length, mesh.height);
+    let keys =
+        BodyKeys { density: "plate.density", modulus: "plate.modulus", far_end: "plate.far_end", gap: "plate.gap" };
+    let expected = "length, height, nx, ny, cells, mesh, density, modulus, far_end, gap, initial, force";
+    RawBody::refuse_unknown("plate", unknown, expected)?;
+    let (material, far_end, gap) = parse_body(&keys, b.density, b.modulus, b.far_end.as_deref(), b.gap)?;
+    let consts = [("L", length), ("H", height), ("pi", std::f64::consts::PI)];
+    let initial = parse_initial(b.initial, &consts)?;
+    let force = parse_force("plate.force", b.force, &["x", "y"], &consts)?;
+    let points = || mesh.points.iter().copied();
+    if let PlateInitial::Fields { displacement, velocity } = &initial {
+        displacement.eval_at_nodes(points()).map_err(SceneError::from)?;
+        velocity.eval_at_nodes(points()).map_err(SceneError::from)?;
+    }
+    if let Force::Field(f) = &force {
+        f.eval_at_nodes(points()).map_err(SceneError::from)?;
+    }
+    let body = Body { material, far_end, gap, force };
+    Ok((initial, body))
 }
 
 /// `plate.initial`: "paper", "bump" or a table of expressions in x, y.
