@@ -681,6 +681,12 @@ fn plates_take_the_bar_keys_and_reduce_to_the_bar_with_x_only_data() {
     assert!(err("force = \"y*t\"").contains("plate.force"));
     assert!(err("initial = { displacement = \"x+\" }").starts_with("plate.initial.displacement"));
     assert!(err("heigth = 2").contains("unknown field `heigth` in [plate]"));
+    // One [output] table for every geometry: plates honour summary_l2, bars refuse the VTU keys.
+    let text = "[plate]\nnx = 4\nny = 2\n[time]\ndt = 0.05\nend = 1.0\n[output]\nsummary_l2 = false\nseries = []\n";
+    let run = massredist::plate::run::run_plate_scene(&PlateScene::from_toml(text).unwrap(), &mut []).unwrap();
+    assert!(run.summary.linf_l2_error.is_none() && run.summary.max_contact_error.is_some());
+    let e = massredist::scene::Scene::from_toml("[output]\nvtu = true\n").unwrap_err().to_string();
+    assert!(e.contains("output.vtu") && e.contains("[bar]"), "{e}");
     // The series-size limit holds for plates too (it did not: a 2×1 plate with Δt = 1e-6 and
     // T = 2000 recorded until memory ran out).
     let e = PlateScene::from_toml(

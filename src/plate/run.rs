@@ -110,7 +110,7 @@ pub fn run_plate_scene(scene: &PlateScene, extra: &mut [&mut dyn Observer]) -> R
     }
     let mut scheme = problem.scheme(&scene.scheme, scene.time.dt)?;
     let steps = scene.time.steps;
-    let mut summary = SummaryObserver::new(&problem, steps, scene.time.dt, true);
+    let mut summary = SummaryObserver::new(&problem, steps, scene.time.dt, scene.output.summary_l2);
     let mut series = SeriesRecorder::new(scene.output.series.clone(), scene.output.every, 0);
     let mut frames = scene.output.vtu_every.map(FrameRecorder::new);
     {

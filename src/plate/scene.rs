@@ -33,9 +33,9 @@ use super::mesh::{CellKind, Mesh2d, MeshError};
 use crate::expr::Expr;
 use crate::mass::MassKind;
 use crate::scene::{
-    Body, BodyKeys, Column, Force, Number, RawBody, RawInitial, RawMass, RawScheme, RawTime, SceneError, SchemeSpec,
-    TimeSpec, finite_in, forbid, parse_body, parse_divergence_factor, parse_every, parse_field, parse_force,
-    parse_mass, parse_scheme, parse_series, parse_time, raw_mass, raw_scheme, raw_time,
+    Body, BodyKeys, Column, Force, Number, RawBody, RawInitial, RawMass, RawOutput, RawScheme, RawTime, SceneError,
+    SchemeSpec, TimeSpec, finite_in, forbid, parse_body, parse_divergence_factor, parse_every, parse_field,
+    parse_force, parse_mass, parse_scheme, parse_series, parse_time, raw_mass, raw_scheme, raw_time,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -69,7 +69,7 @@ struct RawPlateScene {
     mass: Option<RawMass>,
     scheme: Option<RawScheme>,
     time: Option<RawTime>,
-    output: Option<RawPlateOutput>,
+    output: Option<RawOutput>,
 }
 
 #[derive(Debug, Default, Deserialize, Serialize)]
@@ -91,21 +91,6 @@ struct RawPlate {
     /// Keys no field takes, refused by `RawBody::refuse_unknown`.
     #[serde(flatten, skip_serializing)]
     unknown: std::collections::BTreeMap<String, toml::Value>,
-}
-
-#[derive(Debug, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-struct RawPlateOutput {
-    #[serde(skip_serializing_if = "Option::is_none")]
-    series: Option<Vec<String>>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    every: Option<i64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    vtu: Option<bool>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    vtu_every: Option<i64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    divergence_factor: Option<Number>,
 }
 
 /// Initial data of the plate.
@@ -182,6 +167,8 @@ pub struct PlateOutputSpec {
     pub every: usize,
     /// Steps between VTU frames, None for no VTU output.
     pub vtu_every: Option<usize>,
+    /// As for bars ([`crate::scene::OutputSpec::summary_l2`]): the exact L² error every step.
+    pub summary_l2: bool,
     /// As for bars ([`crate::scene::OutputSpec::divergence_factor`]).
     pub divergence_factor: f64,
 }
@@ -351,7 +338,13 @@ impl PlateScene {
             mass,
             scheme,
             time,
-            output: PlateOutputSpec { series, every, vtu_every, divergence_factor },
+            output: PlateOutputSpec {
+                series,
+                every,
+                vtu_every,
+                summary_l2: o.summary_l2.unwrap_or(true),
+                divergence_factor,
+            },
         })
     }
 
@@ -388,13 +381,13 @@ impl PlateScene {
             mass: Some(raw_mass(&self.mass)),
             scheme: Some(raw_scheme(&self.scheme)),
             time: Some(raw_time(&self.time)),
-            output: Some(RawPlateOutput {
-                series: Some(self.output.series.iter().map(|c| c.name().to_string()).collect()),
-                every: Some(self.output.every as i64),
-                vtu: Some(self.output.vtu_every.is_some()),
-                vtu_every: self.output.vtu_every.map(|k| k as i64),
-                divergence_factor: Some(f(self.output.divergence_factor)),
-            }),
+            output: Some(RawOutput::resolved(
+                &self.output.series,
+                self.output.every,
+                self.output.summary_l2,
+                Some(self.output.vtu_every),
+                self.output.divergence_factor,
+            )),
         };
         let mut text = if structured {
             format!(

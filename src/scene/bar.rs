@@ -29,19 +29,6 @@ struct RawBar {
     unknown: std::collections::BTreeMap<String, toml::Value>,
 }
 
-#[derive(Debug, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-struct RawOutput {
-    #[serde(skip_serializing_if = "Option::is_none")]
-    series: Option<Vec<String>>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    every: Option<i64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    summary_l2: Option<bool>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    divergence_factor: Option<Number>,
-}
-
 /// Initial data of the bar.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Initial {
@@ -153,6 +140,8 @@ impl Scene {
         let series = parse_series(names, &Column::BAR, range)?;
         let every = parse_every(o.every, time.steps, series.len())?;
         let divergence_factor = parse_divergence_factor(o.divergence_factor)?;
+        forbid("output.vtu", &o.vtu, "[bar] scenes (VTU frames are written for plates)")?;
+        forbid("output.vtu_every", &o.vtu_every, "[bar] scenes (VTU frames are written for plates)")?;
         let output = OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true), divergence_factor };
         let bar = BarSpec { length, elements, material: Material { density, modulus }, far_end, gap, initial, force };
         let scene = Scene { bar, mass, scheme, time, output };
@@ -198,12 +187,13 @@ impl Scene {
             mass: Some(raw_mass(&self.mass)),
             scheme: Some(raw_scheme(&self.scheme)),
             time: Some(raw_time(&self.time)),
-            output: Some(RawOutput {
-                series: Some(self.output.series.iter().map(|c| c.name().to_string()).collect()),
-                every: Some(self.output.every as i64),
-                summary_l2: Some(self.output.summary_l2),
-                divergence_factor: Some(f(self.output.divergence_factor)),
-            }),
+            output: Some(RawOutput::resolved(
+                &self.output.series,
+                self.output.every,
+                self.output.summary_l2,
+                None,
+                self.output.divergence_factor,
+            )),
         };
         let mut text = format!(
             "# Resolved scene (every default filled in); {} steps, h = {:e}.\n",

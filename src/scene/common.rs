@@ -312,3 +312,42 @@ pub(crate) fn parse_every(raw: Option<i64>, steps: usize, columns: usize) -> Res
     }
     Ok(every)
 }
+
+/// The `[output]` table of every scene (bars ignore nothing: they refuse the VTU keys).
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawOutput {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) series: Option<Vec<String>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) every: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) summary_l2: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) vtu: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) vtu_every: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) divergence_factor: Option<Number>,
+}
+
+impl RawOutput {
+    /// The resolved table; `vtu_every` is `Some(frames)` for a plate (None: no VTU key written
+    /// for bars, `vtu = false` for plates without frames is written by the caller).
+    pub(crate) fn resolved(
+        series: &[Column],
+        every: usize,
+        summary_l2: bool,
+        vtu_every: Option<Option<usize>>,
+        divergence_factor: f64,
+    ) -> Self {
+        RawOutput {
+            series: Some(series.iter().map(|c| c.name().to_string()).collect()),
+            every: Some(every as i64),
+            summary_l2: Some(summary_l2),
+            vtu: vtu_every.map(|k| k.is_some()),
+            vtu_every: vtu_every.flatten().map(|k| k as i64),
+            divergence_factor: Some(Number::Float(divergence_factor)),
+        }
+    }
+}
