@@ -3,6 +3,8 @@
 //!
 //! Each test names, in a comment, a mutation of `src/expr.rs` that was applied once to see it fail.
 
+mod common;
+
 use std::f64::consts::PI;
 
 use massredist::expr::{Expr, ExprError};
@@ -10,33 +12,9 @@ use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 use rayon::prelude::*;
 
-/// Counts this thread's allocations (as in tests/stress.rs), to show that evaluation allocates
-/// nothing.
-struct CountingAlloc;
-
-thread_local! {
-    static ALLOCATIONS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
-}
-
-// SAFETY: forwards to the system allocator unchanged; only counts calls.
-unsafe impl std::alloc::GlobalAlloc for CountingAlloc {
-    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-        // SAFETY: same contract as the caller's.
-        unsafe { std::alloc::System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
-        // SAFETY: same contract as the caller's.
-        unsafe { std::alloc::System.dealloc(ptr, layout) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: CountingAlloc = CountingAlloc;
-
-fn allocations() -> usize {
-    ALLOCATIONS.with(|c| c.get())
-}
+static GLOBAL: common::alloc::CountingAlloc = common::alloc::CountingAlloc;
+use common::alloc::allocations;
 
 const L: f64 = 2.5;
 const CONSTS: [(&str, f64); 2] = [("L", L), ("pi", PI)];

@@ -2,6 +2,8 @@
 //! dolfinx/scikit-fem fixtures, exact L² norms, node-wise contact, energy, the schemes on the 1D
 //! bar, scenes, VTU read-back and the paper's 2D table.
 
+mod common;
+
 use massredist::assembly::{Bar, BarSystem};
 use massredist::driver::{Observer, Sample, integrate};
 use massredist::linalg::sparse::{self, SpMat};
@@ -17,29 +19,8 @@ use massredist::scene::{Formulation, SchemeSpec};
 use massredist::schemes::{BackwardEuler, Hybrid, Newmark, Scheme};
 use massredist::system::ContactSystem;
 
-/// Counts heap allocations made by the current thread while `COUNTING` is set (other test
-/// threads are not counted).
-struct CountingAlloc;
-
-thread_local! {
-    static COUNTING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-    static ALLOCATIONS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
-}
-
-unsafe impl std::alloc::GlobalAlloc for CountingAlloc {
-    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
-        if COUNTING.with(|c| c.get()) {
-            ALLOCATIONS.with(|a| a.set(a.get() + 1));
-        }
-        unsafe { std::alloc::System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
-        unsafe { std::alloc::System.dealloc(ptr, layout) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: CountingAlloc = CountingAlloc;
+static GLOBAL: common::alloc::CountingAlloc = common::alloc::CountingAlloc;
 
 const CN: SchemeSpec = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
 
@@ -593,12 +574,11 @@ fn stepping_does_not_allocate() {
     for scheme in [CN, SchemeSpec::BackwardEuler, SchemeSpec::Hybrid] {
         let mut s = p.scheme(&scheme, 0.01).unwrap();
         s.step().unwrap();
-        COUNTING.with(|c| c.set(true));
+        let before = common::alloc::allocations();
         for _ in 0..300 {
             s.step().unwrap();
         }
-        COUNTING.with(|c| c.set(false));
-        let n = ALLOCATIONS.with(|a| a.replace(0));
+        let n = common::alloc::allocations() - before;
         assert_eq!(n, 0, "{}: {n} allocations in 300 steps", scheme.name());
     }
 }

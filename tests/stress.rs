@@ -9,6 +9,8 @@
 //! are unstable over long runs are recorded as expected failures, each by a test that shows the
 //! instability (`expected_instability_*`): they are not silent passes.
 
+mod common;
+
 use massredist::assembly::{Bar, BarSystem};
 use massredist::bench::sweep::scheme_cases;
 use massredist::linalg::tridiag::SymTridiag;
@@ -19,34 +21,8 @@ use massredist::schemes::{PaoliSchatzman, Scheme, SchemeError};
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 
-/// Counts this thread's allocations (a const-initialised thread local: no allocation of its own),
-/// so that parallel tests do not disturb each other's counts.
-struct CountingAlloc;
-
-thread_local! {
-    static ALLOCATIONS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
-}
-
-// SAFETY: forwards to the system allocator unchanged; only counts calls.
-unsafe impl std::alloc::GlobalAlloc for CountingAlloc {
-    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-        // SAFETY: same contract as the caller's.
-        unsafe { std::alloc::System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
-        // SAFETY: same contract as the caller's.
-        unsafe { std::alloc::System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new_size: usize) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-        // SAFETY: same contract as the caller's.
-        unsafe { std::alloc::System.realloc(ptr, layout, new_size) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: CountingAlloc = CountingAlloc;
+static GLOBAL: common::alloc::CountingAlloc = common::alloc::CountingAlloc;
 
 #[test]
 fn the_step_loop_allocates_nothing() {
@@ -55,12 +31,12 @@ fn the_step_loop_allocates_nothing() {
     for case in scheme_cases() {
         let mass = if case.needs_massless { MassKind::Mod3 } else { MassKind::Standard };
         let p = benchmark(60, &mass);
-        let built = ALLOCATIONS.with(|c| c.get());
+        let built = common::alloc::allocations();
         let mut s = p.scheme(&case.spec, p.system.h()).unwrap();
-        let before = ALLOCATIONS.with(|c| c.get());
+        let before = common::alloc::allocations();
         assert!(before > built, "the counter sees the construction's allocations");
         massredist::run::integrate(&p, s.as_mut(), 3 * 60, &mut []).unwrap();
-        let after = ALLOCATIONS.with(|c| c.get());
+        let after = common::alloc::allocations();
         assert_eq!(after - before, 0, "{}: {} allocations in 180 steps", case.label, after - before);
     }
 }

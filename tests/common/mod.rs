@@ -1,6 +1,8 @@
 //! Shared test helpers: record whole trajectories through the public driver.
 #![allow(dead_code)]
 
+pub mod alloc;
+
 use massredist::mass::MassKind;
 use massredist::run::{Observer, Problem, Sample, integrate};
 use massredist::scene::{Formulation, SchemeSpec};
