@@ -35,7 +35,7 @@ use crate::mass::MassKind;
 use crate::scene::{
     Body, BodyKeys, Column, Force, Number, RawBody, RawInitial, RawMass, RawOutput, RawScheme, RawTime, SceneError,
     SchemeSpec, TimeSpec, finite_in, forbid, parse_body, parse_divergence_factor, parse_every, parse_field,
-    parse_force, parse_mass, parse_scheme, parse_series, parse_time, raw_mass, raw_scheme, raw_time,
+    parse_force, parse_mass, parse_scheme, parse_series, parse_time, raw_sections,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -161,17 +161,8 @@ pub struct PlateSpec {
     pub body: Body,
 }
 
-#[derive(Debug, Clone, PartialEq)]
-pub struct PlateOutputSpec {
-    pub series: Vec<Column>,
-    pub every: usize,
-    /// Steps between VTU frames, None for no VTU output.
-    pub vtu_every: Option<usize>,
-    /// As for bars ([`crate::scene::OutputSpec::summary_l2`]): the exact L² error every step.
-    pub summary_l2: bool,
-    /// As for bars ([`crate::scene::OutputSpec::divergence_factor`]).
-    pub divergence_factor: f64,
-}
+/// The output of a plate scene: the one output spec of every scene (with its VTU frames).
+pub type PlateOutputSpec = crate::scene::OutputSpec;
 
 /// A validated plate scene.
 #[derive(Debug, Clone, PartialEq)]
@@ -338,7 +329,7 @@ impl PlateScene {
             mass,
             scheme,
             time,
-            output: PlateOutputSpec {
+            output: crate::scene::OutputSpec {
                 series,
                 every,
                 vtu_every,
@@ -358,6 +349,7 @@ impl PlateScene {
         let f = Number::Float;
         let p = &self.plate;
         let structured = self.mesh_file.is_none();
+        let (mass, scheme, time, output) = raw_sections(&self.mass, &self.scheme, &self.time, &self.output, true);
         let raw = RawPlateScene {
             plate: Some(RawPlate {
                 length: structured.then_some(f(p.length)),
@@ -378,16 +370,10 @@ impl PlateScene {
                 unknown: Default::default(),
                 mesh: self.mesh_file.as_ref().map(|m| m.display().to_string()),
             }),
-            mass: Some(raw_mass(&self.mass)),
-            scheme: Some(raw_scheme(&self.scheme)),
-            time: Some(raw_time(&self.time)),
-            output: Some(RawOutput::resolved(
-                &self.output.series,
-                self.output.every,
-                self.output.summary_l2,
-                Some(self.output.vtu_every),
-                self.output.divergence_factor,
-            )),
+            mass,
+            scheme,
+            time,
+            output,
         };
         let mut text = if structured {
             format!(

@@ -142,7 +142,8 @@ impl Scene {
         let divergence_factor = parse_divergence_factor(o.divergence_factor)?;
         forbid("output.vtu", &o.vtu, "[bar] scenes (VTU frames are written for plates)")?;
         forbid("output.vtu_every", &o.vtu_every, "[bar] scenes (VTU frames are written for plates)")?;
-        let output = OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true), divergence_factor };
+        let output =
+            OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true), divergence_factor, vtu_every: None };
         let bar = BarSpec { length, elements, material: Material { density, modulus }, far_end, gap, initial, force };
         let scene = Scene { bar, mass, scheme, time, output };
         if !scene.has_exact_solution() {
@@ -168,6 +169,7 @@ impl Scene {
     /// The scene with every default filled in, as TOML.
     pub fn resolved_toml(&self) -> String {
         let f = Number::Float;
+        let (mass, scheme, time, output) = raw_sections(&self.mass, &self.scheme, &self.time, &self.output, false);
         let raw = RawScene {
             bar: Some(RawBar {
                 length: Some(f(self.bar.length)),
@@ -184,16 +186,10 @@ impl Scene {
                 ),
                 unknown: Default::default(),
             }),
-            mass: Some(raw_mass(&self.mass)),
-            scheme: Some(raw_scheme(&self.scheme)),
-            time: Some(raw_time(&self.time)),
-            output: Some(RawOutput::resolved(
-                &self.output.series,
-                self.output.every,
-                self.output.summary_l2,
-                None,
-                self.output.divergence_factor,
-            )),
+            mass,
+            scheme,
+            time,
+            output,
         };
         let mut text = format!(
             "# Resolved scene (every default filled in); {} steps, h = {:e}.\n",

@@ -235,6 +235,20 @@ pub(crate) fn parse_divergence_factor(raw: Option<Number>) -> Result<f64, SceneE
 }
 
 /// The resolved `[mass]` table of a mass redistribution.
+/// The resolved `[mass]`, `[scheme]`, `[time]` and `[output]` tables of any scene (`plate`:
+/// write the VTU keys).
+pub(crate) fn raw_sections(
+    mass: &MassKind,
+    scheme: &SchemeSpec,
+    time: &TimeSpec,
+    output: &OutputSpec,
+    plate: bool,
+) -> (Option<RawMass>, Option<RawScheme>, Option<RawTime>, Option<RawOutput>) {
+    let vtu = plate.then_some(output.vtu_every);
+    let out = RawOutput::resolved(&output.series, output.every, output.summary_l2, vtu, output.divergence_factor);
+    (Some(raw_mass(mass)), Some(raw_scheme(scheme)), Some(raw_time(time)), Some(out))
+}
+
 pub(crate) fn raw_mass(mass: &MassKind) -> RawMass {
     RawMass {
         kind: Some(mass.name().into()),

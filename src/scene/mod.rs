@@ -172,6 +172,8 @@ pub struct OutputSpec {
     /// The run stops as diverged when its energy exceeds this factor times its reference
     /// ([`crate::driver::DivergenceCriterion`]); in (1, ∞), default 1e6.
     pub divergence_factor: f64,
+    /// Steps between VTU frames (plates; None for no VTU output, always None for bars).
+    pub vtu_every: Option<usize>,
 }
 
 pub(crate) fn finite_in(key: &'static str, v: f64, ok: bool, range: &'static str) -> Result<f64, SceneError> {
