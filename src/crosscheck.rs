@@ -18,7 +18,7 @@
 //! - the hybrid scheme's contact column at n = 0: the Python stepper reports (u_1⁰)⁺ there, this
 //!   crate the interpolant u(0) (its stated convention); row n = 0 of the contact node is skipped.
 
-use crate::assembly::{Bar, full_matrices};
+use crate::bar::assembly::{Bar, full_matrices};
 use crate::bridge::{self, Backend, BridgeError, Csr};
 use crate::linalg::tridiag::SymTridiag;
 use crate::mass::MassKind;
@@ -283,11 +283,11 @@ pub fn table(report: &Report) -> String {
 }
 
 /// The 2D cases: structured triangle (P1) and quadrilateral (Q1) meshes with the 2D mass
-/// redistributions of `plate::mass` and seeded random per-cell weights, plus the gmsh fixture
+/// redistributions of `plate::layers` and seeded random per-cell weights, plus the gmsh fixture
 /// mesh read through meshio. Panics only on a bug in these fixed, valid cases.
 pub fn cases_2d() -> Vec<Case2d> {
     use crate::linalg::sparse::to_dense;
-    use crate::plate::{CellKind, Mesh2d, assemble, mass::cell_weights};
+    use crate::plate::{CellKind, Mesh2d, assemble, layers::cell_weights};
     let structured = |l: f64, h: f64, nx: usize, ny: usize, kind: CellKind| {
         Mesh2d::structured(l, h, nx, ny, kind).expect("valid structured mesh")
     };

@@ -165,16 +165,16 @@ impl ImpactingBar {
 /// y-independent data: a plane wave), for its material, far end and gap.
 pub fn by_characteristics(
     length: f64,
-    material: crate::assembly::Material,
-    far_end: crate::assembly::FarEnd,
+    material: crate::material::Material,
+    far_end: crate::material::FarEnd,
     gap: f64,
     initial: crate::characteristics::InitialData<'_>,
     t_end: f64,
 ) -> Result<crate::characteristics::Characteristics, crate::characteristics::CharacteristicsError> {
     use crate::characteristics::{BarData, Characteristics, FarEnd};
     let far_end = match far_end {
-        crate::assembly::FarEnd::Clamped => FarEnd::Clamped,
-        crate::assembly::FarEnd::Free => FarEnd::Free,
+        crate::material::FarEnd::Clamped => FarEnd::Clamped,
+        crate::material::FarEnd::Free => FarEnd::Free,
     };
     let data = BarData { length, density: material.density, modulus: material.modulus, far_end, gap };
     Characteristics::new(&data, initial, t_end)

@@ -6,7 +6,7 @@ pub mod bridge;
 #[cfg(feature = "python")]
 pub mod crosscheck;
 
-pub mod assembly;
+pub mod bar;
 pub mod bench;
 pub mod characteristics;
 pub mod contact;
@@ -15,7 +15,7 @@ pub mod exact;
 pub mod expr;
 pub mod linalg;
 pub mod mass;
-pub mod norms;
+pub mod material;
 pub mod observe;
 pub mod output;
 pub mod paper;

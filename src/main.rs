@@ -210,13 +210,13 @@ fn run_plate(scene: PathBuf, out: PathBuf) -> ExitCode {
         Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
     };
     let mut bar = progress(s.time.steps as u64);
-    let result = massredist::plate::run::run_plate_scene(&s, &mut [&mut bar]);
+    let result = massredist::run::plate::run_plate_scene(&s, &mut [&mut bar]);
     bar.0.finish_and_clear();
     let run = match result {
         Ok(r) => r,
         Err(e) => return fail(&scene, e.to_string(), exit::FAILURE),
     };
-    if let Err(e) = massredist::plate::output::write_plate_run(&out, &s, &run) {
+    if let Err(e) = massredist::run::plate::write_plate_run(&out, &s, &run) {
         return fail(&out, e.to_string(), exit::FAILURE);
     }
     eprintln!(

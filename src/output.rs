@@ -85,17 +85,28 @@ pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     })
 }
 
-/// The run directory of `massredist run`: series.csv (if any column), summary.json and
-/// scene.resolved.toml.
+/// The run directory of `massredist run` for a bar scene (see [`write_run_files`]).
 pub fn write_run(dir: &Path, scene: &Scene, summary: &Summary, series: &SeriesRecorder) -> std::io::Result<()> {
+    write_run_files(dir, &summary_json(scene, summary), &scene.resolved_toml(), series, |_| Ok(()))
+}
+
+/// The run directory of every geometry: series.csv (if any column), summary.json,
+/// scene.resolved.toml, and what `extra` writes into the folder (a plate's VTU frames).
+pub fn write_run_files(
+    dir: &Path,
+    summary_json: &str,
+    resolved_scene: &str,
+    series: &SeriesRecorder,
+    extra: impl FnOnce(&Path) -> std::io::Result<()>,
+) -> std::io::Result<()> {
     write_dir_atomically(dir, |tmp| {
         if !series.columns.is_empty() {
             let f = std::io::BufWriter::new(std::fs::File::create(tmp.join("series.csv"))?);
             write_series_csv(series, f).map_err(std::io::Error::other)?;
         }
-        std::fs::write(tmp.join("summary.json"), summary_json(scene, summary))?;
-        std::fs::write(tmp.join("scene.resolved.toml"), scene.resolved_toml())?;
-        Ok(())
+        std::fs::write(tmp.join("summary.json"), summary_json)?;
+        std::fs::write(tmp.join("scene.resolved.toml"), resolved_scene)?;
+        extra(tmp)
     })
 }
 

@@ -8,7 +8,7 @@
 //! need the bar itself, and [`Geometry::bar`] is how they get it — every other geometry rejects
 //! them here, in [`Problem::scheme`].
 
-use crate::assembly::BarSystem;
+use crate::bar::assembly::BarSystem;
 use crate::contact::Backend;
 use crate::exact::Exact;
 use crate::scene::{Formulation, SchemeSpec};
@@ -146,11 +146,11 @@ impl GeometryView for BarSystem {
         u[0]
     }
 
-    /// The paper's closed form is integrated split at its kinks ([`crate::norms::l2_error`]);
+    /// The paper's closed form is integrated split at its kinks ([`crate::bar::norms::l2_error`]);
     /// the general solution by its own exact cell rule (`Characteristics::l2_error_p1`).
     fn l2_error(&self, u: &[f64], exact: &Exact, t: f64) -> f64 {
         match exact {
-            Exact::Paper(e) => crate::norms::l2_error(&self.bar, u, e, t),
+            Exact::Paper(e) => crate::bar::norms::l2_error(&self.bar, u, e, t),
             Exact::General(c) => {
                 let nodes: Vec<f64> = (0..=self.m()).map(|i| self.bar.x(i)).collect();
                 let mut values = u.to_vec();
@@ -165,7 +165,7 @@ impl GeometryView for BarSystem {
         for (i, e) in scratch.iter_mut().enumerate() {
             *e = exact.u(self.bar.x(i), t);
         }
-        crate::norms::l2_norm_p1(&self.bar, scratch)
+        crate::bar::norms::l2_norm_p1(&self.bar, scratch)
     }
 
     fn n_nodes(&self) -> usize {

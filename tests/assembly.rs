@@ -3,10 +3,10 @@
 
 mod common;
 
-use massredist::assembly::{Bar, BarSystem};
+use massredist::bar::assembly::{Bar, BarSystem};
+use massredist::bar::norms::{l2_error, l2_norm_p1};
 use massredist::exact::ImpactingBar;
 use massredist::mass::MassKind;
-use massredist::norms::{l2_error, l2_norm_p1};
 
 /// φ_k(x) of the paper (hat functions on the uniform mesh).
 fn phi(k: usize, x: f64, h: f64) -> f64 {

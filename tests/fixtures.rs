@@ -3,7 +3,7 @@
 
 mod common;
 
-use massredist::assembly::{Bar, full_matrices};
+use massredist::bar::assembly::{Bar, full_matrices};
 use massredist::mass::MassKind;
 use massredist::run::Problem;
 use massredist::scene::{Formulation, SchemeSpec};

@@ -4,17 +4,17 @@
 
 mod common;
 
-use massredist::assembly::{Bar, BarSystem};
+use massredist::bar::assembly::{Bar, BarSystem};
 use massredist::driver::{Observer, Sample, integrate};
 use massredist::linalg::sparse::{self, SpMat};
 use massredist::linalg::tridiag::SymTridiag;
 use massredist::mass::MassKind;
 use massredist::observe::{EnergyRecorder, SummaryObserver};
-use massredist::plate::mass::{cell_weights, layers, total_mass};
-use massredist::plate::run::PlateProblem;
+use massredist::plate::layers::{cell_weights, layers, total_mass};
 use massredist::plate::scene::{PlateInitial, PlateSpec};
 use massredist::plate::{CellKind, Mesh2d};
 use massredist::run::Problem;
+use massredist::run::plate::PlateProblem;
 use massredist::scene::{Formulation, SchemeSpec};
 use massredist::schemes::{BackwardEuler, Hybrid, Newmark, Scheme};
 use massredist::system::ContactSystem;
@@ -109,7 +109,7 @@ fn exact_l2_norm_of_the_benchmark_on_triangles_and_quads() {
         let zero = vec![0.0; p.system.system.n()];
         for &t in &[0.0, 0.33, 1.21, 1.5, 1.77, 2.4, 2.999] {
             let e2 = massredist::plate::norms::l2_error(&p.system, &zero, &exact, t);
-            let e1 = massredist::norms::l2_error(&bar, &vec![0.0; 7], &exact, t);
+            let e1 = massredist::bar::norms::l2_error(&bar, &vec![0.0; 7], &exact, t);
             // Sums of ~100 exact cell integrals of size ≤ 1: round-off only.
             assert!((e2 - 0.6f64.sqrt() * e1).abs() <= 1e-14, "{kind:?} t={t}: {e2} vs {}", 0.6f64.sqrt() * e1);
         }
@@ -432,8 +432,15 @@ fn hybrid_energy_never_increases_in_2d() {
 fn triangles_on_the_paper_data_compared_with_1d() {
     // Not asserted (P1 on one-diagonal meshes is not a tensor product): reported.
     for scheme in [CN, SchemeSpec::Hybrid] {
-        let c = massredist::plate::table::compare_with_1d(CellKind::Triangle, 20, &MassKind::Mod3, &scheme, 0.01, 3.0)
-            .unwrap();
+        let c = massredist::paper::plate_table::compare_with_1d(
+            CellKind::Triangle,
+            20,
+            &MassKind::Mod3,
+            &scheme,
+            0.01,
+            3.0,
+        )
+        .unwrap();
         eprintln!("P1 20x20 {} mod3 dt 0.01 T 3: {c:?}", scheme.name());
         assert!(c.max_y_variation.is_finite() && c.max_diff_to_1d.is_finite());
     }
@@ -452,7 +459,7 @@ fn every_plate_scene_runs() {
         let scene = massredist::plate::scene::PlateScene::from_file(&path).unwrap();
         let again = massredist::plate::scene::PlateScene::from_toml(&scene.resolved_toml()).unwrap();
         assert_eq!(scene, again, "{name}: the resolved scene reads back to itself");
-        let run = massredist::plate::run::run_plate_scene(&scene, &mut []).unwrap();
+        let run = massredist::run::plate::run_plate_scene(&scene, &mut []).unwrap();
         assert_eq!(run.summary.steps, scene.time.steps);
         assert!(run.summary.min_u0 >= 0.0 && run.summary.max_lambda <= 0.0, "{name}");
         n += 1;
@@ -481,9 +488,9 @@ fn plate_scene_errors_name_the_key() {
 #[test]
 fn a_y_dependent_run_writes_vtu_that_reads_back() {
     use massredist::observe::FrameRecorder;
-    use massredist::plate::run::run_plate_scene;
     use massredist::plate::scene::PlateScene;
     use massredist::plate::vtu::{read_pvd, read_vtu};
+    use massredist::run::plate::run_plate_scene;
     let text = "[plate]\nnx = 40\nny = 40\ncells = \"triangle\"\ninitial = \"bump\"\n[mass]\nkind = \"mod3\"\n\
                 [scheme]\nkind = \"hybrid\"\n[time]\ndt = 0.01\nend = 3.0\n[output]\nvtu = true\nvtu_every = 50\n";
     let scene = PlateScene::from_toml(text).unwrap();
@@ -499,7 +506,7 @@ fn a_y_dependent_run_writes_vtu_that_reads_back() {
     );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run");
-    massredist::plate::output::write_plate_run(&out, &scene, &run).unwrap();
+    massredist::run::plate::write_plate_run(&out, &scene, &run).unwrap();
     let frames: &FrameRecorder = run.frames.as_ref().unwrap();
     let pvd = read_pvd(&std::fs::read_to_string(out.join("plate.pvd")).unwrap());
     assert_eq!(pvd.len(), 7); // t = 0, 0.5, …, 3
@@ -529,7 +536,7 @@ fn a_y_dependent_run_writes_vtu_that_reads_back() {
 #[test]
 fn the_judged_table_rows_are_the_1d_errors_with_h_005() {
     // Q1 with the paper's data reduces to 1D (first test), and ‖·‖_{L²((0,1)²)} = ‖·‖_{L²(0,1)}.
-    let rows = massredist::plate::table::table_2d(true);
+    let rows = massredist::paper::plate_table::table_2d(true);
     let judged: Vec<_> = rows.iter().filter(|r| r.judged).collect();
     assert_eq!(judged.len(), 3);
     for r in &judged {
@@ -588,7 +595,7 @@ fn stepping_does_not_allocate() {
 #[test]
 #[ignore]
 fn print_table_2d() {
-    let rows = massredist::plate::table::table_2d(false);
+    let rows = massredist::paper::plate_table::table_2d(false);
     for r in &rows {
         println!(
             "{:5} {:8} {:14} {} dt={:<5} T={:<2} linf_l2={:.5} paper={:?}",
@@ -602,10 +609,10 @@ fn print_table_2d() {
             r.paper
         );
     }
-    for r in massredist::plate::table::closest_to_paper(&rows) {
+    for r in massredist::paper::plate_table::closest_to_paper(&rows) {
         println!("closest to the paper: {r:?}");
     }
-    let (group, factor) = massredist::plate::table::best_single_configuration(&rows).unwrap();
+    let (group, factor) = massredist::paper::plate_table::best_single_configuration(&rows).unwrap();
     println!("best single configuration (within a factor {factor:.3}): {group:?}");
 }
 
@@ -626,8 +633,8 @@ fn plates_take_the_bar_keys_and_reduce_to_the_bar_with_x_only_data() {
     // the test above), so both scenes built from text must step alike to round-off, for a free
     // far end, a gap, another material and expression data. Mutation check: assembling the
     // plate's density into its stiffness, or ignoring plate.gap, breaks the comparison.
-    use massredist::plate::run::PlateProblem;
     use massredist::plate::scene::PlateScene;
+    use massredist::run::plate::PlateProblem;
     let body = "density = 4.0\nmodulus = 2.25\nfar_end = \"free\"\ngap = 0.05\n\
                 initial = { displacement = \"0.1*x\", velocity = \"-1+0.3*x\" }";
     let tail = "[mass]\nkind = \"mod3\"\n[scheme]\nkind = \"KIND\"\n[time]\ndt = 0.01\nend = 2.0\n[output]\nseries = [\"u0\"]\n";
@@ -663,7 +670,7 @@ fn plates_take_the_bar_keys_and_reduce_to_the_bar_with_x_only_data() {
     assert!(err("heigth = 2").contains("unknown field `heigth` in [plate]"));
     // One [output] table for every geometry: plates honour summary_l2, bars refuse the VTU keys.
     let text = "[plate]\nnx = 4\nny = 2\n[time]\ndt = 0.05\nend = 1.0\n[output]\nsummary_l2 = false\nseries = []\n";
-    let run = massredist::plate::run::run_plate_scene(&PlateScene::from_toml(text).unwrap(), &mut []).unwrap();
+    let run = massredist::run::plate::run_plate_scene(&PlateScene::from_toml(text).unwrap(), &mut []).unwrap();
     assert!(run.summary.linf_l2_error.is_none() && run.summary.max_contact_error.is_some());
     let e = massredist::scene::Scene::from_toml("[output]\nvtu = true\n").unwrap_err().to_string();
     assert!(e.contains("output.vtu") && e.contains("[bar]"), "{e}");
@@ -684,8 +691,8 @@ fn y_independent_plates_are_measured_against_the_plane_wave() {
     // the bar, test above), its L² error is not offered (null, never a false 0), and exact_u0 is
     // a column. Mutation check: building the plane wave without the plate's gap changes
     // max_contact_error by O(gap).
-    use massredist::plate::run::run_plate_scene;
     use massredist::plate::scene::PlateScene;
+    use massredist::run::plate::run_plate_scene;
     let body = "modulus = 4.0\nfar_end = \"free\"\ngap = 0.1\ninitial = { displacement = \"0\", velocity = \"-1\" }";
     let tail = "[mass]\nkind = \"mod3\"\n[scheme]\nkind = \"hybrid\"\n[time]\ndt = 0.005\nend = 1.5\n";
     let plate_text =

@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use massredist::assembly::{Bar, BarSystem};
+use massredist::bar::assembly::{Bar, BarSystem};
 use massredist::mass::MassKind;
 use massredist::run::Problem;
 use massredist::scene::{Formulation, SchemeSpec};

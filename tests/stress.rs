@@ -11,7 +11,7 @@
 
 mod common;
 
-use massredist::assembly::{Bar, BarSystem};
+use massredist::bar::assembly::{Bar, BarSystem};
 use massredist::bench::sweep::scheme_cases;
 use massredist::linalg::tridiag::SymTridiag;
 use massredist::mass::MassKind;

@@ -182,8 +182,8 @@ pub struct PlateTimings {
 pub fn time_plate(nx: usize, ny: usize, min_total: f64) -> Option<PlateTimings> {
     use crate::linalg::sparse;
     use crate::plate::CellKind;
-    use crate::plate::run::PlateProblem;
     use crate::plate::scene::{PlateInitial, PlateSpec};
+    use crate::run::plate::PlateProblem;
     let spec = PlateSpec {
         length: 1.0,
         height: ny as f64 / nx as f64,

@@ -3,7 +3,7 @@
 //!
 //! Every run is the impacting bar of length L = 1 over one period T = 3 (free flight, contact,
 //! release), started from the nodal interpolant of u⁰ = (1 − x)/2, v⁰ = 0. For each run we record
-//! the L∞(0,T; L²(0,L)) error (exact, see [`crate::norms::l2_error`]), the maximum error of the
+//! the L∞(0,T; L²(0,L)) error (exact, see [`crate::bar::norms::l2_error`]), the maximum error of the
 //! contact displacement max_n |u_0ⁿ − u(0,t_n)|, the wall time of the solve alone (no
 //! diagnostics) and the ns per node-step.
 

@@ -30,6 +30,7 @@ mod claims;
 mod config;
 mod experiments;
 mod figures;
+pub mod plate_table;
 mod rebound;
 mod rebound_report;
 mod report;

@@ -4,7 +4,7 @@
 use super::Config;
 use super::tables::{sig, write_csv};
 use crate::output::fmt_f64;
-use crate::plate::table::Row;
+use crate::paper::plate_table::Row;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -25,12 +25,12 @@ pub struct Table2d {
 
 /// The paper's Table 1 ("Total error rates for the displacement", §6): the 2D
 /// L∞(0,T;L²((0,1)²)) errors with Δx1 = Δx2 = 0.05, quoted from the paper.
-pub const PAPER_TABLE_2D: [(&str, f64); 3] = crate::plate::table::PAPER_TABLE;
+pub const PAPER_TABLE_2D: [(&str, f64); 3] = crate::paper::plate_table::PAPER_TABLE;
 
 /// The project's 2D errors (`plate::table::table_2d`; full sweep unless `config.full_2d_sweep`
 /// is false). None only if a judged run failed.
 pub fn plate_2d_errors(config: &Config) -> Option<Table2d> {
-    let rows = crate::plate::table::table_2d(!config.full_2d_sweep);
+    let rows = crate::paper::plate_table::table_2d(!config.full_2d_sweep);
     let judged: Vec<&Row> = rows.iter().filter(|r| r.judged).collect();
     let get = |mass: &str| judged.iter().find(|r| r.mass == mass).and_then(|r| r.linf_l2_error);
     let (mod1, mod2, mod3) = (get("mod1")?, get("mod2")?, get("mod3")?);
@@ -89,7 +89,7 @@ fn sweep_section(rows: &[Row]) -> String {
         "Sensitivity sweep: {sweep} runs (`table-2d-sweep.csv`). Closest value to the paper's, per mass:\n"
     );
     s.push_str("| mass | paper | closest | cells | scheme | Δt | T |\n|---|---|---|---|---|---|---|\n");
-    for r in crate::plate::table::closest_to_paper(rows) {
+    for r in crate::paper::plate_table::closest_to_paper(rows) {
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {} | {} | {} |",
@@ -102,7 +102,7 @@ fn sweep_section(rows: &[Row]) -> String {
             r.end
         );
     }
-    if let Some((group, factor)) = crate::plate::table::best_single_configuration(rows) {
+    if let Some((group, factor)) = crate::paper::plate_table::best_single_configuration(rows) {
         let r = group[0];
         let vals: Vec<String> =
             group.iter().map(|q| format!("{} {}", q.mass, q.linf_l2_error.map_or("-".into(), |e| sig(e, 3)))).collect();

@@ -16,11 +16,11 @@
 //! for cross-checks against dolfinx and scikit-fem); [`PlateSystem`] removes the Dirichlet
 //! nodes x = L and keeps the contact nodes x = 0 as unknowns (Signorini rows).
 
-use super::mass::{PlateMassError, cell_weights};
+use super::layers::{PlateMassError, cell_weights};
 use super::mesh::{CellKind, Mesh2d};
-use crate::assembly::{FarEnd, Material};
 use crate::linalg::sparse::{self, SpMat, SparseError};
 use crate::mass::MassKind;
+use crate::material::{FarEnd, Material};
 use crate::system::ContactSystem;
 
 /// The body force of a plate.
@@ -246,7 +246,7 @@ impl PlateSystem {
 
     /// Total mass `1ᵀ M_full 1 = ∫ w_h`.
     pub fn total_mass(&self) -> f64 {
-        super::mass::total_mass(&self.mesh, &self.weights)
+        super::layers::total_mass(&self.mesh, &self.weights)
     }
 }
 

@@ -41,13 +41,10 @@
 
 pub mod assembly;
 pub mod geometry;
-pub mod mass;
+pub mod layers;
 pub mod mesh;
 pub mod norms;
-pub mod output;
-pub mod run;
 pub mod scene;
-pub mod table;
 pub mod vtu;
 
 pub use assembly::{PlateSystem, assemble};

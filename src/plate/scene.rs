@@ -28,7 +28,7 @@
 //! divergence_factor = 1e6    # stop as diverged when |E| > factor · max(|E⁰|, E_F), in (1, ∞)
 //! ```
 
-use super::mass::{PlateMassError, cell_weights, layers};
+use super::layers::{PlateMassError, cell_weights, layers};
 use super::mesh::{CellKind, Mesh2d, MeshError};
 use crate::expr::Expr;
 use crate::mass::MassKind;

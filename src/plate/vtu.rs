@@ -198,3 +198,19 @@ pub fn read_pvd(text: &str) -> Vec<(f64, String)> {
         .filter_map(|l| Some((attr(l, "timestep")?.parse().ok()?, attr(l, "file")?)))
         .collect()
 }
+
+/// Writes `frames` as `vtu/frame_NNNNN.vtu` and the collection `plate.pvd` into `dir`.
+pub fn write_frames(
+    dir: &std::path::Path,
+    plate: &super::PlateSystem,
+    frames: &[crate::observe::Frame],
+) -> std::io::Result<()> {
+    std::fs::create_dir(dir.join("vtu"))?;
+    let mut entries = Vec::with_capacity(frames.len());
+    for (k, fr) in frames.iter().enumerate() {
+        let name = format!("vtu/frame_{k:05}.vtu");
+        std::fs::write(dir.join(&name), vtu_string(&plate.mesh, &fr.u, &fr.v, &plate.weights))?;
+        entries.push((fr.t, name));
+    }
+    std::fs::write(dir.join("plate.pvd"), pvd_string(&entries))
+}

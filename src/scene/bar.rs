@@ -1,9 +1,9 @@
 //! Bar scenes: the `[bar]` table and the validated [`Scene`].
 
 use super::*;
-use crate::assembly::{FarEnd, Material};
 use crate::expr::Expr;
 use crate::mass::MassKind;
+use crate::material::{FarEnd, Material};
 
 #[derive(Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]

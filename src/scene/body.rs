@@ -2,8 +2,8 @@
 //! (numbers or expressions).
 
 use super::*;
-use crate::assembly::{FarEnd, Material};
 use crate::expr::Expr;
+use crate::material::{FarEnd, Material};
 
 /// The keys a bar's and a plate's table share: material, far end, gap, initial data, force.
 #[derive(Debug, Default, Deserialize, Serialize)]

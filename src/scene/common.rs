@@ -228,9 +228,9 @@ pub(crate) fn parse_time(raw: Option<RawTime>, default_end: f64, elements: usize
 }
 
 /// `output.divergence_factor` (shared with the plate scenes): in (1, ∞), default
-/// [`DivergenceCriterion::DEFAULT_ENERGY_FACTOR`](crate::driver::DivergenceCriterion).
+/// [`DEFAULT_DIVERGENCE_FACTOR`].
 pub(crate) fn parse_divergence_factor(raw: Option<Number>) -> Result<f64, SceneError> {
-    let factor = raw.map_or(crate::driver::DivergenceCriterion::DEFAULT_ENERGY_FACTOR, Number::get);
+    let factor = raw.map_or(DEFAULT_DIVERGENCE_FACTOR, Number::get);
     finite_in("output.divergence_factor", factor, factor > 1.0, "(1, ∞)")
 }
 

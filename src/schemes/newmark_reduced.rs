@@ -18,7 +18,7 @@
 //! solve ([`TwistedFactor`]), then one update pass.
 
 use super::{SchemeError, StateView, check_finite, check_range, factor_err};
-use crate::assembly::BarSystem;
+use crate::bar::assembly::BarSystem;
 use crate::linalg::tridiag::{SymTridiag, TwistedFactor};
 
 #[derive(Debug, Clone)]

@@ -26,7 +26,7 @@
 //! correction and the velocity.
 
 use super::{Newmark, Scheme, SchemeError, StateView, check_finite, check_range, factor_err};
-use crate::assembly::BarSystem;
+use crate::bar::assembly::BarSystem;
 use crate::contact::contact_multiplier;
 use crate::linalg::tridiag::{SymTridiag, TwistedFactor};
 

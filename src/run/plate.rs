@@ -1,17 +1,18 @@
 //! Plate scenes: the problem of a `[plate]` scene and its run (the driver is
 //! [`crate::driver`], the observers [`crate::observe`]). Nothing here does I/O.
 
-use super::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
-use super::mass::cell_weights;
-use super::mesh::{Mesh2d, MeshError};
-use super::scene::{PlateInitial, PlateScene, PlateSpec};
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::driver::{DivergenceCriterion, Observer, integrate_watched};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::mass::MassKind;
 use crate::observe::{FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
+use crate::plate::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
+use crate::plate::layers::cell_weights;
+use crate::plate::mesh::{Mesh2d, MeshError};
+use crate::plate::scene::{PlateInitial, PlateScene, PlateSpec};
 use crate::scene::{Body, Force};
 use crate::schemes::SchemeError;
+use serde::Serialize;
 use thiserror::Error;
 
 #[derive(Debug, Error)]
@@ -136,5 +137,54 @@ fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, PlateRunError> {
 /// Unreachable in practice: scene validation already rejects `plate.mesh` without the feature.
 #[cfg(not(feature = "python"))]
 fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, PlateRunError> {
-    Err(super::mesh::MeshError::Arrays(format!("{}: mesh files need the `python` feature", path.display())).into())
+    Err(crate::plate::mesh::MeshError::Arrays(format!("{}: mesh files need the `python` feature", path.display()))
+        .into())
+}
+
+#[derive(Serialize)]
+struct PlateSummaryFile<'a> {
+    scheme: &'a str,
+    mass: &'a str,
+    /// Cells along x (the bar's `elements`).
+    elements: usize,
+    length: f64,
+    end: f64,
+    height: f64,
+    nx: usize,
+    ny: usize,
+    cells: &'a str,
+    initial: &'a str,
+    total_mass: f64,
+    #[serde(flatten)]
+    summary: &'a Summary,
+}
+
+/// `summary.json` text.
+pub fn summary_json(scene: &PlateScene, run: &PlateRun) -> String {
+    let p = &scene.plate;
+    let file = PlateSummaryFile {
+        scheme: scene.scheme.name(),
+        mass: scene.mass.name(),
+        elements: p.nx,
+        length: p.length,
+        end: scene.time.end,
+        height: p.height,
+        nx: p.nx,
+        ny: p.ny,
+        cells: p.cells.name(),
+        initial: p.initial.name(),
+        total_mass: run.problem.system.total_mass(),
+        summary: &run.summary,
+    };
+    serde_json::to_string_pretty(&file).expect("summary serialises") + "\n"
+}
+
+/// Writes the plate's run directory: the files of every run ([`crate::output::write_run_files`])
+/// and, with VTU output, `plate.pvd` and `vtu/frame_NNNNN.vtu`.
+pub fn write_plate_run(dir: &std::path::Path, scene: &PlateScene, run: &PlateRun) -> std::io::Result<()> {
+    let frames = |tmp: &std::path::Path| match &run.frames {
+        Some(f) => crate::plate::vtu::write_frames(tmp, &run.problem.system, &f.frames),
+        None => Ok(()),
+    };
+    crate::output::write_run_files(dir, &summary_json(scene, run), &scene.resolved_toml(), &run.series, frames)
 }

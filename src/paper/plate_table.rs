@@ -9,15 +9,15 @@
 //! of the exact solution). Q1 with y-independent data reduces exactly to the 1D problem with
 //! h = 0.05, so this row equals the 1D L∞(L²) error (H = 1).
 //!
-//! The error is the exact L² norm of [`super::norms::l2_error`] at every time step, maximised
+//! The error is the exact L² norm of [`crate::plate::norms::l2_error`] at every time step, maximised
 //! over the steps; nothing is tuned to match the paper.
 
-use super::mesh::CellKind;
-use super::run::{PlateProblem, PlateRunError};
-use super::scene::{PlateInitial, PlateSpec};
 use crate::driver::{Observer, Sample, integrate};
 use crate::mass::MassKind;
 use crate::observe::SummaryObserver;
+use crate::plate::mesh::CellKind;
+use crate::plate::scene::{PlateInitial, PlateSpec};
+use crate::run::plate::{PlateProblem, PlateRunError};
 use crate::scene::Body;
 use crate::scene::{Formulation, SchemeSpec};
 use serde::Serialize;
@@ -156,7 +156,7 @@ pub fn compare_with_1d(
     dt: f64,
     end: f64,
 ) -> Result<Comparison, PlateRunError> {
-    use super::assembly::PlateSystem;
+    use crate::plate::assembly::PlateSystem;
     use crate::problem::Problem;
     let spec = unit_square(cells, n);
     let p2 = PlateProblem::new(&spec, mass)?;

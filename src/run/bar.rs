@@ -1,7 +1,7 @@
 //! Bar scenes: the problem of a `[bar]` scene and its run (the driver is [`crate::driver`],
 //! the observers [`crate::observe`]). Nothing here does I/O.
 
-use crate::assembly::{AssemblyError, Bar, BarSystem, Load};
+use crate::bar::assembly::{AssemblyError, Bar, BarSystem, Load};
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::scene::{Force, Initial, Scene};
@@ -27,7 +27,7 @@ pub use crate::observe::{SeriesRecorder, Status, Summary, SummaryObserver};
 
 impl Problem {
     /// The bar of a scene: material, far end, gap, initial data and force (module docs of
-    /// [`crate::assembly`]); the exact solution where it is known.
+    /// [`crate::bar::assembly`]); the exact solution where it is known.
     pub fn from_scene(scene: &Scene) -> Result<Problem, RunError> {
         let spec = &scene.bar;
         let bar = Bar { length: spec.length, elements: spec.elements };

@@ -6,7 +6,7 @@
 //! piece [p, q] the error e is affine and `∫_p^q e² = (q−p)(e_p² + e_p e_q + e_q²)/3` exactly.
 //! No quadrature rule is involved.
 
-use crate::assembly::Bar;
+use crate::bar::assembly::Bar;
 use crate::exact::ImpactingBar;
 
 /// `∫_p^q e² dx` for e affine with end values `ep`, `eq`.

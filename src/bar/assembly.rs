@@ -14,6 +14,7 @@
 
 use crate::linalg::tridiag::SymTridiag;
 use crate::mass::{MassError, MassKind};
+pub use crate::material::{FarEnd, Material};
 use crate::system::ContactSystem;
 use thiserror::Error;
 
@@ -56,40 +57,6 @@ pub struct BarSystem {
     pub weights: Vec<f64>,
     pub system: ContactSystem<SymTridiag>,
     pub far_end: FarEnd,
-}
-
-/// Density ρ > 0 and Young's modulus E > 0 (wave speed `c = sqrt(E/ρ)`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Material {
-    pub density: f64,
-    pub modulus: f64,
-}
-
-impl Material {
-    /// ρ = E = 1: the paper's bar.
-    pub const UNIT: Material = Material { density: 1.0, modulus: 1.0 };
-
-    pub fn wave_speed(&self) -> f64 {
-        (self.modulus / self.density).sqrt()
-    }
-}
-
-/// The condition at x = L.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FarEnd {
-    /// u(L, t) = 0.
-    Clamped,
-    /// E u_x(L, t) = 0.
-    Free,
-}
-
-impl FarEnd {
-    pub fn name(self) -> &'static str {
-        match self {
-            FarEnd::Clamped => "clamped",
-            FarEnd::Free => "free",
-        }
-    }
 }
 
 /// The body force f of the bar.
