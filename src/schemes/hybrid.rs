@@ -72,7 +72,6 @@ pub struct Hybrid<A: Backend> {
     dt: f64,
     mass: A,
     load: Vec<f64>,
-    is_contact: Vec<bool>,
     contact_idx: Vec<usize>,
     /// Obstacle bounds lb (contact order).
     obstacle: Vec<f64>,
@@ -111,19 +110,15 @@ impl<A: Backend> Hybrid<A> {
         let solver = k.contact_solver(&system.contact, name)?;
         let mut quasi_static = QuasiStatic::new(&system.stiffness, &system.load, &system.contact);
         let (n, nc) = (system.n(), system.contact.len());
-        let mut is_contact = vec![false; n];
-        for &c in &system.contact {
-            is_contact[c] = true;
-        }
         let mut u = u0;
         let mut lambda = vec![0.0; nc];
         quasi_static.apply(&mut u, &system.lower, &mut lambda).map_err(contact_err(0, 0.0))?;
         let uc: Vec<f64> = system.contact.iter().map(|&i| u[i]).collect();
+        let pred = u.iter().zip(&v0).map(|(u, v)| u + 0.5 * dt * v).collect();
         Ok(Self {
             dt,
             mass: system.mass.clone(),
             load: system.load.clone(),
-            is_contact,
             contact_idx: system.contact.clone(),
             obstacle: system.lower.clone(),
             solver,
@@ -137,7 +132,7 @@ impl<A: Backend> Hybrid<A> {
             u_bar: vec![0.0; nc],
             lam_bar: vec![0.0; nc],
             lower: vec![0.0; nc],
-            pred: vec![0.0; n],
+            pred,
             rhs: vec![0.0; n],
             scratch: vec![0.0; nc],
             pivots: 0,
@@ -178,9 +173,7 @@ impl<A: Backend> super::Scheme for Hybrid<A> {
     fn step(&mut self) -> Result<(), SchemeError> {
         let dt = self.dt;
         let sigma = dt * dt / 4.0;
-        for i in 0..self.u.len() {
-            self.pred[i] = self.u[i] + 0.5 * dt * self.v[i];
-        }
+        // `pred` = Uⁿ + Δt/2 Vⁿ, kept by the previous step's update pass (and by `new`).
         self.mass.mul_add_into(&self.pred, sigma, &self.load, &mut self.rhs);
         for ((l, u), lb) in self.lower.iter_mut().zip(&self.uc).zip(&self.obstacle) {
             *l = 0.5 * (u + lb);
@@ -191,23 +184,27 @@ impl<A: Backend> super::Scheme for Hybrid<A> {
         for (c, &i) in self.contact_idx.iter().enumerate() {
             self.u_bar[c] = self.rhs[i];
         }
-        // Interior: U^{n+1} = 2Ū − Uⁿ, V^{n+1} = 2(U^{n+1} − Uⁿ)/Δt − Vⁿ. Contact entries keep
-        // uⁿ until Φ overwrites them (Φ reads the other entries only).
-        for i in 0..self.u.len() {
-            if !self.is_contact[i] {
-                let u_new = 2.0 * self.rhs[i] - self.u[i];
-                self.v[i] = 2.0 * (u_new - self.u[i]) / dt - self.v[i];
-                self.u[i] = u_new;
-            }
-        }
+        // U^{n+1} = 2Ū − Uⁿ, V^{n+1} = 2(U^{n+1} − Uⁿ)/Δt − Vⁿ and the next predictor, in one
+        // branch-free pass over all unknowns; the contact entries are then replaced: u by Φ
+        // (which reads the other entries only), v from the saved uⁿ.
         for (c, &i) in self.contact_idx.iter().enumerate() {
             self.scratch[c] = self.u[i];
+        }
+        let m = self.u.len();
+        let (u, v, pred, x) = (&mut self.u[..m], &mut self.v[..m], &mut self.pred[..m], &self.rhs[..m]);
+        for i in 0..m {
+            let u_new = 2.0 * x[i] - u[i];
+            let v_new = 2.0 * (u_new - u[i]) / dt - v[i];
+            u[i] = u_new;
+            v[i] = v_new;
+            pred[i] = u_new + 0.5 * dt * v_new;
         }
         let p2 = self.quasi_static.apply(&mut self.u, &self.obstacle, &mut self.lambda).map_err(&err)?;
         std::mem::swap(&mut self.uc_prev, &mut self.uc);
         for (c, &i) in self.contact_idx.iter().enumerate() {
             self.v[i] = (self.u[i] - self.scratch[c]) / dt;
             self.uc[c] = self.u[i];
+            self.pred[i] = self.u[i] + 0.5 * dt * self.v[i];
         }
         self.pivots = p1 + p2;
         self.n = step;
