@@ -163,11 +163,6 @@ impl BarSystem {
         self.weights[0] == 0.0
     }
 
-    /// Index of the first node with inertia: 1 for a massless contact node, else 0.
-    pub fn first_massive(&self) -> usize {
-        usize::from(self.massless_contact())
-    }
-
     /// Total mass `1ᵀ M_full 1 = ∫ w_h`: the sum of all entries of the mass matrix over all
     /// nodes, the Dirichlet node m included (its row adds `M_mm + 2 M_{m−1,m} = 2h/3 w_{m−1}`).
     pub fn total_mass(&self) -> f64 {

@@ -56,9 +56,6 @@ pub trait ContactSolver: Debug + Send {
     /// exit) and writes λ (one entry per contact unknown). On active nodes `u_c = lb_c` is set
     /// exactly, so complementarity holds bit for bit. Returns the principal pivots used.
     fn solve(&mut self, rhs: &mut [f64], lower: &[f64], sigma: f64, lambda: &mut [f64]) -> Result<usize, LcpError>;
-
-    /// Solves `K x = b` in place without contact.
-    fn solve_free(&mut self, b: &mut [f64]);
 }
 
 /// The one-node Signorini solve in closed form.
@@ -91,11 +88,6 @@ impl OneNode {
         let response = factor.unit_response(node);
         Ok(Self { factor, node, response })
     }
-
-    /// z = K⁻¹ e_c.
-    pub fn response(&self) -> &[f64] {
-        &self.response
-    }
 }
 
 impl ContactSolver for OneNode {
@@ -112,10 +104,6 @@ impl ContactSolver for OneNode {
             rhs[c] = lower[0];
         }
         Ok(0)
-    }
-
-    fn solve_free(&mut self, b: &mut [f64]) {
-        self.factor.solve_in_place(b);
     }
 }
 

@@ -83,9 +83,4 @@ impl ContactSolver for Schur {
         }
         Ok(self.lcp.pivots())
     }
-
-    /// Solves `K x = b` in place without contact (for diagnostics).
-    fn solve_free(&mut self, b: &mut [f64]) {
-        self.factor.solve_in_place(b);
-    }
 }
