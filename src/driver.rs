@@ -223,12 +223,17 @@ fn drive<G: Geometry>(
     // E_ref, set by the first state shown (t_0).
     let mut reference: Option<f64> = None;
     let mut interp = Vec::new();
+    let mut load_t = Vec::new();
     let mut show = |scheme: &dyn Scheme, observers: &mut [&mut dyn Observer]| -> Option<Divergence> {
         let state = scheme.state();
         let due = |k: usize| state.n.is_multiple_of(cadence[k]);
         let mut need = (0..observers.len()).filter(|&k| due(k)).fold(Needs::default(), |n, k| n.or(needs[k]));
         need.energy |= criterion.is_some();
-        let energy = if need.energy { problem.energy(state.u, state.v) } else { f64::NAN };
+        let energy = if need.energy {
+            problem.system.system().energy_at(state.u, state.v, state.t, &mut load_t)
+        } else {
+            f64::NAN
+        };
         let diverged = |reason| Some(Divergence { step: state.n, time: state.t, reason });
         if criterion.is_some() && !energy.is_finite() {
             return diverged(DivergenceReason::NonFiniteEnergy);

@@ -6,7 +6,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use massredist::output::OutputDir;
 use massredist::run::{Observer, Sample, run_scene};
-use massredist::scene::Scene;
+use massredist::scene::{AnyScene, BarScene, PlateScene};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -126,17 +126,10 @@ fn main() -> ExitCode {
         }
         #[cfg(feature = "python")]
         Command::Crosscheck { json } => crosscheck(json),
-        Command::Check { scene } if massredist::plate::scene::is_plate_file(&scene) => {
-            match massredist::plate::scene::PlateScene::from_file(&scene) {
-                Ok(s) => {
-                    print!("{}", s.resolved_toml());
-                    ExitCode::SUCCESS
-                }
-                Err(e) => fail(&scene, e.to_string(), exit::INVALID),
-            }
-        }
-        Command::Run { scene, out, .. } if massredist::plate::scene::is_plate_file(&scene) => run_plate(scene, out),
-        Command::Check { scene } => match Scene::from_file(&scene) {
+        Command::Check { scene } => match AnyScene::from_file(&scene).and_then(|s| {
+            massredist::run::check(&s)?;
+            Ok(s)
+        }) {
             Ok(s) => {
                 print!("{}", s.resolved_toml());
                 ExitCode::SUCCESS
@@ -144,7 +137,11 @@ fn main() -> ExitCode {
             Err(e) => fail(&scene, e.to_string(), exit::INVALID),
         },
         Command::Reproduce { out, quick, .. } => reproduce(out, quick),
-        Command::Run { scene, out, .. } => run_bar(scene, out),
+        Command::Run { scene, out, .. } => match AnyScene::from_file(&scene) {
+            Ok(AnyScene::Bar(s)) => run_bar(&scene, s, out),
+            Ok(AnyScene::Plate(s)) => run_plate(&scene, s, out),
+            Err(e) => fail(&scene, e.to_string(), exit::INVALID),
+        },
     }
 }
 
@@ -176,17 +173,14 @@ fn reproduce(out: PathBuf, quick: bool) -> ExitCode {
 }
 
 /// `run` for a scene with a `[bar]` table.
-fn run_bar(scene: PathBuf, out: PathBuf) -> ExitCode {
-    let s = match Scene::from_file(&scene) {
-        Ok(s) => s,
-        Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
-    };
+fn run_bar(scene: &Path, s: BarScene, out: PathBuf) -> ExitCode {
     let mut bar = progress(s.time.steps as u64);
     let result = run_scene(&s, &mut [&mut bar]);
     bar.0.finish_and_clear();
     let (summary, series) = match result {
         Ok(r) => r,
-        Err(e) => return fail(&scene, e.to_string(), exit::FAILURE),
+        Err(massredist::run::RunError::Setup(e)) => return fail(scene, e.to_string(), exit::INVALID),
+        Err(e) => return fail(scene, e.to_string(), exit::FAILURE),
     };
     if let Err(e) = massredist::output::write_run(&out, &s, &summary, &series) {
         return fail(&out, e.to_string(), exit::FAILURE);
@@ -204,17 +198,14 @@ fn run_bar(scene: PathBuf, out: PathBuf) -> ExitCode {
 }
 
 /// `run` for a scene with a `[plate]` table (2D).
-fn run_plate(scene: PathBuf, out: PathBuf) -> ExitCode {
-    let s = match massredist::plate::scene::PlateScene::from_file(&scene) {
-        Ok(s) => s,
-        Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
-    };
+fn run_plate(scene: &Path, s: PlateScene, out: PathBuf) -> ExitCode {
     let mut bar = progress(s.time.steps as u64);
     let result = massredist::run::plate::run_plate_scene(&s, &mut [&mut bar]);
     bar.0.finish_and_clear();
     let run = match result {
         Ok(r) => r,
-        Err(e) => return fail(&scene, e.to_string(), exit::FAILURE),
+        Err(massredist::run::plate::PlateRunError::Setup(e)) => return fail(scene, e.to_string(), exit::INVALID),
+        Err(e) => return fail(scene, e.to_string(), exit::FAILURE),
     };
     if let Err(e) = massredist::run::plate::write_plate_run(&out, &s, &run) {
         return fail(&out, e.to_string(), exit::FAILURE);

@@ -206,7 +206,7 @@ impl SummaryObserver {
             },
             first_contact: problem.exact.as_ref().and_then(|e| e.first_contact()),
             has_exact: problem.exact.is_some(),
-            with_l2: with_l2 && problem.exact.as_ref().is_some_and(|e| g.integrates(e)),
+            with_l2: with_l2 && problem.exact.is_some(),
             with_y: g.dim() > 1,
             lower0: lower[0],
             lower,

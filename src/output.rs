@@ -4,7 +4,7 @@
 //! ([`OutputDir`]).
 
 use crate::observe::{SeriesRecorder, Summary};
-use crate::scene::Scene;
+use crate::scene::BarScene;
 use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -46,12 +46,12 @@ struct SummaryFile<'a> {
 }
 
 /// `summary.json` text: the summary plus the scene's identity.
-pub fn summary_json(scene: &Scene, summary: &Summary) -> String {
+pub fn summary_json(scene: &BarScene, summary: &Summary) -> String {
     let file = SummaryFile {
         scheme: scene.scheme.name(),
         mass: scene.mass.name(),
-        elements: scene.bar.elements,
-        length: scene.bar.length,
+        elements: scene.geometry.elements,
+        length: scene.geometry.length,
         end: scene.time.end,
         summary,
     };
@@ -86,7 +86,7 @@ pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 }
 
 /// The run directory of `massredist run` for a bar scene (see [`write_run_files`]).
-pub fn write_run(dir: &Path, scene: &Scene, summary: &Summary, series: &SeriesRecorder) -> std::io::Result<()> {
+pub fn write_run(dir: &Path, scene: &BarScene, summary: &Summary, series: &SeriesRecorder) -> std::io::Result<()> {
     write_run_files(dir, &summary_json(scene, summary), &scene.resolved_toml(), series, |_| Ok(()))
 }
 

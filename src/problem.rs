@@ -33,13 +33,8 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
     fn contact(&self) -> &[usize];
     /// The mean of u over Γ_C (u_0 for a bar).
     fn contact_mean(&self, u: &[f64]) -> f64;
-    /// `‖u_h − u(·, t)‖_{L²(Ω)}` against an x-only exact solution (NaN where the geometry
-    /// cannot integrate it).
+    /// `‖u_h − u(·, t)‖_{L²(Ω)}` against an x-only exact solution.
     fn l2_error(&self, u: &[f64], exact: &Exact, t: f64) -> f64;
-    /// Whether [`GeometryView::l2_error`] can integrate this exact solution.
-    fn integrates(&self, _exact: &Exact) -> bool {
-        true
-    }
     /// `‖I_h u(·, t)‖_{L²(Ω)}`; `scratch` holds the interpolant (reused between calls).
     fn interp_norm(&self, exact: &Exact, t: f64, scratch: &mut Vec<f64>) -> f64;
     /// `max |u(x, y) − u(x, y_min)|` over the unknowns (0 for a bar).

@@ -12,6 +12,17 @@
 
 use crate::linalg::{LinalgError, SymMatrix};
 
+/// A load that depends on time, `t ↦ F(t)`: writes F(t) into its argument (no allocation).
+/// Built from a body force written as an expression in t (`bar.force = "sin(t)*x"`).
+#[derive(Clone)]
+pub struct Forcing(pub std::sync::Arc<dyn Fn(f64, &mut [f64]) + Send + Sync>);
+
+impl std::fmt::Debug for Forcing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Forcing(t ↦ F(t))")
+    }
+}
+
 /// `M Ü + S U = F − Σ_c λ_c e_c`, `0 ≤ u_c − lb_c ⊥ λ_c ≤ 0` (module docs), `lb_c = −g_c`.
 #[derive(Debug, Clone)]
 pub struct ContactSystem<A> {
@@ -24,6 +35,9 @@ pub struct ContactSystem<A> {
     pub lower: Vec<f64>,
     /// Per unknown: `M_ii = 0` (the node has no inertia; its row is quasi-static).
     pub massless: Vec<bool>,
+    /// A time-dependent load (None: `load` at every time). With one, `load` is F(0) and the
+    /// schemes evaluate F at the time each of their equations is written at.
+    pub forcing: Option<Forcing>,
 }
 
 impl<A: SymMatrix> ContactSystem<A> {
@@ -33,7 +47,34 @@ impl<A: SymMatrix> ContactSystem<A> {
         let massless = (0..mass.dim()).map(|i| mass.diag(i) == 0.0).collect();
         // 0 − gap, not −gap: no −0.0 bound (u_c = lb is then +0.0 as the closed forms give).
         let lower = vec![0.0 - gap; contact.len()];
-        Self { mass, stiffness, load, contact, lower, massless }
+        Self { mass, stiffness, load, contact, lower, massless, forcing: None }
+    }
+
+    /// The same system with a time-dependent load (its `load` becomes F(0)).
+    pub fn with_forcing(mut self, forcing: Forcing) -> Self {
+        (forcing.0)(0.0, &mut self.load);
+        self.forcing = Some(forcing);
+        self
+    }
+
+    /// Writes F(t) into `out`.
+    pub fn load_at(&self, t: f64, out: &mut [f64]) {
+        match &self.forcing {
+            Some(f) => (f.0)(t, out),
+            None => out.copy_from_slice(&self.load),
+        }
+    }
+
+    /// The energy at time t, `½VᵀMV + ½UᵀSU − UᵀF(t)`; `scratch` holds F(t) when the load
+    /// depends on time (reused between calls).
+    pub fn energy_at(&self, u: &[f64], v: &[f64], t: f64, scratch: &mut Vec<f64>) -> f64 {
+        if self.forcing.is_none() {
+            return self.energy(u, v);
+        }
+        scratch.resize(self.n(), 0.0);
+        self.load_at(t, scratch);
+        let work: f64 = u.iter().zip(scratch.iter()).map(|(a, b)| a * b).sum();
+        0.5 * self.mass.quad_form(v) + 0.5 * self.stiffness.quad_form(u) - work
     }
 
     pub fn n(&self) -> usize {

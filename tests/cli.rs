@@ -175,20 +175,49 @@ fn bad_input_is_a_clear_error() {
             &["output.series", "l2_error"],
         ),
         ("elements = 6", "elements = 10000001", &["bar.elements", "[2, 10000000]"]),
-        ("end = 3.0", "end = 3000000000.0", &["node-steps", "limit"]),
+        ("end = 3.0", "end = 3000000000.0", &["unknowns × steps", "limit", "bar.elements"]),
         ("every = 10", "every = 1\n[bar]", &["duplicate", "bar"]),
+        // Numbers in short form, never a 309-digit decimal; lengths in a range that keeps h², the
+        // step matrices and the default end (3 L) finite.
+        ("length = 1.0", "length = 1e308", &["bar.length = 1e308", "[1e-100, 1e100]"]),
+        ("length = 1.0", "length = 1e-300", &["bar.length = 1e-300", "[1e-100, 1e100]"]),
+        // Setup failures (a step matrix that cannot be factored) are found by `check` too, and
+        // name the keys that shape the matrices.
+        ("dt = 0.01\nend = 3.0", "dt = 5e-324\nend = 5e-324", &["cannot be set up", "time.dt"]),
     ];
     for (from, to, needles) in cases {
         assert!(GOOD.contains(from));
-        let (out, tmp) = run_text(&GOOD.replacen(from, to, 1));
+        let text = GOOD.replacen(from, to, 1);
+        let (out, tmp) = run_text(&text);
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{to}: {err}");
         for n in *needles {
             assert!(err.contains(n), "{to}: message lacks {n:?}: {err}");
         }
+        // `check` refuses what `run` refuses, with the same message (mutation: `check` without
+        // `run::check` passes the two setup cases above).
+        let check = bin().arg("check").arg(tmp.path().join("s.toml")).output().unwrap();
+        assert_eq!(check.status.code(), Some(2), "check {to}");
+        assert_eq!(String::from_utf8_lossy(&check.stderr), err, "check and run say the same");
         let leftovers: Vec<_> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
         assert_eq!(leftovers, vec![std::ffi::OsString::from("s.toml")], "{to}: nothing written");
     }
+    // Weights of 1e-308 set up (M is subnormal but factors) and overflow at the first step: an
+    // honest "diverged" (exit 3, status in summary.json), not an exit 1 without a key.
+    let (out, _t) = run_text(&GOOD.replacen(
+        "kind = \"mod3\"",
+        "kind = \"custom\"\nweights = [1e-308, 1e-308, 1e-308, 1e-308, 1e-308, 1e-308]",
+        1,
+    ));
+    assert_eq!(out.status.code(), Some(3), "{}", String::from_utf8_lossy(&out.stderr));
+    // A TOML type error names the key on its first line.
+    let (out, _t) = run_text(&GOOD.replacen("elements = 6", "elements = \"six\"", 1));
+    let first = String::from_utf8_lossy(&out.stderr).lines().next().unwrap_or("").to_string();
+    assert!(first.contains("bar.elements") && first.contains("line 4"), "{first}");
+    // A scene file is read with a size cap: /dev/zero fails at once instead of filling memory.
+    let zero = bin().arg("check").arg("/dev/zero").output().unwrap();
+    assert_eq!(zero.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&zero.stderr).contains("larger than"), "{:?}", zero);
     // Hybrid with a massive contact node is undefined: a clear error, not a NaN.
     let (out, _t) =
         run_text(&GOOD.replace("kind = \"mod3\"", "kind = \"standard\"").replace("\"crank-nicolson\"", "\"hybrid\""));

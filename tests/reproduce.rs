@@ -10,7 +10,7 @@ use massredist::paper::{
     horizon_tag,
 };
 use massredist::run::{Problem, SeriesRecorder, SummaryObserver, integrate, run_scene};
-use massredist::scene::{Column, Scene};
+use massredist::scene::{BarScene, Column};
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -200,7 +200,7 @@ fn report_values_agree_with_an_independent_run() {
     let report = &outcome.report;
 
     // Crank–Nicolson, mod3, T = 3 as a scene file, through run_scene.
-    let scene = Scene::from_toml(
+    let scene = BarScene::from_toml(
         "[bar]\nlength = 1.0\nelements = 6\n[mass]\nkind = \"mod3\"\n[scheme]\nkind = \"crank-nicolson\"\n\
          [time]\ndt = 0.01\nend = 3.0\n[output]\nseries = [\"u0\", \"lambda\", \"energy\"]\n",
     )
@@ -385,18 +385,19 @@ fn rebound_row_plumbing_matches_an_independent_run_scene() {
     quick(&dir);
     // The section's bar is the shipped scene's (but the mesh and the time).
     let shipped =
-        Scene::from_file(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/rebound-free-bar.toml").as_path()).unwrap();
-    let scene = Scene::from_toml(REBOUND_CN_MOD3).unwrap();
+        BarScene::from_file(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/rebound-free-bar.toml").as_path())
+            .unwrap();
+    let scene = BarScene::from_toml(REBOUND_CN_MOD3).unwrap();
     let ours =
-        Scene::from_toml(&paper::rebound_scene_text(&config, Experiment::CrankNicolson, &MassKind::Mod3)).unwrap();
-    assert_eq!(ours.bar, scene.bar);
+        BarScene::from_toml(&paper::rebound_scene_text(&config, Experiment::CrankNicolson, &MassKind::Mod3)).unwrap();
+    assert_eq!(ours.geometry, scene.geometry);
     assert_eq!(
         (ours.mass.clone(), ours.scheme.clone(), ours.time),
         (scene.mass.clone(), scene.scheme.clone(), scene.time)
     );
-    let mut bar = shipped.bar.clone();
-    bar.elements = scene.bar.elements;
-    assert_eq!(bar, scene.bar);
+    let mut bar = shipped.geometry.clone();
+    bar.elements = scene.geometry.elements;
+    assert_eq!(bar, scene.geometry);
 
     let mut states = States::default();
     let (summary, series) = run_scene(&scene, &mut [&mut states]).unwrap();
@@ -453,9 +454,9 @@ fn the_rebounding_bar_s_exact_facts_hold_to_round_off() {
         let c = (modulus / density).sqrt();
         // T covers the contact, 2L/c = 4 for the slow bar, and the window after it.
         let text = text.replace("end = 3.0", &format!("end = {:?}", (0.1 + 2.0 / c + 1.0).ceil()));
-        let scene = Scene::from_toml(&text).unwrap();
+        let scene = BarScene::from_toml(&text).unwrap();
         let exact = Problem::from_scene(&scene).unwrap().exact.expect("exact by characteristics");
-        let (gap, l) = (scene.bar.gap, scene.bar.length);
+        let (gap, l) = (scene.geometry.gap, scene.geometry.length);
         let facts = paper::exact_rebound(&exact, config.elements, config.dt, scene.time.end).unwrap();
         let label = format!("rho {density} E {modulus}");
         eprintln!("{label}: {facts:?}");

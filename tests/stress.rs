@@ -16,7 +16,7 @@ use massredist::bench::sweep::scheme_cases;
 use massredist::linalg::tridiag::SymTridiag;
 use massredist::mass::MassKind;
 use massredist::run::Problem;
-use massredist::scene::{Formulation, Scene, SceneError, SchemeSpec};
+use massredist::scene::{BarScene, Formulation, SceneError, SchemeSpec};
 use massredist::schemes::{PaoliSchatzman, Scheme, SchemeError};
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
@@ -368,8 +368,8 @@ fn paoli_schatzman_contact_condition(p: &Problem, dt: f64, steps: usize, label: 
 }
 
 /// A scene with one key changed.
-fn scene(bar: &str, mass: &str, time: &str) -> Result<Scene, SceneError> {
-    Scene::from_toml(&format!(
+fn scene(bar: &str, mass: &str, time: &str) -> Result<BarScene, SceneError> {
+    BarScene::from_toml(&format!(
         "[bar]\nlength = 1.0\n{bar}\n[mass]\n{mass}\n[scheme]\nkind = \"crank-nicolson\"\n[time]\n{time}\n"
     ))
 }
@@ -406,7 +406,7 @@ fn hostile_scenes_give_clear_errors() {
         let e = scene(bar, mass, time).unwrap_err();
         assert!(e.to_string().contains(key), "{key}: {e}");
     }
-    let e = Scene::from_toml("[bar]\nlength = nan\nelements = 6\n").unwrap_err();
+    let e = BarScene::from_toml("[bar]\nlength = nan\nelements = 6\n").unwrap_err();
     assert!(e.to_string().contains("bar.length"), "{e}");
     let e = scene("elements = 3", "kind = \"custom\"\nweights = [0.0, nan, 1.0]", ok_time).unwrap_err();
     assert!(e.to_string().contains("weights[1]"), "{e}");

@@ -70,6 +70,32 @@ pub enum Load<'a> {
 const GAUSS3: [(f64, f64); 3] =
     [(0.5 - 0.387_298_334_620_741_7, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + 0.387_298_334_620_741_7, 5.0 / 18.0)];
 
+/// The load `F_i = ∫ f w_h φ_i` into `load` (one entry per unknown: m clamped, m + 1 free): a
+/// constant f in closed form `f h/2 (w_{j} + w_{j+1})`, f(x) by 3-point Gauss–Legendre on each
+/// element (exact for f of degree ≤ 4). No allocation (a time-dependent load calls it per step).
+pub fn load_into(bar: &Bar, weights: &[f64], force: &Load, load: &mut [f64]) {
+    let (h, n) = (bar.h(), load.len());
+    load.fill(0.0);
+    for (j, &w) in weights.iter().enumerate() {
+        let (fa, fb) = match force {
+            Load::Constant(f) => (f * h / 2.0 * w, f * h / 2.0 * w),
+            Load::Field(f) => {
+                let (xa, mut a, mut b) = (bar.x(j), 0.0, 0.0);
+                for (g, gw) in GAUSS3 {
+                    let fx = f(xa + g * h);
+                    a += gw * h * fx * (1.0 - g);
+                    b += gw * h * fx * g;
+                }
+                (w * a, w * b)
+            }
+        };
+        load[j] += fa;
+        if j + 1 < n {
+            load[j + 1] += fb;
+        }
+    }
+}
+
 impl BarSystem {
     /// Assembles M, S and F for the given mass redistribution and a constant body force f.
     pub fn new(bar: Bar, mass: &MassKind, force: f64) -> Result<Self, AssemblyError> {
@@ -101,7 +127,6 @@ impl BarSystem {
     /// integrated by 3-point Gauss–Legendre on each element (exact for f of degree ≤ 4).
     pub fn assemble(bar: Bar, weights: Vec<f64>, material: Material, far_end: FarEnd, force: &Load) -> Self {
         let m = bar.elements;
-        let h = bar.h();
         let n = match far_end {
             FarEnd::Clamped => m,
             FarEnd::Free => m + 1,
@@ -113,24 +138,7 @@ impl BarSystem {
             stiffness = stiffness.combine(material.modulus, &stiffness, 0.0);
         }
         let mut load = vec![0.0; n];
-        for (j, &w) in weights.iter().enumerate() {
-            let (fa, fb) = match force {
-                Load::Constant(f) => (f * h / 2.0 * w, f * h / 2.0 * w),
-                Load::Field(f) => {
-                    let (xa, mut a, mut b) = (bar.x(j), 0.0, 0.0);
-                    for (g, gw) in GAUSS3 {
-                        let fx = f(xa + g * h);
-                        a += gw * h * fx * (1.0 - g);
-                        b += gw * h * fx * g;
-                    }
-                    (w * a, w * b)
-                }
-            };
-            load[j] += fa;
-            if j + 1 < n {
-                load[j + 1] += fb;
-            }
-        }
+        load_into(&bar, &weights, force, &mut load);
         Self { bar, weights, system: ContactSystem::new(mass, stiffness, load, vec![0], 0.0), far_end }
     }
 

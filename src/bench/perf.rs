@@ -182,17 +182,9 @@ pub struct PlateTimings {
 pub fn time_plate(nx: usize, ny: usize, min_total: f64) -> Option<PlateTimings> {
     use crate::linalg::sparse;
     use crate::plate::CellKind;
-    use crate::plate::scene::{PlateInitial, PlateSpec};
     use crate::run::plate::PlateProblem;
-    let spec = PlateSpec {
-        length: 1.0,
-        height: ny as f64 / nx as f64,
-        nx,
-        ny,
-        cells: CellKind::Quad,
-        initial: PlateInitial::Paper,
-        body: crate::scene::Body::default(),
-    };
+    use crate::scene::{PlateInitial, PlateSpec};
+    let spec = PlateSpec::structured(1.0, ny as f64 / nx as f64, nx, ny, CellKind::Quad, PlateInitial::Paper);
     let mass = MassKind::Mod3;
     let problem = PlateProblem::new(&spec, &mass).ok()?;
     let dt = 1.0 / nx as f64;

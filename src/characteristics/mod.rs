@@ -359,7 +359,7 @@ impl Characteristics {
     }
 
     /// `∫_p^q f` by the Gauss–Legendre rule of this solution.
-    fn quad(&self, p: f64, q: f64, f: impl Fn(f64) -> f64) -> f64 {
+    fn quad(&self, p: f64, q: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
         let (m, h) = (0.5 * (p + q), 0.5 * (q - p));
         h * self.gauss.iter().map(|(z, w)| w * f(m + h * z)).sum::<f64>()
     }
@@ -453,21 +453,37 @@ impl Characteristics {
     /// quadratic on each cell; 8 points (degree 15) for smooth data, on cells no longer than a
     /// mesh element or a Chebyshev panel. NaN for a bad mesh or t outside [0, t_end].
     pub fn l2_error_p1(&self, nodes: &[f64], values: &[f64], t: f64) -> f64 {
-        if !self.mesh_ok(nodes) || values.len() != nodes.len() || self.check_time(t).is_err() {
+        if values.len() != nodes.len() {
+            return f64::NAN;
+        }
+        self.integrate(nodes, t, |j, x, u| {
+            let (x0, x1, v0, v1) = (nodes[j], nodes[j + 1], values[j], values[j + 1]);
+            let e = v0 + (v1 - v0) * (x - x0) / (x1 - x0) - u;
+            e * e
+        })
+        .sqrt()
+    }
+
+    /// `∫₀ᴸ g(j, x, u(x, t)) dx`, with j the element of the 1D mesh `nodes` (0 = x_0 < … <
+    /// x_m = L) that holds x: integrated cell by cell, the mesh refined at every breakpoint of
+    /// the waves (u(·, t) is one polynomial on each cell), by this solution's Gauss–Legendre
+    /// rule: 3 points (exact for degree ≤ 5: u is piecewise quadratic for piecewise-linear data)
+    /// or 8 points (degree 15) for smooth data. NaN for a bad mesh or t outside [0, t_end].
+    /// A plate's L² error against the plane wave is this with g the integral over y of the
+    /// squared error across the cells over element j (`crate::plate::norms`).
+    pub fn integrate(&self, nodes: &[f64], t: f64, mut g: impl FnMut(usize, f64, f64) -> f64) -> f64 {
+        if !self.mesh_ok(nodes) || self.check_time(t).is_err() {
             return f64::NAN;
         }
         let s = self.wave_speed * t;
         let mut sum = 0.0;
         self.cells(nodes, s, |c| {
-            let j = c.element;
-            let (x0, x1, v0, v1) = (nodes[j], nodes[j + 1], values[j], values[j + 1]);
             sum += self.quad(c.p, c.q, |x| {
-                let uh = v0 + (v1 - v0) * (x - x0) / (x1 - x0);
-                let e = uh - self.at(&self.a, &c.a, 0, x - s) - self.at(&self.b, &c.b, 0, x + s);
-                e * e
+                let u = self.at(&self.a, &c.a, 0, x - s) + self.at(&self.b, &c.b, 0, x + s);
+                g(c.element, x, u)
             });
         });
-        sum.sqrt()
+        sum
     }
 
     /// `‖I_h u(·, t)‖_{L²(0,L)}` of the nodal interpolant, exactly:

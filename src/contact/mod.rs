@@ -149,6 +149,13 @@ impl QuasiStatic {
         Self { contact: contact.to_vec(), coupling, load, lcp: Lcp::new(d, nc), q: vec![0.0; nc] }
     }
 
+    /// Takes the contact entries of a new load vector (a time-dependent load).
+    pub fn set_load(&mut self, load: &[f64]) {
+        for (f, &i) in self.load.iter_mut().zip(&self.contact) {
+            *f = load[i];
+        }
+    }
+
     /// `S_CC` entry (a, b) in contact order.
     pub fn d(&self, a: usize, b: usize) -> f64 {
         self.lcp.d(a, b)

@@ -197,17 +197,15 @@ impl Expr {
     /// and coordinates.
     ///
     /// # Panics
-    /// If `N` is not the number of variables.
-    pub fn eval_at_nodes<const N: usize>(
-        &self,
-        points: impl IntoIterator<Item = [f64; N]>,
-    ) -> Result<Vec<f64>, ExprError> {
+    /// If a point does not hold one value per variable.
+    pub fn eval_at_nodes<P: AsRef<[f64]>>(&self, points: impl IntoIterator<Item = P>) -> Result<Vec<f64>, ExprError> {
         points
             .into_iter()
             .enumerate()
             .map(|(node, point)| {
-                let value = self.eval(&point);
-                if value.is_finite() { Ok(value) } else { Err(self.not_finite(node, &point, value)) }
+                let point = point.as_ref();
+                let value = self.eval(point);
+                if value.is_finite() { Ok(value) } else { Err(self.not_finite(node, point, value)) }
             })
             .collect()
     }

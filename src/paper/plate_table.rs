@@ -16,10 +16,9 @@ use crate::driver::{Observer, Sample, integrate};
 use crate::mass::MassKind;
 use crate::observe::SummaryObserver;
 use crate::plate::mesh::CellKind;
-use crate::plate::scene::{PlateInitial, PlateSpec};
 use crate::run::plate::{PlateProblem, PlateRunError};
-use crate::scene::Body;
 use crate::scene::{Formulation, SchemeSpec};
+use crate::scene::{PlateInitial, PlateSpec};
 use serde::Serialize;
 
 /// The paper's values, by mass redistribution.
@@ -50,7 +49,7 @@ pub struct Row {
 
 /// The paper's initial data on an n × n mesh of the unit square.
 fn unit_square(cells: CellKind, n: usize) -> PlateSpec {
-    PlateSpec { length: 1.0, height: 1.0, nx: n, ny: n, cells, initial: PlateInitial::Paper, body: Body::default() }
+    PlateSpec::structured(1.0, 1.0, n, n, cells, PlateInitial::Paper)
 }
 
 /// `max_n ‖u_h(t_n) − u(t_n)‖_{L²(Ω)}` for the paper's initial data on the unit square.

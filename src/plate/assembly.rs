@@ -121,6 +121,9 @@ pub struct PlateSystem {
     /// `∫_{Γ_C} φ_c dy` for each contact unknown (trace weights: the mean of u on Γ_C is
     /// `Σ_c ℓ_c u_c / |Γ_C|`, exact for the piecewise-linear trace).
     pub contact_lengths: Vec<f64>,
+    /// The cells over each interval of the distinct vertex abscissae, built by the first L²
+    /// error against a plane wave ([`crate::plate::norms::l2_error_plane_wave`]).
+    pub columns: std::sync::OnceLock<super::norms::Columns>,
 }
 
 impl PlateSystem {
@@ -212,7 +215,8 @@ impl PlateSystem {
             .map(|(d, &v)| (mesh.points[v][0].to_bits(), d))
             .collect();
         let base = dofs.iter().map(|&v| bottom.get(&mesh.points[v][0].to_bits()).copied()).collect();
-        Ok(Self { mesh, weights, dofs, node_dof, system, mass_unit, base, contact_lengths })
+        let columns = Default::default();
+        Ok(Self { mesh, weights, dofs, node_dof, system, mass_unit, base, contact_lengths, columns })
     }
 
     /// The same system with the obstacle at `u_c = −gap` on every contact node (gap ≥ 0).

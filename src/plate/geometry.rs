@@ -39,15 +39,14 @@ impl GeometryView for PlateSystem {
         PlateSystem::contact_mean(self, u)
     }
 
-    /// The paper's closed form only (the plate norms split cells at its kinks); NaN otherwise.
+    /// The paper's closed form, split at its kinks ([`crate::plate::norms::l2_error`]); a plane
+    /// wave by characteristics, integrated in x by its own rule
+    /// ([`crate::plate::norms::l2_error_plane_wave`]).
     fn l2_error(&self, u: &[f64], exact: &Exact, t: f64) -> f64 {
-        exact.paper().map_or(f64::NAN, |e| crate::plate::norms::l2_error(self, u, e, t))
-    }
-
-    /// The plate norms split cells at the closed form's kinks, where it is affine; the general
-    /// solution is not (its waves are quadratic or smooth), so its L² error is not offered yet.
-    fn integrates(&self, exact: &Exact) -> bool {
-        exact.paper().is_some()
+        match exact {
+            Exact::Paper(e) => crate::plate::norms::l2_error(self, u, e, t),
+            Exact::General(c) => crate::plate::norms::l2_error_plane_wave(self, u, c, t),
+        }
     }
 
     fn interp_norm(&self, exact: &Exact, t: f64, scratch: &mut Vec<f64>) -> f64 {

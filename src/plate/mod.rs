@@ -30,7 +30,7 @@ pub mod geometry;
 pub mod layers;
 pub mod mesh;
 pub mod norms;
-pub mod scene;
+
 pub mod vtu;
 
 pub use assembly::{PlateSystem, assemble};

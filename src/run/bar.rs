@@ -4,7 +4,7 @@
 use crate::bar::assembly::{AssemblyError, Bar, BarSystem, Load};
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
-use crate::scene::{Force, Initial, Scene};
+use crate::scene::{BarScene, Force, Initial, SceneError};
 use crate::schemes::SchemeError;
 use thiserror::Error;
 
@@ -16,6 +16,9 @@ pub enum RunError {
     Scheme(#[from] SchemeError),
     #[error("the exact solution of this scene: {0}")]
     Exact(#[from] CharacteristicsError),
+    /// The scene's problem could not be set up (exit code 2: the input is at fault).
+    #[error(transparent)]
+    Setup(SceneError),
 }
 
 pub use crate::problem::Problem;
@@ -28,8 +31,8 @@ pub use crate::observe::{SeriesRecorder, Status, Summary, SummaryObserver};
 impl Problem {
     /// The bar of a scene: material, far end, gap, initial data and force (module docs of
     /// [`crate::bar::assembly`]); the exact solution where it is known.
-    pub fn from_scene(scene: &Scene) -> Result<Problem, RunError> {
-        let spec = &scene.bar;
+    pub fn from_scene(scene: &BarScene) -> Result<Problem, RunError> {
+        let spec = &scene.geometry;
         let bar = Bar { length: spec.length, elements: spec.elements };
         let weights = BarSystem::weights(bar, &scene.mass)?;
         let field;
@@ -39,8 +42,17 @@ impl Problem {
                 field = |x: f64| e.eval(&[x]);
                 Load::Field(&field)
             }
+            Force::Transient(_) => Load::Constant(0.0), // F(t) below
         };
-        let system = BarSystem::assemble(bar, weights, spec.material, spec.far_end, &load).with_gap(spec.gap);
+        let mut system = BarSystem::assemble(bar, weights, spec.material, spec.far_end, &load).with_gap(spec.gap);
+        if let Force::Transient(e) = &spec.force {
+            let (e, weights) = (e.clone(), system.weights.clone());
+            let forcing = move |t: f64, out: &mut [f64]| {
+                let f = |x: f64| e.eval(&[x, t]);
+                crate::bar::assembly::load_into(&bar, &weights, &Load::Field(&f), out);
+            };
+            system.system = system.system.with_forcing(crate::system::Forcing(std::sync::Arc::new(forcing)));
+        }
         let paper = ImpactingBar { length: bar.length };
         let (u0, v0) = match &spec.initial {
             Initial::Paper => (system.interpolate(|x| paper.initial_displacement(x)), vec![0.0; system.n()]),
@@ -70,8 +82,8 @@ impl Problem {
 /// The exact solution by characteristics of a bar scene without body force: the continuous
 /// initial data (expressions are smooth closures, resolved to about 1e-14 by the solver; the
 /// paper's data piecewise linear, exact).
-fn general_exact(scene: &Scene) -> Result<Characteristics, CharacteristicsError> {
-    let s = &scene.bar;
+fn general_exact(scene: &BarScene) -> Result<Characteristics, CharacteristicsError> {
+    let s = &scene.geometry;
     let exact = |data| by_characteristics(s.length, s.material, s.far_end, s.gap, data, scene.time.end);
     match &s.initial {
         Initial::Paper => {
@@ -85,12 +97,31 @@ fn general_exact(scene: &Scene) -> Result<Characteristics, CharacteristicsError>
     }
 }
 
+/// A scene's problem with its scheme built (matrices assembled and factored), not yet stepped:
+/// what `check` runs, so that a scene it accepts starts its run.
+pub struct Setup<G: crate::problem::Geometry = crate::bar::assembly::BarSystem> {
+    pub problem: Problem<G>,
+    pub scheme: Box<dyn crate::schemes::Scheme>,
+}
+
+/// The problem and scheme of a bar scene; a failure names the keys that shape the matrices.
+pub fn setup(scene: &BarScene) -> Result<Setup, SceneError> {
+    let keys = "bar.length, bar.elements, bar.density, bar.modulus, mass.*, scheme.*, time.dt";
+    let problem = Problem::from_scene(scene).map_err(|e| setup_error(keys, e))?;
+    let scheme = problem.scheme(&scene.scheme, scene.time.dt).map_err(|e| setup_error(keys, e))?;
+    Ok(Setup { problem, scheme })
+}
+
+/// A setup failure as a scene error naming `keys`.
+pub(crate) fn setup_error(keys: &str, e: impl std::fmt::Display) -> SceneError {
+    SceneError::Setup { keys: keys.to_string(), reason: e.to_string() }
+}
+
 /// Runs a scene: the summary always, plus the requested series. A run that diverges
 /// ([`DivergenceCriterion`] with `output.divergence_factor`) stops there and is still a result:
 /// `Summary::divergence` says where and why, the summary and series hold the finite states.
-pub fn run_scene(scene: &Scene, extra: &mut [&mut dyn Observer]) -> Result<(Summary, SeriesRecorder), RunError> {
-    let problem = Problem::from_scene(scene)?;
-    let mut scheme = problem.scheme(&scene.scheme, scene.time.dt)?;
+pub fn run_scene(scene: &BarScene, extra: &mut [&mut dyn Observer]) -> Result<(Summary, SeriesRecorder), RunError> {
+    let Setup { problem, mut scheme } = setup(scene).map_err(RunError::Setup)?;
     let steps = scene.time.steps;
     let mut summary = SummaryObserver::new(&problem, steps, scene.time.dt, scene.output.summary_l2);
     let rows = if scene.output.series.is_empty() { 0 } else { steps / scene.output.every + 1 };

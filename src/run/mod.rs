@@ -7,3 +7,12 @@ pub mod bar;
 pub mod plate;
 
 pub use bar::*;
+
+/// Sets a scene up as `run` does (assembly, exact solution, factorisation) without stepping:
+/// `check` calls it, so a scene `check` accepts starts its run.
+pub fn check(scene: &crate::scene::AnyScene) -> Result<(), crate::scene::SceneError> {
+    match scene {
+        crate::scene::AnyScene::Bar(s) => bar::setup(s).map(|_| ()),
+        crate::scene::AnyScene::Plate(s) => plate::setup(s).map(|_| ()),
+    }
+}

@@ -9,8 +9,8 @@ use crate::observe::{FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
 use crate::plate::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
 use crate::plate::layers::cell_weights;
 use crate::plate::mesh::{Mesh2d, MeshError};
-use crate::plate::scene::{PlateInitial, PlateScene, PlateSpec};
-use crate::scene::{Body, Force};
+use crate::run::bar::{Setup, setup_error};
+use crate::scene::{Body, Force, PlateInitial, PlateScene, PlateSpec, SceneError};
 use crate::schemes::SchemeError;
 use serde::Serialize;
 use thiserror::Error;
@@ -27,16 +27,31 @@ pub enum PlateRunError {
     Exact(CharacteristicsError),
     #[error("the 1D reference run failed: {0}")]
     Reference(String),
+    /// The scene's problem could not be set up (exit code 2: the input is at fault).
+    #[error(transparent)]
+    Setup(SceneError),
 }
 
 /// A plate problem.
 pub type PlateProblem = crate::problem::Problem<PlateSystem>;
 
 impl PlateProblem {
-    /// The structured plate of `spec`.
+    /// The plate of `spec` (its validated mesh, or the structured one), with its exact solution
+    /// where one is known: the paper's closed form, or a plane wave (`t_end`: how long the
+    /// characteristics are traced).
     pub fn new(spec: &PlateSpec, mass: &MassKind) -> Result<Self, PlateRunError> {
-        let mesh = Mesh2d::structured(spec.length, spec.height, spec.nx, spec.ny, spec.cells)?;
+        let mesh = Mesh2d::clone(spec.mesh()?.as_ref());
         Self::from_mesh(mesh, mass, &spec.initial, &spec.body)
+    }
+
+    /// [`PlateProblem::new`] with the plane-wave exact solution up to `t_end` where the data allow
+    /// it and the closed form does not apply.
+    pub fn with_plane_wave(spec: &PlateSpec, mass: &MassKind, t_end: f64) -> Result<Self, PlateRunError> {
+        let mut problem = Self::new(spec, mass)?;
+        if problem.exact.is_none() {
+            problem.exact = plane_wave(spec, t_end)?.map(|c| Exact::General(std::sync::Arc::new(c)));
+        }
+        Ok(problem)
     }
 
     /// Any mesh of (0, L) × (y_min, y_min + H) (e.g. a triangle mesh read from a file with
@@ -57,14 +72,48 @@ impl PlateProblem {
                 field = move |x: f64, y: f64| e.eval(&[x, y - ymin]);
                 PlateLoad::Field(&field)
             }
+            Force::Transient(_) => PlateLoad::Constant(0.0), // F(t) below
         };
-        let plate = PlateSystem::assemble(mesh, weights, body.material, body.far_end, &load)?.with_gap(body.gap);
+        let mut plate = PlateSystem::assemble(mesh, weights, body.material, body.far_end, &load)?.with_gap(body.gap);
+        if let Force::Transient(e) = &body.force {
+            let forcing = transient_load(&plate, e, ymin)?;
+            plate.system = plate.system.with_forcing(forcing);
+        }
         let u0 = plate.interpolate(|x, y| initial.displacement(l, h, x, y - ymin));
         let v0 = plate.interpolate(|x, y| initial.velocity(x, y - ymin));
         let paper = *initial == PlateInitial::Paper && *body == Body::default();
         let exact = paper.then_some(Exact::Paper(ImpactingBar { length: l }));
         Ok(Self { system: plate, u0, v0, exact })
     }
+}
+
+/// `F(t) = M_w I_h f(·, t)` on the free nodes (the static field's load, [`PlateSystem::assemble`],
+/// at each time), with `M_w` the weighted mass per unit density; its node values and row sums
+/// live in a scratch buffer behind a mutex (no allocation per step).
+fn transient_load(
+    plate: &PlateSystem,
+    e: &crate::expr::Expr,
+    ymin: f64,
+) -> Result<crate::system::Forcing, PlateAssemblyError> {
+    let (mass_w, _) = crate::plate::assembly::assemble(&plate.mesh, &plate.weights)?;
+    let (points, dofs, e) = (plate.mesh.points.clone(), plate.dofs.clone(), e.clone());
+    let n = points.len();
+    let scratch = std::sync::Mutex::new(vec![0.0; 2 * n]);
+    let forcing = move |t: f64, out: &mut [f64]| {
+        let mut guard = scratch.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let (f_nodes, rows) = guard.split_at_mut(n);
+        for (f, p) in f_nodes.iter_mut().zip(&points) {
+            *f = e.eval(&[p[0], p[1] - ymin, t]);
+        }
+        rows.fill(0.0);
+        for (i, j, v) in crate::linalg::sparse::triplets(&mass_w) {
+            rows[i] += v * f_nodes[j];
+        }
+        for (o, &v) in out.iter_mut().zip(&dofs) {
+            *o = rows[v];
+        }
+    };
+    Ok(crate::system::Forcing(std::sync::Arc::new(forcing)))
 }
 
 /// The plane-wave solution of a plate with y-independent data and no force: the bar's solution
@@ -95,21 +144,20 @@ pub struct PlateRun {
     pub frames: Option<FrameRecorder>,
 }
 
+/// The problem and scheme of a plate scene; a failure names the keys that shape the matrices.
+pub fn setup(scene: &PlateScene) -> Result<Setup<PlateSystem>, SceneError> {
+    let keys =
+        "plate.length, plate.height, plate.nx, plate.ny, plate.density, plate.modulus, mass.*, scheme.*, time.dt";
+    let problem = PlateProblem::with_plane_wave(&scene.geometry, &scene.mass, scene.time.end)
+        .map_err(|e| setup_error(keys, e))?;
+    let scheme = problem.scheme(&scene.scheme, scene.time.dt).map_err(|e| setup_error(keys, e))?;
+    Ok(Setup { problem, scheme })
+}
+
 /// Runs a plate scene: the summary always, plus the requested series and VTU frames. A run that
 /// diverges stops there and is still a result (as [`crate::run::run_scene`]).
 pub fn run_plate_scene(scene: &PlateScene, extra: &mut [&mut dyn Observer]) -> Result<PlateRun, PlateRunError> {
-    let problem = match &scene.mesh_file {
-        None => PlateProblem::new(&scene.plate, &scene.mass)?,
-        Some(path) => {
-            let mesh = read_mesh_file(path)?;
-            PlateProblem::from_mesh(mesh, &scene.mass, &scene.plate.initial, &scene.plate.body)?
-        }
-    };
-    let mut problem = problem;
-    if problem.exact.is_none() {
-        problem.exact = plane_wave(&scene.plate, scene.time.end)?.map(|c| Exact::General(std::sync::Arc::new(c)));
-    }
-    let mut scheme = problem.scheme(&scene.scheme, scene.time.dt)?;
+    let Setup { problem, mut scheme } = setup(scene).map_err(PlateRunError::Setup)?;
     let steps = scene.time.steps;
     let mut summary = SummaryObserver::new(&problem, steps, scene.time.dt, scene.output.summary_l2);
     let mut series = SeriesRecorder::new(scene.output.series.clone(), scene.output.every, 0);
@@ -127,18 +175,6 @@ pub fn run_plate_scene(scene: &PlateScene, extra: &mut [&mut dyn Observer]) -> R
         let _ = integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut observers)?;
     }
     Ok(PlateRun { problem, summary: summary.finish(), series, frames })
-}
-
-#[cfg(feature = "python")]
-fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, PlateRunError> {
-    Ok(Mesh2d::read_file(path)?)
-}
-
-/// Unreachable in practice: scene validation already rejects `plate.mesh` without the feature.
-#[cfg(not(feature = "python"))]
-fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, PlateRunError> {
-    Err(crate::plate::mesh::MeshError::Arrays(format!("{}: mesh files need the `python` feature", path.display()))
-        .into())
 }
 
 #[derive(Serialize)]
@@ -161,7 +197,7 @@ struct PlateSummaryFile<'a> {
 
 /// `summary.json` text.
 pub fn summary_json(scene: &PlateScene, run: &PlateRun) -> String {
-    let p = &scene.plate;
+    let p = &scene.geometry;
     let file = PlateSummaryFile {
         scheme: scene.scheme.name(),
         mass: scene.mass.name(),

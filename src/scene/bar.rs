@@ -1,4 +1,4 @@
-//! Bar scenes: the `[bar]` table and the validated [`Scene`].
+//! Bar scenes: the `[bar]` table and its [`BarSpec`].
 
 use super::*;
 use crate::expr::Expr;
@@ -6,17 +6,7 @@ use crate::mass::MassKind;
 use crate::material::{FarEnd, Material};
 
 #[derive(Debug, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-struct RawScene {
-    bar: Option<RawBar>,
-    mass: Option<RawMass>,
-    scheme: Option<RawScheme>,
-    time: Option<RawTime>,
-    output: Option<RawOutput>,
-}
-
-#[derive(Debug, Default, Deserialize, Serialize)]
-struct RawBar {
+pub(crate) struct RawBar {
     #[serde(skip_serializing_if = "Option::is_none")]
     length: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -55,36 +45,16 @@ impl BarSpec {
     pub fn is_paper_bar(&self) -> bool {
         self.material == Material::UNIT && self.far_end == FarEnd::Clamped && self.gap == 0.0
     }
-}
 
-/// A validated scene.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Scene {
-    pub bar: BarSpec,
-    pub mass: MassKind,
-    pub scheme: SchemeSpec,
-    pub time: TimeSpec,
-    pub output: OutputSpec,
-}
-
-impl Scene {
-    /// Reads and validates a scene file.
-    pub fn from_file(path: &std::path::Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| SceneError::Io { path: path.display().to_string(), source })?;
-        Scene::from_toml(&text)
+    /// The exact solution is known without body force: the paper's closed form on its bar, the
+    /// solution by characteristics otherwise ([`crate::characteristics`]).
+    pub fn has_exact_solution(&self) -> bool {
+        self.force.constant() == Some(0.0)
     }
 
-    /// Parses and validates scene text.
-    pub fn from_toml(text: &str) -> Result<Scene, SceneError> {
-        let raw: RawScene = toml::from_str(text).map_err(|e| SceneError::Parse(e.to_string()))?;
-        Scene::validate(raw)
-    }
-
-    fn validate(raw: RawScene) -> Result<Scene, SceneError> {
-        let bar = raw.bar.unwrap_or_default();
-        let length = finite_in("bar.length", bar.length.map_or(1.0, Number::get), true, "(0, ∞)")?;
-        finite_in("bar.length", length, length > 0.0, "(0, ∞)")?;
+    /// The `[bar]` table, validated.
+    pub(crate) fn validate(bar: RawBar) -> Result<BarSpec, SceneError> {
+        let length = length_in("bar.length", bar.length.map_or(1.0, Number::get))?;
         let elements = bar.elements.unwrap_or(6);
         if !(2..=MAX_ELEMENTS as i64).contains(&elements) {
             return Err(SceneError::Range { key: "bar.elements", value: elements.to_string(), range: "[2, 10000000]" });
@@ -97,7 +67,7 @@ impl Scene {
         )?;
         let body = bar.body;
         let keys = BodyKeys { density: "bar.density", modulus: "bar.modulus", far_end: "bar.far_end", gap: "bar.gap" };
-        let (Material { density, modulus }, far_end, gap) =
+        let (material, far_end, gap) =
             parse_body(&keys, body.density, body.modulus, body.far_end.as_deref(), body.gap)?;
         let consts = [("L", length), ("pi", std::f64::consts::PI)];
         let field = |key: &'static str, raw: Option<RawField>, vars: &[&str]| parse_field(key, raw, vars, &consts);
@@ -117,86 +87,82 @@ impl Scene {
             },
         };
         let force = parse_force("bar.force", body.force, &["x"], &consts)?;
+        let nodes = || (0..=elements).map(|i| [length * i as f64 / elements as f64]);
         if let Initial::Fields { displacement, velocity } = &initial {
-            let nodes = || (0..=elements).map(|i| [length * i as f64 / elements as f64]);
             displacement.eval_at_nodes(nodes())?;
             velocity.eval_at_nodes(nodes())?;
         }
-        if let Force::Field(f) = &force {
-            // The load is integrated at Gauss points inside the elements (assembly.rs).
-            f.eval_at_nodes((0..=elements).map(|i| [length * i as f64 / elements as f64]))?;
-        }
+        // The load is integrated at Gauss points inside the elements (assembly.rs).
+        force.check_at_nodes(nodes())?;
+        Ok(BarSpec { length, elements, material, far_end, gap, initial, force })
+    }
+}
 
-        let mass = parse_mass(raw.mass)?;
-        let weights = mass.weights(elements)?;
+impl SceneGeometry for BarSpec {
+    const TABLE: &'static str = "bar";
+    const COLUMNS: &'static [Column] = &Column::BAR;
+    const COLUMN_LIST: &'static str = "any subset of u0, u1, lambda, energy, l2_error, exact_u0, exact_lambda";
+    const SIZE_KEYS: &'static str = "bar.elements";
+    const VTU: bool = false;
 
-        let scheme = parse_scheme(raw.scheme, weights[0], &mass)?;
-
-        let time = parse_time(raw.time, 3.0 * length, elements)?;
-
-        let o = raw.output.unwrap_or_default();
-        let names = o.series.unwrap_or_else(|| vec!["u0".into(), "lambda".into(), "energy".into(), "l2_error".into()]);
-        let range = "any subset of u0, u1, lambda, energy, l2_error, exact_u0, exact_lambda";
-        let series = parse_series(names, &Column::BAR, range)?;
-        let every = parse_every(o.every, time.steps, series.len())?;
-        let divergence_factor = parse_divergence_factor(o.divergence_factor)?;
-        forbid("output.vtu", &o.vtu, "[bar] scenes (VTU frames are written for plates)")?;
-        forbid("output.vtu_every", &o.vtu_every, "[bar] scenes (VTU frames are written for plates)")?;
-        let output =
-            OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true), divergence_factor, vtu_every: None };
-        let bar = BarSpec { length, elements, material: Material { density, modulus }, far_end, gap, initial, force };
-        let scene = Scene { bar, mass, scheme, time, output };
-        if !scene.has_exact_solution() {
-            if let Some(c) = scene.output.series.iter().find(|c| c.needs_exact()) {
-                return Err(SceneError::Inapplicable {
-                    key: "output.series",
-                    context: format!(
-                        "column \"{}\" of this scene: the exact solution is known only without body force (bar.force = 0)",
-                        c.name(),
-                    ),
-                });
-            }
-        }
-        Ok(scene)
+    fn unknowns(&self) -> usize {
+        self.elements
     }
 
-    /// The exact solution is known without body force: the paper's closed form on its bar, the
-    /// solution by characteristics otherwise ([`crate::characteristics`]).
-    pub fn has_exact_solution(&self) -> bool {
-        self.bar.force.constant() == Some(0.0)
+    fn length(&self) -> f64 {
+        self.length
     }
 
-    /// The scene with every default filled in, as TOML.
-    pub fn resolved_toml(&self) -> String {
-        let f = Number::Float;
-        let (mass, scheme, time, output) = raw_sections(&self.mass, &self.scheme, &self.time, &self.output, false);
-        let raw = RawScene {
-            bar: Some(RawBar {
-                length: Some(f(self.bar.length)),
-                elements: Some(self.bar.elements as i64),
-                body: RawBody::resolved(
-                    self.bar.material,
-                    self.bar.far_end,
-                    self.bar.gap,
-                    match &self.bar.initial {
-                        Initial::Paper => RawInitial::Name("paper".into()),
-                        Initial::Fields { displacement, velocity } => RawInitial::fields(displacement, velocity),
-                    },
-                    &self.bar.force,
-                ),
-                unknown: Default::default(),
-            }),
-            mass,
-            scheme,
-            time,
-            output,
+    fn contact_weight(&self, mass: &MassKind) -> Result<f64, SceneError> {
+        Ok(mass.weights(self.elements)?[0])
+    }
+
+    fn unavailable(&self, column: Column) -> Option<String> {
+        (column.needs_exact() && !self.has_exact_solution())
+            .then(|| "the exact solution is known only without body force (bar.force = 0)".into())
+    }
+
+    fn default_series(&self) -> Vec<Column> {
+        let mut series = vec![Column::U0, Column::Lambda, Column::Energy];
+        if self.has_exact_solution() {
+            series.push(Column::L2Error);
+        }
+        series
+    }
+
+    fn raw(&self) -> RawScene {
+        let initial = match &self.initial {
+            Initial::Paper => RawInitial::Name("paper".into()),
+            Initial::Fields { displacement, velocity } => RawInitial::fields(displacement, velocity),
         };
-        let mut text = format!(
+        let bar = RawBar {
+            length: Some(Number::Float(self.length)),
+            elements: Some(self.elements as i64),
+            body: RawBody::resolved(self.material, self.far_end, self.gap, initial, &self.force),
+            unknown: Default::default(),
+        };
+        RawScene { bar: Some(bar), ..Default::default() }
+    }
+
+    fn header(&self, time: &TimeSpec) -> String {
+        format!(
             "# Resolved scene (every default filled in); {} steps, h = {:e}.\n",
-            self.time.steps,
-            self.bar.length / self.bar.elements as f64
-        );
-        text.push_str(&toml::to_string(&raw).expect("a resolved scene always serialises"));
-        text
+            time.steps,
+            self.length / self.elements as f64
+        )
+    }
+
+    fn from_any(any: AnyScene) -> Result<Scene<Self>, SceneError> {
+        match any {
+            AnyScene::Bar(s) => Ok(s),
+            other => Err(wrong_geometry(Self::TABLE, &other)),
+        }
+    }
+}
+
+impl Scene<BarSpec> {
+    /// The exact solution is known without body force ([`BarSpec::has_exact_solution`]).
+    pub fn has_exact_solution(&self) -> bool {
+        self.geometry.has_exact_solution()
     }
 }

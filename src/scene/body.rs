@@ -34,7 +34,7 @@ impl RawBody {
             initial: Some(initial),
             force: Some(match force {
                 Force::Constant(c) => RawField::Number(f(*c)),
-                Force::Field(e) => RawField::Expr(e.text().into()),
+                Force::Field(e) | Force::Transient(e) => RawField::Expr(e.text().into()),
             }),
         }
     }
@@ -89,11 +89,15 @@ pub(crate) enum RawField {
     Expr(String),
 }
 
-/// The body force: a constant, or an expression in x (and L, pi).
+/// The body force: a constant, an expression in x (and y for plates; L, H, pi), or an
+/// expression in x (y) and t.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Force {
     Constant(f64),
+    /// f(x) (plates: f(x, y)), constant in time.
     Field(Expr),
+    /// f(x, t) (plates: f(x, y, t)): the variables of `Field` followed by t.
+    Transient(Expr),
 }
 
 impl Force {
@@ -102,6 +106,21 @@ impl Force {
         match self {
             Force::Constant(f) => Some(*f),
             Force::Field(e) => e.is_constant(),
+            Force::Transient(_) => None,
+        }
+    }
+
+    /// Refuses an expression that is not finite at some node, naming the key and the node.
+    pub(crate) fn check_at_nodes<const D: usize>(
+        &self,
+        nodes: impl Iterator<Item = [f64; D]>,
+    ) -> Result<(), crate::expr::ExprError> {
+        match self {
+            Force::Constant(_) => Ok(()),
+            Force::Field(f) => f.eval_at_nodes(nodes).map(|_| ()),
+            // At t = 0 (later times: a non-finite load makes a non-finite state, which the run
+            // reports as diverged).
+            Force::Transient(f) => f.eval_at_nodes(nodes.map(at_time_zero)).map(|_| ()),
         }
     }
 }
@@ -169,13 +188,14 @@ pub(crate) fn parse_field(
 ) -> Result<Expr, SceneError> {
     let text = match raw {
         None => "0".to_string(),
-        Some(RawField::Number(n)) => crate::expr::sci(n.get()),
+        // The round-trip form: the expression holds the number exactly (`sci` rounds to 5 digits).
+        Some(RawField::Number(n)) => format!("{:e}", n.get()),
         Some(RawField::Expr(t)) => t,
     };
     Ok(Expr::parse(key, &text, vars, consts)?)
 }
 
-/// A force: a number, or an expression in `vars` (time-dependent forces are refused).
+/// A force: a number, or an expression in `vars` and t ([`Force::Transient`] if it depends on t).
 pub(crate) fn parse_force(
     key: &'static str,
     raw: Option<RawField>,
@@ -191,13 +211,7 @@ pub(crate) fn parse_force(
             let with_t: Vec<&str> = vars.iter().copied().chain(["t"]).collect();
             let e = parse_field(key, Some(raw), &with_t, consts)?;
             if e.depends_on("t") {
-                return Err(SceneError::Inapplicable {
-                    key,
-                    context: format!(
-                        "time: \"{}\" depends on t, and time-dependent forces are not supported yet (the schemes assume a constant load); write an expression without t",
-                        e.text()
-                    ),
-                });
+                return Ok(Force::Transient(e));
             }
             Ok(match e.is_constant() {
                 Some(c) => Force::Constant(c),
@@ -205,4 +219,11 @@ pub(crate) fn parse_force(
             })
         }
     }
+}
+
+/// A point of the space variables extended by t = 0.
+fn at_time_zero<const D: usize>(p: [f64; D]) -> Vec<f64> {
+    let mut v = p.to_vec();
+    v.push(0.0);
+    v
 }

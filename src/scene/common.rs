@@ -204,8 +204,13 @@ pub(crate) fn parse_scheme(raw: Option<RawScheme>, w0: f64, mass: &MassKind) -> 
 }
 
 /// The `[time]` table; `default_end` is used without `time.end`, `elements` (the unknowns per
-/// step) bounds the work.
-pub(crate) fn parse_time(raw: Option<RawTime>, default_end: f64, elements: usize) -> Result<TimeSpec, SceneError> {
+/// step, set by the keys `size`) bounds the work.
+pub(crate) fn parse_time(
+    raw: Option<RawTime>,
+    default_end: f64,
+    elements: usize,
+    size: &'static str,
+) -> Result<TimeSpec, SceneError> {
     let t = raw.unwrap_or_default();
     let dt = t.dt.map_or(0.01, Number::get);
     let end = t.end.map_or(default_end, Number::get);
@@ -213,7 +218,7 @@ pub(crate) fn parse_time(raw: Option<RawTime>, default_end: f64, elements: usize
     finite_in("time.end", end, end > 0.0, "(0, ∞)")?;
     let ratio = end / dt;
     if !(ratio <= 1e15) {
-        return Err(SceneError::TooMuchWork { work: ratio * elements as f64, limit: MAX_NODE_STEPS });
+        return Err(SceneError::TooMuchWork { work: ratio * elements as f64, limit: MAX_NODE_STEPS, size });
     }
     let steps = ratio.round();
     if steps < 1.0 || (steps - ratio).abs() > 1e-9 * ratio {
@@ -221,7 +226,7 @@ pub(crate) fn parse_time(raw: Option<RawTime>, default_end: f64, elements: usize
     }
     let work = steps * elements as f64;
     if work > MAX_NODE_STEPS {
-        return Err(SceneError::TooMuchWork { work, limit: MAX_NODE_STEPS });
+        return Err(SceneError::TooMuchWork { work, limit: MAX_NODE_STEPS, size });
     }
     let time = TimeSpec { dt, end, steps: steps as usize };
     Ok(time)
@@ -364,4 +369,50 @@ impl RawOutput {
             divergence_factor: Some(Number::Float(divergence_factor)),
         }
     }
+}
+
+/// The sections every scene shares, validated on its geometry: `[mass]` (weights checked on the
+/// mesh), `[scheme]` (bar-only schemes refused for other geometries, the one place scenes do it),
+/// `[time]` (the work limit over the geometry's unknowns) and `[output]` (the geometry's columns,
+/// those its exact solution allows, VTU frames where the geometry writes them).
+pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) -> Result<Scene<G>, SceneError> {
+    let mass = parse_mass(raw.mass)?;
+    let w0 = geometry.contact_weight(&mass)?;
+    let scheme = parse_scheme(raw.scheme, w0, &mass)?;
+    if G::TABLE != BarSpec::TABLE {
+        if let Some((key, why)) = scheme.bar_only() {
+            return Err(SceneError::Inapplicable { key, context: format!("[{}] scenes ({why})", G::TABLE) });
+        }
+    }
+    let time = parse_time(raw.time, 3.0 * geometry.length(), geometry.unknowns(), G::SIZE_KEYS)?;
+    let o = raw.output.unwrap_or_default();
+    let series = match o.series {
+        Some(names) => parse_series(names, G::COLUMNS, G::COLUMN_LIST)?,
+        None => geometry.default_series(),
+    };
+    if let Some((column, why)) = series.iter().find_map(|&c| geometry.unavailable(c).map(|why| (c, why))) {
+        return Err(SceneError::Inapplicable {
+            key: "output.series",
+            context: format!("column \"{}\" of this scene: {why}", column.name()),
+        });
+    }
+    let every = parse_every(o.every, time.steps, series.len())?;
+    let vtu_every = if !G::VTU {
+        let context = format!("[{}] scenes (VTU frames are written for plates)", G::TABLE);
+        forbid("output.vtu", &o.vtu, &context)?;
+        forbid("output.vtu_every", &o.vtu_every, &context)?;
+        None
+    } else if o.vtu.unwrap_or(false) {
+        let k = o.vtu_every.unwrap_or(10);
+        if k < 1 {
+            return Err(SceneError::Range { key: "output.vtu_every", value: k.to_string(), range: "integers >= 1" });
+        }
+        Some(k as usize)
+    } else {
+        forbid("output.vtu_every", &o.vtu_every, "output.vtu = false (set vtu = true)")?;
+        None
+    };
+    let divergence_factor = parse_divergence_factor(o.divergence_factor)?;
+    let output = OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true), divergence_factor, vtu_every };
+    Ok(Scene { geometry, mass, scheme, time, output })
 }

@@ -28,18 +28,24 @@
 mod bar;
 mod body;
 mod common;
+mod plate;
 
 pub use bar::*;
 pub use body::*;
 pub use common::*;
+pub use plate::*;
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-/// Upper bound on `elements`: 10⁷ nodes take ~1 GB of work vectors across a scheme and observers.
+// The limits every scene shares, each with what it protects.
+
+/// Upper bound on `bar.elements`: 10⁷ nodes take ~1 GB of work vectors across a scheme and
+/// observers.
 pub const MAX_ELEMENTS: usize = 10_000_000;
 
-/// Upper bound on elements × steps: at ~10 ns per node-step (release build) about 2 minutes.
+/// Upper bound on unknowns × steps (every geometry): at ~10 ns per unknown-step (a release
+/// build's bar; a plate's sparse step costs more per unknown) about 2 minutes of a bar.
 pub const MAX_NODE_STEPS: f64 = 1e10;
 
 /// The default `output.divergence_factor`: six orders of magnitude above any bounded excursion
@@ -50,10 +56,24 @@ pub const DEFAULT_DIVERGENCE_FACTOR: f64 = 1e6;
 /// Upper bound on the values `series.csv` may hold in memory (8 bytes each: 400 MB).
 pub const MAX_SERIES_VALUES: f64 = 5e7;
 
+/// Upper bound on the size of a scene file: a scene is a few hundred bytes (a custom mass with
+/// 10⁵ weights about 2 MB); reading stops here, so `/dev/zero` or a binary file fails at once.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
+/// Lengths (`bar.length`, `plate.length`, `plate.height`) lie in [MIN_LENGTH, MAX_LENGTH]:
+/// mesh sizes, their squares (stiffness ~ E/h, mass ~ ρh, step matrices M + βΔt²S) and the
+/// default `time.end = 3 L` stay far from overflow and underflow.
+pub const MIN_LENGTH: f64 = 1e-100;
+pub const MAX_LENGTH: f64 = 1e100;
+/// The range of `MIN_LENGTH..=MAX_LENGTH`, for messages.
+pub const LENGTH_RANGE: &str = "[1e-100, 1e100]";
+
 #[derive(Debug, Error)]
 pub enum SceneError {
     #[error("cannot read {path}: {source}")]
     Io { path: String, source: std::io::Error },
+    #[error("{path} is larger than {limit} bytes: not a scene file (scenes are a few kB)")]
+    TooLarge { path: String, limit: u64 },
     #[error("{0}")]
     Parse(String),
     #[error("{key} = {value}: allowed range is {range}")]
@@ -63,13 +83,14 @@ pub enum SceneError {
     #[error("{key} does not apply to {context}")]
     Inapplicable { key: &'static str, context: String },
     #[error(
-        "time.end / time.dt = {ratio} is not an integer (within 1e-9 relative): choose dt dividing end (end = {end}, dt = {dt})"
+        "time.end / time.dt = {ratio} is not an integer (within 1e-9 relative): choose dt dividing end (end = {end}, dt = {dt})",
+        end = short(*end), dt = short(*dt), ratio = short(*ratio)
     )]
     NotAnInteger { end: f64, dt: f64, ratio: f64 },
     #[error(
-        "bar.elements × steps = {work:.3e} node-steps exceeds the limit {limit:.0e} (about 2 minutes of computing in a release build): reduce bar.elements or time.end / time.dt"
+        "unknowns × steps = {work:.3e} exceeds the limit {limit:.0e} (about 2 minutes of computing in a release build): reduce {size} or time.end / time.dt"
     )]
-    TooMuchWork { work: f64, limit: f64 },
+    TooMuchWork { work: f64, limit: f64, size: &'static str },
     #[error("output.series would record {values:.3e} values (limit {limit:.0e}): set output.every to at least {every}")]
     TooManyValues { values: f64, limit: f64, every: usize },
     #[error("output.series lists \"{0}\" twice")]
@@ -77,7 +98,25 @@ pub enum SceneError {
     #[error(transparent)]
     Mass(#[from] crate::mass::MassError),
     #[error(transparent)]
+    PlateMass(#[from] crate::plate::layers::PlateMassError),
+    #[error(transparent)]
+    Mesh(#[from] crate::plate::mesh::MeshError),
+    #[error(
+        "free nodes × contact nodes = {work:.3e} exceeds {limit:.1e} (the dense contact responses would take {megabytes:.0} MB): reduce plate.nx or plate.ny"
+    )]
+    TooManyContactNodes { work: f64, limit: f64, megabytes: f64 },
+    #[error(transparent)]
     Expr(#[from] crate::expr::ExprError),
+    /// The problem a valid-looking scene poses cannot be set up (a matrix that cannot be
+    /// factored, an exact solution that cannot be built): found by `check` and by `run` before
+    /// stepping.
+    #[error("the scene cannot be set up ({keys}): {reason}")]
+    Setup { keys: String, reason: String },
+}
+
+/// A number in the shortest form that reads back to it (`1e308`, not 309 digits).
+pub fn short(x: f64) -> String {
+    crate::output::fmt_f64(x)
 }
 
 impl SceneError {
@@ -182,7 +221,12 @@ pub struct OutputSpec {
 }
 
 pub(crate) fn finite_in(key: &'static str, v: f64, ok: bool, range: &'static str) -> Result<f64, SceneError> {
-    if v.is_finite() && ok { Ok(v) } else { Err(SceneError::Range { key, value: v.to_string(), range }) }
+    if v.is_finite() && ok { Ok(v) } else { Err(SceneError::Range { key, value: short(v), range }) }
+}
+
+/// A length key in [`LENGTH_RANGE`].
+pub(crate) fn length_in(key: &'static str, v: f64) -> Result<f64, SceneError> {
+    finite_in(key, v, (MIN_LENGTH..=MAX_LENGTH).contains(&v), LENGTH_RANGE)
 }
 
 pub(crate) fn forbid<T>(key: &'static str, value: &Option<T>, context: &str) -> Result<(), SceneError> {
@@ -190,4 +234,189 @@ pub(crate) fn forbid<T>(key: &'static str, value: &Option<T>, context: &str) -> 
         Some(_) => Err(SceneError::Inapplicable { key, context: context.to_string() }),
         None => Ok(()),
     }
+}
+
+/// A validated scene: one geometry (`G`: [`BarSpec`] or [`PlateSpec`]) and the sections every
+/// scene shares. A scene file is read as an [`AnyScene`], whose variant is the geometry table
+/// the file has.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene<G = BarSpec> {
+    pub geometry: G,
+    pub mass: crate::mass::MassKind,
+    pub scheme: SchemeSpec,
+    pub time: TimeSpec,
+    pub output: OutputSpec,
+}
+
+/// A bar scene (`[bar]`).
+pub type BarScene = Scene<BarSpec>;
+/// A plate scene (`[plate]`).
+pub type PlateScene = Scene<PlateSpec>;
+
+/// A scene file of any geometry: the geometry table it has (`[bar]`, the default, or `[plate]`)
+/// decides the variant.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AnyScene {
+    Bar(BarScene),
+    Plate(PlateScene),
+}
+
+/// The tables of a scene file (one geometry table at most), as read and as resolved (opaque
+/// outside the crate).
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawScene {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) bar: Option<RawBar>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) plate: Option<RawPlate>,
+    pub(crate) mass: Option<RawMass>,
+    pub(crate) scheme: Option<RawScheme>,
+    pub(crate) time: Option<RawTime>,
+    pub(crate) output: Option<RawOutput>,
+}
+
+/// What the shared sections need of a geometry: its table, its columns, its unknowns and
+/// contact weight, and the exact solutions it offers.
+pub trait SceneGeometry: Sized {
+    /// The geometry's table: "bar" or "plate".
+    const TABLE: &'static str;
+    /// The columns `output.series` accepts, and their list for messages.
+    const COLUMNS: &'static [Column];
+    const COLUMN_LIST: &'static str;
+    /// The keys that set the number of unknowns (named when the work limit is exceeded).
+    const SIZE_KEYS: &'static str;
+    /// Whether the geometry writes VTU frames (`output.vtu`).
+    const VTU: bool;
+    /// Unknowns per step (the work limit's measure).
+    fn unknowns(&self) -> usize;
+    /// The extent along x (the default `time.end` is 3 L).
+    fn length(&self) -> f64;
+    /// The mass weights validated on this geometry; returns the largest weight of the cells at
+    /// the contact boundary (0 iff the contact unknowns are massless).
+    fn contact_weight(&self, mass: &crate::mass::MassKind) -> Result<f64, SceneError>;
+    /// Why `column` cannot be recorded for this geometry's data (None if it can).
+    fn unavailable(&self, column: Column) -> Option<String>;
+    /// The series recorded without `output.series`.
+    fn default_series(&self) -> Vec<Column>;
+    /// The resolved geometry table, in a [`RawScene`] otherwise empty.
+    fn raw(&self) -> RawScene;
+    /// The first line of the resolved file (a comment).
+    fn header(&self, time: &TimeSpec) -> String;
+    /// The scene of this geometry in `any`, or an error saying which geometry `any` has.
+    fn from_any(any: AnyScene) -> Result<Scene<Self>, SceneError>;
+}
+
+impl AnyScene {
+    /// Reads (at most [`MAX_SCENE_BYTES`]) and validates a scene file; a mesh file it names is
+    /// relative to the scene's folder and read here, once.
+    pub fn from_file(path: &std::path::Path) -> Result<AnyScene, SceneError> {
+        let text = read_scene_text(path)?;
+        AnyScene::parse(&text, path.parent().unwrap_or(std::path::Path::new(".")))
+    }
+
+    /// Parses and validates scene text; a mesh file is relative to the current folder.
+    pub fn from_toml(text: &str) -> Result<AnyScene, SceneError> {
+        AnyScene::parse(text, std::path::Path::new("."))
+    }
+
+    fn parse(text: &str, base: &std::path::Path) -> Result<AnyScene, SceneError> {
+        let mut raw: RawScene = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
+        match (raw.bar.take(), raw.plate.take()) {
+            (Some(_), Some(_)) => Err(SceneError::Parse(
+                "[bar] and [plate]: a scene has one geometry table, [bar] (the default) or [plate]".into(),
+            )),
+            (None, Some(p)) => Ok(AnyScene::Plate(validate_sections(PlateSpec::validate(p, base)?, raw)?)),
+            (b, None) => Ok(AnyScene::Bar(validate_sections(BarSpec::validate(b.unwrap_or_default())?, raw)?)),
+        }
+    }
+
+    /// The scene with every default filled in, as TOML.
+    pub fn resolved_toml(&self) -> String {
+        match self {
+            AnyScene::Bar(s) => s.resolved_toml(),
+            AnyScene::Plate(s) => s.resolved_toml(),
+        }
+    }
+
+    pub fn time(&self) -> &TimeSpec {
+        match self {
+            AnyScene::Bar(s) => &s.time,
+            AnyScene::Plate(s) => &s.time,
+        }
+    }
+
+    /// The geometry table's name.
+    pub fn table(&self) -> &'static str {
+        match self {
+            AnyScene::Bar(_) => BarSpec::TABLE,
+            AnyScene::Plate(_) => PlateSpec::TABLE,
+        }
+    }
+}
+
+impl<G: SceneGeometry> Scene<G> {
+    /// Reads and validates a scene file of this geometry.
+    pub fn from_file(path: &std::path::Path) -> Result<Self, SceneError> {
+        G::from_any(AnyScene::from_file(path)?)
+    }
+
+    /// Parses and validates scene text of this geometry.
+    pub fn from_toml(text: &str) -> Result<Self, SceneError> {
+        G::from_any(AnyScene::from_toml(text)?)
+    }
+
+    /// The scene with every default filled in, as TOML.
+    pub fn resolved_toml(&self) -> String {
+        let (mass, scheme, time, output) = raw_sections(&self.mass, &self.scheme, &self.time, &self.output, G::VTU);
+        let raw = RawScene { mass, scheme, time, output, ..self.geometry.raw() };
+        let mut text = self.geometry.header(&self.time);
+        text.push_str(&toml::to_string(&raw).expect("a resolved scene always serialises"));
+        text
+    }
+}
+
+/// The error of a scene found in another geometry's place.
+pub(crate) fn wrong_geometry(want: &'static str, any: &AnyScene) -> SceneError {
+    SceneError::Parse(format!("expected a [{want}] scene, found a [{}] scene", any.table()))
+}
+
+/// The text of a scene file, read up to [`MAX_SCENE_BYTES`].
+fn read_scene_text(path: &std::path::Path) -> Result<String, SceneError> {
+    use std::io::Read;
+    let io = |source| SceneError::Io { path: path.display().to_string(), source };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let mut bytes = Vec::new();
+    file.take(MAX_SCENE_BYTES + 1).read_to_end(&mut bytes).map_err(io)?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(SceneError::TooLarge { path: path.display().to_string(), limit: MAX_SCENE_BYTES });
+    }
+    String::from_utf8(bytes)
+        .map_err(|e| io(std::io::Error::new(std::io::ErrorKind::InvalidData, format!("not UTF-8 text ({e})"))))
+}
+
+/// A TOML error with the key it concerns on the first line (`plate.cells`, found from the span:
+/// the key on the span's line under the last table header above it), then its position and the
+/// parser's own report.
+fn toml_error(text: &str, e: &toml::de::Error) -> SceneError {
+    let Some(span) = e.span() else { return SceneError::Parse(e.to_string()) };
+    let before = &text[..span.start.min(text.len())];
+    let line_no = before.matches('\n').count() + 1;
+    let column = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+    let line = text.lines().nth(line_no - 1).unwrap_or("");
+    let table = before
+        .lines()
+        .rev()
+        .map(str::trim)
+        .find_map(|l| l.strip_prefix('[').and_then(|l| l.strip_suffix(']')))
+        .map(|t| t.trim_matches(|c| c == '[' || c == ']').trim().to_string());
+    let key = line.split_once('=').map(|(k, _)| k.trim().trim_matches('"').to_string()).filter(|k| !k.is_empty());
+    let what = match (table, key) {
+        _ if line.trim_start().starts_with('[') => line.trim().to_string(),
+        (Some(t), Some(k)) => format!("{t}.{k}"),
+        (Some(t), None) => format!("[{t}]"),
+        (None, Some(k)) => k,
+        (None, None) => "the scene".into(),
+    };
+    SceneError::Parse(format!("{what}: {} (line {line_no}, column {column})\n{e}", e.message().trim_end()))
 }

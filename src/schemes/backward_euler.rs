@@ -24,6 +24,8 @@ pub struct BackwardEuler<A: Backend> {
     dt: f64,
     mass: A,
     load: Vec<f64>,
+    /// A time-dependent load: `load` is refreshed to F(t_{n+1}) at each step.
+    forcing: Option<crate::system::Forcing>,
     lower: Vec<f64>,
     solver: A::Solver,
     n: usize,
@@ -49,6 +51,7 @@ impl<A: Backend> BackwardEuler<A> {
             dt,
             mass: system.mass.clone(),
             load: system.load.clone(),
+            forcing: system.forcing.clone(),
             lower: system.lower.clone(),
             solver,
             n: 0,
@@ -75,6 +78,9 @@ impl<A: Backend> super::Scheme for BackwardEuler<A> {
         let dt = self.dt;
         let sigma = dt * dt;
         let (step, time) = (self.n + 1, (self.n + 1) as f64 * dt);
+        if let Some(f) = &self.forcing {
+            (f.0)(time, &mut self.load); // implicit: the equation is written at t_{n+1}
+        }
         self.mass.mul_add_into(&self.pred, sigma, &self.load, &mut self.rhs);
         self.pivots =
             self.solver.solve(&mut self.rhs, &self.lower, sigma, &mut self.lambda).map_err(contact_err(step, time))?;

@@ -72,6 +72,8 @@ pub struct Hybrid<A: Backend> {
     dt: f64,
     mass: A,
     load: Vec<f64>,
+    /// A time-dependent load: `load` is refreshed to F(t_{n+1}) at each step.
+    forcing: Option<crate::system::Forcing>,
     contact_idx: Vec<usize>,
     /// Obstacle bounds lb (contact order).
     obstacle: Vec<f64>,
@@ -119,6 +121,7 @@ impl<A: Backend> Hybrid<A> {
             dt,
             mass: system.mass.clone(),
             load: system.load.clone(),
+            forcing: system.forcing.clone(),
             contact_idx: system.contact.clone(),
             obstacle: system.lower.clone(),
             solver,
@@ -174,6 +177,10 @@ impl<A: Backend> super::Scheme for Hybrid<A> {
         let dt = self.dt;
         let sigma = dt * dt / 4.0;
         // `pred` = Uⁿ + Δt/2 Vⁿ, kept by the previous step's update pass (and by `new`).
+        if let Some(f) = &self.forcing {
+            // The midpoint equation is written at t_{n+½}; Φ(U^{n+1}) below at t_{n+1}.
+            (f.0)((self.n as f64 + 0.5) * dt, &mut self.load);
+        }
         self.mass.mul_add_into(&self.pred, sigma, &self.load, &mut self.rhs);
         for ((l, u), lb) in self.lower.iter_mut().zip(&self.uc).zip(&self.obstacle) {
             *l = 0.5 * (u + lb);
@@ -198,6 +205,10 @@ impl<A: Backend> super::Scheme for Hybrid<A> {
             u[i] = u_new;
             v[i] = v_new;
             pred[i] = u_new + 0.5 * dt * v_new;
+        }
+        if let Some(f) = &self.forcing {
+            (f.0)(time, &mut self.load);
+            self.quasi_static.set_load(&self.load);
         }
         let p2 = self.quasi_static.apply(&mut self.u, &self.obstacle, &mut self.lambda).map_err(&err)?;
         std::mem::swap(&mut self.uc_prev, &mut self.uc);

@@ -28,6 +28,8 @@ pub struct Newmark<A: Backend> {
     dt: f64,
     mass: A,
     load: Vec<f64>,
+    /// A time-dependent load: `load` is refreshed to F(t_{n+1}) at each step.
+    forcing: Option<crate::system::Forcing>,
     lower: Vec<f64>,
     /// Massless unknowns and their displacement at the start of the step.
     massless: Vec<usize>,
@@ -73,6 +75,7 @@ impl<A: Backend> Newmark<A> {
             dt,
             mass: system.mass.clone(),
             load: system.load.clone(),
+            forcing: system.forcing.clone(),
             lower: system.lower.clone(),
             massless_old: vec![0.0; massless.len()],
             massless,
@@ -113,6 +116,9 @@ impl<A: Backend> super::Scheme for Newmark<A> {
         let sigma = beta * dt * dt;
         let c = (0.5 - beta) * dt * dt;
         let (step, time) = (self.n + 1, (self.n + 1) as f64 * dt);
+        if let Some(f) = &self.forcing {
+            (f.0)(time, &mut self.load); // the equation of motion is written at t_{n+1}
+        }
         self.mass.mul_add_into(&self.pred, sigma, &self.load, &mut self.rhs);
         for (old, &i) in self.massless_old.iter_mut().zip(&self.massless) {
             *old = self.u[i];

@@ -29,6 +29,9 @@ pub struct NewmarkReduced {
     h: f64,
     mass: SymTridiag,
     load: Vec<f64>,
+    /// A time-dependent load and its full vector (row 0 dropped into `load` at each step, at
+    /// t_{n+1}).
+    forcing: Option<(crate::system::Forcing, Vec<f64>)>,
     factor: TwistedFactor,
     response: Vec<f64>,
     n: usize,
@@ -79,6 +82,7 @@ impl NewmarkReduced {
             h: bar.h(),
             mass,
             load: system.load[1..].to_vec(),
+            forcing: system.forcing.clone().map(|f| (f, system.load.clone())),
             factor,
             response,
             n: 0,
@@ -101,6 +105,10 @@ impl super::Scheme for NewmarkReduced {
         let (dt, beta, gamma, h) = (self.dt, self.beta, self.gamma, self.h);
         let sigma = beta * dt * dt;
         let c2 = (0.5 - beta) * dt * dt;
+        if let Some((f, full)) = &mut self.forcing {
+            (f.0)((self.n + 1) as f64 * dt, full);
+            self.load.copy_from_slice(&full[1..]);
+        }
         self.mass.mul_add_into(&self.pred, sigma, Some(&self.load), &mut self.rhs);
         self.factor.solve_in_place(&mut self.rhs);
         let c = sigma * self.response[0] / h;

@@ -38,6 +38,9 @@ pub struct PaoliSchatzman {
     mass: SymTridiag,
     stiffness: SymTridiag,
     load: Vec<f64>,
+    /// A time-dependent load: `load` is refreshed to F(t_{n+1}) (the central difference at
+    /// t_{n+1} gives U^{n+2}).
+    forcing: Option<crate::system::Forcing>,
     project: bool,
     factor: TwistedFactor,
     /// z = K⁻¹ e_0.
@@ -85,6 +88,7 @@ impl PaoliSchatzman {
             mass: system.mass.clone(),
             stiffness: system.stiffness.clone(),
             load: system.load.clone(),
+            forcing: system.forcing.clone(),
             project: bar.massless_contact(),
             obstacle: system.lower[0],
             factor,
@@ -116,6 +120,9 @@ impl Scheme for PaoliSchatzman {
         let (dt, beta, e) = (self.dt, self.beta, self.restitution);
         let dt2 = dt * dt;
         let m = self.cur.len();
+        if let Some(f) = &self.forcing {
+            (f.0)((self.n + 1) as f64 * dt, &mut self.load);
+        }
         // Here "cur" = Uⁿ and "next" = U^{n+1}: the new iterate is U^{n+2} (written into prev).
         let (u_old, u_mid) = (&self.cur[..m], &self.next[..m]);
         let (inertia, elastic) = (&mut self.inertia[..m], &mut self.elastic[..m]);

@@ -1,0 +1,387 @@
+//! Plate scenes (TOML): a `[plate]` table replaces `[bar]`; the other sections are the ones every
+//! scene shares ([`super::validate_sections`]); `[output]` has plate columns and VTU options.
+//!
+//! ```toml
+//! [plate]
+//! length = 1.0
+//! height = 1.0
+//! nx = 20                    # cells along x (Δx₁ = length/nx)
+//! ny = 20                    # cells along y (Δx₂ = height/ny)
+//! cells = "quad"             # quad (Q1) | triangle (P1, one diagonal per square)
+//! initial = "paper"          # paper: u0 = (L-x)/2 (exact solution known) | bump: y-dependent
+//! # mesh = "square.msh"      # instead of length/height/nx/ny/cells: a triangle (or axis-aligned
+//! #                          # quad) mesh file read by meshio (feature `python`), path relative
+//! #                          # to the scene file; Γ_C = {x = min x}, Γ_D = {x = max x}
+//! force = 0.0
+//! [mass]
+//! kind = "mod3"              # standard | mod1 | mod2 | mod3 | custom (one weight per cell)
+//! [scheme]
+//! kind = "crank-nicolson"    # crank-nicolson | newmark | backward-euler | hybrid
+//! [time]
+//! dt = 0.01
+//! end = 3.0
+//! [output]
+//! series = ["u0", "u_mean", "lambda", "contact_force", "energy", "l2_error"]
+//! every = 1
+//! vtu = false                # write vtu/frame_*.vtu and plate.pvd
+//! vtu_every = 10             # steps between VTU frames (only with vtu = true)
+//! divergence_factor = 1e6    # stop as diverged when |E| > factor · max(|E⁰|, E_F), in (1, ∞)
+//! ```
+
+use super::*;
+use crate::expr::Expr;
+use crate::mass::MassKind;
+use crate::plate::layers::{cell_weights, layers};
+use crate::plate::mesh::{CellKind, Mesh2d};
+use std::sync::Arc;
+
+/// Upper bound on `free nodes × contact nodes`: the dense contact responses Z = K⁻¹E take
+/// 8 bytes each (2.5·10⁷ is 200 MB; a 400 × 400 mesh has 6.4·10⁷).
+pub const MAX_CONTACT_WORK: f64 = 2.5e7;
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+pub(crate) struct RawPlate {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    length: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    height: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    nx: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ny: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    cells: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mesh: Option<String>,
+    #[serde(flatten)]
+    body: RawBody,
+    /// Keys no field takes, refused by `RawBody::refuse_unknown`.
+    #[serde(flatten, skip_serializing)]
+    unknown: std::collections::BTreeMap<String, toml::Value>,
+}
+
+/// Initial data of the plate.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PlateInitial {
+    /// u⁰ = (L − x)/2, v⁰ = 0: the 1D benchmark extended constantly in y (exact solution known
+    /// for f = 0: the 1D one).
+    Paper,
+    /// u⁰ = (L − x)/2 · (1 + ½ cos(π y/H)), v⁰ = 0: y-dependent (no exact solution). The
+    /// edge x = 0 starts at heights 3/4 (y = 0) to 1/4 (y = H) above the obstacle, so its parts
+    /// hit it at different times and the contact state varies along Γ_C. `∂_y u⁰ = 0` on
+    /// y = 0, H (compatible with the Neumann condition) and u⁰ = 0 on x = L.
+    Bump,
+    /// u⁰(x, y), v⁰(x, y) as expressions (in x, y, L, H, pi), interpolated at every node.
+    Fields { displacement: Expr, velocity: Expr },
+}
+
+impl PlateInitial {
+    pub fn name(&self) -> &'static str {
+        match self {
+            PlateInitial::Paper => "paper",
+            PlateInitial::Bump => "bump",
+            PlateInitial::Fields { .. } => "expressions",
+        }
+    }
+
+    /// `u⁰(x, y)` on the plate (0, L) × (0, H).
+    pub fn displacement(&self, length: f64, height: f64, x: f64, y: f64) -> f64 {
+        let base = (length - x) / 2.0;
+        match self {
+            PlateInitial::Paper => base,
+            PlateInitial::Bump => base * (1.0 + 0.5 * (std::f64::consts::PI * y / height).cos()),
+            PlateInitial::Fields { displacement, .. } => displacement.eval(&[x, y]),
+        }
+    }
+
+    /// Whether the data are constant in y (so that, without force, the solution is a plane
+    /// wave: the bar's solution by characteristics extended in y).
+    pub fn y_independent(&self) -> bool {
+        match self {
+            PlateInitial::Paper => true,
+            PlateInitial::Bump => false,
+            PlateInitial::Fields { displacement, velocity } => {
+                !displacement.depends_on("y") && !velocity.depends_on("y")
+            }
+        }
+    }
+
+    /// `v⁰(x, y)` (0 for the named data).
+    pub fn velocity(&self, x: f64, y: f64) -> f64 {
+        match self {
+            PlateInitial::Fields { velocity, .. } => velocity.eval(&[x, y]),
+            _ => 0.0,
+        }
+    }
+}
+
+/// The geometry and discretisation of a plate run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlateSpec {
+    pub length: f64,
+    pub height: f64,
+    /// Cells along x and y of a structured mesh (0 for a mesh file).
+    pub nx: usize,
+    pub ny: usize,
+    pub cells: CellKind,
+    pub initial: PlateInitial,
+    /// Material, far end (x = L), gap and force.
+    pub body: Body,
+    /// The mesh file (read by meshio) that replaced the structured mesh; `length`, `height` and
+    /// `cells` then describe the file's mesh.
+    pub mesh_file: Option<std::path::PathBuf>,
+    /// The mesh, built or read once when the scene is validated (None: the structured mesh of
+    /// `nx`, `ny`, `cells`, built with the problem).
+    pub mesh: Option<Arc<Mesh2d>>,
+}
+
+impl PlateSpec {
+    /// The structured plate (0, L) × (0, H) with nx × ny cells (its mesh built with the problem).
+    pub fn structured(length: f64, height: f64, nx: usize, ny: usize, cells: CellKind, initial: PlateInitial) -> Self {
+        PlateSpec { length, height, nx, ny, cells, initial, body: Body::default(), mesh_file: None, mesh: None }
+    }
+
+    /// The mesh: the one validated with the scene, or the structured one of the spec.
+    pub fn mesh(&self) -> Result<Arc<Mesh2d>, crate::plate::mesh::MeshError> {
+        match &self.mesh {
+            Some(m) => Ok(m.clone()),
+            None => Ok(Arc::new(Mesh2d::structured(self.length, self.height, self.nx, self.ny, self.cells)?)),
+        }
+    }
+
+    /// Whether the paper's closed form is this plate's exact solution (its data on its body).
+    pub fn has_paper_solution(&self) -> bool {
+        self.initial == PlateInitial::Paper && self.body == Body::default()
+    }
+
+    /// Whether the plate's solution is a plane wave (y-independent data, no force): the bar's
+    /// solution by characteristics extended in y.
+    pub fn has_plane_wave(&self) -> bool {
+        self.initial.y_independent() && self.body.force.constant() == Some(0.0)
+    }
+
+    /// The `[plate]` table, validated; a mesh file is relative to `base` and read here, once.
+    pub(crate) fn validate(p: RawPlate, base: &std::path::Path) -> Result<PlateSpec, SceneError> {
+        let (mesh, mesh_file) = match &p.mesh {
+            Some(file) => {
+                let context = "plate.mesh (the mesh file gives the geometry)";
+                forbid("plate.length", &p.length, context)?;
+                forbid("plate.height", &p.height, context)?;
+                forbid("plate.nx", &p.nx, context)?;
+                forbid("plate.ny", &p.ny, context)?;
+                forbid("plate.cells", &p.cells, context)?;
+                let path = base.join(file);
+                (read_mesh_file(&path)?, Some(path))
+            }
+            None => (structured_mesh(&p)?, None),
+        };
+        let (nx, ny) = mesh.grid.unwrap_or((0, 0));
+        let contact = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count();
+        let free = (0..mesh.n_nodes()).filter(|&v| !mesh.on_dirichlet(v)).count();
+        check_contact_work(free, contact)?;
+        let (initial, body) = parse_plate_body(p.body, &p.unknown, &mesh)?;
+        let (length, height, cells) = (mesh.length, mesh.height, mesh.kind);
+        Ok(PlateSpec { length, height, nx, ny, cells, initial, body, mesh_file, mesh: Some(Arc::new(mesh)) })
+    }
+}
+
+/// The structured mesh of a `[plate]` table without `mesh`.
+fn structured_mesh(p: &RawPlate) -> Result<Mesh2d, SceneError> {
+    let length = length_in("plate.length", p.length.map_or(1.0, Number::get))?;
+    let height = length_in("plate.height", p.height.map_or(1.0, Number::get))?;
+    let nx = p.nx.unwrap_or(20);
+    if !(2..=4000).contains(&nx) {
+        return Err(SceneError::Range { key: "plate.nx", value: nx.to_string(), range: "[2, 4000]" });
+    }
+    let ny = p.ny.unwrap_or(20);
+    if !(1..=4000).contains(&ny) {
+        return Err(SceneError::Range { key: "plate.ny", value: ny.to_string(), range: "[1, 4000]" });
+    }
+    let (nx, ny) = (nx as usize, ny as usize);
+    // Cells far from square make the stiffness ill-conditioned beyond what double precision
+    // factors (height = 1e-9 with a unit length fails as "not positive definite").
+    let aspect = (length / nx as f64) / (height / ny as f64);
+    if !(1e-6..=1e6).contains(&aspect) {
+        return Err(SceneError::Range {
+            key: "plate.height",
+            value: short(height),
+            range: "a cell aspect ratio (length/nx)/(height/ny) within [1e-6, 1e6]",
+        });
+    }
+    let cells = match p.cells.as_deref().unwrap_or("quad") {
+        "quad" => CellKind::Quad,
+        "triangle" => CellKind::Triangle,
+        other => {
+            return Err(SceneError::Range {
+                key: "plate.cells",
+                value: format!("\"{other}\""),
+                range: "\"quad\" (Q1) | \"triangle\" (P1)",
+            });
+        }
+    };
+    // Checked before the mesh is built: a hostile nx, ny must fail fast.
+    check_contact_work(nx * (ny + 1), ny + 1)?;
+    Ok(Mesh2d::structured(length, height, nx, ny, cells)?)
+}
+
+const SERIES_NAMES: &str =
+    "any subset of u0, u_mean, lambda, contact_force, energy, l2_error, exact_u0, exact_lambda, pivots";
+
+impl SceneGeometry for PlateSpec {
+    const TABLE: &'static str = "plate";
+    const COLUMNS: &'static [Column] = &Column::PLATE;
+    const COLUMN_LIST: &'static str = SERIES_NAMES;
+    const SIZE_KEYS: &'static str = "plate.nx, plate.ny";
+    const VTU: bool = true;
+
+    fn unknowns(&self) -> usize {
+        let mesh = self.mesh.as_ref().expect("a validated plate has its mesh");
+        (0..mesh.n_nodes()).filter(|&v| !mesh.on_dirichlet(v)).count()
+    }
+
+    fn length(&self) -> f64 {
+        self.length
+    }
+
+    /// The contact nodes are massless iff every cell touching x = 0 has weight 0; the shared
+    /// scheme parser calls the largest of those weights w_0.
+    fn contact_weight(&self, mass: &MassKind) -> Result<f64, SceneError> {
+        let mesh = self.mesh.as_ref().expect("a validated plate has its mesh");
+        let weights = cell_weights(mesh, mass)?;
+        Ok(layers(mesh).iter().zip(&weights).filter(|(l, _)| **l == 0).map(|(_, w)| *w).fold(0.0, f64::max))
+    }
+
+    fn unavailable(&self, column: Column) -> Option<String> {
+        (column.needs_exact() && !self.has_plane_wave()).then(|| {
+            format!(
+                "plate.initial = \"{}\": the exact solution (l2_error, exact_u0, exact_lambda) is known for y-independent data without force (a plane wave)",
+                self.initial.name()
+            )
+        })
+    }
+
+    fn default_series(&self) -> Vec<Column> {
+        let mut series = vec![Column::U0, Column::UMean, Column::Lambda, Column::ContactForce, Column::Energy];
+        if self.has_plane_wave() {
+            series.push(Column::L2Error);
+        }
+        series
+    }
+
+    fn raw(&self) -> RawScene {
+        let f = Number::Float;
+        let structured = self.mesh_file.is_none();
+        let initial = match &self.initial {
+            PlateInitial::Fields { displacement, velocity } => RawInitial::fields(displacement, velocity),
+            named => RawInitial::Name(named.name().into()),
+        };
+        let plate = RawPlate {
+            length: structured.then_some(f(self.length)),
+            height: structured.then_some(f(self.height)),
+            nx: structured.then_some(self.nx as i64),
+            ny: structured.then_some(self.ny as i64),
+            cells: structured.then(|| self.cells.name().into()),
+            body: RawBody::resolved(self.body.material, self.body.far_end, self.body.gap, initial, &self.body.force),
+            unknown: Default::default(),
+            mesh: self.mesh_file.as_ref().map(|m| m.display().to_string()),
+        };
+        RawScene { plate: Some(plate), ..Default::default() }
+    }
+
+    fn header(&self, time: &TimeSpec) -> String {
+        if self.mesh_file.is_none() {
+            format!(
+                "# Resolved plate scene (every default filled in); {} steps, dx1 = {:e}, dx2 = {:e}.\n",
+                time.steps,
+                self.length / self.nx as f64,
+                self.height / self.ny as f64
+            )
+        } else {
+            format!("# Resolved plate scene (every default filled in); {} steps, mesh from a file.\n", time.steps)
+        }
+    }
+
+    fn from_any(any: AnyScene) -> Result<Scene<Self>, SceneError> {
+        match any {
+            AnyScene::Plate(s) => Ok(s),
+            other => Err(wrong_geometry(Self::TABLE, &other)),
+        }
+    }
+}
+
+impl Scene<PlateSpec> {
+    /// The paper's closed form is the exact solution ([`PlateSpec::has_paper_solution`]).
+    pub fn has_exact_solution(&self) -> bool {
+        self.geometry.has_paper_solution()
+    }
+}
+
+/// The plate's body keys (shared with bars) and its initial data, checked at the mesh nodes.
+fn parse_plate_body(
+    b: RawBody,
+    unknown: &std::collections::BTreeMap<String, toml::Value>,
+    mesh: &Mesh2d,
+) -> Result<(PlateInitial, Body), SceneError> {
+    let (length, height) = (mesh.length, mesh.height);
+    let keys =
+        BodyKeys { density: "plate.density", modulus: "plate.modulus", far_end: "plate.far_end", gap: "plate.gap" };
+    let expected = "length, height, nx, ny, cells, mesh, density, modulus, far_end, gap, initial, force";
+    RawBody::refuse_unknown("plate", unknown, expected)?;
+    let (material, far_end, gap) = parse_body(&keys, b.density, b.modulus, b.far_end.as_deref(), b.gap)?;
+    let consts = [("L", length), ("H", height), ("pi", std::f64::consts::PI)];
+    let initial = parse_initial(b.initial, &consts)?;
+    let force = parse_force("plate.force", b.force, &["x", "y"], &consts)?;
+    let points = || mesh.points.iter().copied();
+    if let PlateInitial::Fields { displacement, velocity } = &initial {
+        displacement.eval_at_nodes(points()).map_err(SceneError::from)?;
+        velocity.eval_at_nodes(points()).map_err(SceneError::from)?;
+    }
+    force.check_at_nodes(points())?;
+    let body = Body { material, far_end, gap, force };
+    Ok((initial, body))
+}
+
+/// `plate.initial`: "paper", "bump" or a table of expressions in x, y.
+fn parse_initial(raw: Option<RawInitial>, consts: &[(&str, f64)]) -> Result<PlateInitial, SceneError> {
+    match raw {
+        None => Ok(PlateInitial::Paper),
+        Some(RawInitial::Name(name)) if name == "paper" => Ok(PlateInitial::Paper),
+        Some(RawInitial::Name(name)) if name == "bump" => Ok(PlateInitial::Bump),
+        Some(RawInitial::Name(other)) => Err(SceneError::Range {
+            key: "plate.initial",
+            value: format!("\"{other}\""),
+            range: "\"paper\" (u0 = (L-x)/2) | \"bump\" (u0 = (L-x)/2 (1 + cos(pi y/H)/2)) | { displacement = \"expression in x, y\", velocity = \"…\" }",
+        }
+        .into()),
+        Some(RawInitial::Fields(f)) => Ok(PlateInitial::Fields {
+            displacement: parse_field("plate.initial.displacement", f.displacement, &["x", "y"], consts)?,
+            velocity: parse_field("plate.initial.velocity", f.velocity, &["x", "y"], consts)?,
+        }),
+    }
+}
+
+/// The dense contact responses take free × contact values.
+fn check_contact_work(free: usize, contact: usize) -> Result<(), SceneError> {
+    let work = free as f64 * contact as f64;
+    if work > MAX_CONTACT_WORK {
+        return Err(SceneError::TooManyContactNodes { work, limit: MAX_CONTACT_WORK, megabytes: work * 8.0 / 1e6 });
+    }
+    Ok(())
+}
+
+/// A mesh file through meshio (feature `python`).
+#[cfg(feature = "python")]
+fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, SceneError> {
+    Ok(Mesh2d::read_file(path)?)
+}
+
+#[cfg(not(feature = "python"))]
+fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, SceneError> {
+    Err(SceneError::Inapplicable {
+        key: "plate.mesh",
+        context: format!(
+            "this build ({}): mesh files are read by meshio through the `python` feature; run `cargo run --features python -- run SCENE --out DIR` after `bash python/install-deps.sh`",
+            path.display()
+        ),
+    })
+}
