@@ -16,6 +16,7 @@ pub mod expr;
 pub mod linalg;
 pub mod mass;
 pub mod material;
+pub mod numfmt;
 pub mod observe;
 pub mod output;
 pub mod paper;

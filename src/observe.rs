@@ -5,7 +5,6 @@
 use crate::driver::{Divergence, Needs, Observer, Sample};
 use crate::exact::Exact;
 use crate::problem::{Geometry, Problem};
-use crate::scene::Column;
 use serde::Serialize;
 
 /// Records the requested columns every `every` steps (t_0 included).
@@ -391,5 +390,68 @@ impl Observer for EnergyRecorder {
 
     fn observe(&mut self, s: &Sample) {
         self.energy.push(s.energy);
+    }
+}
+
+/// A per-step diagnostic that can be recorded in `series.csv`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Column {
+    /// Contact-node displacement u_0ⁿ (plates: the contact node at the lowest y).
+    U0,
+    /// Displacement of node 1 (bars only).
+    U1,
+    /// Mean of u on Γ_C (plates).
+    UMean,
+    /// Contact force λⁿ (plates: the mean pressure Σ_c λ_c / |Γ_C|, the 1D λ for y-independent
+    /// fields).
+    Lambda,
+    /// Total contact force Σ_c λ_c (plates).
+    ContactForce,
+    /// Discrete energy ½VᵀMV + ½UᵀSU − UᵀF.
+    Energy,
+    /// Exact ‖u_h(t_n) − u(t_n)‖_{L²(0,L)}.
+    L2Error,
+    /// Exact u(0, t_n).
+    ExactU0,
+    /// Exact λ(t_n).
+    ExactLambda,
+    /// Principal pivots of the step's contact solves (plates).
+    Pivots,
+}
+
+impl Column {
+    /// The columns of a bar scene.
+    pub const BAR: [Column; 7] =
+        [Column::U0, Column::U1, Column::Lambda, Column::Energy, Column::L2Error, Column::ExactU0, Column::ExactLambda];
+    /// The columns of a plate scene.
+    pub const PLATE: [Column; 9] = [
+        Column::U0,
+        Column::UMean,
+        Column::Lambda,
+        Column::ContactForce,
+        Column::Energy,
+        Column::L2Error,
+        Column::ExactU0,
+        Column::ExactLambda,
+        Column::Pivots,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Column::U0 => "u0",
+            Column::U1 => "u1",
+            Column::UMean => "u_mean",
+            Column::Lambda => "lambda",
+            Column::ContactForce => "contact_force",
+            Column::Energy => "energy",
+            Column::L2Error => "l2_error",
+            Column::ExactU0 => "exact_u0",
+            Column::ExactLambda => "exact_lambda",
+            Column::Pivots => "pivots",
+        }
+    }
+
+    pub fn needs_exact(self) -> bool {
+        matches!(self, Column::L2Error | Column::ExactU0 | Column::ExactLambda)
     }
 }

@@ -9,12 +9,7 @@ use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Shortest representation that reads back to the same f64 (Rust's `Display`/`LowerExp` are
-/// both shortest round-trip); plain notation for moderate magnitudes, exponent otherwise.
-pub fn fmt_f64(x: f64) -> String {
-    let a = x.abs();
-    if x == 0.0 || (1e-4..1e15).contains(&a) || !x.is_finite() { format!("{x}") } else { format!("{x:e}") }
-}
+pub use crate::numfmt::fmt_f64;
 
 /// Writes a CSV table of numbers (header, then one row per item, full precision).
 pub fn write_number_csv<'a, W: Write>(header: &[&str], rows: impl Iterator<Item = &'a [f64]>, w: W) -> csv::Result<()> {

@@ -11,8 +11,9 @@
 use crate::bar::assembly::BarSystem;
 use crate::contact::Backend;
 use crate::exact::Exact;
-use crate::scene::{Formulation, SchemeSpec};
-use crate::schemes::{BackwardEuler, Hybrid, Newmark, NewmarkReduced, PaoliSchatzman, Scheme, SchemeError};
+use crate::schemes::{
+    BackwardEuler, Formulation, Hybrid, Newmark, NewmarkReduced, PaoliSchatzman, Scheme, SchemeError, SchemeSpec,
+};
 use crate::system::ContactSystem;
 
 /// What the driver and the observers need of a geometry (object safe).

@@ -15,7 +15,7 @@
 //! at the paper's horizon and over several periods ([`Config::horizons`]), plus Paoli–Schatzman
 //! over 100 and 1000 periods ([`Config::long_ends`]), where energy drift shows. The paper's
 //! Table 1 (2D) has its own section, [`table_2d`], to be filled in by the plate code. Beyond
-//! the paper, [`rebound`] runs every scheme × mass on the classic rebounding bar (a free bar
+//! the paper, `rebound` runs every scheme × mass on the classic rebounding bar (a free bar
 //! arriving at the obstacle with velocity −1) against its exact solution by characteristics.
 //!
 //! Layout: `experiments` is the registry ([`Experiment`], [`Case`], [`cases`]); `runs` holds one

@@ -123,7 +123,7 @@ pub struct PlateSystem {
     pub contact_lengths: Vec<f64>,
     /// The cells over each interval of the distinct vertex abscissae, built by the first L²
     /// error against a plane wave ([`crate::plate::norms::l2_error_plane_wave`]).
-    pub columns: std::sync::OnceLock<super::norms::Columns>,
+    pub columns: std::sync::OnceLock<super::mesh::Columns>,
 }
 
 impl PlateSystem {

@@ -11,7 +11,7 @@
 //! weight per cell by layers of cells touching Γ_C ([`layers`]: standard, mod1, mod2, mod3,
 //! custom), the sparse weighted mass and stiffness with the material, far end, gap and load
 //! ([`assembly`]), the plate as a [`crate::problem::Geometry`] ([`geometry`]: contact means, exact
-//! L² norms against x-only solutions ([`norms`]), nodal values), `[plate]` scenes ([`scene`]) and
+//! L² norms against x-only solutions ([`norms`]), nodal values), `[plate]` scenes (in [`crate::scene`]) and
 //! VTU/PVD output ([`vtu`]). Everything else is the one core shared with bars: the contact system
 //! ([`crate::system`]) over the sparse back-end ([`crate::linalg::sparse`]) with the exact
 //! many-node contact solver ([`crate::contact::Schur`]), the schemes ([`crate::schemes`]), the
@@ -23,7 +23,7 @@
 //! tensor products, so their solutions vary in y. The hybrid scheme keeps the paper's Lemma 5.1
 //! on any mesh and with any contact states along Γ_C (proof in [`crate::schemes::hybrid`],
 //! checked per step in tests/plate.rs). Paoli–Schatzman and the reduced Newmark formulation are
-//! bar-only ([`crate::scene::SchemeSpec::bar_only`]).
+//! bar-only ([`crate::schemes::SchemeSpec::bar_only`]).
 
 pub mod assembly;
 pub mod geometry;

@@ -13,7 +13,7 @@
 //! No quadrature rule is involved: the only error is round-off.
 
 use super::assembly::PlateSystem;
-use super::mesh::CellKind;
+use super::mesh::{CellKind, Columns};
 use crate::characteristics::Characteristics;
 use crate::exact::ImpactingBar;
 use crate::linalg::sparse;
@@ -166,44 +166,6 @@ pub fn l2_error(plate: &PlateSystem, u: &[f64], exact: &ImpactingBar, t: f64) ->
     (if total < 0.0 { 0.0 } else { total }).sqrt()
 }
 
-/// The plate's cells sorted into the intervals of its distinct vertex abscissae
-/// `x_0 = 0 < … < x_m = L`: interval j holds the cells spanning [x_j, x_{j+1}] (one column of a
-/// structured mesh). CSR layout: the cells of interval j are `cells[start[j]..start[j + 1]]`.
-#[derive(Debug, Clone, Default)]
-pub struct Columns {
-    pub xs: Vec<f64>,
-    start: Vec<usize>,
-    cells: Vec<usize>,
-}
-
-impl Columns {
-    fn new(mesh: &super::mesh::Mesh2d) -> Self {
-        let mut xs: Vec<f64> = mesh.points.iter().map(|p| p[0]).collect();
-        xs.sort_by(f64::total_cmp);
-        xs.dedup();
-        let mut lists = vec![Vec::new(); xs.len().saturating_sub(1)];
-        for c in 0..mesh.n_cells() {
-            let [x0, x1, _, _] = mesh.cell_box(c);
-            let j0 = xs.partition_point(|&x| x < x0);
-            let j1 = xs.partition_point(|&x| x < x1);
-            for list in &mut lists[j0..j1] {
-                list.push(c);
-            }
-        }
-        let mut start = vec![0];
-        let mut cells = Vec::new();
-        for list in lists {
-            cells.extend(list);
-            start.push(cells.len());
-        }
-        Columns { xs, start, cells }
-    }
-
-    fn of(&self, j: usize) -> &[usize] {
-        &self.cells[self.start[j]..self.start[j + 1]]
-    }
-}
-
 /// The segment where the vertical line at abscissa x meets cell c, as `(y_lo, u_h(x, y_lo),
 /// y_hi, u_h(x, y_hi))`: u_h is linear along every edge of a P1 triangle or an axis-aligned Q1
 /// rectangle, so the ends are found on the edges crossing x, exactly.
@@ -236,7 +198,7 @@ fn vertical_cut(plate: &PlateSystem, u: &[f64], c: usize, x: f64) -> (f64, f64, 
 ///
 /// At fixed x the error `e = u_h − u` is affine in y on each cell (P1 triangles, and Q1
 /// rectangles whose u_h is bilinear), so `∫ e² dy = ℓ (e_lo² + e_lo e_hi + e_hi²)/3` over the
-/// cell's vertical cut of length ℓ exactly ([`vertical_cut`]). What is left is an integral in x
+/// cell's vertical cut of length ℓ exactly (`vertical_cut`). What is left is an integral in x
 /// over the 1D mesh of the distinct vertex abscissae, which the 1D solution integrates split at
 /// its own breakpoints ([`Characteristics::integrate`]): exactly for piecewise-linear data (the
 /// integrand is a polynomial of degree ≤ 5 per piece), to the smooth rule's accuracy otherwise.

@@ -34,6 +34,9 @@ pub use bar::*;
 pub use body::*;
 pub use common::*;
 pub use plate::*;
+// The scheme and column vocabularies live with the code that uses them; scenes name them.
+pub use crate::observe::Column;
+pub use crate::schemes::{Formulation, SchemeSpec};
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -48,11 +51,9 @@ pub const MAX_ELEMENTS: usize = 10_000_000;
 /// build's bar; a plate's sparse step costs more per unknown) about 2 minutes of a bar.
 pub const MAX_NODE_STEPS: f64 = 1e10;
 
-/// The default `output.divergence_factor`: six orders of magnitude above any bounded excursion
-/// (the standard mass chatters up to about 4 E⁰ by T = 3, Paoli–Schatzman with mod3 drifts to
-/// 2.4 E⁰ by T = 3000), and some 300 below overflow (the driver's
-/// `DivergenceCriterion::DEFAULT_ENERGY_FACTOR`).
-pub const DEFAULT_DIVERGENCE_FACTOR: f64 = 1e6;
+/// The default `output.divergence_factor` (its reason: the driver's
+/// [`crate::driver::DivergenceCriterion::DEFAULT_ENERGY_FACTOR`]).
+pub const DEFAULT_DIVERGENCE_FACTOR: f64 = crate::driver::DivergenceCriterion::DEFAULT_ENERGY_FACTOR;
 /// Upper bound on the values `series.csv` may hold in memory (8 bytes each: 400 MB).
 pub const MAX_SERIES_VALUES: f64 = 5e7;
 
@@ -116,7 +117,7 @@ pub enum SceneError {
 
 /// A number in the shortest form that reads back to it (`1e308`, not 309 digits).
 pub fn short(x: f64) -> String {
-    crate::output::fmt_f64(x)
+    crate::numfmt::fmt_f64(x)
 }
 
 impl SceneError {
@@ -140,69 +141,6 @@ impl Number {
             Number::Int(i) => i as f64,
             Number::Float(f) => f,
         }
-    }
-}
-
-/// A per-step diagnostic that can be recorded in `series.csv`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Column {
-    /// Contact-node displacement u_0ⁿ (plates: the contact node at the lowest y).
-    U0,
-    /// Displacement of node 1 (bars only).
-    U1,
-    /// Mean of u on Γ_C (plates).
-    UMean,
-    /// Contact force λⁿ (plates: the mean pressure Σ_c λ_c / |Γ_C|, the 1D λ for y-independent
-    /// fields).
-    Lambda,
-    /// Total contact force Σ_c λ_c (plates).
-    ContactForce,
-    /// Discrete energy ½VᵀMV + ½UᵀSU − UᵀF.
-    Energy,
-    /// Exact ‖u_h(t_n) − u(t_n)‖_{L²(0,L)}.
-    L2Error,
-    /// Exact u(0, t_n).
-    ExactU0,
-    /// Exact λ(t_n).
-    ExactLambda,
-    /// Principal pivots of the step's contact solves (plates).
-    Pivots,
-}
-
-impl Column {
-    /// The columns of a bar scene.
-    pub const BAR: [Column; 7] =
-        [Column::U0, Column::U1, Column::Lambda, Column::Energy, Column::L2Error, Column::ExactU0, Column::ExactLambda];
-    /// The columns of a plate scene.
-    pub const PLATE: [Column; 9] = [
-        Column::U0,
-        Column::UMean,
-        Column::Lambda,
-        Column::ContactForce,
-        Column::Energy,
-        Column::L2Error,
-        Column::ExactU0,
-        Column::ExactLambda,
-        Column::Pivots,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Column::U0 => "u0",
-            Column::U1 => "u1",
-            Column::UMean => "u_mean",
-            Column::Lambda => "lambda",
-            Column::ContactForce => "contact_force",
-            Column::Energy => "energy",
-            Column::L2Error => "l2_error",
-            Column::ExactU0 => "exact_u0",
-            Column::ExactLambda => "exact_lambda",
-            Column::Pivots => "pivots",
-        }
-    }
-
-    pub fn needs_exact(self) -> bool {
-        matches!(self, Column::L2Error | Column::ExactU0 | Column::ExactLambda)
     }
 }
 

@@ -21,6 +21,7 @@ pub mod hybrid;
 pub mod newmark;
 pub mod newmark_reduced;
 pub mod paoli_schatzman;
+mod spec;
 
 use crate::contact::lcp::LcpError;
 use crate::linalg::LinalgError;
@@ -33,6 +34,7 @@ pub use hybrid::Hybrid;
 pub use newmark::Newmark;
 pub use newmark_reduced::NewmarkReduced;
 pub use paoli_schatzman::PaoliSchatzman;
+pub use spec::{Formulation, SchemeSpec};
 
 /// The discrete state at `t_n = n Δt`, borrowed from the scheme (no copy).
 #[derive(Debug, Clone, Copy)]
