@@ -111,7 +111,10 @@ pub struct Expr {
     slots: Vec<usize>,
     /// The value when no variable occurs.
     constant: Option<f64>,
-    compiled: FlatEx<f64, Ops, CanonicalLiteral>,
+    /// Boxed: exmex keeps its nodes inline (a few kB), and scenes, errors and their `Result`s
+    /// carry expressions by value; unboxed, validation frames overflowed a 2 MB thread stack in
+    /// debug builds (`reproduce` runs scenes on rayon's threads).
+    compiled: Box<FlatEx<f64, Ops, CanonicalLiteral>>,
 }
 
 impl Expr {
@@ -147,7 +150,7 @@ impl Expr {
             None
         };
         let vars = vars.iter().map(|v| v.to_string()).collect();
-        Ok(Expr { key: key.into(), text: text.into(), vars, used, slots, constant, compiled })
+        Ok(Expr { key: key.into(), text: text.into(), vars, used, slots, constant, compiled: Box::new(compiled) })
     }
 
     /// The value at `args`, one value per variable in the order given to [`Expr::parse`]. Does not
