@@ -363,7 +363,8 @@ pub struct Frame {
     pub v: Vec<f64>,
 }
 
-/// Records [`Frame`]s every `every` steps (for VTU output at the edge).
+/// Records [`Frame`]s every `every` steps, in memory (for library users; the command line
+/// streams them to VTU files with `plate::vtu::FrameWriter`).
 #[derive(Debug, Clone)]
 pub struct FrameRecorder {
     pub every: usize,

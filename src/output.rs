@@ -1,5 +1,7 @@
 //! Files: the only module that writes. A run directory appears complete or not at all: it is
-//! written under a temporary sibling name and renamed into place. Output folders are checked
+//! written under a temporary sibling name and renamed into place. `massredist run` streams its
+//! series into that temporary folder while computing ([`SeriesWriter`]; a plate's VTU frames:
+//! `plate::vtu::FrameWriter`), so its memory does not depend on the number of steps. Output folders are checked
 //! before computing and carry a marker; only a marked folder is replaced without `--force`
 //! ([`OutputDir`]).
 

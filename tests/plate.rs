@@ -506,8 +506,8 @@ fn a_y_dependent_run_writes_vtu_that_reads_back() {
     );
     // The command line's path: series and frames streamed into the folder while computing. The
     // frames and series read back are those the in-memory run recorded, bit for bit.
-    // mutation: FrameWriter numbering frames from 1 (`self.frames += 1` before the name) -> fails
-    // with "no such file" for vtu/frame_00000.vtu.
+    // mutation: `FrameWriter::observe` writing the frame before copying the state's u and v into
+    // it (each file one frame late) -> fails at the `u` comparison (left: all 0.0).
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run");
     let prepared = massredist::output::OutputDir::prepare(&out, false, &[]).unwrap();

@@ -484,10 +484,10 @@ fn streamed_peak(run: impl FnOnce(massredist::output::OutputDir)) -> usize {
 /// digits of the values (summary.json and the marker are formatted into strings at the end,
 /// about 40 numbers of at most 24 characters: < 1 kB, and a string's capacity doubles as it
 /// grows, so at most 2 kB apart) — not the number of steps.
-/// mutations: (bar) `run_scene_into` recording the series in a `SeriesRecorder` and writing it
-/// at the end (the old path) -> fails with "bar: peak 1x … 4x …" growing by 57 kB; (plate)
-/// `FrameWriter::observe` also pushing each frame's u and v into a kept Vec (the old
-/// `FrameRecorder`) -> fails with "plate: …" growing by ~64 kB.
+/// mutations: (bar) `run_scene_into` running `run_scene` (rows in a `SeriesRecorder`) and
+/// writing the series at the end, the old path -> fails with "bar: peak 1x 23294 B, 4x 80894 B";
+/// (plate) `FrameWriter::observe` also keeping each frame's u and v in a Vec, as the old
+/// `FrameRecorder` -> fails with "plate: peak 1x 303666 B, 4x 1025394 B".
 #[test]
 fn memory_of_a_streamed_run_does_not_grow_with_steps() {
     const ALLOWANCE: usize = 4096;

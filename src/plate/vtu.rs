@@ -4,7 +4,8 @@
 //! Each frame has the points (z = 0), the cells (VTK_QUAD = 9 or VTK_TRIANGLE = 5), the point
 //! data `u` and `v` (0 on Γ_D) and `warp` = (0, 0, u) (for "Warp By Vector"), and the cell data
 //! `weight` (the mass redistribution). Numbers are written with Rust's shortest round-trip
-//! formatting, so reading them back gives the same `f64` bit for bit.
+//! formatting, so reading them back gives the same `f64` bit for bit. [`FrameWriter`] streams
+//! the frames of a run as they are produced.
 
 use super::mesh::{CellKind, Mesh2d};
 use crate::driver::{Observer, Sample};
