@@ -63,7 +63,8 @@ pub fn write_series_csv<W: Write>(series: &SeriesRecorder, mut w: W) -> std::io:
 /// Streams the series (`series.csv`) to a writer as the run produces it: one row every `every`
 /// steps, written when observed, so memory does not depend on the number of steps (a
 /// [`SeriesRecorder`] keeps the rows in memory instead). An observer cannot fail: the first write
-/// error is kept, later rows are dropped, and [`SeriesWriter::finish`] returns it.
+/// error is kept, the run is halted ([`Observer::halted`]: no step is computed for nothing), and
+/// [`SeriesWriter::finish`] returns it.
 #[derive(Debug)]
 pub struct SeriesWriter<W: Write> {
     columns: Vec<Column>,
@@ -114,6 +115,10 @@ impl<W: Write> Observer for SeriesWriter<W> {
         if let Err(e) = write_csv_row(&mut self.out, &self.row) {
             self.error = Some(e);
         }
+    }
+
+    fn halted(&self) -> bool {
+        self.error.is_some()
     }
 }
 

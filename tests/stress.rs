@@ -510,3 +510,55 @@ fn memory_of_a_streamed_run_does_not_grow_with_steps() {
     eprintln!("plate: peak {p1} B (300 steps, 301 frames), {p4} B (1200 steps, 1201 frames)");
     assert!(p4.abs_diff(p1) <= ALLOWANCE, "plate: peak 1x {p1} B, 4x {p4} B");
 }
+
+/// A writer with room for `room` bytes, then failing as a full disk does.
+#[derive(Debug)]
+struct FullDisk {
+    room: usize,
+}
+
+impl std::io::Write for FullDisk {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        if b.len() > self.room {
+            return Err(std::io::ErrorKind::StorageFull.into());
+        }
+        self.room -= b.len();
+        Ok(b.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// The last state shown.
+struct LastState(usize);
+
+impl massredist::run::Observer for LastState {
+    fn observe(&mut self, s: &massredist::run::Sample) {
+        self.0 = s.state.n;
+    }
+}
+
+/// A write error while streaming halts the run at the state whose row did not fit (no step is
+/// computed for nothing), and `finish` returns the error. The room is that of the header and the
+/// rows of t_0 … t_9 (their lengths taken from the same series recorded in memory), plus 5 bytes:
+/// the row of state 10 does not fit.
+/// mutation: `SeriesWriter::halted` returning false -> fails with "halted at 300, not 10".
+#[test]
+fn a_write_error_halts_the_run_at_its_step() {
+    use massredist::output::{SeriesWriter, write_series_csv};
+    use massredist::run::{SeriesRecorder, integrate};
+    use massredist::scene::Column;
+    let p = benchmark(20, &MassKind::Mod3);
+    let columns = vec![Column::U0, Column::Lambda, Column::Energy];
+    let mut recorded = SeriesRecorder::new(columns.clone(), 1, 301);
+    integrate(&p, p.scheme(&CN, 0.01).unwrap().as_mut(), 300, &mut [&mut recorded]).unwrap();
+    let mut text = Vec::new();
+    write_series_csv(&recorded, &mut text).unwrap();
+    let room: usize = String::from_utf8(text).unwrap().split_inclusive('\n').take(11).map(str::len).sum::<usize>() + 5;
+    let mut series = SeriesWriter::new(columns, 1, FullDisk { room }).unwrap();
+    let mut last = LastState(0);
+    integrate(&p, p.scheme(&CN, 0.01).unwrap().as_mut(), 300, &mut [&mut series, &mut last]).unwrap();
+    assert_eq!(series.finish().unwrap_err().kind(), std::io::ErrorKind::StorageFull);
+    assert_eq!(last.0, 10, "halted at {}, not 10", last.0);
+}

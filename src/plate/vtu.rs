@@ -223,7 +223,8 @@ pub fn read_pvd(text: &str) -> Vec<(f64, String)> {
 /// `vtu/frame_NNNNN.vtu` and adds its line to `plate.pvd`, which [`FrameWriter::finish`] closes.
 /// Memory holds one frame's nodal values, whatever the number of steps (a
 /// [`crate::observe::FrameRecorder`] keeps the frames in memory instead). An observer cannot fail:
-/// the first write error is kept, later frames are dropped, and `finish` returns it.
+/// the first write error is kept, the run is halted ([`Observer::halted`]), and `finish` returns
+/// it.
 pub struct FrameWriter<'a> {
     dir: std::path::PathBuf,
     mesh: &'a Mesh2d,
@@ -294,5 +295,9 @@ impl Observer for FrameWriter<'_> {
         if let Err(e) = self.write_frame(s.state.t) {
             self.error = Some(e);
         }
+    }
+
+    fn halted(&self) -> bool {
+        self.error.is_some()
     }
 }

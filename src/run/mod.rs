@@ -24,7 +24,7 @@ pub enum RunFolderError<E: std::error::Error> {
 
 /// The part of a run into a folder every geometry shares: `series.csv` (if any column) streamed
 /// into `out`'s temporary folder by a [`SeriesWriter`] while `run` steps with it and `extra` as
-/// observers; a write error (disk full) fails the run once it ends.
+/// observers; a write error (disk full) halts the run at that step and fails it.
 fn stream_series<E: std::error::Error>(
     out: &OutputDir,
     spec: &OutputSpec,
