@@ -158,6 +158,11 @@ pub trait Observer {
     fn observe(&mut self, sample: &Sample);
     /// The run stopped at `divergence`, after the last state shown (called once, at the end).
     fn diverged(&mut self, _divergence: &Divergence) {}
+    /// True once this observer cannot go on (a writer whose disk is full): the driver then takes
+    /// no further step and returns as if completed; the observer reports its own error.
+    fn halted(&self) -> bool {
+        false
+    }
 }
 
 /// Runs `steps` steps, showing the states (t_0 included) to the observers due at each; a
@@ -277,7 +282,7 @@ fn drive<G: Geometry>(
     };
     let mut outcome = show(scheme, observers);
     for _ in 0..steps {
-        if outcome.is_some() {
+        if outcome.is_some() || observers.iter().any(|o| o.halted()) {
             break;
         }
         outcome = match scheme.step() {

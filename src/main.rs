@@ -5,7 +5,7 @@ mod exit;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use massredist::output::OutputDir;
-use massredist::run::{Observer, Sample, run_scene};
+use massredist::run::{Observer, RunFolderError, Sample, run_scene_into};
 use massredist::scene::{AnyScene, BarScene, PlateScene};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -59,21 +59,8 @@ enum Command {
     },
 }
 
-impl Command {
-    /// The output folder this command writes, its `--force`, and the inputs it must not replace.
-    fn output(&self) -> Option<(&Path, bool, Vec<&Path>)> {
-        match self {
-            Command::Run { scene, out, force } => Some((out, force.force, vec![scene])),
-            Command::Reproduce { out, force, .. } | Command::Bench { out, force, .. } => {
-                Some((out, force.force, vec![]))
-            }
-            _ => None,
-        }
-    }
-}
-
 /// `--force` of the commands that write an output folder.
-#[derive(clap::Args)]
+#[derive(clap::Args, Clone, Copy)]
 struct Force {
     /// Replace DIR even if massredist did not write it (deleting what it holds); never a file, a
     /// folder holding the scene, the current folder or the home folder.
@@ -100,25 +87,14 @@ fn progress(len: u64) -> Progress {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    // The output folder is checked and its temporary sibling created before anything is
-    // computed; the writer at the end commits it (`massredist::output::write_dir_atomically`).
-    let _staged = match cli.command.output().map(|(out, force, inputs)| OutputDir::prepare(out, force, &inputs)) {
-        None => None,
-        Some(Ok(dir)) => {
-            for p in dir.removed_left_overs() {
-                eprintln!("removed {}, the partial output of an interrupted run", p.display());
-            }
-            Some(dir.stage())
-        }
-        Some(Err(e)) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(exit::INVALID);
-        }
-    };
     match cli.command {
-        Command::Bench { quick, out, .. } => {
+        Command::Bench { quick, out, force } => {
+            let dir = match prepare(&out, force, &[]) {
+                Ok(d) => d,
+                Err(code) => return code,
+            };
             let report = massredist::bench::run(quick);
-            if let Err(e) = massredist::bench::write(&out, &report) {
+            if let Err(e) = massredist::bench::write(dir, &report) {
                 return fail(&out, e.to_string(), exit::FAILURE);
             }
             eprintln!("{}: {} runs in {:.1} s; see report.md", out.display(), report.results.len(), report.seconds);
@@ -136,55 +112,91 @@ fn main() -> ExitCode {
             }
             Err(e) => fail(&scene, e.to_string(), exit::INVALID),
         },
-        Command::Reproduce { out, quick, .. } => reproduce(out, quick),
-        Command::Run { scene, out, .. } => match AnyScene::from_file(&scene) {
-            Ok(AnyScene::Bar(s)) => run_bar(&scene, s, out),
-            Ok(AnyScene::Plate(s)) => run_plate(&scene, s, out),
-            Err(e) => fail(&scene, e.to_string(), exit::INVALID),
+        Command::Reproduce { out, quick, force } => match prepare(&out, force, &[]) {
+            Ok(dir) => reproduce(dir, quick),
+            Err(code) => code,
+        },
+        Command::Run { scene, out, force } => match prepare(&out, force, &[&scene]) {
+            Ok(dir) => match AnyScene::from_file(&scene) {
+                Ok(AnyScene::Bar(s)) => run_bar(&scene, s, dir),
+                Ok(AnyScene::Plate(s)) => run_plate(&scene, s, dir),
+                Err(e) => fail(&scene, e.to_string(), exit::INVALID),
+            },
+            Err(code) => code,
         },
     }
 }
 
+/// The output folder `out` checked and its temporary sibling created before anything is
+/// computed ([`OutputDir::prepare`]); the command streams into it and commits it at the end.
+/// A refusal is exit code 2.
+fn prepare(out: &Path, force: Force, inputs: &[&Path]) -> Result<OutputDir, ExitCode> {
+    match OutputDir::prepare(out, force.force, inputs) {
+        Ok(dir) => {
+            for p in dir.removed_left_overs() {
+                eprintln!("removed {}, the partial output of an interrupted run", p.display());
+            }
+            Ok(dir)
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            Err(ExitCode::from(exit::INVALID))
+        }
+    }
+}
+
 /// `reproduce`: every experiment of the paper and the rebounding bar into `out`.
-fn reproduce(out: PathBuf, quick: bool) -> ExitCode {
+fn reproduce(out: OutputDir, quick: bool) -> ExitCode {
     let config = if quick { massredist::paper::Config::quick() } else { massredist::paper::Config::paper() };
     let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
     bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} {msg} {elapsed_precise}").unwrap());
     let started = std::time::Instant::now();
-    let result = massredist::paper::reproduce(&out, &config, &bar);
+    let path = out.path().to_path_buf();
+    let result = massredist::paper::reproduce(out, &config, &bar);
     bar.finish_and_clear();
     match result {
         Ok(o) => {
             let stopped = o.results.iter().filter(|r| r.failure.is_some()).count();
             eprintln!(
                 "{}: {} runs of the paper ({} diverged) and {} of the rebounding bar, {} files in {:.2} s; see {}",
-                out.display(),
+                path.display(),
                 o.results.len(),
                 stopped,
                 o.rebound.runs.len(),
                 o.files.len(),
                 started.elapsed().as_secs_f64(),
-                out.join("report.md").display()
+                path.join("report.md").display()
             );
             ExitCode::SUCCESS
         }
-        Err(e) => fail(&out, e.to_string(), exit::FAILURE),
+        Err(e) => fail(&path, e.to_string(), exit::FAILURE),
+    }
+}
+
+/// A run's error: computing (named by the scene) or writing (the message names the folder);
+/// exit code 1 either way, the temporary folder removed.
+fn run_failed<E: massredist::run::RunFailure>(scene: &Path, e: RunFolderError<E>) -> ExitCode {
+    match e {
+        // A scene that cannot be set up is invalid input (as `check` says).
+        RunFolderError::Run(e) if e.invalid_input() => fail(scene, e.to_string(), exit::INVALID),
+        RunFolderError::Run(e) => fail(scene, e.to_string(), exit::FAILURE),
+        RunFolderError::Output(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(exit::FAILURE)
+        }
     }
 }
 
 /// `run` for a scene with a `[bar]` table.
-fn run_bar(scene: &Path, s: BarScene, out: PathBuf) -> ExitCode {
+fn run_bar(scene: &Path, s: BarScene, dir: OutputDir) -> ExitCode {
+    let out = dir.path().to_path_buf();
     let mut bar = progress(s.time.steps as u64);
-    let result = run_scene(&s, &mut [&mut bar]);
+    let result = run_scene_into(&s, dir, &mut [&mut bar]);
     bar.0.finish_and_clear();
-    let (summary, series) = match result {
+    let summary = match result {
         Ok(r) => r,
-        Err(massredist::run::RunError::Setup(e)) => return fail(scene, e.to_string(), exit::INVALID),
-        Err(e) => return fail(scene, e.to_string(), exit::FAILURE),
+        Err(e) => return run_failed(scene, e),
     };
-    if let Err(e) = massredist::output::write_run(&out, &s, &summary, &series) {
-        return fail(&out, e.to_string(), exit::FAILURE);
-    }
     eprintln!(
         "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}",
         out.display(),
@@ -198,29 +210,26 @@ fn run_bar(scene: &Path, s: BarScene, out: PathBuf) -> ExitCode {
 }
 
 /// `run` for a scene with a `[plate]` table (2D).
-fn run_plate(scene: &Path, s: PlateScene, out: PathBuf) -> ExitCode {
+fn run_plate(scene: &Path, s: PlateScene, dir: OutputDir) -> ExitCode {
+    let out = dir.path().to_path_buf();
     let mut bar = progress(s.time.steps as u64);
-    let result = massredist::run::plate::run_plate_scene(&s, &mut [&mut bar]);
+    let result = massredist::run::plate::run_plate_scene_into(&s, dir, &mut [&mut bar]);
     bar.0.finish_and_clear();
-    let run = match result {
+    let summary = match result {
         Ok(r) => r,
-        Err(massredist::run::plate::PlateRunError::Setup(e)) => return fail(scene, e.to_string(), exit::INVALID),
-        Err(e) => return fail(scene, e.to_string(), exit::FAILURE),
+        Err(e) => return run_failed(scene, e),
     };
-    if let Err(e) = massredist::run::plate::write_plate_run(&out, &s, &run) {
-        return fail(&out, e.to_string(), exit::FAILURE);
-    }
     eprintln!(
         "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}, largest step increase {:e}",
         out.display(),
-        run.summary.divergence.map_or(run.summary.steps, |d| d.step),
-        run.summary.wall_seconds,
-        run.summary.linf_l2_error.map_or("n/a".into(), |e| format!("{e:.4e}")),
-        run.summary.energy_initial,
-        run.summary.energy_final,
-        run.summary.energy_max_increase
+        summary.divergence.map_or(summary.steps, |d| d.step),
+        summary.wall_seconds,
+        summary.linf_l2_error.map_or("n/a".into(), |e| format!("{e:.4e}")),
+        summary.energy_initial,
+        summary.energy_final,
+        summary.energy_max_increase
     );
-    status(&out, &run.summary)
+    status(&out, &summary)
 }
 
 /// The exit code of a written run: 0, or [`exit::DIVERGED`] with a word on stderr.

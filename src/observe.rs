@@ -7,7 +7,9 @@ use crate::exact::Exact;
 use crate::problem::{Geometry, Problem};
 use serde::Serialize;
 
-/// Records the requested columns every `every` steps (t_0 included).
+/// Records the requested columns every `every` steps (t_0 included), in memory: for library
+/// users who want the values (the command line streams them instead, with
+/// [`crate::output::SeriesWriter`]).
 #[derive(Debug, Clone)]
 pub struct SeriesRecorder {
     pub columns: Vec<Column>,
@@ -42,13 +44,39 @@ impl SeriesRecorder {
     }
 }
 
+/// What the series columns need computed ([`Observer::needs`] of [`SeriesRecorder`] and of
+/// [`crate::output::SeriesWriter`]).
+pub fn series_needs(columns: &[Column]) -> Needs {
+    Needs { energy: columns.contains(&Column::Energy), l2: columns.contains(&Column::L2Error), y_variation: false }
+}
+
+/// Appends the series row of a sample to `row`: t, then the value of each column (one line of
+/// `series.csv`).
+pub fn push_series_row(columns: &[Column], s: &Sample, row: &mut Vec<f64>) {
+    row.push(s.state.t);
+    row.extend(columns.iter().map(|&c| series_value(c, s)));
+}
+
+/// The value of series column `c` at a sample (one CSV cell of `series.csv`).
+fn series_value(c: Column, s: &Sample) -> f64 {
+    let t = s.state.t;
+    match c {
+        Column::U0 => s.u0,
+        Column::U1 => s.state.u[1],
+        Column::UMean => s.u_mean,
+        Column::Lambda => s.pressure,
+        Column::ContactForce => s.contact_force,
+        Column::Energy => s.energy,
+        Column::L2Error => s.l2_error,
+        Column::ExactU0 => s.exact.map_or(f64::NAN, |e| e.u0(t)),
+        Column::ExactLambda => s.exact.map_or(f64::NAN, |e| e.lambda(t)),
+        Column::Pivots => s.pivots as f64,
+    }
+}
+
 impl Observer for SeriesRecorder {
     fn needs(&self) -> Needs {
-        Needs {
-            energy: self.columns.contains(&Column::Energy),
-            l2: self.columns.contains(&Column::L2Error),
-            y_variation: false,
-        }
+        series_needs(&self.columns)
     }
 
     fn every(&self) -> usize {
@@ -59,22 +87,7 @@ impl Observer for SeriesRecorder {
         if self.columns.is_empty() {
             return;
         }
-        let st = s.state;
-        self.rows.push(st.t);
-        for &c in &self.columns {
-            self.rows.push(match c {
-                Column::U0 => s.u0,
-                Column::U1 => st.u[1],
-                Column::UMean => s.u_mean,
-                Column::Lambda => s.pressure,
-                Column::ContactForce => s.contact_force,
-                Column::Energy => s.energy,
-                Column::L2Error => s.l2_error,
-                Column::ExactU0 => s.exact.map_or(f64::NAN, |e| e.u0(st.t)),
-                Column::ExactLambda => s.exact.map_or(f64::NAN, |e| e.lambda(st.t)),
-                Column::Pivots => s.pivots as f64,
-            });
-        }
+        push_series_row(&self.columns, s, &mut self.rows);
     }
 }
 
@@ -349,7 +362,8 @@ pub struct Frame {
     pub v: Vec<f64>,
 }
 
-/// Records [`Frame`]s every `every` steps (for VTU output at the edge).
+/// Records [`Frame`]s every `every` steps, in memory (for library users; the command line
+/// streams them to VTU files with `plate::vtu::FrameWriter`).
 #[derive(Debug, Clone)]
 pub struct FrameRecorder {
     pub every: usize,

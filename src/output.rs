@@ -1,32 +1,109 @@
 //! Files: the only module that writes. A run directory appears complete or not at all: it is
-//! written under a temporary sibling name and renamed into place. Output folders are checked
+//! written under a temporary sibling name and renamed into place. `massredist run` streams its
+//! series into that temporary folder while computing ([`SeriesWriter`]; a plate's VTU frames:
+//! `plate::vtu::FrameWriter`), so its memory does not depend on the number of steps. Output folders are checked
 //! before computing and carry a marker; only a marked folder is replaced without `--force`
 //! ([`OutputDir`]).
 
-use crate::observe::{SeriesRecorder, Summary};
-use crate::scene::BarScene;
+use crate::driver::{Needs, Observer, Sample};
+use crate::observe::{SeriesRecorder, Summary, push_series_row, series_needs};
+use crate::scene::{BarScene, Column};
 use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-pub use crate::numfmt::fmt_f64;
+pub use crate::numfmt::{Shortest, fmt_f64};
 
-/// Writes a CSV table of numbers (header, then one row per item, full precision).
-pub fn write_number_csv<'a, W: Write>(header: &[&str], rows: impl Iterator<Item = &'a [f64]>, w: W) -> csv::Result<()> {
-    let mut out = csv::Writer::from_writer(w);
-    out.write_record(header)?;
-    for row in rows {
-        out.write_record(row.iter().map(|&x| fmt_f64(x)))?;
+/// One CSV line of numbers (`,`-separated, `\n`-terminated, shortest round-trip).
+fn write_csv_row<W: Write>(w: &mut W, row: &[f64]) -> std::io::Result<()> {
+    for (k, &x) in row.iter().enumerate() {
+        if k > 0 {
+            w.write_all(b",")?;
+        }
+        write!(w, "{}", Shortest(x))?;
     }
-    out.flush()?;
-    Ok(())
+    w.write_all(b"\n")
 }
 
-/// Writes `series` as CSV (header `t` then the columns) to any writer.
-pub fn write_series_csv<W: Write>(series: &SeriesRecorder, w: W) -> csv::Result<()> {
-    let mut header = vec!["t"];
-    header.extend(series.columns.iter().map(|c| c.name()));
-    write_number_csv(&header, series.iter_rows(), w)
+/// The header line of `series.csv`: `t`, then the column names.
+fn write_series_header<W: Write>(w: &mut W, columns: &[Column]) -> std::io::Result<()> {
+    w.write_all(b"t")?;
+    for c in columns {
+        write!(w, ",{}", c.name())?;
+    }
+    w.write_all(b"\n")
+}
+
+/// Writes a recorded `series` as CSV (header `t` then the columns) to any writer: the same
+/// text as [`SeriesWriter`] streams.
+pub fn write_series_csv<W: Write>(series: &SeriesRecorder, mut w: W) -> std::io::Result<()> {
+    write_series_header(&mut w, &series.columns)?;
+    for row in series.iter_rows() {
+        write_csv_row(&mut w, row)?;
+    }
+    w.flush()
+}
+
+/// Streams the series (`series.csv`) to a writer as the run produces it: one row every `every`
+/// steps, written when observed, so memory does not depend on the number of steps (a
+/// [`SeriesRecorder`] keeps the rows in memory instead). An observer cannot fail: the first write
+/// error is kept, the run is halted ([`Observer::halted`]: no step is computed for nothing), and
+/// [`SeriesWriter::finish`] returns it.
+#[derive(Debug)]
+pub struct SeriesWriter<W: Write> {
+    columns: Vec<Column>,
+    every: usize,
+    row: Vec<f64>,
+    out: W,
+    error: Option<std::io::Error>,
+}
+
+impl<W: Write> SeriesWriter<W> {
+    /// Writes the header now; rows follow as observed.
+    pub fn new(columns: Vec<Column>, every: usize, mut out: W) -> std::io::Result<Self> {
+        write_series_header(&mut out, &columns)?;
+        Ok(Self { row: Vec::with_capacity(columns.len() + 1), columns, every: every.max(1), out, error: None })
+    }
+
+    /// Flushes the writer and returns it, or the first write error.
+    pub fn finish(mut self) -> std::io::Result<W> {
+        match self.error.take() {
+            Some(e) => Err(e),
+            None => self.out.flush().map(|()| self.out),
+        }
+    }
+}
+
+impl SeriesWriter<std::io::BufWriter<std::fs::File>> {
+    /// `dir/series.csv`, buffered.
+    pub fn create(dir: &Path, columns: Vec<Column>, every: usize) -> std::io::Result<Self> {
+        Self::new(columns, every, std::io::BufWriter::new(std::fs::File::create(dir.join("series.csv"))?))
+    }
+}
+
+impl<W: Write> Observer for SeriesWriter<W> {
+    fn needs(&self) -> Needs {
+        series_needs(&self.columns)
+    }
+
+    fn every(&self) -> usize {
+        self.every
+    }
+
+    fn observe(&mut self, s: &Sample) {
+        if self.error.is_some() {
+            return;
+        }
+        self.row.clear();
+        push_series_row(&self.columns, s, &mut self.row);
+        if let Err(e) = write_csv_row(&mut self.out, &self.row) {
+            self.error = Some(e);
+        }
+    }
+
+    fn halted(&self) -> bool {
+        self.error.is_some()
+    }
 }
 
 #[derive(Serialize)]
@@ -53,18 +130,12 @@ pub fn summary_json(scene: &BarScene, summary: &Summary) -> String {
     serde_json::to_string_pretty(&file).expect("summary serialises") + "\n"
 }
 
-/// Writes the output folder `dir`: `fill` writes into a temporary sibling folder, which gets the
-/// [`MARKER`] and is then renamed to `dir`; on error nothing is left behind.
-///
-/// The folder prepared for `dir` and handed over by [`OutputDir::stage`] is used if there is one
-/// (with its `--force` and its protected inputs: the checks ran before computing). Otherwise `dir`
-/// is prepared here, without force: refused if it is a file, or a non-empty folder massredist did
-/// not write ([`OutputDir::prepare`]). The error is an [`OutputError`] inside the `io::Error`.
+/// Writes the output folder `dir` that was not prepared before computing: prepares it without
+/// force ([`OutputDir::prepare`]: refused if it is a file, or a non-empty folder massredist did not
+/// write), then [`OutputDir::commit`]s `fill`. The error is an [`OutputError`] inside the
+/// `io::Error`. Commands prepare their folder before computing and commit it themselves.
 pub fn write_dir_atomically(dir: &Path, fill: impl FnOnce(&Path) -> std::io::Result<()>) -> std::io::Result<()> {
-    let out = match take_staged(dir) {
-        Some(out) => out,
-        None => OutputDir::prepare(dir, false, &[]).map_err(std::io::Error::other)?,
-    };
+    let out = OutputDir::prepare(dir, false, &[]).map_err(std::io::Error::other)?;
     out.commit(fill).map_err(std::io::Error::other)
 }
 
@@ -80,28 +151,12 @@ pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     })
 }
 
-/// The run directory of `massredist run` for a bar scene (see [`write_run_files`]).
-pub fn write_run(dir: &Path, scene: &BarScene, summary: &Summary, series: &SeriesRecorder) -> std::io::Result<()> {
-    write_run_files(dir, &summary_json(scene, summary), &scene.resolved_toml(), series, |_| Ok(()))
-}
-
-/// The run directory of every geometry: series.csv (if any column), summary.json,
-/// scene.resolved.toml, and what `extra` writes into the folder (a plate's VTU frames).
-pub fn write_run_files(
-    dir: &Path,
-    summary_json: &str,
-    resolved_scene: &str,
-    series: &SeriesRecorder,
-    extra: impl FnOnce(&Path) -> std::io::Result<()>,
-) -> std::io::Result<()> {
-    write_dir_atomically(dir, |tmp| {
-        if !series.columns.is_empty() {
-            let f = std::io::BufWriter::new(std::fs::File::create(tmp.join("series.csv"))?);
-            write_series_csv(series, f).map_err(std::io::Error::other)?;
-        }
+/// Completes a run folder whose series and frames were streamed into it ([`SeriesWriter`],
+/// `plate::vtu::FrameWriter`): writes `summary.json` and `scene.resolved.toml` and commits it.
+pub fn commit_run(out: OutputDir, summary_json: &str, resolved_scene: &str) -> Result<(), OutputError> {
+    out.commit(|tmp| {
         std::fs::write(tmp.join("summary.json"), summary_json)?;
-        std::fs::write(tmp.join("scene.resolved.toml"), resolved_scene)?;
-        extra(tmp)
+        std::fs::write(tmp.join("scene.resolved.toml"), resolved_scene)
     })
 }
 
@@ -259,6 +314,18 @@ impl OutputDir {
         &self.path
     }
 
+    /// The temporary folder `.NAME.tmp-<pid>` the content is written into (streamed while
+    /// computing, or by [`OutputDir::commit`]'s `fill`); renamed to [`OutputDir::path`] by
+    /// `commit`, removed if the `OutputDir` is dropped uncommitted.
+    pub fn staging(&self) -> &Path {
+        &self.staging
+    }
+
+    /// The error of a failed write into the temporary folder.
+    pub fn fill_error(&self, source: std::io::Error) -> OutputError {
+        OutputError::Fill { path: self.path.clone(), staging: self.staging.clone(), source }
+    }
+
     /// Partial folders of earlier killed runs that `prepare` removed.
     pub fn removed_left_overs(&self) -> &[PathBuf] {
         &self.removed
@@ -268,9 +335,8 @@ impl OutputDir {
     /// what it wrote, the target is checked again (it may have changed while computing) and the
     /// temporary folder is renamed into place, replacing the old folder, which is then removed.
     pub fn commit(mut self, fill: impl FnOnce(&Path) -> std::io::Result<()>) -> Result<(), OutputError> {
-        let fill_error = |source| OutputError::Fill { path: self.path.clone(), staging: self.staging.clone(), source };
-        fill(&self.staging).map_err(fill_error)?;
-        write_marker(&self.staging).map_err(fill_error)?;
+        fill(&self.staging).map_err(|e| self.fill_error(e))?;
+        write_marker(&self.staging).map_err(|e| self.fill_error(e))?;
         let rename = |from: &Path, to: &Path| {
             std::fs::rename(from, to).map_err(|source| OutputError::Rename { from: from.into(), to: to.into(), source })
         };
@@ -296,16 +362,6 @@ impl OutputDir {
         self.committed = true;
         Ok(())
     }
-
-    /// Hands this folder to a writer that takes only a path: [`write_dir_atomically`] called
-    /// with the same path (as given to `prepare`) commits it. Dropping the returned guard
-    /// discards it if no writer did. This lets `main` check and create the folder before
-    /// computing while the writers keep their `&Path` signatures.
-    pub fn stage(self) -> Staged {
-        let path = self.path.clone();
-        staged_dirs().push(self);
-        Staged { path }
-    }
 }
 
 impl Drop for OutputDir {
@@ -318,31 +374,6 @@ impl Drop for OutputDir {
             }
         }
     }
-}
-
-/// The guard of a staged [`OutputDir`]; see [`OutputDir::stage`].
-#[derive(Debug)]
-pub struct Staged {
-    path: PathBuf,
-}
-
-impl Drop for Staged {
-    fn drop(&mut self) {
-        drop(take_staged(&self.path));
-    }
-}
-
-/// Folders prepared by `main` before computing, waiting for their writer.
-static STAGED: std::sync::Mutex<Vec<OutputDir>> = std::sync::Mutex::new(Vec::new());
-
-fn staged_dirs() -> std::sync::MutexGuard<'static, Vec<OutputDir>> {
-    STAGED.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
-}
-
-fn take_staged(path: &Path) -> Option<OutputDir> {
-    let mut dirs = staged_dirs();
-    let i = dirs.iter().position(|d| d.path == path)?;
-    Some(dirs.swap_remove(i))
 }
 
 /// The canonical forms of `inputs`, the current folder and the home folder, with what each is.

@@ -2,7 +2,9 @@
 //! massredist did not write is refused with exit code 2 before anything is computed; a folder
 //! carrying the `.massredist-output` marker is replaced whole; `--force` replaces a foreign folder
 //! but never a file, the scene's folder or the current folder; a partial folder left by a killed
-//! run is removed by the next run; an unwritable place fails before computing.
+//! run is removed by the next run (also after a real `kill -9` while the series streams); an
+//! unwritable place fails before computing; a write error while streaming fails the run (exit 1)
+//! and leaves nothing.
 //!
 //! Each test runs the built binary in a temporary folder. Exit codes: 0 success, 1 failure while
 //! computing or writing, 2 invalid input or refused output (nothing computed, nothing written).
@@ -261,4 +263,123 @@ fn a_read_only_parent_fails_before_computing() {
     std::fs::set_permissions(&parent, std::fs::Permissions::from_mode(0o755)).unwrap();
     assert_refused(&o, &["ro/out", "Permission denied"]);
     assert!(names(&parent).is_empty());
+}
+
+/// A bar scene of 10⁸ steps writing a series of 10⁷ rows (about 400 MB): it runs far longer
+/// than the tests below wait for it, and its series grows from the first steps.
+const LONG: &str = "[bar]\nlength = 1.0\nelements = 20\ninitial = \"paper\"\n[mass]\nkind = \"mod3\"\n\
+                    [scheme]\nkind = \"crank-nicolson\"\n[time]\ndt = 1e-5\nend = 1000.0\n\
+                    [output]\nseries = [\"u0\", \"lambda\"]\nevery = 10\n";
+
+/// Every file under `dir` with its bytes (sorted by path).
+fn contents(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(contents(&p));
+        } else {
+            out.push((p.clone(), std::fs::read(&p).unwrap()));
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Starts `run LONG --out out` and kills it with SIGKILL once its temporary folder holds more
+/// than 256 KiB of series (so it is killed while writing); returns the partial folder.
+#[cfg(unix)]
+fn kill_while_writing(scene: &Path, out: &Path) -> PathBuf {
+    use std::os::unix::process::ExitStatusExt;
+    let mut child =
+        bin().arg("run").arg(scene).arg("--out").arg(out).stderr(std::process::Stdio::null()).spawn().unwrap();
+    let partial = out.with_file_name(format!(".{}.tmp-{}", out.file_name().unwrap().to_string_lossy(), child.id()));
+    // Wherever the run writes it (the checks below say where it must).
+    let grown =
+        || [&partial, out].iter().any(|d| std::fs::metadata(d.join("series.csv")).is_ok_and(|m| m.len() > 256 << 10));
+    // Polls the state of the folders (a deadline only so that a broken build cannot hang the
+    // suite: the run needs about 10⁸ steps to finish on its own).
+    for _ in 0..6000 {
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("the long run ended before it was killed: {status}");
+        }
+        if grown() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(grown(), "the series grows");
+    child.kill().unwrap();
+    assert_eq!(child.wait().unwrap().signal(), Some(9));
+    partial
+}
+
+/// `kill -9` while the series is being written: the final `--out` does not exist (first case) or
+/// the older marked folder there is intact, byte for byte (second case); the user's file beside
+/// it is untouched; the partial folder `.out.tmp-<pid>` is left, and the next run into `out`
+/// removes it, says so, and succeeds.
+/// mutation: `OutputDir::prepare` staging into the target itself (`staging: path.into()`, so
+/// the series streams into `out`) -> fails with "the killed run left no final folder".
+#[cfg(unix)]
+#[test]
+fn a_run_killed_while_writing_leaves_no_final_folder_and_the_next_run_cleans_up() {
+    let (tmp, short) = with_scene();
+    let long = tmp.path().join("long.toml");
+    std::fs::write(&long, LONG).unwrap();
+    let notes = tmp.path().join("notes.txt");
+    std::fs::write(&notes, "mine\n").unwrap();
+    let out = tmp.path().join("out");
+
+    // 1. Nothing at `out` before: nothing there after.
+    let partial = kill_while_writing(&long, &out);
+    assert!(!out.exists(), "the killed run left no final folder");
+    assert!(partial.is_dir(), "the partial folder of the killed run is left (nothing can remove it at kill -9)");
+    let o = run(&short, &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains(&format!("removed {}", partial.display())), "{}", stderr(&o));
+    assert_eq!(names(tmp.path()), set(&["long.toml", "notes.txt", "out", "s.toml"]));
+
+    // 2. A marked folder at `out` (the run above): intact after a killed run into it.
+    let before = contents(&out);
+    let partial = kill_while_writing(&long, &out);
+    assert_eq!(contents(&out), before, "the older folder is intact");
+    assert!(partial.is_dir());
+    let o = run(&short, &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains(&format!("removed {}", partial.display())), "{}", stderr(&o));
+    assert_eq!(names(tmp.path()), set(&["long.toml", "notes.txt", "out", "s.toml"]));
+    assert_eq!(std::fs::read_to_string(&notes).unwrap(), "mine\n");
+}
+
+/// A write error while streaming (here a file-size limit, `ulimit -f`, standing in for a full
+/// disk; SIGXFSZ ignored so that the write fails with EFBIG instead of killing the process): the
+/// run fails with exit code 1, the message names the folder and the error, the temporary folder is
+/// removed and an older marked folder at `out` is intact.
+/// mutation: `SeriesWriter::finish` ignoring the kept error and the flush's (`Ok(self.out)`) ->
+/// fails with "exit code Some(0)" (a truncated series.csv committed in place of the old folder).
+#[cfg(unix)]
+#[test]
+fn a_write_error_while_streaming_fails_and_leaves_nothing() {
+    let (tmp, short) = with_scene();
+    let out = tmp.path().join("out");
+    let o = run(&short, &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let before = contents(&out);
+    // 3·10⁵ steps, a row every step: about 10 MB of series, far above the limit (100 blocks of
+    // 512 B or 1 KiB, depending on the shell).
+    let scene = tmp.path().join("mid.toml");
+    std::fs::write(&scene, LONG.replace("end = 1000.0", "end = 3.0").replace("every = 10", "every = 1")).unwrap();
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg("trap '' XFSZ; ulimit -f 100; exec \"$0\" run \"$1\" --out \"$2\"")
+        .arg(env!("CARGO_BIN_EXE_massredist"))
+        .arg(&scene)
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "exit code {:?}: {err}", o.status.code());
+    assert!(err.contains("out") && err.contains("File too large"), "{err}");
+    assert_eq!(contents(&out), before, "the older folder is intact");
+    assert_eq!(names(tmp.path()), set(&["mid.toml", "out", "s.toml"]), "no temporary folder is left");
 }

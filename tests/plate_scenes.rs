@@ -70,9 +70,18 @@ fn a_y_dependent_run_writes_vtu_that_reads_back() {
         run.summary.energy_max_increase_after_first,
         run.summary.max_y_variation.unwrap()
     );
+    // The command line's path: series and frames streamed into the folder while computing. The
+    // frames and series read back are those the in-memory run recorded, bit for bit.
+    // mutation: `FrameWriter::observe` writing the frame before copying the state's u and v into
+    // it (each file one frame late) -> fails at the `u` comparison (left: all 0.0).
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run");
-    massredist::run::plate::write_plate_run(&out, &scene, &run).unwrap();
+    let prepared = massredist::output::OutputDir::prepare(&out, false, &[]).unwrap();
+    let streamed = massredist::run::plate::run_plate_scene_into(&scene, prepared, &mut []).unwrap();
+    assert_eq!(streamed.energy_final, run.summary.energy_final);
+    let mut series = Vec::new();
+    massredist::output::write_series_csv(&run.series, &mut series).unwrap();
+    assert_eq!(std::fs::read(out.join("series.csv")).unwrap(), series, "streamed series.csv = the recorded one");
     let frames: &FrameRecorder = run.frames.as_ref().unwrap();
     let pvd = read_pvd(&std::fs::read_to_string(out.join("plate.pvd")).unwrap());
     assert_eq!(pvd.len(), 7); // t = 0, 0.5, …, 3

@@ -15,7 +15,8 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 fn quick(dir: &Path) -> Outcome {
-    paper::reproduce(dir, &Config::quick(), &ProgressBar::hidden()).expect("quick reproduce runs")
+    let out = massredist::output::OutputDir::prepare(dir, false, &[]).expect("a fresh folder");
+    paper::reproduce(out, &Config::quick(), &ProgressBar::hidden()).expect("quick reproduce runs")
 }
 
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {

@@ -441,3 +441,124 @@ fn hostile_parameters_through_the_library_give_errors_not_panics() {
     // Custom weights that leave an interior node massless are rejected by assembly.
     assert!(Problem::benchmark(1.0, 4, &MassKind::Custom(vec![0.0; 4])).is_err());
 }
+
+/// A bar scene (the paper's benchmark, closed-form exact solution: nothing in the run is sized by
+/// the horizon) with every series column at every step, up to `end`.
+fn long_bar_scene(end: f64) -> BarScene {
+    BarScene::from_toml(&format!(
+        "[bar]\nlength = 1.0\nelements = 20\ninitial = \"paper\"\n[mass]\nkind = \"mod3\"\n\
+         [scheme]\nkind = \"crank-nicolson\"\n[time]\ndt = 0.01\nend = {end:?}\n[output]\n\
+         series = [\"u0\", \"u1\", \"lambda\", \"energy\", \"l2_error\", \"exact_u0\", \"exact_lambda\"]\nevery = 1\n"
+    ))
+    .unwrap()
+}
+
+/// A plate scene (the paper's data, closed-form exact solution) with every series column and a
+/// VTU frame at every step, up to `end`.
+fn long_plate_scene(end: f64) -> massredist::scene::PlateScene {
+    massredist::scene::PlateScene::from_toml(&format!(
+        "[plate]\nnx = 8\nny = 4\ninitial = \"paper\"\n[mass]\nkind = \"mod3\"\n[scheme]\nkind = \"crank-nicolson\"\n\
+         [time]\ndt = 0.01\nend = {end:?}\n[output]\nseries = [\"u0\", \"u_mean\", \"lambda\", \"contact_force\", \
+         \"energy\", \"l2_error\", \"exact_u0\", \"exact_lambda\", \"pivots\"]\nevery = 1\nvtu = true\nvtu_every = 1\n"
+    ))
+    .unwrap()
+}
+
+/// The peak bytes of `massredist run`'s path (the folder prepared, the run streamed into it and
+/// committed) for `run`, on a fresh output folder.
+fn streamed_peak(run: impl FnOnce(massredist::output::OutputDir)) -> usize {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let peak = common::alloc::peak_bytes(|| run(massredist::output::OutputDir::prepare(&out, false, &[]).unwrap()));
+    assert!(out.join("series.csv").is_file() && out.join("summary.json").is_file());
+    peak
+}
+
+/// Series and VTU frames are streamed: the peak memory of a run into its output folder with 4×
+/// the steps is that of 1× up to a small constant, for a bar (series on every step) and a plate
+/// (series and a VTU frame on every step). The old in-memory path grows by 8 bytes per value:
+/// (300 × 3 more rows) × 8 values × 8 B = 57.6 kB for the bar, and for the plate 900 more rows ×
+/// 10 values × 8 B plus 900 frames × 2 × 45 nodes × 8 B = 720 kB.
+///
+/// The allowance, 4 KiB: what may legitimately differ is text whose length depends on the
+/// digits of the values (summary.json and the marker are formatted into strings at the end,
+/// about 40 numbers of at most 24 characters: < 1 kB, and a string's capacity doubles as it
+/// grows, so at most 2 kB apart) — not the number of steps.
+/// mutations: (bar) `run_scene_into` running `run_scene` (rows in a `SeriesRecorder`) and
+/// writing the series at the end, the old path -> fails with "bar: peak 1x 23294 B, 4x 80894 B";
+/// (plate) `FrameWriter::observe` also keeping each frame's u and v in a Vec, as the old
+/// `FrameRecorder` -> fails with "plate: peak 1x 303666 B, 4x 1025394 B".
+#[test]
+fn memory_of_a_streamed_run_does_not_grow_with_steps() {
+    const ALLOWANCE: usize = 4096;
+    let bar = |end: f64| {
+        let scene = long_bar_scene(end);
+        streamed_peak(|out| {
+            massredist::run::run_scene_into(&scene, out, &mut []).unwrap();
+        })
+    };
+    let (p1, p4) = (bar(3.0), bar(12.0));
+    eprintln!("bar: peak {p1} B (300 steps), {p4} B (1200 steps)");
+    assert!(p4.abs_diff(p1) <= ALLOWANCE, "bar: peak 1x {p1} B, 4x {p4} B");
+    let plate = |end: f64| {
+        let scene = long_plate_scene(end);
+        streamed_peak(|out| {
+            massredist::run::plate::run_plate_scene_into(&scene, out, &mut []).unwrap();
+        })
+    };
+    let (p1, p4) = (plate(3.0), plate(12.0));
+    eprintln!("plate: peak {p1} B (300 steps, 301 frames), {p4} B (1200 steps, 1201 frames)");
+    assert!(p4.abs_diff(p1) <= ALLOWANCE, "plate: peak 1x {p1} B, 4x {p4} B");
+}
+
+/// A writer with room for `room` bytes, then failing as a full disk does.
+#[derive(Debug)]
+struct FullDisk {
+    room: usize,
+}
+
+impl std::io::Write for FullDisk {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        if b.len() > self.room {
+            return Err(std::io::ErrorKind::StorageFull.into());
+        }
+        self.room -= b.len();
+        Ok(b.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// The last state shown.
+struct LastState(usize);
+
+impl massredist::run::Observer for LastState {
+    fn observe(&mut self, s: &massredist::run::Sample) {
+        self.0 = s.state.n;
+    }
+}
+
+/// A write error while streaming halts the run at the state whose row did not fit (no step is
+/// computed for nothing), and `finish` returns the error. The room is that of the header and the
+/// rows of t_0 … t_9 (their lengths taken from the same series recorded in memory), plus 5 bytes:
+/// the row of state 10 does not fit.
+/// mutation: `SeriesWriter::halted` returning false -> fails with "halted at 300, not 10".
+#[test]
+fn a_write_error_halts_the_run_at_its_step() {
+    use massredist::output::{SeriesWriter, write_series_csv};
+    use massredist::run::{SeriesRecorder, integrate};
+    use massredist::scene::Column;
+    let p = benchmark(20, &MassKind::Mod3);
+    let columns = vec![Column::U0, Column::Lambda, Column::Energy];
+    let mut recorded = SeriesRecorder::new(columns.clone(), 1, 301);
+    integrate(&p, p.scheme(&CN, 0.01).unwrap().as_mut(), 300, &mut [&mut recorded]).unwrap();
+    let mut text = Vec::new();
+    write_series_csv(&recorded, &mut text).unwrap();
+    let room: usize = String::from_utf8(text).unwrap().split_inclusive('\n').take(11).map(str::len).sum::<usize>() + 5;
+    let mut series = SeriesWriter::new(columns, 1, FullDisk { room }).unwrap();
+    let mut last = LastState(0);
+    integrate(&p, p.scheme(&CN, 0.01).unwrap().as_mut(), 300, &mut [&mut series, &mut last]).unwrap();
+    assert_eq!(series.finish().unwrap_err().kind(), std::io::ErrorKind::StorageFull);
+    assert_eq!(last.0, 10, "halted at {}, not 10", last.0);
+}

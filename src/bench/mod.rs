@@ -23,7 +23,6 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt::Write as _;
-use std::path::Path;
 
 /// One Rust-vs-Python comparison at the same size, Δt = h and number of steps.
 #[derive(Debug, Clone, Serialize)]
@@ -307,8 +306,9 @@ fn environment_markdown(e: &env::Environment) -> String {
 }
 
 /// Writes `report.md`, `work_precision.csv`, `rates.md`, `performance.md`, `environment.json`,
-/// `bench.json` and the figure (`work_precision.png`, `.svg`) into `dir` (atomically).
-pub fn write(dir: &Path, r: &BenchReport) -> std::io::Result<()> {
+/// `bench.json` and the figure (`work_precision.png`, `.svg`) into `out` (a folder prepared before
+/// computing; atomically).
+pub fn write(out: crate::output::OutputDir, r: &BenchReport) -> Result<(), crate::output::OutputError> {
     let schemes: Vec<&str> = sweep::scheme_cases().iter().map(|c| c.label).collect();
     let masses: Vec<&str> = sweep::masses().iter().map(|m| m.name()).collect();
     let finest = r.config.elements.iter().copied().max().unwrap_or(0);
@@ -335,7 +335,7 @@ pub fn write(dir: &Path, r: &BenchReport) -> std::io::Result<()> {
     if !failures.is_empty() {
         let _ = writeln!(full, "## Diverged or failed runs\n\n{}\n", failures.join("\n"));
     }
-    crate::output::write_dir_atomically(dir, |tmp| {
+    out.commit(|tmp| {
         std::fs::write(tmp.join("work_precision.csv"), report::results_csv(&r.results))?;
         std::fs::write(tmp.join("rates.md"), &rates_md)?;
         std::fs::write(tmp.join("performance.md"), &perf_md)?;

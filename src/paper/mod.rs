@@ -54,14 +54,13 @@ pub use runs::{
 pub use table2d::{PAPER_TABLE_2D, Table2d, plate_2d_errors, table_2d};
 pub use tables::{EVENT_COLUMNS, TABLE_COLUMNS, horizon_tag, sig};
 
-use crate::output::write_dir_atomically;
+use crate::output::OutputDir;
 use crate::run::{RunError, Summary};
 use crate::scene::SceneError;
 use figures::{FigureFile, figure_files};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use serde::Serialize;
-use std::path::Path;
 use thiserror::Error;
 
 #[derive(Debug, Error)]
@@ -89,12 +88,13 @@ pub struct Outcome {
     pub report: String,
 }
 
-/// Runs every experiment of `config` and writes into `dir` (atomically: complete or absent):
+/// Runs every experiment of `config` and writes into `out` (a folder prepared before computing,
+/// [`OutputDir::prepare`]; atomically: complete or absent):
 /// per figure `<stem>.png`, `<stem>.svg`, `<stem>.csv`; `table-T*.csv`, `table-long-T*.csv`,
 /// `table-2d.csv`, `summaries.json`, `report.md`; for the rebounding bar `rebound-u0.png`,
 /// `.svg`, `.csv` and `rebound.csv`. `progress` is advanced once per case and per figure (pass
 /// `ProgressBar::hidden()` for none).
-pub fn reproduce(dir: &Path, config: &Config, progress: &ProgressBar) -> Result<Outcome, ReproduceError> {
+pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Result<Outcome, ReproduceError> {
     for &t in &config.horizons {
         config.steps("horizon", t)?;
     }
@@ -115,7 +115,8 @@ pub fn reproduce(dir: &Path, config: &Config, progress: &ProgressBar) -> Result<
     let table2d = plate_2d_errors(config);
     let files = file_names(config, &figures, &tables, &rebound_figure, table2d.is_some());
     let report = report_markdown(config, &results, &rebound, &files, table2d.as_ref());
-    write_dir_atomically(dir, |tmp| {
+    let dir = out.path().display().to_string();
+    out.commit(|tmp| {
         figures.par_iter().chain([&rebound_figure]).try_for_each(|f| -> std::io::Result<()> {
             f.write(tmp)?;
             progress.inc(1);
@@ -128,7 +129,7 @@ pub fn reproduce(dir: &Path, config: &Config, progress: &ProgressBar) -> Result<
         std::fs::write(tmp.join("summaries.json"), summaries_json(config, &results)?)?;
         std::fs::write(tmp.join("report.md"), &report)
     })
-    .map_err(|source| ReproduceError::Io { dir: dir.display().to_string(), source })?;
+    .map_err(|e| ReproduceError::Io { dir, source: std::io::Error::other(e) })?;
     progress.set_message("done");
     Ok(Outcome { results, rebound, files, report })
 }

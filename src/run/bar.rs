@@ -1,9 +1,11 @@
 //! Bar scenes: the problem of a `[bar]` scene and its run (the driver is [`crate::driver`],
-//! the observers [`crate::observe`]). Nothing here does I/O.
+//! the observers [`crate::observe`]). Nothing here does I/O but [`run_scene_into`] (through
+//! [`crate::output`]).
 
 use crate::bar::assembly::{AssemblyError, Bar, BarSystem, Load};
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
+use crate::output::{OutputDir, commit_run, summary_json};
 use crate::scene::{BarScene, Force, Initial, SceneError};
 use crate::schemes::SchemeError;
 use thiserror::Error;
@@ -23,6 +25,7 @@ pub enum RunError {
 
 pub use crate::problem::Problem;
 // The driver and observers every geometry shares, reachable from the bar's entry point too.
+use super::RunFolderError;
 pub use crate::driver::{
     Divergence, DivergenceCriterion, DivergenceReason, Needs, Observer, Outcome, Sample, integrate, integrate_watched,
 };
@@ -117,21 +120,46 @@ pub(crate) fn setup_error(keys: &str, e: impl std::fmt::Display) -> SceneError {
     SceneError::Setup { keys: keys.to_string(), reason: e.to_string() }
 }
 
-/// Runs a scene: the summary always, plus the requested series. A run that diverges
+/// Runs a scene: the summary always, plus the requested series, held in memory (for library
+/// users; `massredist run` streams it: [`run_scene_into`]). A run that diverges
 /// ([`DivergenceCriterion`] with `output.divergence_factor`) stops there and is still a result:
 /// `Summary::divergence` says where and why, the summary and series hold the finite states.
 pub fn run_scene(scene: &BarScene, extra: &mut [&mut dyn Observer]) -> Result<(Summary, SeriesRecorder), RunError> {
-    let Setup { problem, mut scheme } = setup(scene).map_err(RunError::Setup)?;
-    let steps = scene.time.steps;
-    let mut summary = SummaryObserver::new(&problem, steps, scene.time.dt, scene.output.summary_l2);
-    let rows = if scene.output.series.is_empty() { 0 } else { steps / scene.output.every + 1 };
+    let rows = if scene.output.series.is_empty() { 0 } else { scene.time.steps / scene.output.every + 1 };
     let mut series = SeriesRecorder::new(scene.output.series.clone(), scene.output.every, rows);
-    let mut observers: Vec<&mut dyn Observer> = vec![&mut summary, &mut series];
+    let mut observers: Vec<&mut dyn Observer> = vec![&mut series];
     for o in extra.iter_mut() {
         observers.push(&mut **o);
     }
+    let summary = run_observed(scene, &mut observers)?;
+    Ok((summary, series))
+}
+
+/// `massredist run` for a bar scene: runs it into the output folder `out` prepared before
+/// computing, `series.csv` streamed into its temporary folder as the run produces it (memory does
+/// not depend on the number of steps), then `summary.json` and `scene.resolved.toml`, and commits
+/// it ([`OutputDir::commit`]). On an error `out` is dropped, which removes the temporary folder.
+pub fn run_scene_into(
+    scene: &BarScene,
+    out: OutputDir,
+    extra: &mut [&mut dyn Observer],
+) -> Result<Summary, RunFolderError<RunError>> {
+    let summary = super::stream_series(&out, &scene.output, extra, |obs| run_observed(scene, obs))?;
+    commit_run(out, &summary_json(scene, &summary), &scene.resolved_toml())?;
+    Ok(summary)
+}
+
+/// Runs a scene with its summary and `observers` (the series among them).
+fn run_observed(scene: &BarScene, observers: &mut [&mut dyn Observer]) -> Result<Summary, RunError> {
+    let Setup { problem, mut scheme } = setup(scene).map_err(RunError::Setup)?;
+    let steps = scene.time.steps;
+    let mut summary = SummaryObserver::new(&problem, steps, scene.time.dt, scene.output.summary_l2);
+    let mut all: Vec<&mut dyn Observer> = vec![&mut summary];
+    for o in observers.iter_mut() {
+        all.push(&mut **o);
+    }
     let criterion = DivergenceCriterion { energy_factor: scene.output.divergence_factor };
     // The outcome reaches the summary through `Observer::diverged`.
-    let _ = integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut observers)?;
-    Ok((summary.finish(), series))
+    let _ = integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut all)?;
+    Ok(summary.finish())
 }

@@ -1,14 +1,18 @@
 //! Plate scenes: the problem of a `[plate]` scene and its run (the driver is
-//! [`crate::driver`], the observers [`crate::observe`]). Nothing here does I/O.
+//! [`crate::driver`], the observers [`crate::observe`]). Nothing here does I/O but
+//! [`run_plate_scene_into`] (through [`crate::output`] and [`crate::plate::vtu`]).
 
+use super::RunFolderError;
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::driver::{DivergenceCriterion, Observer, integrate_watched};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::mass::MassKind;
 use crate::observe::{FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
+use crate::output::{OutputDir, commit_run};
 use crate::plate::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
 use crate::plate::layers::cell_weights;
 use crate::plate::mesh::{Mesh2d, MeshError};
+use crate::plate::vtu::FrameWriter;
 use crate::run::bar::{Setup, setup_error};
 use crate::scene::{Body, Force, PlateInitial, PlateScene, PlateSpec, SceneError};
 use crate::schemes::SchemeError;
@@ -154,27 +158,70 @@ pub fn setup(scene: &PlateScene) -> Result<Setup<PlateSystem>, SceneError> {
     Ok(Setup { problem, scheme })
 }
 
-/// Runs a plate scene: the summary always, plus the requested series and VTU frames. A run that
-/// diverges stops there and is still a result (as [`crate::run::run_scene`]).
+/// Runs a plate scene: the summary always, plus the requested series and VTU frames, held in
+/// memory (for library users; `massredist run` streams them: [`run_plate_scene_into`]). A run
+/// that diverges stops there and is still a result (as [`crate::run::run_scene`]).
 pub fn run_plate_scene(scene: &PlateScene, extra: &mut [&mut dyn Observer]) -> Result<PlateRun, PlateRunError> {
-    let Setup { problem, mut scheme } = setup(scene).map_err(PlateRunError::Setup)?;
-    let steps = scene.time.steps;
-    let mut summary = SummaryObserver::new(&problem, steps, scene.time.dt, scene.output.summary_l2);
+    let Setup { problem, scheme } = setup(scene).map_err(PlateRunError::Setup)?;
     let mut series = SeriesRecorder::new(scene.output.series.clone(), scene.output.every, 0);
     let mut frames = scene.output.vtu_every.map(FrameRecorder::new);
-    {
-        let mut observers: Vec<&mut dyn Observer> = vec![&mut summary, &mut series];
-        if let Some(f) = frames.as_mut() {
-            observers.push(f);
-        }
-        for o in extra.iter_mut() {
-            observers.push(&mut **o);
-        }
-        let criterion = DivergenceCriterion { energy_factor: scene.output.divergence_factor };
-        // The outcome reaches the summary through `Observer::diverged`.
-        let _ = integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut observers)?;
+    let mut observers: Vec<&mut dyn Observer> = vec![&mut series];
+    if let Some(f) = frames.as_mut() {
+        observers.push(f);
     }
-    Ok(PlateRun { problem, summary: summary.finish(), series, frames })
+    for o in extra.iter_mut() {
+        observers.push(&mut **o);
+    }
+    let summary = run_observed(scene, &problem, scheme, &mut observers)?;
+    Ok(PlateRun { problem, summary, series, frames })
+}
+
+/// `massredist run` for a plate scene: as [`crate::run::run_scene_into`], with the VTU frames
+/// streamed too (`vtu/frame_NNNNN.vtu` written when its step is observed, `plate.pvd` closed at
+/// the end): memory does not depend on the number of steps.
+pub fn run_plate_scene_into(
+    scene: &PlateScene,
+    out: OutputDir,
+    extra: &mut [&mut dyn Observer],
+) -> Result<Summary, RunFolderError<PlateRunError>> {
+    let Setup { problem, scheme } = setup(scene).map_err(|e| RunFolderError::Run(PlateRunError::Setup(e)))?;
+    let create = |k| FrameWriter::create(out.staging(), &problem.system, k).map_err(|e| out.fill_error(e));
+    let mut frames = scene.output.vtu_every.map(create).transpose()?;
+    let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(extra.len() + 1);
+    for o in extra.iter_mut() {
+        observers.push(&mut **o);
+    }
+    if let Some(f) = frames.as_mut() {
+        observers.push(f);
+    }
+    let run = |obs: &mut [&mut dyn Observer]| run_observed(scene, &problem, scheme, obs);
+    let summary = super::stream_series(&out, &scene.output, &mut observers, run)?;
+    drop(observers);
+    if let Some(f) = frames {
+        f.finish().map_err(|e| out.fill_error(e))?;
+    }
+    commit_run(out, &summary_json(scene, &problem, &summary), &scene.resolved_toml())?;
+    Ok(summary)
+}
+
+/// Runs a plate problem with its scheme, its summary and `observers` (series and frames among
+/// them).
+fn run_observed(
+    scene: &PlateScene,
+    problem: &PlateProblem,
+    mut scheme: Box<dyn crate::schemes::Scheme>,
+    observers: &mut [&mut dyn Observer],
+) -> Result<Summary, PlateRunError> {
+    let steps = scene.time.steps;
+    let mut summary = SummaryObserver::new(problem, steps, scene.time.dt, scene.output.summary_l2);
+    let mut all: Vec<&mut dyn Observer> = vec![&mut summary];
+    for o in observers.iter_mut() {
+        all.push(&mut **o);
+    }
+    let criterion = DivergenceCriterion { energy_factor: scene.output.divergence_factor };
+    // The outcome reaches the summary through `Observer::diverged`.
+    let _ = integrate_watched(problem, scheme.as_mut(), steps, &criterion, &mut all)?;
+    Ok(summary.finish())
 }
 
 #[derive(Serialize)]
@@ -196,7 +243,7 @@ struct PlateSummaryFile<'a> {
 }
 
 /// `summary.json` text.
-pub fn summary_json(scene: &PlateScene, run: &PlateRun) -> String {
+pub fn summary_json(scene: &PlateScene, problem: &PlateProblem, summary: &Summary) -> String {
     let p = &scene.geometry;
     let file = PlateSummaryFile {
         scheme: scene.scheme.name(),
@@ -209,18 +256,8 @@ pub fn summary_json(scene: &PlateScene, run: &PlateRun) -> String {
         ny: p.ny,
         cells: p.cells.name(),
         initial: p.initial.name(),
-        total_mass: run.problem.system.total_mass(),
-        summary: &run.summary,
+        total_mass: problem.system.total_mass(),
+        summary,
     };
     serde_json::to_string_pretty(&file).expect("summary serialises") + "\n"
-}
-
-/// Writes the plate's run directory: the files of every run ([`crate::output::write_run_files`])
-/// and, with VTU output, `plate.pvd` and `vtu/frame_NNNNN.vtu`.
-pub fn write_plate_run(dir: &std::path::Path, scene: &PlateScene, run: &PlateRun) -> std::io::Result<()> {
-    let frames = |tmp: &std::path::Path| match &run.frames {
-        Some(f) => crate::plate::vtu::write_frames(tmp, &run.problem.system, &f.frames),
-        None => Ok(()),
-    };
-    crate::output::write_run_files(dir, &summary_json(scene, run), &scene.resolved_toml(), &run.series, frames)
 }

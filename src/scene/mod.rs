@@ -54,7 +54,9 @@ pub const MAX_NODE_STEPS: f64 = 1e10;
 /// The default `output.divergence_factor` (its reason: the driver's
 /// [`crate::driver::DivergenceCriterion::DEFAULT_ENERGY_FACTOR`]).
 pub const DEFAULT_DIVERGENCE_FACTOR: f64 = crate::driver::DivergenceCriterion::DEFAULT_ENERGY_FACTOR;
-/// Upper bound on the values `series.csv` may hold in memory (8 bytes each: 400 MB).
+/// Upper bound on the values of `series.csv`. It protects the disk, not memory (the series is
+/// streamed, memory does not depend on it): at most 25 bytes a value (a shortest round-trip f64
+/// has at most 24 characters, e.g. `-2.2250738585072014e-308`, plus a separator), 1.25 GB.
 pub const MAX_SERIES_VALUES: f64 = 5e7;
 
 /// Upper bound on the size of a scene file: a scene is a few hundred bytes (a custom mass with
