@@ -26,6 +26,7 @@
 //! that appears complete or not at all. Every number in the report is computed here, none is
 //! typed in.
 
+mod band;
 mod claims;
 mod config;
 mod experiments;

@@ -3,7 +3,7 @@
 //! figures, tables and claims read off the recorded series (period events, energy variation,
 //! per-period growth).
 
-use super::{Case, Config, Purpose, ReproduceError, cases};
+use super::{Case, Config, Purpose, ReproduceError, band, cases};
 use crate::exact::ImpactingBar;
 use crate::run::{
     Divergence, DivergenceCriterion, Needs, Observer, Problem, RunError, Sample, SeriesRecorder, Summary,
@@ -25,6 +25,8 @@ pub struct CaseResult {
     pub periods: PeriodEnergy,
     /// Where and why the run diverged (also in `summary.divergence`).
     pub failure: Option<Divergence>,
+    /// The runs from perturbed initial states of a round-off sensitive case (empty otherwise).
+    pub copies: Vec<band::PerturbedRun>,
 }
 
 impl CaseResult {
@@ -32,29 +34,75 @@ impl CaseResult {
     pub(super) fn col(&self, c: Column) -> Vec<f64> {
         self.series.column(c).unwrap_or_default()
     }
+
+    /// `value` of this run's summary, then of each perturbed copy's.
+    pub(super) fn over_runs<T>(&self, value: impl Fn(&Summary) -> T) -> Vec<T> {
+        std::iter::once(&self.summary).chain(self.copies.iter().map(|c| &c.summary)).map(value).collect()
+    }
+
+    /// `value` of the summary, with only the digits every run shares
+    /// ([`band::stable_digits`]; all `digits` for a case without copies).
+    pub(super) fn stable(&self, value: impl Fn(&Summary) -> Option<f64>, digits: usize) -> String {
+        band::stable_digits(&self.over_runs(value), digits)
+    }
+
+    /// The verdict of each run (this one first) and its per-period growth (last/first).
+    pub(super) fn verdicts(&self) -> Vec<(band::Verdict, Option<f64>)> {
+        let runs =
+            std::iter::once((&self.summary, &self.periods)).chain(self.copies.iter().map(|c| (&c.summary, &c.periods)));
+        runs.map(|(s, p)| {
+            let g = period_growth_of(p, self.case.end).map(|(a, b, _)| b / a);
+            (band::Verdict::of(s, g), g)
+        })
+        .collect()
+    }
 }
 
 /// Runs one case on the paper's benchmark with a [`SummaryObserver`] (L² error on: every case
-/// has a table row) and a [`SeriesRecorder`] of [`Case::columns`].
+/// has a table row) and a [`SeriesRecorder`] of [`Case::columns`]; a round-off sensitive case
+/// ([`band::is_sensitive`]) also from [`band::PERTURBATIONS`] perturbed initial states.
 pub fn run_case(config: &Config, case: &Case) -> Result<CaseResult, ReproduceError> {
     let wrap = |source: RunError| ReproduceError::Run { case: case.name(), source };
     let long = case.purpose == Purpose::LongEnergy;
     let steps = config.steps(if long { "long_ends" } else { "horizons" }, case.end)?;
-    let problem = Problem::benchmark(config.length, config.elements, &case.mass).map_err(wrap)?;
-    let mut scheme = problem.scheme(&case.experiment.spec(), config.dt).map_err(|e| wrap(e.into()))?;
+    let mut problem = Problem::benchmark(config.length, config.elements, &case.mass).map_err(wrap)?;
     let every = if long { config.long_every(steps) } else { 1 };
-    let mut summary = SummaryObserver::new(&problem, steps, config.dt, true);
-    let mut series = SeriesRecorder::new(case.columns(), every, steps / every + 1);
+    let (summary, series, periods) = run_one(config, case, &problem, steps, case.columns(), every).map_err(wrap)?;
+    let mut copies = Vec::new();
+    if band::is_sensitive(case) {
+        let u0 = problem.u0.clone();
+        for k in 0..band::PERTURBATIONS {
+            problem.u0 = band::perturbed(&u0, k);
+            let (summary, _, periods) = run_one(config, case, &problem, steps, Vec::new(), steps).map_err(wrap)?;
+            copies.push(band::PerturbedRun { summary, periods });
+        }
+    }
+    let failure = summary.divergence;
+    Ok(CaseResult { case: case.clone(), summary, series, periods, failure, copies })
+}
+
+/// One run of `case` on `problem`: its summary, the series of `columns` every `every` steps and
+/// the per-period energy extremes (long runs only).
+fn run_one(
+    config: &Config,
+    case: &Case,
+    problem: &Problem,
+    steps: usize,
+    columns: Vec<Column>,
+    every: usize,
+) -> Result<(Summary, SeriesRecorder, PeriodEnergy), RunError> {
+    let mut scheme = problem.scheme(&case.experiment.spec(), config.dt)?;
+    let mut summary = SummaryObserver::new(problem, steps, config.dt, true);
+    let mut series = SeriesRecorder::new(columns, every, steps / every + 1);
     let mut periods = PeriodEnergy::new(config.exact().period(), config.dt);
     let criterion = DivergenceCriterion::default();
-    let outcome = if long {
-        integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut [&mut summary, &mut series, &mut periods])
+    // The divergence, if any, is in the summary.
+    let _outcome = if case.purpose == Purpose::LongEnergy {
+        integrate_watched(problem, scheme.as_mut(), steps, &criterion, &mut [&mut summary, &mut series, &mut periods])
     } else {
-        integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut [&mut summary, &mut series])
-    }
-    .map_err(|e| wrap(e.into()))?;
-    let failure = outcome.divergence().copied();
-    Ok(CaseResult { case: case.clone(), summary: summary.finish(), series, periods, failure })
+        integrate_watched(problem, scheme.as_mut(), steps, &criterion, &mut [&mut summary, &mut series])
+    }?;
+    Ok((summary.finish(), series, periods))
 }
 
 /// Runs every case of [`cases`] in parallel; `done` is called after each.
@@ -145,6 +193,9 @@ pub struct PeriodEvents {
     /// whose contact condition holds for (u_0^{n+1} + u_0^{n−1})/2, so that u_0ⁿ alternates in sign
     /// while λⁿ < 0. For the other schemes (u_0ⁿ λⁿ = 0) both rules agree.
     pub release_shift: Option<f64>,
+    /// The last t_n in the window with u_0ⁿ ≤ 0 or λⁿ < 0, after the impact (the end of the
+    /// contact, chatter included); None without impact.
+    pub last_contact: Option<f64>,
 }
 
 /// Impact and release shifts of every period that the series covers completely.
@@ -162,10 +213,12 @@ pub fn period_events(times: &[f64], u0: &[f64], lambda: &[f64], exact: &Impactin
             let impact = (start..stop).find(|&n| u0[n] <= 0.0);
             let release = impact.and_then(|i| (i + 1..times.len()).find(|&n| u0[n] > 0.0 && lambda[n] == 0.0));
             let t_impact = lo + l;
+            let last = impact.and_then(|i| (i..stop).rev().find(|&n| u0[n] <= 0.0 || lambda[n] < 0.0));
             PeriodEvents {
                 period: j,
                 impact_shift: impact.map(|n| times[n] - t_impact),
                 release_shift: release.map(|n| times[n] - (t_impact + l)),
+                last_contact: last.map(|n| times[n]),
             }
         })
         .collect()
@@ -214,6 +267,17 @@ pub(super) fn variation_after_impact(config: &Config, r: &CaseResult) -> Option<
     Some(energy_variation(&r.series.times(), &r.col(Column::Energy), from - 0.5 * config.dt, energy_floor(config)))
 }
 
+/// The steps n → n+1 (n ≥ 1: after the first step) that move the energy by more than the
+/// round-off floor: (t_{n+1}, whether the contact state λ < 0 switches in that step).
+pub(super) fn energy_jumps(config: &Config, r: &CaseResult) -> Vec<(f64, bool)> {
+    let (t, e, lambda) = (r.series.times(), r.col(Column::Energy), r.col(Column::Lambda));
+    let floor = energy_floor(config);
+    (1..e.len().saturating_sub(1).min(lambda.len().saturating_sub(1)))
+        .filter(|&n| (e[n + 1] - e[n]).abs() > floor)
+        .map(|n| (t[n + 1], (lambda[n] < 0.0) != (lambda[n + 1] < 0.0)))
+        .collect()
+}
+
 /// The case's contact events per period (none for the long runs, which record no u_0).
 pub fn events(config: &Config, r: &CaseResult) -> Vec<PeriodEvents> {
     match (r.series.column(Column::U0), r.series.column(Column::Lambda)) {
@@ -224,9 +288,13 @@ pub fn events(config: &Config, r: &CaseResult) -> Vec<PeriodEvents> {
 
 /// (max energy over the first k full periods, over the last k, k) with k = min(10, full/2).
 pub(super) fn period_growth(r: &CaseResult) -> Option<(f64, f64, usize)> {
-    let p = &r.periods;
+    period_growth_of(&r.periods, r.case.end)
+}
+
+/// [`period_growth`] of per-period extremes `p` of a run to `end`.
+fn period_growth_of(p: &PeriodEnergy, end: f64) -> Option<(f64, f64, usize)> {
     // Full periods: those ending by the final time (the sample at t = end may open a new one).
-    let full = (0..p.max.len()).take_while(|&j| p.end_of(j) <= r.case.end + 1e-9 * r.case.end).count();
+    let full = (0..p.max.len()).take_while(|&j| p.end_of(j) <= end + 1e-9 * end).count();
     let k = (full / 2).min(10);
     if k == 0 {
         return None;
@@ -263,8 +331,9 @@ mod tests {
 
     #[test]
     fn a_diverged_case_is_a_result() {
-        // Paoli–Schatzman with mod1 over the paper's long run: the energy passes 10⁶ E(0) near
-        // t = 1620 (2.6e13 by T = 3000 when nothing stopped it); the run stops there, kept.
+        // Paoli–Schatzman with mod1 over the paper's long run: the energy passes 10⁶ E(0) after
+        // t = 1000 (t = 1500–1621 over U⁰ perturbed by ≤ 1e-13: the time is round-off amplified);
+        // the run stops there, kept.
         use super::super::Experiment;
         use crate::run::{DivergenceReason, Status};
         let case = Case {

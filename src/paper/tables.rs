@@ -1,6 +1,7 @@
 //! The result tables (CSV with full precision, Markdown for the report) and the number formats
 //! of the report text.
 
+use super::band::{PERTURBATION, Verdict};
 use super::runs::{CaseResult, events, runs_of};
 use super::{Config, Experiment, Purpose};
 use crate::mass::MassKind;
@@ -74,7 +75,8 @@ pub const TABLE_COLUMNS: [&str; 13] = [
 ];
 
 /// Header of the per-period contact events CSVs (`events-T*.csv`).
-pub const EVENT_COLUMNS: [&str; 5] = ["scheme", "mass", "period", "impact_shift", "release_shift"];
+/// (`last_contact`: the last t_n of the period in contact, [`super::PeriodEvents::last_contact`].)
+pub const EVENT_COLUMNS: [&str; 6] = ["scheme", "mass", "period", "impact_shift", "release_shift", "last_contact"];
 
 fn status(r: &CaseResult) -> String {
     match &r.failure {
@@ -131,6 +133,7 @@ fn events_csv_rows(config: &Config, rows: &[&CaseResult]) -> Vec<Vec<String>> {
                     p.period.to_string(),
                     o(p.impact_shift),
                     o(p.release_shift),
+                    o(p.last_contact),
                 ]
             })
         })
@@ -147,21 +150,21 @@ pub(super) fn table_markdown(config: &Config, rows: &[&CaseResult]) -> String {
     s.push_str(&"|---".repeat(if with_events { 13 } else { 12 }));
     s.push_str("|\n");
     for r in rows {
-        let m = &r.summary;
+        let e = |f: fn(&Summary) -> f64| r.stable(|s| Some(f(s)), 6);
         let _ = write!(
             s,
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.case.experiment.title(),
             r.case.mass.name(),
-            opt(m.linf_l2_error, 4),
-            opt(m.linf_l2_error_relative, 3),
-            opt(m.max_contact_error, 4),
-            opt(m.l2_lambda_error, 4),
-            sig(m.energy_min, 6),
-            sig(m.energy_max, 6),
-            sig(m.energy_final, 6),
-            shift(m.impact_time_shift, config.dt),
-            shift(m.release_time_shift, config.dt),
+            r.stable(|s| s.linf_l2_error, 4),
+            r.stable(|s| s.linf_l2_error_relative, 3),
+            r.stable(|s| s.max_contact_error, 4),
+            r.stable(|s| s.l2_lambda_error, 4),
+            e(|s| s.energy_min),
+            e(|s| s.energy_max),
+            e(|s| s.energy_final),
+            shifts(r, |s| s.impact_time_shift, config.dt),
+            shifts(r, |s| s.release_time_shift, config.dt),
         );
         if with_events {
             let ev: Vec<String> = events(config, r)
@@ -170,9 +173,52 @@ pub(super) fn table_markdown(config: &Config, rows: &[&CaseResult]) -> String {
                 .collect();
             let _ = write!(s, " {} |", ev.join(", "));
         }
-        let _ = writeln!(s, " {} |", if r.failure.is_some() { "**diverged**" } else { "ok" });
+        let status = if r.failure.is_some() { "**diverged**" } else { "ok" };
+        let _ = writeln!(s, " {status}{} |", verdict_note(r));
     }
     s
+}
+
+/// A value over the runs of a case, shown by `show`: the one text if every run shows the same,
+/// else the band `min to max`.
+pub(super) fn agreed(
+    r: &CaseResult,
+    f: impl Fn(&Summary) -> Option<f64>,
+    show: impl Fn(Option<f64>) -> String,
+) -> String {
+    let v = r.over_runs(f);
+    let shown: Vec<String> = v.iter().map(|x| show(*x)).collect();
+    if shown.iter().all(|x| *x == shown[0]) {
+        return shown[0].clone();
+    }
+    let (lo, hi) = super::band::band(&v.iter().flatten().copied().collect::<Vec<_>>());
+    format!("{} to {}", show(Some(lo)), show(Some(hi)))
+}
+
+/// A time shift over the runs of a case ([`agreed`]).
+pub(super) fn shifts(r: &CaseResult, f: impl Fn(&Summary) -> Option<f64>, dt: f64) -> String {
+    agreed(r, f, |x| shift(x, dt))
+}
+
+/// For a case with perturbed copies: "; 5 runs from U⁰ perturbed by ≤ 1e-13", and for a long run
+/// how many of them are bounded / grow / diverge (a verdict needs several periods).
+pub(super) fn verdict_note(r: &CaseResult) -> String {
+    if r.copies.is_empty() {
+        return String::new();
+    }
+    let v = r.verdicts();
+    let runs = format!("; {} runs from U⁰ perturbed by ≤ {:e}", v.len(), PERTURBATION);
+    if r.case.purpose != Purpose::LongEnergy {
+        return runs;
+    }
+    let counts: Vec<String> = [Verdict::Bounded, Verdict::Grows, Verdict::Diverged]
+        .iter()
+        .filter_map(|k| {
+            let n = v.iter().filter(|(x, _)| x == k).count();
+            (n > 0).then(|| format!("{n} {}", k.name()))
+        })
+        .collect();
+    format!("{runs}: {}", counts.join(", "))
 }
 
 /// The result tables, each under its CSV name: `table-T*.csv` per horizon, then

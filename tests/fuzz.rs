@@ -1,0 +1,308 @@
+//! Hostile scenes through the command line: the shipped scenes (`scenes/*.toml`), shortened so
+//! that each case runs in a fraction of a second, then mutated (a key dropped, a value replaced
+//! by an extreme number, a string, a wrong type, an unknown key, a second geometry table), and
+//! run through `massredist check` and `massredist run --out <tmp>/out`. Asserted for every case:
+//!
+//! - no panic: no "panicked" on stderr, no exit 101 (Rust panic) or 134 (abort);
+//! - the exit code is one of the documented 0, 1, 2, 3 (`src/exit.rs`, README "exit codes");
+//! - a failed run (exit 1 or 2) leaves nothing behind: no `out`, no `.out.tmp-*` sibling;
+//!   no run leaves a `.tmp-` folder;
+//! - a scene that passes `check` starts its run: the run ends with 0 (ok) or 3 (diverged), never
+//!   1 (a setup error such as "matrix cannot be factored" that `check` should have reported).
+//!
+//! The last property fails on scenes whose setup errors `check` does not run yet; with
+//! `MASSREDIST_FUZZ_LIST_SETUP_FAILURES=1` such cases are listed on stderr at the end instead of
+//! failing the test (the other properties stay asserted).
+//!
+//! mutation: `Scene::validate` checks `bar.length` with `assert!(length > 0.0)` instead of
+//! returning the range error -> fails with "check panicked: … panicked at src/scene/bar.rs";
+//! mutation: `OutputDir`'s `Drop` keeps its staging folder (no `remove_dir_all`) -> fails with
+//! "run left a partial folder: [\".out.tmp-<pid>\"]".
+
+use proptest::prelude::*;
+use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRunner};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::Mutex;
+use toml::{Table, Value};
+
+/// The documented exit codes: 0 success, 1 failure while computing or writing, 2 invalid input
+/// (nothing computed), 3 diverged.
+const DOCUMENTED: [i32; 4] = [0, 1, 2, 3];
+
+fn shipped() -> Vec<(String, Table)> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    paths.sort();
+    paths
+        .into_iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(&p).unwrap();
+            (p.file_name().unwrap().to_string_lossy().into_owned(), text.parse::<Table>().unwrap())
+        })
+        .collect()
+}
+
+/// A shipped scene made short: T = 0.05 at Δt = 0.01 (5 steps), at most 12 elements (bars) or
+/// 4 × 4 cells (plates), VTU frames off. Each mutated case then runs in well under a second.
+fn shorten(mut scene: Table) -> Table {
+    let time = scene.entry("time").or_insert_with(|| Value::Table(Table::new()));
+    if let Value::Table(t) = time {
+        t.insert("dt".into(), Value::Float(0.01));
+        t.insert("end".into(), Value::Float(0.05));
+    }
+    if let Some(Value::Table(bar)) = scene.get_mut("bar") {
+        bar.insert("elements".into(), Value::Integer(12));
+    }
+    if let Some(Value::Table(plate)) = scene.get_mut("plate") {
+        plate.insert("nx".into(), Value::Integer(4));
+        plate.insert("ny".into(), Value::Integer(4));
+    }
+    if let Some(Value::Table(out)) = scene.get_mut("output") {
+        out.remove("vtu");
+        out.remove("vtu_every");
+    }
+    scene
+}
+
+/// One edit of a scene.
+#[derive(Debug, Clone)]
+enum Mutation {
+    /// Remove the leaf key number `pick` (modulo the number of leaves).
+    Drop { pick: usize },
+    /// Replace leaf `pick` by `value`.
+    Replace { pick: usize, value: Value },
+    /// Multiply a numeric leaf by `factor` (values that often pass `check`, so that `run` is
+    /// reached; factors ≤ 2 keep the run short).
+    Scale { pick: usize, factor: f64 },
+    /// Add an unknown key to table `pick`.
+    Unknown { pick: usize },
+    /// Add the other geometry's table (`[plate]` to a bar, `[bar]` to a plate).
+    SecondGeometry,
+}
+
+/// Values that break assumptions: zero, negative, subnormal, huge, infinite, NaN, wrong types,
+/// a long string.
+fn hostile_value() -> impl Strategy<Value = Value> {
+    prop_oneof![
+        Just(Value::Integer(0)),
+        Just(Value::Integer(-1)),
+        Just(Value::Float(0.0)),
+        Just(Value::Float(-1.0)),
+        Just(Value::Float(1e-308)),
+        Just(Value::Float(5e-324)),
+        Just(Value::Float(1e308)),
+        Just(Value::Float(f64::INFINITY)),
+        Just(Value::Float(f64::NEG_INFINITY)),
+        Just(Value::Float(f64::NAN)),
+        Just(Value::Integer(i64::MAX)),
+        Just(Value::String("inf".into())),
+        Just(Value::String("-1e400".into())),
+        Just(Value::String("x".repeat(10_000))),
+        Just(Value::Boolean(true)),
+        Just(Value::Array(vec![Value::Integer(1), Value::String("a".into())])),
+        Just(Value::Table(Table::new())),
+    ]
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    prop_oneof![
+        1 => any::<usize>().prop_map(|pick| Mutation::Drop { pick }),
+        3 => (any::<usize>(), hostile_value()).prop_map(|(pick, value)| Mutation::Replace { pick, value }),
+        3 => (any::<usize>(), prop::sample::select(vec![1e-12, 1e-3, 0.5, 2.0]))
+            .prop_map(|(pick, factor)| Mutation::Scale { pick, factor }),
+        1 => any::<usize>().prop_map(|pick| Mutation::Unknown { pick }),
+        1 => Just(Mutation::SecondGeometry),
+    ]
+}
+
+/// Paths (table, key) of every leaf value, tables in file order.
+fn leaves(scene: &Table) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for (t, v) in scene {
+        if let Value::Table(inner) = v {
+            out.extend(inner.keys().map(|k| (t.clone(), k.clone())));
+        } else {
+            out.push((String::new(), t.clone()));
+        }
+    }
+    out
+}
+
+fn apply(scene: &mut Table, m: &Mutation) {
+    let paths = leaves(scene);
+    match m {
+        Mutation::Drop { pick } | Mutation::Replace { pick, .. } | Mutation::Scale { pick, .. } => {
+            let Some((t, k)) = paths.get(pick % paths.len().max(1)).cloned() else { return };
+            let table = if t.is_empty() { Some(&mut *scene) } else { scene.get_mut(&t).and_then(Value::as_table_mut) };
+            if let Some(table) = table {
+                match m {
+                    Mutation::Replace { value, .. } => {
+                        table.insert(k, value.clone());
+                    }
+                    Mutation::Scale { factor, .. } => {
+                        let scaled = match table.get(&k) {
+                            Some(Value::Float(x)) => Value::Float(x * factor),
+                            // Integers (element counts) scale and round, at least 1.
+                            Some(Value::Integer(i)) => Value::Integer(((*i as f64 * factor).round() as i64).max(1)),
+                            _ => return,
+                        };
+                        table.insert(k, scaled);
+                    }
+                    _ => {
+                        table.remove(&k);
+                    }
+                }
+            }
+        }
+        Mutation::Unknown { pick } => {
+            let names: Vec<String> = scene.keys().cloned().collect();
+            let name = &names[pick % names.len()];
+            if let Some(Value::Table(t)) = scene.get_mut(name) {
+                t.insert("no_such_key".into(), Value::Float(1.0));
+            }
+        }
+        Mutation::SecondGeometry => {
+            let other = if scene.contains_key("bar") { "plate" } else { "bar" };
+            let mut t = Table::new();
+            t.insert("length".into(), Value::Float(1.0));
+            scene.insert(other.into(), Value::Table(t));
+        }
+    }
+}
+
+/// Runs the binary with `args`, its output in `logs` (not next to the scene). A case is a
+/// 5-step run: one that has not finished after [`PATIENCE`] is killed and reported (it would be
+/// a scene that passes `check` and then runs without end).
+fn massredist(args: &[&std::ffi::OsStr], logs: &Path) -> Output {
+    let (out, err) = (logs.join("stdout"), logs.join("stderr"));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_massredist"))
+        .args(args)
+        .stdout(std::fs::File::create(&out).unwrap())
+        .stderr(std::fs::File::create(&err).unwrap())
+        .spawn()
+        .expect("the binary starts");
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > PATIENCE {
+            child.kill().unwrap();
+            panic!("massredist {args:?} did not finish in {PATIENCE:?}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    };
+    Output { status, stdout: std::fs::read(out).unwrap(), stderr: std::fs::read(err).unwrap() }
+}
+
+/// A guard against runs without end, not a timing assertion: a 5-step case takes milliseconds.
+const PATIENCE: std::time::Duration = std::time::Duration::from_secs(120);
+
+/// Exit code (signals as 128 + n, as a shell shows them).
+fn code(o: &Output) -> i32 {
+    use std::os::unix::process::ExitStatusExt;
+    o.status.code().unwrap_or_else(|| 128 + o.status.signal().unwrap_or(0))
+}
+
+/// Names in `dir` other than the scene file.
+fn left_in(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != "scene.toml")
+        .collect()
+}
+
+fn no_panic(what: &str, o: &Output, text: &str) -> Result<(), TestCaseError> {
+    let err = String::from_utf8_lossy(&o.stderr);
+    let c = code(o);
+    prop_assert!(!err.contains("panicked"), "{what} panicked: {err}\nscene:\n{text}");
+    prop_assert!(c != 101 && c != 134, "{what}: exit code {c}: {err}\nscene:\n{text}");
+    prop_assert!(DOCUMENTED.contains(&c), "{what}: exit code {c} is not documented: {err}\nscene:\n{text}");
+    Ok(())
+}
+
+/// Scenes that passed `check` and failed at the start of `run` (listed when allowed).
+static SETUP_FAILURES: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+/// (check, run) exit codes of the cases seen, to show what the fuzzer reached.
+static CODES: Mutex<Vec<(i32, i32)>> = Mutex::new(Vec::new());
+
+/// Runs one mutated scene through `check` and `run` and asserts the properties of the module
+/// docs; returns the two exit codes.
+fn one_case(scene: &Table, mutations: &[Mutation], allow_setup: bool) -> Result<(i32, i32), TestCaseError> {
+    let mut scene = scene.clone();
+    for m in mutations {
+        apply(&mut scene, m);
+    }
+    let text = toml::to_string(&scene).unwrap_or_default();
+    let tmp = tempfile::tempdir().unwrap();
+    let logs = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("scene.toml");
+    std::fs::write(&path, &text).unwrap();
+    let started = std::time::Instant::now();
+    let check = massredist(&["check".as_ref(), path.as_os_str()], logs.path());
+    no_panic("check", &check, &text)?;
+    prop_assert!(left_in(tmp.path()).is_empty(), "check wrote {:?}", left_in(tmp.path()));
+    let out = tmp.path().join("out");
+    let run = massredist(&["run".as_ref(), path.as_os_str(), "--out".as_ref(), out.as_os_str()], logs.path());
+    no_panic("run", &run, &text)?;
+    let c = code(&run);
+    let left = left_in(tmp.path());
+    prop_assert!(left.iter().all(|n| !n.contains(".tmp-")), "run left a partial folder: {left:?}\nscene:\n{text}");
+    if c == 1 || c == 2 {
+        prop_assert!(left.is_empty(), "a failed run (exit {c}) left behind {left:?}\nscene:\n{text}");
+    }
+    if code(&check) == 0 && c == 1 {
+        let err = String::from_utf8_lossy(&run.stderr).into_owned();
+        if allow_setup {
+            SETUP_FAILURES.lock().unwrap().push(format!("{err}\n{text}"));
+        } else {
+            prop_assert!(false, "passed check, failed in run (exit 1): {err}\nscene:\n{text}");
+        }
+    }
+    CODES.lock().unwrap().push((code(&check), c));
+    if started.elapsed() > std::time::Duration::from_secs(5) {
+        eprintln!("slow case ({:?}, exit {c}):\n{text}", started.elapsed());
+    }
+    Ok((code(&check), c))
+}
+
+#[test]
+fn mutated_shipped_scenes_never_panic_and_fail_cleanly() {
+    let scenes: Vec<Table> = shipped().into_iter().map(|(_, t)| shorten(t)).collect();
+    assert!(scenes.len() >= 4, "the shipped scenes");
+    let allow_setup = std::env::var_os("MASSREDIST_FUZZ_LIST_SETUP_FAILURES").is_some();
+    // 64 cases (each two processes on a 5-step run), seeded: the same cases on every run.
+    let config = Config { cases: 256, failure_persistence: None, ..Config::default() };
+    let rng = proptest::test_runner::TestRng::deterministic_rng(RngAlgorithm::ChaCha);
+    let mut runner = TestRunner::new_with_rng(config, rng);
+    let strategy = (0..scenes.len(), proptest::collection::vec(mutation(), 1..=2));
+    runner
+        .run(&strategy, |(i, mutations)| one_case(&scenes[i], &mutations, allow_setup).map(|_| ()))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let listed = SETUP_FAILURES.lock().unwrap();
+    for s in listed.iter() {
+        eprintln!("--- passed check, failed at the start of run:\n{s}");
+    }
+    eprintln!("{} case(s) passed check and failed in run", listed.len());
+    let codes = CODES.lock().unwrap();
+    let ran = codes.iter().filter(|(c, _)| *c == 0).count();
+    eprintln!("{} cases: {ran} passed check; (check, run) exit codes: {codes:?}", codes.len());
+    // The mutations must leave some scenes valid, or the run half of the test is never reached.
+    assert!(ran >= 8, "only {ran} of {} mutated scenes passed check", codes.len());
+}
+
+#[test]
+fn the_unmutated_short_scenes_check_and_run() {
+    // The shortening itself keeps every shipped scene valid (so mutations start from a valid scene).
+    for (name, scene) in shipped() {
+        let codes = one_case(&shorten(scene), &[], false).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(codes, (0, 0), "{name}: check and run of the shortened scene");
+    }
+}
