@@ -8,12 +8,12 @@ use common::*;
 use massredist::bar::assembly::{Bar, BarSystem};
 use massredist::mass::MassKind;
 use massredist::plate::CellKind;
-use massredist::plate::scene::{PlateInitial, PlateSpec};
 use massredist::problem::{Geometry, Problem as GenericProblem};
 use massredist::run::plate::PlateProblem;
 use massredist::run::{Observer, Problem, Sample, integrate};
 use massredist::scene::Body;
 use massredist::scene::{Formulation, SchemeSpec};
+use massredist::scene::{PlateInitial, PlateSpec};
 
 fn paper(m: usize, mass: &MassKind) -> Problem {
     Problem::benchmark(1.0, m, mass).unwrap()
@@ -105,8 +105,7 @@ fn complementarity_holds_bit_for_bit_at_every_step() {
         for cells in [CellKind::Triangle, CellKind::Quad] {
             for mass in [MassKind::Standard, MassKind::Mod3] {
                 let body = Body { gap, ..Body::default() };
-                let spec =
-                    PlateSpec { length: 1.0, height: 1.0, nx: 8, ny: 6, cells, initial: PlateInitial::Bump, body };
+                let spec = PlateSpec { body, ..PlateSpec::structured(1.0, 1.0, 8, 6, cells, PlateInitial::Bump) };
                 let p = PlateProblem::new(&spec, &mass).unwrap();
                 let mut specs = vec![
                     CN,
