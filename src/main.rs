@@ -26,6 +26,12 @@ enum Command {
         out: PathBuf,
         #[command(flatten)]
         force: Force,
+        /// `fenicsx`: step the (plate) scene with dolfinx and PETSc under MPI (src/engine.rs).
+        #[arg(long, value_enum, default_value = "rust")]
+        engine: Engine,
+        /// MPI ranks of the fenicsx engine.
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
+        ranks: u16,
     },
     /// Validate a scene and print it with every default filled in.
     Check { scene: PathBuf },
@@ -63,13 +69,20 @@ impl Command {
     /// The output folder this command writes, its `--force`, and the inputs it must not replace.
     fn output(&self) -> Option<(&Path, bool, Vec<&Path>)> {
         match self {
-            Command::Run { scene, out, force } => Some((out, force.force, vec![scene])),
+            Command::Run { scene, out, force, .. } => Some((out, force.force, vec![scene])),
             Command::Reproduce { out, force, .. } | Command::Bench { out, force, .. } => {
                 Some((out, force.force, vec![]))
             }
             _ => None,
         }
     }
+}
+
+/// Which engine steps a `run`.
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Engine {
+    Rust,
+    Fenicsx,
 }
 
 /// `--force` of the commands that write an output folder.
@@ -135,6 +148,7 @@ fn main() -> ExitCode {
                 Err(e) => fail(&scene, e.to_string(), exit::INVALID),
             }
         }
+        Command::Run { scene, out, engine: Engine::Fenicsx, ranks, .. } => run_engine(scene, out, ranks.into()),
         Command::Run { scene, out, .. } if massredist::plate::scene::is_plate_file(&scene) => run_plate(scene, out),
         Command::Check { scene } => match Scene::from_file(&scene) {
             Ok(s) => {
@@ -230,6 +244,22 @@ fn run_plate(scene: PathBuf, out: PathBuf) -> ExitCode {
         run.summary.energy_max_increase
     );
     status(&out, &run.summary)
+}
+
+/// `run --engine fenicsx`: the scene stepped by dolfinx/PETSc in `ranks` MPI processes.
+fn run_engine(scene: PathBuf, out: PathBuf, ranks: usize) -> ExitCode {
+    if !massredist::plate::scene::is_plate_file(&scene) {
+        return fail(&scene, "--engine fenicsx runs plate scenes ([plate]); bars run in Rust".into(), exit::INVALID);
+    }
+    let s = match massredist::plate::scene::PlateScene::from_file(&scene) {
+        Ok(s) => s,
+        Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
+    };
+    match massredist::engine::run(&s, &out, ranks) {
+        Ok(massredist::engine::EngineOutcome::Completed) => ExitCode::SUCCESS,
+        Ok(massredist::engine::EngineOutcome::Diverged) => ExitCode::from(exit::DIVERGED),
+        Err(e) => fail(&scene, e.to_string(), if e.is_invalid() { exit::INVALID } else { exit::FAILURE }),
+    }
 }
 
 /// The exit code of a written run: 0, or [`exit::DIVERGED`] with a word on stderr.
