@@ -36,6 +36,7 @@ def main(argv):
             print(__doc__, file=sys.stderr)
         return 2
     path, out = args
+    # Every rank reads the scene; rank 0 alone prepares the folder and tells the others.
     try:
         with open(path) as f:
             text = f.read()
@@ -43,9 +44,13 @@ def main(argv):
         folder = None
         if comm.rank == 0:
             folder = out if staged else output.prepare(out)
-    except (OSError, scene_mod.SceneError, output.OutputError, KeyError) as e:
-        print(f"error: {path}: {e}", file=sys.stderr)
-        comm.Abort(2) if comm.size > 1 else None
+        error = None
+    except (OSError, scene_mod.SceneError, output.OutputError, KeyError, ValueError) as e:
+        error = f"error: {path}: {e}"
+    error = comm.bcast(error if comm.rank == 0 else None, root=0) or error
+    if error:
+        if comm.rank == 0:
+            print(error, file=sys.stderr)
         return 2
     folder = comm.bcast(folder, root=0)
     logging.getLogger().setLevel(logging.WARNING)  # the form compiler logs every gcc call

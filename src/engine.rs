@@ -174,3 +174,24 @@ pub fn run(scene: &PlateScene, out: &Path, ranks: usize) -> Result<EngineOutcome
         (Ok(()), None) => Ok(outcome),
     }
 }
+
+/// The line `massredist run` prints after an engine run (as after a Rust run), from the folder's
+/// summary.json and engine.json.
+pub fn report(out: &Path) -> String {
+    let read = |name: &str| -> serde_json::Value {
+        std::fs::read_to_string(out.join(name)).ok().and_then(|t| serde_json::from_str(&t).ok()).unwrap_or_default()
+    };
+    let (s, e) = (read("summary.json"), read("engine.json"));
+    let num = |v: &serde_json::Value| v.as_f64().map_or("n/a".to_string(), |x| format!("{x:.4e}"));
+    format!(
+        "{}: {} steps in {:.3} s on {} MPI rank(s) (fenicsx engine: {}), L∞(L²) error {}, energy {} -> {}",
+        out.display(),
+        e["steps_taken"],
+        e["step_seconds"].as_f64().unwrap_or(f64::NAN),
+        e["ranks"],
+        e["solver"].as_str().unwrap_or("?"),
+        num(&s["linf_l2_error"]),
+        s["energy_initial"],
+        s["energy_final"]
+    )
+}

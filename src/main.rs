@@ -255,7 +255,11 @@ fn run_engine(scene: PathBuf, out: PathBuf, ranks: usize) -> ExitCode {
         Ok(s) => s,
         Err(e) => return fail(&scene, e.to_string(), exit::INVALID),
     };
-    match massredist::engine::run(&s, &out, ranks) {
+    let outcome = massredist::engine::run(&s, &out, ranks);
+    if outcome.is_ok() {
+        eprintln!("{}", massredist::engine::report(&out));
+    }
+    match outcome {
         Ok(massredist::engine::EngineOutcome::Completed) => ExitCode::SUCCESS,
         Ok(massredist::engine::EngineOutcome::Diverged) => ExitCode::from(exit::DIVERGED),
         Err(e) => fail(&scene, e.to_string(), if e.is_invalid() { exit::INVALID } else { exit::FAILURE }),

@@ -26,6 +26,11 @@ VI_BOUND_TOL = 1e-8
 MAX_IT = 100
 
 
+class NonFinite(ArithmeticError):
+    """The step's residual norm is not finite: the state overflowed (a divergence, as the Rust
+    schemes' non-finite state; src/schemes/mod.rs check_finite)."""
+
+
 class BoundQP:
     """The step QP for a fixed K: one SNES with its factorisation set-up (module docs)."""
 
@@ -49,6 +54,18 @@ class BoundQP:
         self.upper = K.createVecLeft()
         self.upper.set(PETSc.INFINITY)
 
+    def describe(self):
+        """The solver as set up (after PETSc options such as ``-newmark_ksp_type cg
+        -newmark_pc_type hypre``, which replace the direct solve by CG + BoomerAMG)."""
+        ksp = self.snes.getKSP()
+        pc = ksp.getPC()
+        linear = f"KSP {ksp.getType()} + PC {pc.getType()}"
+        if pc.getType() == "lu":
+            linear += f" ({pc.getFactorSolverType()})"
+        else:
+            linear += f" (rtol {ksp.getTolerances()[0]:g})"
+        return f"SNES {self.snes.getType()} (prefix {self.snes.getOptionsPrefix()}), {linear}"
+
     def _function(self, snes, x, f):
         self.K.mult(x, f)
         f.axpy(-1.0, self.r)
@@ -65,6 +82,8 @@ class BoundQP:
         self.snes.setVariableBounds(lower, self.upper)
         self.snes.solve(None, x)
         reason = self.snes.getConvergedReason()
+        if reason == PETSc.SNES.ConvergedReason.DIVERGED_FNORM_NAN:
+            raise NonFinite()
         if reason <= 0:
             raise RuntimeError(f"SNES vinewtonrsls did not converge (reason {reason}, "
                                f"{self.snes.getIterationNumber()} iterations)")

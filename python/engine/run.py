@@ -117,7 +117,11 @@ def run(scene, folder, resolved_text, comm=MPI.COMM_WORLD):
     stepping = time.perf_counter()
     for n in range(scene.steps + 1):
         if n > 0:
-            s.step()
+            try:
+                s.step()
+            except qp.NonFinite:
+                divergence = {"step": n, "time": n * scene.dt, "reason": "non-finite-state"}
+                break
             c = [comm.allreduce(v, op=o) for v, o in zip(s.check, (MPI.MIN, MPI.MAX, MPI.MAX, MPI.MAX))]
             worst = [min(worst[0], c[0]), max(worst[1], c[1]), max(worst[2], c[2]), max(worst[3], c[3])]
             finite = np.isfinite(s.u.getArray()).all() and np.isfinite(s.lam).all()
@@ -148,20 +152,25 @@ def run(scene, folder, resolved_text, comm=MPI.COMM_WORLD):
     if comm.rank == 0:
         if divergence:
             summ.diverged(divergence)
-        head = {"scheme": scene.scheme, "mass": scene.mass, "elements": scene.nx, "length": scene.length,
-                "end": scene.end, "height": scene.height, "nx": scene.nx, "ny": scene.ny,
-                "cells": scene.cells,
-                "initial": scene.initial if isinstance(scene.initial, str) else "expressions",
-                "total_mass": p.total_mass}
-        engine = {"ranks": comm.size, "unknowns": p.V.dofmap.index_map.size_global, "contact_dofs": p.n_contact,
-                  "solver": "SNES vinewtonrsls, KSP preonly + LU (MUMPS)", "atol_factor": qp.ATOL_FACTOR,
-                  "vi_bound_tol": qp.VI_BOUND_TOL, "setup_seconds": setup, "step_seconds": step_seconds,
-                  "steps_taken": s.n, "min_gap": worst[0], "max_lambda": worst[1],
-                  "max_complementarity_product": worst[2], "max_inactive_multiplier": worst[3]}
-        files = {"summary.json": output.summary_json(head, summ.finish(time.perf_counter() - started)),
-                 "scene.resolved.toml": resolved_text,
-                 "engine.json": json.dumps(output._json_ready(engine), indent=2) + "\n"}
-        if scene.series:
-            files["series.csv"] = output.series_csv(["t"] + scene.series, rows)
-        output.write_files(folder, files)
+        timing = {"setup_seconds": setup, "step_seconds": step_seconds, "steps_taken": s.n}
+        _write(folder, scene, p, s, summ, rows, worst, timing, resolved_text)
     return 3 if divergence else 0
+
+
+def _write(folder, scene, p, s, summ, rows, worst, timing, resolved_text):
+    """Rank 0's files: summary.json and series.csv as the Rust run, engine.json, the scene."""
+    head = {"scheme": scene.scheme, "mass": scene.mass, "elements": scene.nx, "length": scene.length,
+            "end": scene.end, "height": scene.height, "nx": scene.nx, "ny": scene.ny,
+            "cells": scene.cells,
+            "initial": scene.initial if isinstance(scene.initial, str) else "expressions",
+            "total_mass": p.total_mass}
+    engine = {"ranks": p.comm.size, "unknowns": p.V.dofmap.index_map.size_global,
+              "contact_dofs": p.n_contact, "solver": s.qp.describe(), "atol_factor": qp.ATOL_FACTOR,
+              "vi_bound_tol": qp.VI_BOUND_TOL, **timing, "min_gap": worst[0], "max_lambda": worst[1],
+              "max_complementarity_product": worst[2], "max_inactive_multiplier": worst[3]}
+    files = {"summary.json": output.summary_json(head, summ.finish(timing["step_seconds"])),
+             "scene.resolved.toml": resolved_text,
+             "engine.json": json.dumps(output._json_ready(engine), indent=2) + "\n"}
+    if scene.series:
+        files["series.csv"] = output.series_csv(["t"] + scene.series, rows)
+    output.write_files(folder, files)
