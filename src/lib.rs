@@ -11,6 +11,7 @@ pub mod bench;
 pub mod characteristics;
 pub mod contact;
 pub mod driver;
+pub mod engine;
 pub mod exact;
 pub mod expr;
 pub mod linalg;

@@ -26,6 +26,12 @@ enum Command {
         out: PathBuf,
         #[command(flatten)]
         force: Force,
+        /// `fenicsx`: step the (plate) scene with dolfinx and PETSc under MPI (src/engine.rs).
+        #[arg(long, value_enum, default_value = "rust")]
+        engine: Engine,
+        /// MPI ranks of the fenicsx engine.
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
+        ranks: u16,
     },
     /// Validate a scene and print it with every default filled in.
     Check { scene: PathBuf },
@@ -57,6 +63,13 @@ enum Command {
         #[command(flatten)]
         force: Force,
     },
+}
+
+/// Which engine steps a `run`.
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Engine {
+    Rust,
+    Fenicsx,
 }
 
 /// `--force` of the commands that write an output folder.
@@ -116,11 +129,15 @@ fn main() -> ExitCode {
             Ok(dir) => reproduce(dir, quick),
             Err(code) => code,
         },
-        Command::Run { scene, out, force } => match prepare(&out, force, &[&scene]) {
-            Ok(dir) => match AnyScene::from_file(&scene) {
-                Ok(AnyScene::Bar(s)) => run_bar(&scene, s, dir),
-                Ok(AnyScene::Plate(s)) => run_plate(&scene, s, dir),
-                Err(e) => fail(&scene, e.to_string(), exit::INVALID),
+        Command::Run { scene, out, force, engine, ranks } => match prepare(&out, force, &[&scene]) {
+            Ok(dir) => match (AnyScene::from_file(&scene), engine) {
+                (Ok(AnyScene::Plate(s)), Engine::Fenicsx) => run_engine(&scene, s, dir, ranks.into()),
+                (Ok(_), Engine::Fenicsx) => {
+                    fail(&scene, "--engine fenicsx runs plate scenes ([plate]); bars run in Rust".into(), exit::INVALID)
+                }
+                (Ok(AnyScene::Bar(s)), Engine::Rust) => run_bar(&scene, s, dir),
+                (Ok(AnyScene::Plate(s)), Engine::Rust) => run_plate(&scene, s, dir),
+                (Err(e), _) => fail(&scene, e.to_string(), exit::INVALID),
             },
             Err(code) => code,
         },
@@ -230,6 +247,20 @@ fn run_plate(scene: &Path, s: PlateScene, dir: OutputDir) -> ExitCode {
         summary.energy_max_increase
     );
     status(&out, &summary)
+}
+
+/// `run --engine fenicsx`: the scene stepped by dolfinx/PETSc in `ranks` MPI processes.
+fn run_engine(scene: &Path, s: PlateScene, dir: OutputDir, ranks: usize) -> ExitCode {
+    let out = dir.path().to_path_buf();
+    let outcome = massredist::engine::run(&s, dir, ranks);
+    if outcome.is_ok() {
+        eprintln!("{}", massredist::engine::report(&out));
+    }
+    match outcome {
+        Ok(massredist::engine::EngineOutcome::Completed) => ExitCode::SUCCESS,
+        Ok(massredist::engine::EngineOutcome::Diverged) => ExitCode::from(exit::DIVERGED),
+        Err(e) => fail(scene, e.to_string(), if e.is_invalid() { exit::INVALID } else { exit::FAILURE }),
+    }
 }
 
 /// The exit code of a written run: 0, or [`exit::DIVERGED`] with a word on stderr.

@@ -1,0 +1,130 @@
+"""The resolved plate scene that ``massredist`` writes (``scene.resolved.toml``), as plain data.
+
+Pure: reads a TOML text, returns a :class:`Scene`; no dolfinx, no MPI. Every default is already
+filled in by the Rust side (``massredist check`` / ``run`` write the resolved scene), so this
+reader only takes values and rejects what the engine does not run yet, naming the key.
+"""
+import ast
+import math
+import tomllib
+from dataclasses import dataclass, field as dc_field
+
+import numpy as np
+
+# Scheme kinds the engine steps (src/schemes/*.rs): Newmark family, backward Euler, hybrid.
+SCHEMES = ("crank-nicolson", "newmark", "backward-euler", "hybrid")
+
+
+class SceneError(ValueError):
+    """A scene the engine cannot run; the message names the key and what is allowed."""
+
+
+@dataclass
+class Scene:
+    length: float
+    height: float
+    nx: int
+    ny: int
+    cells: str            # "quad" | "triangle"
+    density: float
+    modulus: float
+    far_end: str          # "clamped" | "free"
+    gap: float
+    initial: object       # "paper" | "bump" | {"displacement": str, "velocity": str}
+    force: object         # float | str (expression in x, y)
+    mass: str             # standard | mod1 | mod2 | mod3 | custom
+    weights: list | None
+    scheme: str
+    beta: float
+    gamma: float
+    dt: float
+    end: float
+    steps: int
+    series: list
+    every: int
+    summary_l2: bool
+    vtu_every: int | None
+    divergence_factor: float
+    field: str = "scalar"  # "scalar" (plates) | "vector" (elastic solids, issue 11)
+    raw: dict = dc_field(default_factory=dict)
+
+    @property
+    def has_paper_exact(self):
+        """The paper's closed form applies (src/run/plate.rs: paper data, default body)."""
+        return (self.initial == "paper" and self.density == 1.0 and self.modulus == 1.0
+                and self.far_end == "clamped" and self.gap == 0.0 and self.force == 0.0)
+
+
+def parse(text):
+    """A :class:`Scene` from the text of ``scene.resolved.toml``."""
+    raw = tomllib.loads(text)
+    if "plate" not in raw:
+        raise SceneError("the engine runs [plate] scenes (bars are 1D and serial; solids: issue 11)")
+    p, m, s, t, o = (raw.get(k, {}) for k in ("plate", "mass", "scheme", "time", "output"))
+    if "mesh" in p:
+        raise SceneError("plate.mesh: mesh files are not run by the engine yet (structured plates only)")
+    kind = s.get("kind", "crank-nicolson")
+    if kind not in SCHEMES:
+        raise SceneError(f'scheme.kind = "{kind}": the engine runs {", ".join(SCHEMES)}')
+    if s.get("formulation", "full") != "full":
+        raise SceneError('scheme.formulation: only "full" on plates')
+    beta, gamma = (0.25, 0.5) if kind != "newmark" else (s["beta"], s["gamma"])
+    dt, end = float(t["dt"]), float(t["end"])
+    steps = round(end / dt)
+    vtu_every = o.get("vtu_every") if o.get("vtu", False) else None
+    return Scene(
+        length=float(p["length"]), height=float(p["height"]), nx=int(p["nx"]), ny=int(p["ny"]),
+        cells=p.get("cells", "quad"), density=float(p.get("density", 1.0)),
+        modulus=float(p.get("modulus", 1.0)), far_end=p.get("far_end", "clamped"),
+        gap=float(p.get("gap", 0.0)), initial=p.get("initial", "paper"),
+        force=p.get("force", 0.0) if isinstance(p.get("force", 0.0), str) else float(p.get("force", 0.0)),
+        mass=m.get("kind", "mod3"), weights=m.get("weights"), scheme=kind, beta=float(beta),
+        gamma=float(gamma), dt=dt, end=end, steps=steps, series=list(o.get("series", [])),
+        every=int(o.get("every", 1)), summary_l2=bool(o.get("summary_l2", True)),
+        vtu_every=int(vtu_every) if vtu_every else None,
+        divergence_factor=float(o.get("divergence_factor", 1e6)), raw=raw)
+
+
+# --- scene expressions (src/expr: x, y, L, H, pi; + - * / ^ **; sin cos tan exp log sqrt abs
+# min max), evaluated on numpy arrays. Python's ** has the precedence src/expr documents for ^
+# (binds tighter than unary minus, right-associative), so ^ is translated to **.
+_FUNCS = {"sin": np.sin, "cos": np.cos, "tan": np.tan, "exp": np.exp, "log": np.log,
+          "sqrt": np.sqrt, "abs": np.abs, "min": np.fmin, "max": np.fmax}
+_NODES = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Call, ast.Name, ast.Constant, ast.Load,
+          ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd)
+
+
+def expression(text, names):
+    """A function of the variables ``names`` (keyword arrays) for a scene expression."""
+    tree = ast.parse(text.replace("^", "**"), mode="eval")
+    for node in ast.walk(tree):
+        if not isinstance(node, _NODES):
+            raise SceneError(f"expression {text!r}: {type(node).__name__} is not allowed")
+        if isinstance(node, ast.Name) and node.id not in _FUNCS and node.id not in names:
+            raise SceneError(f"expression {text!r}: unknown name {node.id!r}")
+    code = compile(tree, "<scene expression>", "eval")
+    return lambda **env: np.asarray(eval(code, {"__builtins__": {}, **_FUNCS}, env), dtype=float)
+
+
+def initial_fields(scene):
+    """``(u0(x, y), v0(x, y))`` as numpy functions (src/plate/scene.rs, PlateInitial)."""
+    L, H = scene.length, scene.height
+    base = lambda x: (L - x) / 2.0
+    if scene.initial == "paper":
+        return (lambda x, y: base(x)), (lambda x, y: 0.0 * x)
+    if scene.initial == "bump":
+        return (lambda x, y: base(x) * (1.0 + 0.5 * np.cos(math.pi * y / H))), (lambda x, y: 0.0 * x)
+    if isinstance(scene.initial, dict):
+        env = {"L": L, "H": H, "pi": math.pi}
+        fu = expression(scene.initial["displacement"], ("x", "y", "L", "H", "pi"))
+        fv = expression(scene.initial["velocity"], ("x", "y", "L", "H", "pi"))
+        return (lambda x, y: fu(x=x, y=y, **env) + 0.0 * x), (lambda x, y: fv(x=x, y=y, **env) + 0.0 * x)
+    raise SceneError(f"plate.initial = {scene.initial!r}: allowed \"paper\", \"bump\" or expressions")
+
+
+def force_field(scene):
+    """The body force f(x, y) as a numpy function (constant or expression)."""
+    if isinstance(scene.force, str):
+        f = expression(scene.force, ("x", "y", "L", "H", "pi"))
+        return lambda x, y: f(x=x, y=y, L=scene.length, H=scene.height, pi=math.pi) + 0.0 * x
+    return lambda x, y: scene.force + 0.0 * x
