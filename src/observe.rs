@@ -369,7 +369,7 @@ impl Observer for FrameRecorder {
     }
 
     fn observe(&mut self, s: &Sample) {
-        let n = s.geometry.n_nodes();
+        let n = s.geometry.n_nodes() * s.geometry.components();
         let mut u = vec![0.0; n];
         let mut v = vec![0.0; n];
         s.geometry.nodal_values(s.state.u, &mut u);

@@ -17,7 +17,7 @@ use crate::system::ContactSystem;
 
 /// What the driver and the observers need of a geometry (object safe).
 pub trait GeometryView: std::fmt::Debug + Send + Sync {
-    /// "bar" or "plate", for messages.
+    /// "bar", "plate" or "solid", for messages.
     fn name(&self) -> &'static str;
     /// Space dimension of the mesh (1 for a bar, 2 for a plate).
     fn dim(&self) -> usize;
@@ -48,7 +48,12 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
     }
     /// Number of mesh nodes (Dirichlet nodes included).
     fn n_nodes(&self) -> usize;
-    /// Values at all mesh nodes (0 on the Dirichlet boundary) from values on the unknowns.
+    /// Values per node: 1 for scalar fields (bars, plates), d for a solid's displacement.
+    fn components(&self) -> usize {
+        1
+    }
+    /// Values at all mesh nodes (0 on the Dirichlet boundary) from values on the unknowns:
+    /// `n_nodes() · components()` of them, interleaved `node · components() + component`.
     fn nodal_values(&self, u: &[f64], out: &mut [f64]);
 }
 
