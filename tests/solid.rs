@@ -58,9 +58,8 @@ fn q1_with_the_paper_data_is_the_1d_solution_extended_in_y_and_z() {
     // LCP has the y-constant solution. So each step is the 1D step, to round-off.
     // As tests/plate.rs: per-step round-off of a few ulps per operation in a well-conditioned
     // solve, growing at most linearly: steps · 64 ε for u, and v amplifies it by 2/Δt.
-    // Mutation: μ (δ_ij ∇φa·∇φb + ∂_j φa ∂_i φb) → μ (δ_ij ∇φa·∇φb + ∂_i φa ∂_j φb) in
-    // solid::assembly -> fails for λ = 0? no (symmetric part equal on these fields); mutation
-    // used instead: the weight of the mass dropped (w → 1) -> fails with du ≈ 0.1.
+    // Mutation: the cell weight dropped from the vector mass (w_c → 1 in solid::assembly) ->
+    // fails at "2D crank-nicolson mod1".
     let (dt, steps) = (0.01, 300);
     let tol_u = steps as f64 * 64.0 * f64::EPSILON;
     let tol_v = tol_u * 2.0 / dt;
@@ -82,8 +81,8 @@ fn q1_with_the_paper_data_is_the_1d_solution_extended_in_y_and_z() {
 fn roller_faces_with_lambda_give_the_bar_of_modulus_lambda_plus_2mu() {
     // λ = 1, μ = 0.75, ρ = 2.5 with u·n = 0 on the lateral faces: the plane wave of speed
     // sqrt((λ+2μ)/ρ) = 1, and the Q1 solid steps as the bar of modulus 2.5 and density 2.5,
-    // with a gap and expression data. Mutation: lateral = "free" -> fails (Poisson coupling
-    // makes u_y ≠ 0, |u_t| ≈ 1e-2); mutation: dropping the λ term -> fails with du ≈ 1e-2.
+    // with a gap and expression data. Mutation: the λ term dropped from the stiffness
+    // (λ ∂_i φa ∂_j φb → 0) -> fails at "2D crank-nicolson".
     let (dt, steps) = (0.01, 200);
     let tol_u = steps as f64 * 64.0 * f64::EPSILON;
     let tail = "[mass]\nkind = \"mod3\"\n[time]\ndt = 0.01\nend = 2.0\n";
@@ -197,8 +196,10 @@ fn hybrid_energy_never_increases_and_its_identity_holds() {
     // ΔE = (λ^{n+1})ᵀ(ũ − lb) + (u_Cⁿ − lb)ᵀλ̄ − ½ d_Cᵀ D d_C ≤ 0 with D the Schur complement
     // of the free massless (tangential) unknowns (schemes::hybrid module docs). E = O(0.1) is a
     // sum of O(n) products: its evaluation error is ~ n ε · 0.1 ≤ 1e4 ε for these sizes.
-    // Mutation: Φ without the free massless unknowns (QuasiStatic::new instead of with_free in
-    // Hybrid::new) -> the identity fails (off by ~1e-4) on every cell type.
+    // Mutation: D = S_CC without the Schur correction of the free massless unknowns (in
+    // QuasiStatic::with_free) -> fails: quad mod1 ΔE 1.0e-4, identity off by 2.5e-2. (Φ
+    // without the free unknowns keeps this identity, with them extrapolated like interior
+    // unknowns; the quasi-static test below catches that.)
     let tol = 1e4 * f64::EPSILON;
     for cells in ["quad", "triangle", "hex", "tet"] {
         for mass in [MassKind::Mod1, MassKind::Mod3] {
@@ -224,6 +225,66 @@ fn hybrid_energy_never_increases_and_its_identity_holds() {
     }
 }
 
+/// The largest residual of the massless rows: `|(S U − F)_i|` on the free massless unknowns
+/// and `|(S U − F)_c + λ_c|` on the contact ones.
+struct QuasiStaticRows<'a> {
+    system: &'a massredist::system::ContactSystem<sparse::SpMat>,
+    residual: Vec<f64>,
+    worst_free: f64,
+    worst_contact: f64,
+}
+
+impl Observer for QuasiStaticRows<'_> {
+    fn observe(&mut self, s: &Sample) {
+        if s.state.n == 0 {
+            return; // the interpolated initial data need not be quasi-static (CN and BE report them)
+        }
+        sparse::sym_mul_into(&self.system.stiffness, s.state.u, &mut self.residual);
+        let contact = &self.system.contact;
+        for (i, r) in self.residual.iter().enumerate() {
+            if !self.system.massless[i] {
+                continue;
+            }
+            let r = r - self.system.load[i];
+            match contact.iter().position(|&c| c == i) {
+                Some(c) => self.worst_contact = self.worst_contact.max((r + s.state.lambda[c]).abs()),
+                None => self.worst_free = self.worst_free.max(r.abs()),
+            }
+        }
+    }
+}
+
+#[test]
+fn massless_components_are_quasi_static_at_every_step() {
+    // Every component of a contact-face node is massless; the tangential ones carry no contact
+    // condition, so their rows read (S U − F)_i = 0 at every t_n (n ≥ 1), and the normal ones
+    // (S U − F)_c = −λ_c. Newmark and backward Euler solve these rows with the step; the hybrid
+    // scheme sets them with its quasi-static map Φ (schemes::hybrid, "free massless unknowns").
+    // Residual: ≤ 81 entries of size ≤ 2(λ + 2μ) times |u| ≤ 1, plus the backward error of the
+    // solves (condition numbers ≤ 1e3 at these sizes): 1e-12.
+    // Mutation: Φ without the free massless unknowns (QuasiStatic::new in Hybrid::new) -> fails
+    // for the hybrid scheme (quad: tangential residual 5.3e-2, the extrapolation 2ū − uⁿ).
+    for cells in ["quad", "triangle", "hex", "tet"] {
+        let p = bumpy(cells).problem(&MassKind::Mod3, 3.0).unwrap();
+        let sys = &p.system.system;
+        assert!(sys.massless.iter().filter(|&&m| m).count() > sys.contact.len(), "{cells}: free massless unknowns");
+        for scheme in &SCHEMES {
+            let mut s = p.scheme(scheme, 0.02).unwrap();
+            let mut q =
+                QuasiStaticRows { system: sys, residual: vec![0.0; sys.n()], worst_free: 0.0, worst_contact: 0.0 };
+            integrate(&p, s.as_mut(), 100, &mut [&mut q]).unwrap();
+            eprintln!("{cells} {}: free rows {:e}, contact rows {:e}", scheme.name(), q.worst_free, q.worst_contact);
+            assert!(
+                q.worst_free <= 1e-12 && q.worst_contact <= 1e-12,
+                "{cells} {}: {} {}",
+                scheme.name(),
+                q.worst_free,
+                q.worst_contact
+            );
+        }
+    }
+}
+
 #[test]
 fn crank_nicolson_without_contact_conserves_energy_and_backward_euler_dissipates() {
     // u⁰ = 0 satisfies the massless (quasi-static) rows, and the gap keeps the solid off the
@@ -231,8 +292,7 @@ fn crank_nicolson_without_contact_conserves_energy_and_backward_euler_dissipates
     // ε E per step of the solve (16 ε E per step, accumulated over the steps) plus the
     // evaluation of the quadratic forms (one ε E per stored entry of S, a worst case).
     // BE: ΔE ≤ 0 at every step, to the same evaluation round-off.
-    // Mutation: Newmark without the massless-unknown update (v = (u − uⁿ)/Δt) -> still passes
-    // (M kills those rows); mutation used: CN with β = 0.3 -> fails with drift ~1e-5.
+    // Mutation: Newmark::crank_nicolson with β = 0.3 -> fails (quad: drift 2.8e-7).
     for cells in ["quad", "triangle", "hex", "tet"] {
         let dim = if cells == "quad" || cells == "triangle" { 2 } else { 3 };
         let z = if dim == 3 { ", \"0\"" } else { "" };
@@ -263,7 +323,8 @@ fn crank_nicolson_without_contact_conserves_energy_and_backward_euler_dissipates
 fn total_mass_and_massless_contact_faces_for_every_redistribution() {
     // 1ᵀM1 = d ρ Σ_c w_c |c| (the basis sums to 1, d components): |Ω| − A_0 (mod1), |Ω| (mod2,
     // mod3, standard), and every row of a node on x = 0 vanishes (all components massless).
-    // Mutation: Mod3's layer-1 weight 1 + A0/A1 → 1 + A1/A0 in fem::layers -> fails.
+    // Mutation: ρ dropped from the vector mass in solid::assembly -> fails (quad standard: 2.0
+    // vs 3.4).
     let rho = 1.7;
     let lame = Lame { lambda: 0.3, mu: 0.4, density: rho };
     for cells in ["quad", "triangle", "hex", "tet"] {
@@ -294,7 +355,7 @@ fn total_mass_and_massless_contact_faces_for_every_redistribution() {
 fn rigid_motions_are_in_the_kernel_of_the_free_stiffness() {
     // Before boundary conditions S r = 0 for the translations and the infinitesimal rotations
     // (ε(r) = 0), and S is symmetric. Entries O(λ + μ) ≤ 2: sums of ≤ 30 element terms.
-    // Mutation: the μ term ∂_j φa ∂_i φb → ∂_i φa ∂_j φb -> rotations fail (|S r| ≈ 0.5).
+    // Mutation: the μ term ∂_j φa ∂_i φb → ∂_i φa ∂_j φb -> the rotation fails (quad: 0.1).
     let lame = Lame { lambda: 0.8, mu: 0.6, density: 1.0 };
     for cells in ["quad", "triangle", "hex", "tet"] {
         let mesh = bumpy(cells).mesh().unwrap();

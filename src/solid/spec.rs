@@ -125,23 +125,16 @@ impl SolidSpec {
         let mesh = self.mesh()?;
         let weights = cell_weights(&mesh, mass).map_err(SolidAssemblyError::from)?;
         let solid = SolidSystem::assemble(mesh, weights, self.lame, self.lateral, self.force, self.gap)?;
-        let [l, h, d] = self.extent;
+        let l = self.extent[0];
         let (u0, v0) = match &self.initial {
             SolidInitial::Paper => {
                 (solid.interpolate(|i, p| if i == 0 { (l - p[0]) / 2.0 } else { 0.0 }), vec![0.0; solid.dofs.len()])
             }
             SolidInitial::Fields { displacement, velocity } => {
-                let args = |p: [f64; 3]| p;
-                let eval = |f: &[Expr]| {
-                    solid.interpolate(|i, p| {
-                        let a = args(p);
-                        f[i].eval(&a[..self.dim])
-                    })
-                };
+                let eval = |f: &[Expr]| solid.interpolate(|i, p| f[i].eval(&p[..self.dim]));
                 (eval(displacement), eval(velocity))
             }
         };
-        let _ = (h, d);
         let exact = if !self.is_plane_wave() {
             None
         } else if self.initial == SolidInitial::Paper
@@ -159,8 +152,7 @@ impl SolidSpec {
                     exact(InitialData::PiecewiseLinear { x: &x, u: &u, v: &v })
                 }
                 SolidInitial::Fields { displacement, velocity } => {
-                    let zero = [0.0; 3];
-                    let at = |x: f64| [x, zero[1], zero[2]];
+                    let at = |x: f64| [x, 0.0, 0.0];
                     let u = |x: f64| displacement[0].eval(&at(x)[..self.dim]);
                     let v = |x: f64| velocity[0].eval(&at(x)[..self.dim]);
                     exact(InitialData::Smooth { u: &u, v: &v })
