@@ -348,6 +348,8 @@ pub struct Frame {
     pub t: f64,
     pub u: Vec<f64>,
     pub v: Vec<f64>,
+    /// The contact multipliers (contact order).
+    pub lambda: Vec<f64>,
 }
 
 /// Records [`Frame`]s every `every` steps (for VTU output at the edge).
@@ -374,7 +376,7 @@ impl Observer for FrameRecorder {
         let mut v = vec![0.0; n];
         s.geometry.nodal_values(s.state.u, &mut u);
         s.geometry.nodal_values(s.state.v, &mut v);
-        self.frames.push(Frame { t: s.state.t, u, v });
+        self.frames.push(Frame { t: s.state.t, u, v, lambda: s.state.lambda.to_vec() });
     }
 }
 

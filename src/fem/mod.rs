@@ -7,6 +7,7 @@
 pub mod element;
 pub mod layers;
 pub mod mesh;
+pub mod vtu;
 
 pub use mesh::{Cell, Mesh};
 

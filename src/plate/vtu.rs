@@ -1,202 +1,29 @@
-//! VTK XML output for ParaView: one `.vtu` (UnstructuredGrid, ASCII) per frame and a `.pvd`
-//! collection with the frame times, plus a reader for the files written here (read-back tests).
-//!
-//! Each frame has the points (z = 0), the cells (VTK_QUAD = 9 or VTK_TRIANGLE = 5), the point
-//! data `u` and `v` (0 on Γ_D) and `warp` = (0, 0, u) (for "Warp By Vector"), and the cell data
-//! `weight` (the mass redistribution). Numbers are written with Rust's shortest round-trip
-//! formatting, so reading them back gives the same `f64` bit for bit.
+//! The plate's VTU frames for ParaView: the point data `u` and `v` (0 on Γ_D) and
+//! `warp` = (0, 0, u) (for "Warp By Vector"), and the cell data `weight` (the mass
+//! redistribution), written by the shared writer [`crate::fem::vtu`] (which also reads them
+//! back).
 
 use super::mesh::{CellKind, Mesh2d};
-use crate::output::fmt_f64;
-use std::fmt::Write as _;
-use thiserror::Error;
+use crate::fem::vtu::{Array, Grid, grid_string, write_series};
+pub use crate::fem::vtu::{DataArray, VtuData, VtuError, pvd_string, read_pvd, read_vtu};
 
 /// VTK cell type codes.
 pub fn vtk_type(kind: CellKind) -> u8 {
-    match kind {
-        CellKind::Quad => 9,
-        CellKind::Triangle => 5,
-    }
-}
-
-fn data_array(out: &mut String, name: &str, components: usize, values: impl Iterator<Item = f64>) {
-    let _ = write!(
-        out,
-        "        <DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{components}\" format=\"ascii\">\n         "
-    );
-    for (k, x) in values.enumerate() {
-        if k > 0 && k % 12 == 0 {
-            out.push_str("\n         ");
-        }
-        out.push(' ');
-        out.push_str(&fmt_f64(x));
-    }
-    out.push_str("\n        </DataArray>\n");
+    crate::fem::vtu::vtk_type(kind.into())
 }
 
 /// The `.vtu` text of one frame: `u`, `v` at every mesh node, `weights` per cell.
 pub fn vtu_string(mesh: &Mesh2d, u: &[f64], v: &[f64], weights: &[f64]) -> String {
     assert!(u.len() == mesh.n_nodes() && v.len() == mesh.n_nodes() && weights.len() == mesh.n_cells());
-    let mut s = String::with_capacity(64 * mesh.n_nodes());
-    s.push_str("<?xml version=\"1.0\"?>\n");
-    s.push_str(
-        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n",
-    );
-    s.push_str("  <UnstructuredGrid>\n");
-    let _ = writeln!(s, "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">", mesh.n_nodes(), mesh.n_cells());
-    s.push_str("      <PointData Scalars=\"u\" Vectors=\"warp\">\n");
-    data_array(&mut s, "u", 1, u.iter().copied());
-    data_array(&mut s, "v", 1, v.iter().copied());
-    data_array(&mut s, "warp", 3, u.iter().flat_map(|&x| [0.0, 0.0, x]));
-    s.push_str("      </PointData>\n      <CellData Scalars=\"weight\">\n");
-    data_array(&mut s, "weight", 1, weights.iter().copied());
-    s.push_str("      </CellData>\n      <Points>\n");
-    data_array(&mut s, "Points", 3, mesh.points.iter().flat_map(|p| [p[0], p[1], 0.0]));
-    s.push_str("      </Points>\n      <Cells>\n");
-    let k = mesh.kind.verts();
-    let ints = |s: &mut String, name: &str, ty: &str, values: &mut dyn Iterator<Item = usize>| {
-        let _ = write!(s, "        <DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">\n         ");
-        for (j, x) in values.enumerate() {
-            if j > 0 && j % 20 == 0 {
-                s.push_str("\n         ");
-            }
-            let _ = write!(s, " {x}");
-        }
-        s.push_str("\n        </DataArray>\n");
-    };
-    ints(&mut s, "connectivity", "Int64", &mut mesh.cells.iter().copied());
-    ints(&mut s, "offsets", "Int64", &mut (1..=mesh.n_cells()).map(|c| c * k));
-    ints(&mut s, "types", "UInt8", &mut (0..mesh.n_cells()).map(|_| vtk_type(mesh.kind) as usize));
-    s.push_str("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
-    s
-}
-
-/// The `.pvd` collection of `(time, file)` frames (file names relative to the `.pvd`).
-pub fn pvd_string(frames: &[(f64, String)]) -> String {
-    let mut s =
-        String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n");
-    for (t, f) in frames {
-        let _ = writeln!(s, "    <DataSet timestep=\"{}\" part=\"0\" file=\"{f}\"/>", fmt_f64(*t));
-    }
-    s.push_str("  </Collection>\n</VTKFile>\n");
-    s
-}
-
-#[derive(Debug, Clone, PartialEq, Error)]
-pub enum VtuError {
-    #[error("malformed VTU: {0}")]
-    Malformed(String),
-}
-
-/// A `DataArray` read back: its name, component count and values.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DataArray {
-    pub name: String,
-    pub components: usize,
-    pub values: Vec<f64>,
-}
-
-/// The content of a `.vtu` file written by [`vtu_string`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct VtuData {
-    pub n_points: usize,
-    pub n_cells: usize,
-    pub points: Vec<f64>,
-    pub connectivity: Vec<usize>,
-    pub offsets: Vec<usize>,
-    pub types: Vec<u8>,
-    pub point_data: Vec<DataArray>,
-    pub cell_data: Vec<DataArray>,
-}
-
-impl VtuData {
-    pub fn point_array(&self, name: &str) -> Option<&DataArray> {
-        self.point_data.iter().find(|a| a.name == name)
-    }
-
-    pub fn cell_array(&self, name: &str) -> Option<&DataArray> {
-        self.cell_data.iter().find(|a| a.name == name)
-    }
-}
-
-fn attr(tag: &str, name: &str) -> Option<String> {
-    let key = format!("{name}=\"");
-    let i = tag.find(&key)? + key.len();
-    let j = tag[i..].find('"')? + i;
-    Some(tag[i..j].to_string())
-}
-
-/// Parses the ASCII `.vtu` files written by this module (not a general VTK reader).
-pub fn read_vtu(text: &str) -> Result<VtuData, VtuError> {
-    let bad = |m: &str| VtuError::Malformed(m.to_string());
-    let piece_at = text.find("<Piece").ok_or_else(|| bad("no <Piece>"))?;
-    let piece_tag =
-        &text[piece_at..piece_at + text[piece_at..].find('>').ok_or_else(|| bad("unterminated <Piece>"))?];
-    let count = |k: &str| -> Result<usize, VtuError> {
-        attr(piece_tag, k).and_then(|v| v.parse().ok()).ok_or_else(|| bad(&format!("Piece without {k}")))
-    };
-    let (n_points, n_cells) = (count("NumberOfPoints")?, count("NumberOfCells")?);
-    let section = |open: &str, close: &str| -> &str {
-        match (text.find(open), text.find(close)) {
-            (Some(a), Some(b)) if a < b => &text[a..b],
-            _ => "",
-        }
-    };
-    let arrays = |sec: &str| -> Result<Vec<DataArray>, VtuError> {
-        let mut out = Vec::new();
-        let mut rest = sec;
-        while let Some(a) = rest.find("<DataArray") {
-            let tag_end = a + rest[a..].find('>').ok_or_else(|| bad("unterminated <DataArray>"))?;
-            let tag = &rest[a..tag_end];
-            let body_end =
-                tag_end + rest[tag_end..].find("</DataArray>").ok_or_else(|| bad("unterminated DataArray"))?;
-            let values = rest[tag_end + 1..body_end]
-                .split_whitespace()
-                .map(|w| w.parse::<f64>().map_err(|_| bad(&format!("not a number: {w}"))))
-                .collect::<Result<Vec<f64>, _>>()?;
-            out.push(DataArray {
-                name: attr(tag, "Name").unwrap_or_default(),
-                components: attr(tag, "NumberOfComponents").and_then(|v| v.parse().ok()).unwrap_or(1),
-                values,
-            });
-            rest = &rest[body_end..];
-        }
-        Ok(out)
-    };
-    let points = arrays(section("<Points>", "</Points>"))?.into_iter().next().ok_or_else(|| bad("no points"))?;
-    if points.values.len() != 3 * n_points {
-        return Err(bad("point count"));
-    }
-    let cells = arrays(section("<Cells>", "</Cells>"))?;
-    let ints = |name: &str| -> Result<Vec<usize>, VtuError> {
-        let a = cells.iter().find(|a| a.name == name).ok_or_else(|| bad(&format!("no {name}")))?;
-        Ok(a.values.iter().map(|&x| x as usize).collect())
-    };
-    let point_data = arrays(section("<PointData", "</PointData>"))?;
-    let cell_data = arrays(section("<CellData", "</CellData>"))?;
-    if point_data.iter().any(|a| a.values.len() != a.components * n_points)
-        || cell_data.iter().any(|a| a.values.len() != a.components * n_cells)
-    {
-        return Err(bad("data array length"));
-    }
-    Ok(VtuData {
-        n_points,
-        n_cells,
-        points: points.values,
-        connectivity: ints("connectivity")?,
-        offsets: ints("offsets")?,
-        types: ints("types")?.into_iter().map(|t| t as u8).collect(),
-        point_data,
-        cell_data,
-    })
-}
-
-/// Reads the `(timestep, file)` entries of a `.pvd` written by [`pvd_string`].
-pub fn read_pvd(text: &str) -> Vec<(f64, String)> {
-    text.lines()
-        .filter(|l| l.contains("<DataSet"))
-        .filter_map(|l| Some((attr(l, "timestep")?.parse().ok()?, attr(l, "file")?)))
-        .collect()
+    let points: Vec<[f64; 3]> = mesh.points.iter().map(|p| [p[0], p[1], 0.0]).collect();
+    let warp: Vec<f64> = u.iter().flat_map(|&x| [0.0, 0.0, x]).collect();
+    let grid = Grid { points: &points, cells: &mesh.cells, verts: mesh.kind.verts(), kind: vtk_type(mesh.kind) };
+    let point_data = [
+        Array { name: "u", components: 1, values: u },
+        Array { name: "v", components: 1, values: v },
+        Array { name: "warp", components: 3, values: &warp },
+    ];
+    grid_string(&grid, &point_data, "warp", &[Array { name: "weight", components: 1, values: weights }])
 }
 
 /// Writes `frames` as `vtu/frame_NNNNN.vtu` and the collection `plate.pvd` into `dir`.
@@ -205,12 +32,6 @@ pub fn write_frames(
     plate: &super::PlateSystem,
     frames: &[crate::observe::Frame],
 ) -> std::io::Result<()> {
-    std::fs::create_dir(dir.join("vtu"))?;
-    let mut entries = Vec::with_capacity(frames.len());
-    for (k, fr) in frames.iter().enumerate() {
-        let name = format!("vtu/frame_{k:05}.vtu");
-        std::fs::write(dir.join(&name), vtu_string(&plate.mesh, &fr.u, &fr.v, &plate.weights))?;
-        entries.push((fr.t, name));
-    }
-    std::fs::write(dir.join("plate.pvd"), pvd_string(&entries))
+    let times: Vec<f64> = frames.iter().map(|f| f.t).collect();
+    write_series(dir, "plate", &times, |k| vtu_string(&plate.mesh, &frames[k].u, &frames[k].v, &plate.weights))
 }

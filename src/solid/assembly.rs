@@ -108,6 +108,42 @@ pub fn assemble(mesh: &Mesh, weights: &[f64], lame: &Lame) -> Result<(SpMat, SpM
     Ok((sparse::from_triplets(n, &tm, "mass")?, sparse::from_triplets(n, &ts, "stiffness")?))
 }
 
+/// `∫_{Γ_C} φ_c` for each contact node: every cell face on x = 0 (a segment in 2D, a rectangle
+/// of a hexahedron or a triangle of a tetrahedron in 3D) gives each of its k vertices |face|/k,
+/// the exact integral of a P1 or Q1 basis function over it.
+fn contact_areas(mesh: &Mesh, contact_nodes: &[usize]) -> Vec<f64> {
+    let mut slot = vec![usize::MAX; mesh.n_nodes()];
+    for (k, &v) in contact_nodes.iter().enumerate() {
+        slot[v] = k;
+    }
+    let d = mesh.dim;
+    let face_verts = if mesh.kind.is_tensor() { 1 << (d - 1) } else { d };
+    let mut areas = vec![0.0; contact_nodes.len()];
+    for c in 0..mesh.n_cells() {
+        let on: Vec<usize> = mesh.cell(c).iter().copied().filter(|&v| slot[v] != usize::MAX).collect();
+        if on.len() != face_verts {
+            continue;
+        }
+        let p: Vec<[f64; 3]> = on.iter().map(|&v| mesh.points[v]).collect();
+        let span = |k: usize| {
+            p.iter().map(|q| q[k]).fold(f64::NEG_INFINITY, f64::max)
+                - p.iter().map(|q| q[k]).fold(f64::INFINITY, f64::min)
+        };
+        let area = match (d, mesh.kind.is_tensor()) {
+            (2, _) => span(1),
+            (_, true) => span(1) * span(2),
+            _ => {
+                let (a, b) = ([p[1][1] - p[0][1], p[1][2] - p[0][2]], [p[2][1] - p[0][1], p[2][2] - p[0][2]]);
+                0.5 * (a[0] * b[1] - a[1] * b[0]).abs()
+            }
+        };
+        for &v in &on {
+            areas[slot[v]] += area / face_verts as f64;
+        }
+    }
+    areas
+}
+
 /// The solid on its free unknowns: mesh, weights, material, the contact system and what the
 /// reports need (module docs for the layout).
 #[derive(Debug, Clone)]
@@ -125,6 +161,8 @@ pub struct SolidSystem {
     pub mass_unit: SpMat,
     /// The mesh nodes on x = 0 (contact order).
     pub contact_nodes: Vec<usize>,
+    /// `∫_{Γ_C} φ_c` per contact node (its share of the face area; they sum to |Γ_C|).
+    pub contact_areas: Vec<f64>,
 }
 
 impl SolidSystem {
@@ -167,7 +205,8 @@ impl SolidSystem {
         let contact_nodes: Vec<usize> = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).collect();
         let contact = contact_nodes.iter().map(|&v| dof_of[v * d].expect("x = 0 is not x = L")).collect();
         let system = ContactSystem::new(mass, stiffness, load, contact, gap);
-        Ok(Self { mesh, weights, lame, lateral, dofs, dof_of, system, mass_unit, contact_nodes })
+        let contact_areas = contact_areas(&mesh, &contact_nodes);
+        Ok(Self { mesh, weights, lame, lateral, dofs, dof_of, system, mass_unit, contact_nodes, contact_areas })
     }
 
     /// The nodal interpolant of a vector field g(x) (component i of g at `x`) on the free

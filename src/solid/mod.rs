@@ -13,7 +13,8 @@
 //! its exact many-node contact solver, the schemes, the driver and the observers are the same
 //! as for bars and plates. What is solid-specific: the vector assembly ([`assembly`]), the
 //! solid as a [`crate::problem::Geometry`] ([`geometry`]), and the `[solid]` table and the
-//! problem it poses ([`spec`]).
+//! problem it poses ([`spec`]), and VTU frames with the displacement and velocity vectors and
+//! the contact pressure ([`vtu`]).
 //!
 //! With Q1 cells on a structured mesh, x-only weights and data u = (u¹ᴰ(x), 0[, 0]), and either
 //! λ = 0 or roller lateral faces, the discrete solution is the 1D solution with modulus λ + 2μ
@@ -23,6 +24,7 @@
 pub mod assembly;
 pub mod geometry;
 pub mod spec;
+pub mod vtu;
 
 pub use assembly::{Lame, Lateral, SolidSystem};
 pub use spec::{SolidInitial, SolidSpec};
