@@ -3,7 +3,8 @@
 //!
 //! A geometry ([`Geometry`]) is a mesh with its assembled [`ContactSystem`] and what reports
 //! need of it (contact means, exact L² norms, nodal values). A bar ([`BarSystem`]) is one over
-//! a tridiagonal back-end, a plate (`crate::plate::PlateSystem`, its impl in `crate::plate::geometry`) one over a sparse back-end. Schemes are
+//! a tridiagonal back-end, a plate (`crate::plate::PlateSystem`, its impl in `crate::plate::geometry`) and a solid
+//! (`crate::solid::SolidSystem`, in `crate::solid::geometry`) ones over a sparse back-end. Schemes are
 //! generic; only the bar-only schemes (Paoli–Schatzman and the reduced Newmark formulation)
 //! need the bar itself, and [`Geometry::bar`] is how they get it — every other geometry rejects
 //! them here, in [`Problem::scheme`].
@@ -19,7 +20,7 @@ use crate::system::ContactSystem;
 pub trait GeometryView: std::fmt::Debug + Send + Sync {
     /// "bar", "plate" or "solid", for messages.
     fn name(&self) -> &'static str;
-    /// Space dimension of the mesh (1 for a bar, 2 for a plate).
+    /// Space dimension of the mesh (1 for a bar, 2 for a plate, 2 or 3 for a solid).
     fn dim(&self) -> usize;
     /// The mesh size along x.
     fn h(&self) -> f64;
