@@ -128,7 +128,7 @@ pub fn validate(scene: &PlateScene) -> Result<(), EngineError> {
         return Err(EngineError::Scene(format!("{key} is not available for plate scenes: {why}")));
     }
     let mesh = scene.geometry.mesh().map_err(|e| EngineError::Scene(e.to_string()))?;
-    cell_weights(&mesh, &scene.mass).map_err(|e| EngineError::Scene(e.to_string()))?;
+    cell_weights(mesh.as_ref(), &scene.mass).map_err(|e| EngineError::Scene(e.to_string()))?;
     Ok(())
 }
 

@@ -218,7 +218,7 @@ impl SummaryObserver {
             },
             first_contact: problem.exact.as_ref().and_then(|e| e.first_contact()),
             has_exact: problem.exact.is_some(),
-            with_l2: with_l2 && problem.exact.is_some(),
+            with_l2: with_l2 && problem.exact.as_ref().is_some_and(|e| g.integrates(e)),
             with_y: g.dim() > 1,
             lower0: lower[0],
             lower,
@@ -360,6 +360,8 @@ pub struct Frame {
     pub t: f64,
     pub u: Vec<f64>,
     pub v: Vec<f64>,
+    /// The contact multipliers (contact order).
+    pub lambda: Vec<f64>,
 }
 
 /// Records [`Frame`]s every `every` steps, in memory (for library users; the command line
@@ -382,12 +384,12 @@ impl Observer for FrameRecorder {
     }
 
     fn observe(&mut self, s: &Sample) {
-        let n = s.geometry.n_nodes();
+        let n = s.geometry.n_nodes() * s.geometry.components();
         let mut u = vec![0.0; n];
         let mut v = vec![0.0; n];
         s.geometry.nodal_values(s.state.u, &mut u);
         s.geometry.nodal_values(s.state.v, &mut v);
-        self.frames.push(Frame { t: s.state.t, u, v });
+        self.frames.push(Frame { t: s.state.t, u, v, lambda: s.state.lambda.to_vec() });
     }
 }
 

@@ -3,7 +3,8 @@
 //!
 //! A geometry ([`Geometry`]) is a mesh with its assembled [`ContactSystem`] and what reports
 //! need of it (contact means, exact L² norms, nodal values). A bar ([`BarSystem`]) is one over
-//! a tridiagonal back-end, a plate (`crate::plate::PlateSystem`, its impl in `crate::plate::geometry`) one over a sparse back-end. Schemes are
+//! a tridiagonal back-end, a plate (`crate::plate::PlateSystem`, its impl in `crate::plate::geometry`) and a solid
+//! (`crate::solid::SolidSystem`, in `crate::solid::geometry`) ones over a sparse back-end. Schemes are
 //! generic; only the bar-only schemes (Paoli–Schatzman and the reduced Newmark formulation)
 //! need the bar itself, and [`Geometry::bar`] is how they get it — every other geometry rejects
 //! them here, in [`Problem::scheme`].
@@ -18,9 +19,9 @@ use crate::system::ContactSystem;
 
 /// What the driver and the observers need of a geometry (object safe).
 pub trait GeometryView: std::fmt::Debug + Send + Sync {
-    /// "bar" or "plate", for messages.
+    /// "bar", "plate" or "solid", for messages.
     fn name(&self) -> &'static str;
-    /// Space dimension of the mesh (1 for a bar, 2 for a plate).
+    /// Space dimension of the mesh (1 for a bar, 2 for a plate, 2 or 3 for a solid).
     fn dim(&self) -> usize;
     /// The mesh size along x.
     fn h(&self) -> f64;
@@ -34,8 +35,14 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
     fn contact(&self) -> &[usize];
     /// The mean of u over Γ_C (u_0 for a bar).
     fn contact_mean(&self, u: &[f64]) -> f64;
-    /// `‖u_h − u(·, t)‖_{L²(Ω)}` against an x-only exact solution.
+    /// `‖u_h − u(·, t)‖_{L²(Ω)}` against an x-only exact solution (NaN where the geometry
+    /// cannot integrate it: [`GeometryView::integrates`]).
     fn l2_error(&self, u: &[f64], exact: &Exact, t: f64) -> f64;
+    /// Whether [`GeometryView::l2_error`] can integrate this exact solution (bars and plates
+    /// always; solids on structured tensor-product meshes).
+    fn integrates(&self, _exact: &Exact) -> bool {
+        true
+    }
     /// `‖I_h u(·, t)‖_{L²(Ω)}`; `scratch` holds the interpolant (reused between calls).
     fn interp_norm(&self, exact: &Exact, t: f64, scratch: &mut Vec<f64>) -> f64;
     /// `max |u(x, y) − u(x, y_min)|` over the unknowns (0 for a bar).
@@ -44,7 +51,12 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
     }
     /// Number of mesh nodes (Dirichlet nodes included).
     fn n_nodes(&self) -> usize;
-    /// Values at all mesh nodes (0 on the Dirichlet boundary) from values on the unknowns.
+    /// Values per node: 1 for scalar fields (bars, plates), d for a solid's displacement.
+    fn components(&self) -> usize {
+        1
+    }
+    /// Values at all mesh nodes (0 on the Dirichlet boundary) from values on the unknowns:
+    /// `n_nodes() · components()` of them, interleaved `node · components() + component`.
     fn nodal_values(&self, u: &[f64], out: &mut [f64]);
 }
 

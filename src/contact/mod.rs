@@ -107,61 +107,170 @@ impl ContactSolver for OneNode {
     }
 }
 
-/// The quasi-static contact map Φ of massless contact nodes: for the other values U, the
-/// contact values u and multipliers λ with
+/// The quasi-static map Φ of the massless unknowns: for the other values U, the contact values
+/// u (with Signorini rows) and the free massless values u_F (no condition: the tangential
+/// components of a solid's contact-face nodes), and the multipliers λ, with
 ///
 /// ```text
-/// S_CC u + S_CI U − F_C = −λ,     0 ≤ u − lb ⊥ λ ≤ 0,
+/// S_CC u + S_CF u_F + S_CI U − F_C = −λ,     0 ≤ u − lb ⊥ λ ≤ 0,
+/// S_FC u + S_FF u_F + S_FI U − F_F = 0.
 /// ```
 ///
-/// an LCP in `y = u − lb` with the SPD matrix `D = S_CC`: `w = (S_CI U − F_C + D lb) + D y`.
-/// In 1D (`S_00 = 1/h`, `S_01 = −1/h`, lb = −gap) it is `u_0 = max(u_1, −gap)`.
+/// Eliminating u_F (S_FF SPD, a principal block of the SPD stiffness) leaves an LCP in
+/// `y = u − lb` with the SPD Schur complement `D = S_CC − S_CF S_FF⁻¹ S_FC`:
+/// `w = (q_C − S_CF S_FF⁻¹ q_F + D lb) + D y`, `q = S_·I U − F_·`; then
+/// `u_F = −S_FF⁻¹ (q_F + S_FC u)`. Without free massless unknowns (bars, plates) `D = S_CC`
+/// and the map is the one of the contact rows alone; in 1D (`S_00 = 1/h`, `S_01 = −1/h`,
+/// lb = −gap) it is `u_0 = max(u_1, −gap)`.
 #[derive(Debug, Clone)]
 pub struct QuasiStatic {
     contact: Vec<usize>,
-    /// `(c, j, S_{contact[c], j})` for j not a contact unknown.
+    /// `(c, j, S_{contact[c], j})` for j neither a contact nor a free massless unknown.
     coupling: Vec<(usize, usize, f64)>,
     load: Vec<f64>,
     lcp: Lcp,
     q: Vec<f64>,
+    free: FreeBlock,
+}
+
+/// The free massless unknowns F of [`QuasiStatic`]: their couplings, the dense Cholesky factor
+/// of S_FF and `G = S_FF⁻¹ S_FC` (empty for bars and plates).
+#[derive(Debug, Clone, Default)]
+struct FreeBlock {
+    idx: Vec<usize>,
+    /// `(f, j, S_{idx[f], j})` for j outside C ∪ F.
+    coupling: Vec<(usize, usize, f64)>,
+    load: Vec<f64>,
+    /// Lower Cholesky factor of S_FF, row-major nf × nf.
+    chol: Vec<f64>,
+    /// S_FC, row-major nf × nc, and G = S_FF⁻¹ S_FC.
+    s_fc: Vec<f64>,
+    g: Vec<f64>,
+    q: Vec<f64>,
+}
+
+impl FreeBlock {
+    /// Overwrites b with S_FF⁻¹ b (two triangular solves with the stored factor).
+    fn solve(&self, b: &mut [f64]) {
+        let (n, l) = (self.idx.len(), &self.chol);
+        for i in 0..n {
+            let s: f64 = (0..i).map(|k| l[i * n + k] * b[k]).sum();
+            b[i] = (b[i] - s) / l[i * n + i];
+        }
+        for i in (0..n).rev() {
+            let s: f64 = (i + 1..n).map(|k| l[k * n + i] * b[k]).sum();
+            b[i] = (b[i] - s) / l[i * n + i];
+        }
+    }
+}
+
+/// Dense lower Cholesky factor of the SPD row-major n × n matrix `a`, in place; Err(pivot index)
+/// if a pivot is not positive.
+fn dense_cholesky(a: &mut [f64], n: usize) -> Result<(), usize> {
+    for j in 0..n {
+        let d = a[j * n + j] - (0..j).map(|k| a[j * n + k] * a[j * n + k]).sum::<f64>();
+        if !(d > 0.0) {
+            return Err(j);
+        }
+        let d = d.sqrt();
+        a[j * n + j] = d;
+        for i in j + 1..n {
+            let s: f64 = (0..j).map(|k| a[i * n + k] * a[j * n + k]).sum();
+            a[i * n + j] = (a[i * n + j] - s) / d;
+        }
+        for k in j + 1..n {
+            a[j * n + k] = 0.0;
+        }
+    }
+    Ok(())
 }
 
 impl QuasiStatic {
+    /// Φ of the contact unknowns alone (every massless unknown is a contact unknown).
     pub fn new<A: SymMatrix>(stiffness: &A, load: &[f64], contact: &[usize]) -> Self {
-        let nc = contact.len();
+        Self::with_free(stiffness, load, contact, &[]).expect("no free block to factor")
+    }
+
+    /// Φ of the contact unknowns and of the free massless unknowns `free` (disjoint from
+    /// `contact`). Fails only if S_FF is not positive definite.
+    pub fn with_free<A: SymMatrix>(
+        stiffness: &A,
+        load: &[f64],
+        contact: &[usize],
+        free: &[usize],
+    ) -> Result<Self, LinalgError> {
+        let (nc, nf) = (contact.len(), free.len());
+        // slot: 0..nc contact, nc..nc+nf free, MAX elsewhere.
         let mut slot = vec![usize::MAX; stiffness.dim()];
-        for (c, &i) in contact.iter().enumerate() {
+        for (c, &i) in contact.iter().chain(free).enumerate() {
             slot[i] = c;
         }
         let mut d = vec![0.0; nc * nc];
         let mut coupling = Vec::new();
+        let mut fb =
+            FreeBlock { idx: free.to_vec(), chol: vec![0.0; nf * nf], s_fc: vec![0.0; nf * nc], ..Default::default() };
         stiffness.for_each_entry(&mut |i, j, s| {
-            if slot[i] == usize::MAX {
-                return;
-            }
-            if slot[j] == usize::MAX {
-                coupling.push((slot[i], j, s));
-            } else {
-                d[slot[i] * nc + slot[j]] += s;
+            let (a, b) = (slot[i], slot[j]);
+            match (a < nc, a != usize::MAX, b < nc, b != usize::MAX) {
+                (true, _, true, _) => d[a * nc + b] += s,
+                (true, _, false, false) => coupling.push((a, j, s)),
+                (false, true, true, _) => fb.s_fc[(a - nc) * nc + b] += s,
+                (false, true, false, true) => fb.chol[(a - nc) * nf + (b - nc)] += s,
+                (false, true, false, false) => fb.coupling.push((a - nc, j, s)),
+                _ => {} // a C–F entry (its transpose is the F–C one) or a row outside C ∪ F
             }
         });
-        let load = contact.iter().map(|&i| load[i]).collect();
-        Self { contact: contact.to_vec(), coupling, load, lcp: Lcp::new(d, nc), q: vec![0.0; nc] }
+        let load_c = contact.iter().map(|&i| load[i]).collect();
+        if nf > 0 {
+            dense_cholesky(&mut fb.chol, nf).map_err(|pivot| LinalgError::Unsupported {
+                matrix: "stiffness",
+                detail: format!("its block on the free massless unknowns is not positive definite (pivot {pivot})"),
+            })?;
+            fb.load = free.iter().map(|&i| load[i]).collect();
+            fb.q = vec![0.0; nf];
+            fb.g = fb.s_fc.clone();
+            let mut col = vec![0.0; nf];
+            for c in 0..nc {
+                for f in 0..nf {
+                    col[f] = fb.s_fc[f * nc + c];
+                }
+                fb.solve(&mut col);
+                for f in 0..nf {
+                    fb.g[f * nc + c] = col[f];
+                }
+            }
+            // D = S_CC − S_CF G, symmetrised (symmetric in exact arithmetic).
+            for a in 0..nc {
+                for b in 0..nc {
+                    let ab: f64 = (0..nf).map(|f| fb.s_fc[f * nc + a] * fb.g[f * nc + b]).sum();
+                    let ba: f64 = (0..nf).map(|f| fb.s_fc[f * nc + b] * fb.g[f * nc + a]).sum();
+                    d[a * nc + b] -= 0.5 * (ab + ba);
+                }
+            }
+        }
+        let lcp = Lcp::new(d, nc);
+        Ok(Self { contact: contact.to_vec(), coupling, load: load_c, lcp, q: vec![0.0; nc], free: fb })
     }
 
-    /// Takes the contact entries of a new load vector (a time-dependent load).
+    /// Takes the contact (and free massless) entries of a new load vector (a time-dependent
+    /// load).
     pub fn set_load(&mut self, load: &[f64]) {
         for (f, &i) in self.load.iter_mut().zip(&self.contact) {
             *f = load[i];
         }
+        for (f, &i) in self.free.load.iter_mut().zip(&self.free.idx) {
+            *f = load[i];
+        }
     }
 
-    /// `S_CC` entry (a, b) in contact order.
+    /// The LCP matrix entry (a, b) in contact order: `S_CC` without free massless unknowns,
+    /// else its Schur complement D (type docs).
     pub fn d(&self, a: usize, b: usize) -> f64 {
         self.lcp.d(a, b)
     }
 
-    /// Overwrites the contact entries of `u` with Φ(U) and writes λ; returns the pivots.
+    /// Overwrites the contact and free massless entries of `u` with Φ(U) and writes λ;
+    /// returns the pivots.
     pub fn apply(&mut self, u: &mut [f64], lower: &[f64], lambda: &mut [f64]) -> Result<usize, LcpError> {
         let nc = self.contact.len();
         for (q, f) in self.q.iter_mut().zip(&self.load) {
@@ -169,6 +278,24 @@ impl QuasiStatic {
         }
         for &(c, j, s) in &self.coupling {
             self.q[c] += s * u[j];
+        }
+        let fb = &mut self.free;
+        if !fb.idx.is_empty() {
+            // q_C ← q_C − S_CF S_FF⁻¹ q_F = q_C − Gᵀ q_F.
+            for (q, f) in fb.q.iter_mut().zip(&fb.load) {
+                *q = -f;
+            }
+            for &(f, j, s) in &fb.coupling {
+                fb.q[f] += s * u[j];
+            }
+            let mut qf = std::mem::take(&mut fb.q);
+            fb.solve(&mut qf);
+            for (f, &x) in qf.iter().enumerate() {
+                for c in 0..nc {
+                    self.q[c] -= fb.s_fc[f * nc + c] * x;
+                }
+            }
+            fb.q = qf;
         }
         if lower.iter().any(|&l| l != 0.0) {
             for a in 0..nc {
@@ -179,6 +306,12 @@ impl QuasiStatic {
         for (c, &i) in self.contact.iter().enumerate() {
             u[i] = y[c] + lower[c];
             lambda[c] = -w[c];
+        }
+        // u_F = −S_FF⁻¹ q_F − G u_C (fb.q holds S_FF⁻¹ q_F).
+        let fb = &self.free;
+        for (f, &i) in fb.idx.iter().enumerate() {
+            let gu: f64 = self.contact.iter().enumerate().map(|(c, &k)| fb.g[f * nc + c] * u[k]).sum();
+            u[i] = -fb.q[f] - gu;
         }
         Ok(self.lcp.pivots())
     }

@@ -27,7 +27,7 @@
 
 pub mod assembly;
 pub mod geometry;
-pub mod layers;
+pub use crate::fem::layers;
 pub mod mesh;
 pub mod norms;
 

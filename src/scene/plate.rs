@@ -247,8 +247,8 @@ impl SceneGeometry for PlateSpec {
     /// scheme parser calls the largest of those weights w_0.
     fn contact_weight(&self, mass: &MassKind) -> Result<f64, SceneError> {
         let mesh = self.mesh.as_ref().expect("a validated plate has its mesh");
-        let weights = cell_weights(mesh, mass)?;
-        Ok(layers(mesh).iter().zip(&weights).filter(|(l, _)| **l == 0).map(|(_, w)| *w).fold(0.0, f64::max))
+        let weights = cell_weights(mesh.as_ref(), mass)?;
+        Ok(layers(mesh.as_ref()).iter().zip(&weights).filter(|(l, _)| **l == 0).map(|(_, w)| *w).fold(0.0, f64::max))
     }
 
     fn unavailable(&self, column: Column) -> Option<String> {

@@ -35,6 +35,15 @@
 //! `K Ū = M_red (Uⁿ + Δt/2 Vⁿ) + Δt²/4 (F + g e_1)` with `K = M_red + Δt²/4 S_red` and the
 //! piecewise-linear contact term g of the paper, which the two cases above reproduce.
 //!
+//! **Free massless unknowns (solids).** With a vector field every component of a contact-face
+//! node is massless, but only the normal one carries a Signorini condition; the tangential ones
+//! F are free (frictionless contact). They are quasi-static too: the midpoint solve gives them
+//! `S_F· X̄ = F_F` (their mass rows vanish), and Φ sets them with the contact values
+//! ([`QuasiStatic`]: the LCP on the Schur complement `D = S_CC − S_CF S_FF⁻¹ S_FC`). The energy
+//! proof below holds with C replaced by Q = C ∪ F, λ_F = 0 and no bound on F: with
+//! `d = u_Q^{n+1} − ũ_Q`, `S_QQ d = 2 E_C (λ̄ − λ̂)` gives `d_F = −S_FF⁻¹ S_FC d_C`, so the last
+//! term is `−½ d_Qᵀ S_QQ d_Q = −½ d_Cᵀ D d_C`: the same three terms with A = D.
+//!
 //! **A gap.** With the obstacle at `u_c = lb_c = −gap_c` every bound and every (·)⁺, H(·) acts
 //! on `u − lb`: the midpoint bound is `ū ≥ (u_Cⁿ + lb)/2` and Φ solves `u ≥ lb`. The
 //! derivation below holds for the shifted variables `u − lb` (only differences of u and the
@@ -75,6 +84,8 @@ pub struct Hybrid<A: Backend> {
     /// A time-dependent load: `load` is refreshed to F(t_{n+1}) at each step.
     forcing: Option<crate::system::Forcing>,
     contact_idx: Vec<usize>,
+    /// The massless unknowns Φ sets: the contact unknowns, then the free massless ones.
+    quasi_idx: Vec<usize>,
     /// Obstacle bounds lb (contact order).
     obstacle: Vec<f64>,
     solver: A::Solver,
@@ -110,7 +121,15 @@ impl<A: Backend> Hybrid<A> {
         let name = "M + Δt²/4 S";
         let k = system.mass.combine(1.0, &system.stiffness, dt * dt / 4.0, name)?;
         let solver = k.contact_solver(&system.contact, name)?;
-        let mut quasi_static = QuasiStatic::new(&system.stiffness, &system.load, &system.contact);
+        // Massless unknowns without a contact condition (a solid's tangential components on
+        // Γ_C) are quasi-static too: Φ sets them with the contact values (module docs).
+        let mut is_contact = vec![false; system.n()];
+        for &c in &system.contact {
+            is_contact[c] = true;
+        }
+        let free: Vec<usize> = (0..system.n()).filter(|&i| system.massless[i] && !is_contact[i]).collect();
+        let mut quasi_static = QuasiStatic::with_free(&system.stiffness, &system.load, &system.contact, &free)?;
+        let quasi_idx: Vec<usize> = system.contact.iter().chain(&free).copied().collect();
         let (n, nc) = (system.n(), system.contact.len());
         let mut u = u0;
         let mut lambda = vec![0.0; nc];
@@ -123,6 +142,8 @@ impl<A: Backend> Hybrid<A> {
             load: system.load.clone(),
             forcing: system.forcing.clone(),
             contact_idx: system.contact.clone(),
+            scratch: vec![0.0; quasi_idx.len()],
+            quasi_idx,
             obstacle: system.lower.clone(),
             solver,
             quasi_static,
@@ -137,7 +158,6 @@ impl<A: Backend> Hybrid<A> {
             lower: vec![0.0; nc],
             pred,
             rhs: vec![0.0; n],
-            scratch: vec![0.0; nc],
             pivots: 0,
         })
     }
@@ -192,9 +212,9 @@ impl<A: Backend> super::Scheme for Hybrid<A> {
             self.u_bar[c] = self.rhs[i];
         }
         // U^{n+1} = 2Ū − Uⁿ, V^{n+1} = 2(U^{n+1} − Uⁿ)/Δt − Vⁿ and the next predictor, in one
-        // branch-free pass over all unknowns; the contact entries are then replaced: u by Φ
+        // branch-free pass over all unknowns; the massless entries are then replaced: u by Φ
         // (which reads the other entries only), v from the saved uⁿ.
-        for (c, &i) in self.contact_idx.iter().enumerate() {
+        for (c, &i) in self.quasi_idx.iter().enumerate() {
             self.scratch[c] = self.u[i];
         }
         let m = self.u.len();
@@ -212,10 +232,12 @@ impl<A: Backend> super::Scheme for Hybrid<A> {
         }
         let p2 = self.quasi_static.apply(&mut self.u, &self.obstacle, &mut self.lambda).map_err(&err)?;
         std::mem::swap(&mut self.uc_prev, &mut self.uc);
-        for (c, &i) in self.contact_idx.iter().enumerate() {
+        for (c, &i) in self.quasi_idx.iter().enumerate() {
             self.v[i] = (self.u[i] - self.scratch[c]) / dt;
-            self.uc[c] = self.u[i];
             self.pred[i] = self.u[i] + 0.5 * dt * self.v[i];
+        }
+        for (c, &i) in self.contact_idx.iter().enumerate() {
+            self.uc[c] = self.u[i];
         }
         self.pivots = p1 + p2;
         self.n = step;

@@ -1,36 +1,41 @@
-//! Mass redistribution in 2D: one weight per cell, generalising the paper's §3 definitions.
+//! Mass redistribution in 2D and 3D: one weight per cell, generalising the paper's §3
+//! definitions, for any mesh that implements [`CellMesh`] (plates and solids).
 //!
 //! In 1D the contact node x = 0 belongs to element 0 only, so `w_0 = 0` makes it massless.
-//! In 2D a contact node belongs to every cell that has it as a vertex, so:
+//! In 2D and 3D a contact node belongs to every cell that has it as a vertex, so:
 //!
 //! - layer 0 = the cells with a vertex on Γ_C = {x = 0} (weight 0: all contact nodes massless);
 //! - layer 1 = the other cells sharing a vertex with a layer-0 cell.
 //!
-//! With `A_0`, `A_1` the areas of layers 0 and 1 and `|Ω|` the total area:
+//! With `A_0`, `A_1` the areas (volumes) of layers 0 and 1 and `|Ω|` the total one:
 //! - (Mod 1) nowhere: every other cell has weight 1, total mass `|Ω| − A_0`;
 //! - (Mod 2) uniformly: every other cell has weight `|Ω|/(|Ω| − A_0)`, total mass `|Ω|`;
 //! - (Mod 3) to the next layer: layer 1 has weight `1 + A_0/A_1`, the rest 1, total mass `|Ω|`;
 //! - `standard`: all weights 1; `custom`: one given weight per cell.
 //!
-//! On a structured nx × ny mesh (quads or one-diagonal triangles) layer 0 is the first column
-//! of squares and layer 1 the second, so Mod 2 gives `nx/(nx − 1)` and Mod 3 gives 2: the 1D
+//! On a structured nx × ny (× nz) mesh (quads, one-diagonal triangles, hexahedra or the tets of
+//! a conforming split of each hexahedron) layer 0 is the first column of squares (cubes) and
+//! layer 1 the second, so Mod 2 gives `nx/(nx − 1)` and Mod 3 gives 2: the 1D
 //! weights of [`crate::mass::MassKind`] column by column. The weights then depend on x only,
 //! which the reduction of Q1 to the 1D problem needs.
 
-use super::mesh::Mesh2d;
+use super::CellMesh;
 use crate::mass::MassKind;
 use thiserror::Error;
 
+/// The plate's name for [`LayerMassError`].
+pub type PlateMassError = LayerMassError;
+
 #[derive(Debug, Clone, PartialEq, Error)]
-pub enum PlateMassError {
+pub enum LayerMassError {
     #[error("mass.weights has {given} entries but the mesh has {cells} cells (one weight per cell, in mesh order)")]
     WrongCount { given: usize, cells: usize },
     #[error("mass.weights[{cell}] = {value}: weights must be finite and >= 0")]
     InvalidWeight { cell: usize, value: f64 },
     #[error(
-        "node {node} at ({x}, {y}) is not on the contact boundary and all its cells have weight 0: the mass matrix is singular there (only contact nodes may be massless)"
+        "node {node} at {at} is not on the contact boundary and all its cells have weight 0: the mass matrix is singular there (only contact nodes may be massless)"
     )]
-    MasslessNode { node: usize, x: f64, y: f64 },
+    MasslessNode { node: usize, at: String },
     #[error(
         "mass.kind = \"{kind}\" needs cells beyond the layer touching x = 0 (the mesh has {layer0} of {cells} cells in it)"
     )]
@@ -38,7 +43,7 @@ pub enum PlateMassError {
 }
 
 /// Layer index of every cell: 0 touches Γ_C, 1 shares a vertex with layer 0, 2 for the rest.
-pub fn layers(mesh: &Mesh2d) -> Vec<u8> {
+pub fn layers<M: CellMesh + ?Sized>(mesh: &M) -> Vec<u8> {
     let n = mesh.n_cells();
     let mut layer = vec![2u8; n];
     let mut near = vec![false; mesh.n_nodes()];
@@ -59,16 +64,16 @@ pub fn layers(mesh: &Mesh2d) -> Vec<u8> {
 }
 
 /// The cell weights of a mass redistribution, validated (see [`validate_weights`]).
-pub fn cell_weights(mesh: &Mesh2d, kind: &MassKind) -> Result<Vec<f64>, PlateMassError> {
+pub fn cell_weights<M: CellMesh + ?Sized>(mesh: &M, kind: &MassKind) -> Result<Vec<f64>, LayerMassError> {
     let n = mesh.n_cells();
     let layer = layers(mesh);
-    let area = |l: u8| -> f64 { (0..n).filter(|&c| layer[c] == l).map(|c| mesh.area(c)).sum() };
-    let (a0, a1, total) = (area(0), area(1), mesh.total_area());
+    let area = |l: u8| -> f64 { (0..n).filter(|&c| layer[c] == l).map(|c| mesh.measure(c)).sum() };
+    let (a0, a1, total) = (area(0), area(1), (0..n).map(|c| mesh.measure(c)).sum::<f64>());
     let needs_layer1 = |kind: &'static str| {
         if a1 > 0.0 {
             Ok(())
         } else {
-            Err(PlateMassError::NoSecondLayer { kind, layer0: layer.iter().filter(|&&l| l == 0).count(), cells: n })
+            Err(LayerMassError::NoSecondLayer { kind, layer0: layer.iter().filter(|&&l| l == 0).count(), cells: n })
         }
     };
     let by_layer = |w0: f64, w1: f64, w2: f64| layer.iter().map(|&l| [w0, w1, w2][l as usize]).collect::<Vec<f64>>();
@@ -95,12 +100,12 @@ pub fn cell_weights(mesh: &Mesh2d, kind: &MassKind) -> Result<Vec<f64>, PlateMas
 
 /// Checks count, finiteness and sign, and that every node off Γ_C and Γ_D has a cell of
 /// positive weight (its mass-matrix diagonal `Σ_c w_c ∫_c φ_i²` is then positive).
-pub fn validate_weights(mesh: &Mesh2d, w: &[f64]) -> Result<(), PlateMassError> {
+pub fn validate_weights<M: CellMesh + ?Sized>(mesh: &M, w: &[f64]) -> Result<(), LayerMassError> {
     if w.len() != mesh.n_cells() {
-        return Err(PlateMassError::WrongCount { given: w.len(), cells: mesh.n_cells() });
+        return Err(LayerMassError::WrongCount { given: w.len(), cells: mesh.n_cells() });
     }
     if let Some((cell, &value)) = w.iter().enumerate().find(|(_, v)| !(v.is_finite() && **v >= 0.0)) {
-        return Err(PlateMassError::InvalidWeight { cell, value });
+        return Err(LayerMassError::InvalidWeight { cell, value });
     }
     let mut massive = vec![false; mesh.n_nodes()];
     for (c, &wc) in w.iter().enumerate() {
@@ -111,21 +116,20 @@ pub fn validate_weights(mesh: &Mesh2d, w: &[f64]) -> Result<(), PlateMassError> 
         }
     }
     if let Some(node) = (0..mesh.n_nodes()).find(|&v| !massive[v] && !mesh.on_contact(v) && !mesh.on_dirichlet(v)) {
-        let [x, y] = mesh.points[node];
-        return Err(PlateMassError::MasslessNode { node, x, y });
+        return Err(LayerMassError::MasslessNode { node, at: mesh.describe_point(node) });
     }
     Ok(())
 }
 
 /// Total mass `Σ_c w_c |c| = ∫_Ω w_h`.
-pub fn total_mass(mesh: &Mesh2d, w: &[f64]) -> f64 {
-    w.iter().enumerate().map(|(c, wc)| wc * mesh.area(c)).sum()
+pub fn total_mass<M: CellMesh + ?Sized>(mesh: &M, w: &[f64]) -> f64 {
+    w.iter().enumerate().map(|(c, wc)| wc * mesh.measure(c)).sum()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plate::mesh::CellKind;
+    use crate::plate::mesh::{CellKind, Mesh2d};
 
     #[test]
     fn structured_weights_follow_the_1d_ones_column_by_column() {

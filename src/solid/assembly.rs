@@ -1,0 +1,230 @@
+//! Linear elasticity on a [`Mesh`] of dimension d = 2 (plane strain) or 3: the weighted vector
+//! mass, the elasticity stiffness and the load, and the contact system on the free unknowns.
+//!
+//! ```text
+//! M_(a,i),(b,j) = δ_ij ρ Σ_c w_c ∫_c φ_a φ_b,
+//! S_(a,i),(b,j) = ∫_Ω λ ∂_i φ_a ∂_j φ_b + μ (δ_ij ∇φ_a·∇φ_b + ∂_j φ_a ∂_i φ_b)
+//!               (= ∫ λ div u div v + 2μ ε(u):ε(v) with u = φ_b e_j, v = φ_a e_i),
+//! F_(a,i) = f_i ∫_Ω w_h φ_a      (a constant body force f, weighted as for bars and plates).
+//! ```
+//!
+//! **Unknowns are interleaved per node**: the full index of component i of node a is
+//! `a·d + i`. [`SolidSystem`] keeps the full indices that are not eliminated, in increasing
+//! order (`dofs`): all components on the clamped face x = L are eliminated, and with
+//! `lateral = roller` the normal component on the lateral faces (u_y on y = 0, H; u_z on
+//! z = 0, D). The contact unknowns are the x-components of the nodes on x = 0, in node order
+//! (the first is the node at the lowest y and z), with the bound u_x ≥ −gap.
+//!
+//! One weight per cell ([`crate::fem::layers`]): every component of a contact-face node is
+//! massless under mod1/mod2/mod3. The tangential ones are then free quasi-static unknowns
+//! (frictionless), which the schemes handle as massless unknowns without a contact condition
+//! (`crate::schemes::hybrid`).
+
+use crate::fem::element::CellIntegrals;
+use crate::fem::layers::LayerMassError;
+use crate::fem::{CellMesh, Mesh};
+use crate::linalg::sparse::{self, SpMat, SparseError};
+use crate::system::ContactSystem;
+use thiserror::Error;
+
+/// The Lamé coefficients λ ≥ 0, μ > 0 and the density ρ > 0 (P-wave speed sqrt((λ+2μ)/ρ)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lame {
+    pub lambda: f64,
+    pub mu: f64,
+    pub density: f64,
+}
+
+impl Lame {
+    /// The paper's bar as a solid: λ = 0, μ = ½, ρ = 1 (so λ + 2μ = 1).
+    pub const PAPER: Lame = Lame { lambda: 0.0, mu: 0.5, density: 1.0 };
+
+    /// The P-wave modulus λ + 2μ (the modulus of the plane wave's 1D bar).
+    pub fn p_modulus(&self) -> f64 {
+        self.lambda + 2.0 * self.mu
+    }
+}
+
+/// The condition on the faces other than x = 0 and x = L.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Lateral {
+    /// Traction-free.
+    Free,
+    /// u·n = 0 (the normal component eliminated), tangential traction-free.
+    Roller,
+}
+
+impl Lateral {
+    pub fn name(self) -> &'static str {
+        match self {
+            Lateral::Free => "free",
+            Lateral::Roller => "roller",
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SolidAssemblyError {
+    #[error(transparent)]
+    Mass(#[from] LayerMassError),
+    #[error(transparent)]
+    Sparse(#[from] SparseError),
+    #[error("solid.force = {0:?}: must be finite")]
+    Force([f64; 3]),
+}
+
+/// The weighted vector mass (with ρ) and the stiffness over all nodes and components (full
+/// indices `a·d + i`, no boundary condition): the matrices dolfinx and scikit-fem assemble.
+pub fn assemble(mesh: &Mesh, weights: &[f64], lame: &Lame) -> Result<(SpMat, SpMat), SparseError> {
+    assert_eq!(weights.len(), mesh.n_cells(), "one weight per cell");
+    let d = mesh.dim;
+    let k = mesh.kind.verts();
+    let mut tm = Vec::with_capacity(mesh.n_cells() * k * k * d);
+    let mut ts = Vec::with_capacity(mesh.n_cells() * k * k * d * d);
+    for (c, &w) in weights.iter().enumerate() {
+        let e = CellIntegrals::new(mesh.kind, &mesh.cell_points(c));
+        let v = mesh.cell(c);
+        for a in 0..k {
+            for b in 0..k {
+                for i in 0..d {
+                    tm.push((v[a] * d + i, v[b] * d + i, lame.density * w * e.mass[a][b]));
+                }
+                for i in 0..d {
+                    for j in 0..d {
+                        let mut s = 0.0;
+                        for q in 0..e.nq {
+                            let (ga, gb) = (&e.grads[q][a], &e.grads[q][b]);
+                            let dot: f64 = (0..d).map(|l| ga[l] * gb[l]).sum();
+                            let delta = if i == j { dot } else { 0.0 };
+                            s += e.weights[q] * (lame.lambda * ga[i] * gb[j] + lame.mu * (delta + ga[j] * gb[i]));
+                        }
+                        ts.push((v[a] * d + i, v[b] * d + j, s));
+                    }
+                }
+            }
+        }
+    }
+    let n = mesh.n_nodes() * d;
+    Ok((sparse::from_triplets(n, &tm, "mass")?, sparse::from_triplets(n, &ts, "stiffness")?))
+}
+
+/// `∫_{Γ_C} φ_c` for each contact node: every cell face on x = 0 (a segment in 2D, a rectangle
+/// of a hexahedron or a triangle of a tetrahedron in 3D) gives each of its k vertices |face|/k,
+/// the exact integral of a P1 or Q1 basis function over it.
+fn contact_areas(mesh: &Mesh, contact_nodes: &[usize]) -> Vec<f64> {
+    let mut slot = vec![usize::MAX; mesh.n_nodes()];
+    for (k, &v) in contact_nodes.iter().enumerate() {
+        slot[v] = k;
+    }
+    let d = mesh.dim;
+    let face_verts = if mesh.kind.is_tensor() { 1 << (d - 1) } else { d };
+    let mut areas = vec![0.0; contact_nodes.len()];
+    for c in 0..mesh.n_cells() {
+        let on: Vec<usize> = mesh.cell(c).iter().copied().filter(|&v| slot[v] != usize::MAX).collect();
+        if on.len() != face_verts {
+            continue;
+        }
+        let p: Vec<[f64; 3]> = on.iter().map(|&v| mesh.points[v]).collect();
+        let span = |k: usize| {
+            p.iter().map(|q| q[k]).fold(f64::NEG_INFINITY, f64::max)
+                - p.iter().map(|q| q[k]).fold(f64::INFINITY, f64::min)
+        };
+        let area = match (d, mesh.kind.is_tensor()) {
+            (2, _) => span(1),
+            (_, true) => span(1) * span(2),
+            _ => {
+                let (a, b) = ([p[1][1] - p[0][1], p[1][2] - p[0][2]], [p[2][1] - p[0][1], p[2][2] - p[0][2]]);
+                0.5 * (a[0] * b[1] - a[1] * b[0]).abs()
+            }
+        };
+        for &v in &on {
+            areas[slot[v]] += area / face_verts as f64;
+        }
+    }
+    areas
+}
+
+/// The solid on its free unknowns: mesh, weights, material, the contact system and what the
+/// reports need (module docs for the layout).
+#[derive(Debug, Clone)]
+pub struct SolidSystem {
+    pub mesh: Mesh,
+    pub weights: Vec<f64>,
+    pub lame: Lame,
+    pub lateral: Lateral,
+    /// Free unknown → full index `node·d + component`.
+    pub dofs: Vec<usize>,
+    /// Full index → free unknown (None where eliminated).
+    pub dof_of: Vec<Option<usize>>,
+    pub system: ContactSystem<SpMat>,
+    /// The unweighted vector mass with ρ = 1 on the free unknowns (for L² norms).
+    pub mass_unit: SpMat,
+    /// The mesh nodes on x = 0 (contact order).
+    pub contact_nodes: Vec<usize>,
+    /// `∫_{Γ_C} φ_c` per contact node (its share of the face area; they sum to |Γ_C|).
+    pub contact_areas: Vec<f64>,
+}
+
+impl SolidSystem {
+    /// Assembles M, S, F on the free unknowns for validated cell weights, with the obstacle at
+    /// u_x = −gap on every contact node.
+    pub fn assemble(
+        mesh: Mesh,
+        weights: Vec<f64>,
+        lame: Lame,
+        lateral: Lateral,
+        force: [f64; 3],
+        gap: f64,
+    ) -> Result<Self, SolidAssemblyError> {
+        if force.iter().any(|f| !f.is_finite()) {
+            return Err(SolidAssemblyError::Force(force));
+        }
+        crate::fem::layers::validate_weights(&mesh, &weights)?;
+        let d = mesh.dim;
+        let (mass_all, stiff_all) = assemble(&mesh, &weights, &lame)?;
+        let unit = Lame { density: 1.0, ..lame };
+        let (unit_all, _) = assemble(&mesh, &vec![1.0; mesh.n_cells()], &unit)?;
+        let eliminated = |g: usize| {
+            let (node, comp) = (g / d, g % d);
+            mesh.on_dirichlet(node) || (lateral == Lateral::Roller && comp >= 1 && mesh.on_lateral(node, comp))
+        };
+        let dofs: Vec<usize> = (0..mesh.n_nodes() * d).filter(|&g| !eliminated(g)).collect();
+        let mut dof_of = vec![None; mesh.n_nodes() * d];
+        for (k, &g) in dofs.iter().enumerate() {
+            dof_of[g] = Some(k);
+        }
+        // F_(a,i) = f_i ∫ w_h φ_a = f_i Σ_b M_(a,i),(b,i) / ρ (the basis sums to 1).
+        let mut row_sums = vec![0.0; mesh.n_nodes() * d];
+        for (i, _, v) in sparse::triplets(&mass_all) {
+            row_sums[i] += v;
+        }
+        let load: Vec<f64> = dofs.iter().map(|&g| force[g % d] * row_sums[g] / lame.density).collect();
+        let mass = sparse::principal(&mass_all, &dofs, "mass")?;
+        let stiffness = sparse::principal(&stiff_all, &dofs, "stiffness")?;
+        let mass_unit = sparse::principal(&unit_all, &dofs, "mass")?;
+        let contact_nodes: Vec<usize> = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).collect();
+        let contact = contact_nodes.iter().map(|&v| dof_of[v * d].expect("x = 0 is not x = L")).collect();
+        let system = ContactSystem::new(mass, stiffness, load, contact, gap);
+        let contact_areas = contact_areas(&mesh, &contact_nodes);
+        Ok(Self { mesh, weights, lame, lateral, dofs, dof_of, system, mass_unit, contact_nodes, contact_areas })
+    }
+
+    /// The nodal interpolant of a vector field g(x) (component i of g at `x`) on the free
+    /// unknowns.
+    pub fn interpolate(&self, g: impl Fn(usize, [f64; 3]) -> f64) -> Vec<f64> {
+        let d = self.mesh.dim;
+        self.dofs.iter().map(|&k| g(k % d, self.mesh.points[k / d])).collect()
+    }
+
+    /// Total mass `Σ_c w_c ρ |c| = ∫ ρ w_h` (per component).
+    pub fn total_mass(&self) -> f64 {
+        self.lame.density * crate::fem::layers::total_mass(&self.mesh, &self.weights)
+    }
+
+    /// Values on all full indices (0 where eliminated), interleaved `node·d + component`.
+    pub fn to_nodes(&self, u: &[f64], out: &mut [f64]) {
+        for (g, k) in self.dof_of.iter().enumerate() {
+            out[g] = k.map_or(0.0, |k| u[k]);
+        }
+    }
+}

@@ -1,0 +1,30 @@
+//! Elastic solids in 2D (plane strain) and 3D: linear elastodynamics in unilateral frictionless
+//! contact with a rigid obstacle on Γ_C = {x = 0}, clamped on Γ_D = {x = L},
+//!
+//! ```text
+//! ρ u_tt − div σ(u) = f,   σ = λ tr ε(u) I + 2μ ε(u)   in Ω = (0, L) × (0, H) [× (0, D)],
+//! u = 0 on x = L,   σn = 0 (free) or u·n = 0, (σn)_t = 0 (roller) on the lateral faces,
+//! u_x ≥ −gap,  σ_xx ≤ 0,  (u_x + gap) σ_xx = 0,  σ_xy = σ_xz = 0   on x = 0,
+//! ```
+//!
+//! a new geometry and a vector field on the one core: the mesh and reference elements are
+//! [`crate::fem`]'s (shared with dimension 2 and 3), the mass redistribution by cell layers is
+//! [`crate::fem::layers`] (shared with plates), the contact system, the sparse back-end with
+//! its exact many-node contact solver, the schemes, the driver and the observers are the same
+//! as for bars and plates. What is solid-specific: the vector assembly ([`assembly`]), the
+//! solid as a [`crate::problem::Geometry`] ([`geometry`]), and the `[solid]` table and the
+//! problem it poses ([`spec`]), and VTU frames with the displacement and velocity vectors and
+//! the contact pressure ([`vtu`]).
+//!
+//! With Q1 cells on a structured mesh, x-only weights and data u = (u¹ᴰ(x), 0[, 0]), and either
+//! λ = 0 or roller lateral faces, the discrete solution is the 1D solution with modulus λ + 2μ
+//! extended in y (and z): the x-rows are the tensor products of the bar's matrices, and the
+//! transverse rows vanish on such fields (tests/solid.rs checks this to round-off).
+
+pub mod assembly;
+pub mod geometry;
+pub mod spec;
+pub mod vtu;
+
+pub use assembly::{Lame, Lateral, SolidSystem};
+pub use spec::{SolidInitial, SolidSpec};
