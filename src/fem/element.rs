@@ -18,8 +18,50 @@
 //! ½ per direction; degree 3 per direction). On parallelograms and boxes (J constant) the mass
 //! (degree 2 per direction) and the gradient products (degree ≤ 2) are integrated exactly;
 //! on general quadrilaterals it is the standard 2 × 2 rule.
+/// The cell type of a mesh ([`super::mesh::Mesh`]): its reference element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Cell {
+    /// P1 triangles (2D).
+    Triangle,
+    /// Q1 quadrilaterals (2D).
+    Quad,
+    /// P1 tetrahedra (3D).
+    Tet,
+    /// Q1 hexahedra (3D).
+    Hex,
+}
 
-use super::mesh::Cell;
+impl Cell {
+    pub fn verts(self) -> usize {
+        match self {
+            Cell::Triangle => 3,
+            Cell::Quad | Cell::Tet => 4,
+            Cell::Hex => 8,
+        }
+    }
+
+    pub fn dim(self) -> usize {
+        match self {
+            Cell::Triangle | Cell::Quad => 2,
+            Cell::Tet | Cell::Hex => 3,
+        }
+    }
+
+    /// Whether the cell is a tensor-product (Q1) cell.
+    pub fn is_tensor(self) -> bool {
+        matches!(self, Cell::Quad | Cell::Hex)
+    }
+
+    /// The scene name: quad | triangle | hex | tet.
+    pub fn name(self) -> &'static str {
+        match self {
+            Cell::Triangle => "triangle",
+            Cell::Quad => "quad",
+            Cell::Tet => "tet",
+            Cell::Hex => "hex",
+        }
+    }
+}
 
 /// Largest number of vertices (hexahedron) and of quadrature points.
 pub const MAX_VERTS: usize = 8;

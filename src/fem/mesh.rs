@@ -17,52 +17,9 @@
 //!   corner with the smallest indices), so the mesh is conforming.
 
 use super::CellMesh;
-use crate::plate::mesh::{CellKind, Mesh2d, MeshError};
+use super::mesh2d::{CellKind, Mesh2d, MeshError};
 
-/// The cell type of a [`Mesh`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Cell {
-    /// P1 triangles (2D).
-    Triangle,
-    /// Q1 quadrilaterals (2D).
-    Quad,
-    /// P1 tetrahedra (3D).
-    Tet,
-    /// Q1 hexahedra (3D).
-    Hex,
-}
-
-impl Cell {
-    pub fn verts(self) -> usize {
-        match self {
-            Cell::Triangle => 3,
-            Cell::Quad | Cell::Tet => 4,
-            Cell::Hex => 8,
-        }
-    }
-
-    pub fn dim(self) -> usize {
-        match self {
-            Cell::Triangle | Cell::Quad => 2,
-            Cell::Tet | Cell::Hex => 3,
-        }
-    }
-
-    /// Whether the cell is a tensor-product (Q1) cell.
-    pub fn is_tensor(self) -> bool {
-        matches!(self, Cell::Quad | Cell::Hex)
-    }
-
-    /// The scene name: quad | triangle | hex | tet.
-    pub fn name(self) -> &'static str {
-        match self {
-            Cell::Triangle => "triangle",
-            Cell::Quad => "quad",
-            Cell::Tet => "tet",
-            Cell::Hex => "hex",
-        }
-    }
-}
+pub use super::element::Cell;
 
 impl From<CellKind> for Cell {
     fn from(k: CellKind) -> Self {

@@ -7,6 +7,7 @@
 pub mod element;
 pub mod layers;
 pub mod mesh;
+pub mod mesh2d;
 pub mod vtu;
 
 pub use mesh::{Cell, Mesh};
@@ -27,17 +28,17 @@ pub trait CellMesh {
     fn describe_point(&self, v: usize) -> String;
 }
 
-impl CellMesh for crate::plate::Mesh2d {
+impl CellMesh for mesh2d::Mesh2d {
     fn n_nodes(&self) -> usize {
-        crate::plate::Mesh2d::n_nodes(self)
+        mesh2d::Mesh2d::n_nodes(self)
     }
 
     fn n_cells(&self) -> usize {
-        crate::plate::Mesh2d::n_cells(self)
+        mesh2d::Mesh2d::n_cells(self)
     }
 
     fn cell(&self, c: usize) -> &[usize] {
-        crate::plate::Mesh2d::cell(self, c)
+        mesh2d::Mesh2d::cell(self, c)
     }
 
     fn measure(&self, c: usize) -> f64 {
@@ -45,11 +46,11 @@ impl CellMesh for crate::plate::Mesh2d {
     }
 
     fn on_contact(&self, v: usize) -> bool {
-        crate::plate::Mesh2d::on_contact(self, v)
+        mesh2d::Mesh2d::on_contact(self, v)
     }
 
     fn on_dirichlet(&self, v: usize) -> bool {
-        crate::plate::Mesh2d::on_dirichlet(self, v)
+        mesh2d::Mesh2d::on_dirichlet(self, v)
     }
 
     fn describe_point(&self, v: usize) -> String {

@@ -10,7 +10,7 @@
 //! reading them back gives the same `f64` bit for bit.
 
 use super::mesh::Cell;
-use crate::output::fmt_f64;
+use crate::numfmt::fmt_f64;
 use std::fmt::Write as _;
 use thiserror::Error;
 

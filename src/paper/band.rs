@@ -9,7 +9,6 @@
 //! min–max over the runs, and a verdict (bounded, grows, diverged) per run.
 
 use super::runs::{DRIFT_FACTOR, PeriodEnergy};
-use super::tables::sig;
 use super::{Case, Experiment, Purpose};
 use crate::mass::MassKind;
 use crate::run::Summary;
@@ -123,5 +122,22 @@ mod tests {
             // δ·u rounds once more when added: a few ε|u| on top.
             assert!((x - y).abs() <= (PERTURBATION + 4.0 * f64::EPSILON) * y.abs());
         }
+    }
+}
+
+/// `x` with `digits` significant digits, plain for moderate magnitudes.
+pub fn sig(x: f64, digits: usize) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let e = x.abs().log10().floor() as i32;
+    if (-3..5).contains(&e) {
+        let decimals = (digits as i32 - 1 - e).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.*e}", digits - 1)
     }
 }

@@ -60,7 +60,7 @@ impl CaseResult {
 
 /// Runs one case on the paper's benchmark with a [`SummaryObserver`] (L² error on: every case
 /// has a table row) and a [`SeriesRecorder`] of [`Case::columns`]; a round-off sensitive case
-/// ([`band::is_sensitive`]) also from [`band::PERTURBATIONS`] perturbed initial states.
+/// (`band::is_sensitive`) also from `band::PERTURBATIONS` perturbed initial states.
 pub fn run_case(config: &Config, case: &Case) -> Result<CaseResult, ReproduceError> {
     let wrap = |source: RunError| ReproduceError::Run { case: case.name(), source };
     let long = case.purpose == Purpose::LongEnergy;

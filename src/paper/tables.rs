@@ -1,6 +1,7 @@
 //! The result tables (CSV with full precision, Markdown for the report) and the number formats
 //! of the report text.
 
+pub use super::band::sig;
 use super::band::{PERTURBATION, Verdict};
 use super::runs::{CaseResult, events, runs_of};
 use super::{Config, Experiment, Purpose};
@@ -9,23 +10,6 @@ use crate::output::fmt_f64;
 use crate::run::Summary;
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// `x` with `digits` significant digits, plain for moderate magnitudes.
-pub fn sig(x: f64, digits: usize) -> String {
-    if !x.is_finite() {
-        return format!("{x}");
-    }
-    if x == 0.0 {
-        return "0".into();
-    }
-    let e = x.abs().log10().floor() as i32;
-    if (-3..5).contains(&e) {
-        let decimals = (digits as i32 - 1 - e).max(0) as usize;
-        format!("{x:.decimals$}")
-    } else {
-        format!("{x:.*e}", digits - 1)
-    }
-}
 
 /// `x` to `digits` significant digits, or a dash.
 pub(super) fn opt(x: Option<f64>, digits: usize) -> String {
