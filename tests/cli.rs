@@ -210,6 +210,17 @@ fn bad_input_is_a_clear_error() {
         1,
     ));
     assert_eq!(out.status.code(), Some(3), "{}", String::from_utf8_lossy(&out.stderr));
+    // Newmark with β = 1e-300 is all but explicit and unstable at Δt = 0.01 with the massless
+    // contact row: it sets up, and overflows at its first step (exit 3, not 1).
+    let (out, _t) = run_text(&GOOD.replacen("kind = \"crank-nicolson\"", "kind = \"newmark\"\nbeta = 1e-300", 1));
+    assert_eq!(out.status.code(), Some(3), "{}", String::from_utf8_lossy(&out.stderr));
+    // VTU frames are streamed; their disk use is bounded (100 × 100 cells, a frame every step
+    // for 10⁵ steps would be about 240 GB).
+    let (out, _t) =
+        run_text("[plate]\nnx = 100\nny = 100\n[time]\ndt = 0.01\nend = 1000\n[output]\nvtu = true\nvtu_every = 1\n");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("output.vtu_every = 1") && err.contains("at least"), "{err}");
     // A TOML type error names the key on its first line.
     let (out, _t) = run_text(&GOOD.replacen("elements = 6", "elements = \"six\"", 1));
     let first = String::from_utf8_lossy(&out.stderr).lines().next().unwrap_or("").to_string();

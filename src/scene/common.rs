@@ -362,7 +362,18 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
         if k < 1 {
             return Err(SceneError::Range { key: "output.vtu_every", value: k.to_string(), range: "integers >= 1" });
         }
-        Some(k as usize)
+        let (k, nodes) = (k as usize, geometry.unknowns() as f64);
+        let bytes = (time.steps / k + 1) as f64 * nodes * VTU_BYTES_PER_NODE;
+        if bytes > MAX_VTU_BYTES {
+            let every = (time.steps as f64 * nodes * VTU_BYTES_PER_NODE / MAX_VTU_BYTES).ceil() as usize;
+            return Err(SceneError::TooManyFrames {
+                given: k,
+                gigabytes: bytes / 1e9,
+                limit_gb: MAX_VTU_BYTES / 1e9,
+                every,
+            });
+        }
+        Some(k)
     } else {
         forbid("output.vtu_every", &o.vtu_every, "output.vtu = false (set vtu = true)")?;
         None

@@ -59,6 +59,14 @@ pub const DEFAULT_DIVERGENCE_FACTOR: f64 = crate::driver::DivergenceCriterion::D
 /// has at most 24 characters, e.g. `-2.2250738585072014e-308`, plus a separator), 1.25 GB.
 pub const MAX_SERIES_VALUES: f64 = 5e7;
 
+/// Upper bound on the bytes of the VTU frames a run writes: they are streamed (memory does not
+/// depend on them), this protects the disk.
+pub const MAX_VTU_BYTES: f64 = 2e10;
+/// Bytes per mesh node of one ASCII VTU frame, an upper bound: 8 numbers per node (u, v, the
+/// warp vector, the point) of at most 25 bytes each, plus the cells' connectivity and offsets
+/// (measured: 1.15 MB for the 10 201 nodes of a 100 × 100 plate, 113 bytes a node).
+pub const VTU_BYTES_PER_NODE: f64 = 240.0;
+
 /// Upper bound on the size of a scene file: a scene is a few hundred bytes (a custom mass with
 /// 10⁵ weights about 2 MB); reading stops here, so `/dev/zero` or a binary file fails at once.
 pub const MAX_SCENE_BYTES: u64 = 16 << 20;
@@ -96,6 +104,10 @@ pub enum SceneError {
     TooMuchWork { work: f64, limit: f64, size: &'static str },
     #[error("output.series would record {values:.3e} values (limit {limit:.0e}): set output.every to at least {every}")]
     TooManyValues { values: f64, limit: f64, every: usize },
+    #[error(
+        "output.vtu_every = {given} would write up to {gigabytes:.1} GB of VTU frames (limit {limit_gb:.0} GB): set output.vtu_every to at least {every}"
+    )]
+    TooManyFrames { given: usize, gigabytes: f64, limit_gb: f64, every: usize },
     #[error("output.series lists \"{0}\" twice")]
     DuplicateColumn(String),
     #[error(transparent)]
