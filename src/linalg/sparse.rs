@@ -172,6 +172,21 @@ impl SparseLlt {
         self.n == 0
     }
 
+    /// Overwrites the `ncols` columns of `b` (column-major, `n` values each) with `A⁻¹ b`: one
+    /// blocked solve (faer's supernodal kernels work on all columns at once). Allocates its work
+    /// space: meant for set-up, not for the time loop.
+    pub fn solve_many_in_place(&self, b: &mut [f64], ncols: usize) {
+        debug_assert_eq!(b.len(), self.n * ncols);
+        let mut work = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(ncols, Par::Seq));
+        let rhs = MatMut::from_column_major_slice_mut(b, self.n, ncols);
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            rhs,
+            Par::Seq,
+            MemStack::new(&mut work),
+        );
+    }
+
     /// Overwrites `b` with `A⁻¹ b` (no allocation).
     pub fn solve_in_place(&mut self, b: &mut [f64]) {
         debug_assert_eq!(b.len(), self.n);

@@ -117,9 +117,9 @@ pub enum SceneError {
     #[error(transparent)]
     Mesh(#[from] crate::plate::mesh::MeshError),
     #[error(
-        "free nodes × contact nodes = {work:.3e} exceeds {limit:.1e} (the dense contact responses would take {megabytes:.0} MB): reduce plate.nx or plate.ny"
+        "{contact} contact nodes: their dense Schur complement would take {values:.3e} values ({megabytes:.0} MB), over the limit of {limit:.1e}: reduce plate.ny or the contact edge of plate.mesh"
     )]
-    TooManyContactNodes { work: f64, limit: f64, megabytes: f64 },
+    TooManyContactNodes { contact: usize, values: f64, limit: f64, megabytes: f64 },
     #[error(transparent)]
     Expr(#[from] crate::expr::ExprError),
     /// The problem a valid-looking scene poses cannot be set up (a matrix that cannot be

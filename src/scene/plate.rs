@@ -35,9 +35,11 @@ use crate::plate::layers::{cell_weights, layers};
 use crate::plate::mesh::{CellKind, Mesh2d};
 use std::sync::Arc;
 
-/// Upper bound on `free nodes × contact nodes`: the dense contact responses Z = K⁻¹E take
-/// 8 bytes each (2.5·10⁷ is 200 MB; a 400 × 400 mesh has 6.4·10⁷).
-pub const MAX_CONTACT_WORK: f64 = 2.5e7;
+/// Upper bound on `contact nodes²`: the contact solver ([`crate::contact::Schur`]) keeps the dense
+/// Schur complement D = Eᵀ K⁻¹ E, n_c² doubles, and its LCP one more n_c² array for the Cholesky
+/// factor of the active block (2.5·10⁷ values is 200 MB each: n_c ≤ 5000; a 4000-row plate has
+/// n_c = 4001).
+pub const MAX_CONTACT_VALUES: f64 = 2.5e7;
 
 #[derive(Debug, Default, Deserialize, Serialize)]
 pub(crate) struct RawPlate {
@@ -177,8 +179,7 @@ impl PlateSpec {
         };
         let (nx, ny) = mesh.grid.unwrap_or((0, 0));
         let contact = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count();
-        let free = (0..mesh.n_nodes()).filter(|&v| !mesh.on_dirichlet(v)).count();
-        check_contact_work(free, contact)?;
+        check_contact_memory(contact)?;
         let (initial, body) = parse_plate_body(p.body, &p.unknown, &mesh)?;
         let (length, height, cells) = (mesh.length, mesh.height, mesh.kind);
         Ok(PlateSpec { length, height, nx, ny, cells, initial, body, mesh_file, mesh: Some(Arc::new(mesh)) })
@@ -220,7 +221,7 @@ fn structured_mesh(p: &RawPlate) -> Result<Mesh2d, SceneError> {
         }
     };
     // Checked before the mesh is built: a hostile nx, ny must fail fast.
-    check_contact_work(nx * (ny + 1), ny + 1)?;
+    check_contact_memory(ny + 1)?;
     Ok(Mesh2d::structured(length, height, nx, ny, cells)?)
 }
 
@@ -360,11 +361,12 @@ fn parse_initial(raw: Option<RawInitial>, consts: &[(&str, f64)]) -> Result<Plat
     }
 }
 
-/// The dense contact responses take free × contact values.
-fn check_contact_work(free: usize, contact: usize) -> Result<(), SceneError> {
-    let work = free as f64 * contact as f64;
-    if work > MAX_CONTACT_WORK {
-        return Err(SceneError::TooManyContactNodes { work, limit: MAX_CONTACT_WORK, megabytes: work * 8.0 / 1e6 });
+/// The dense contact Schur complement takes contact² values.
+fn check_contact_memory(contact: usize) -> Result<(), SceneError> {
+    let values = contact as f64 * contact as f64;
+    if values > MAX_CONTACT_VALUES {
+        let megabytes = values * 8.0 / 1e6;
+        return Err(SceneError::TooManyContactNodes { contact, values, limit: MAX_CONTACT_VALUES, megabytes });
     }
     Ok(())
 }
