@@ -12,7 +12,6 @@ use crate::driver::{Observer, Sample};
 use crate::numfmt::Shortest;
 use std::io::Write;
 use std::path::Path;
-use thiserror::Error;
 
 /// VTK cell type codes.
 pub fn vtk_type(kind: CellKind) -> u8 {
@@ -102,122 +101,8 @@ pub fn pvd_string(frames: &[(f64, String)]) -> String {
     String::from_utf8(s).expect("ASCII")
 }
 
-#[derive(Debug, Clone, PartialEq, Error)]
-pub enum VtuError {
-    #[error("malformed VTU: {0}")]
-    Malformed(String),
-}
-
-/// A `DataArray` read back: its name, component count and values.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DataArray {
-    pub name: String,
-    pub components: usize,
-    pub values: Vec<f64>,
-}
-
-/// The content of a `.vtu` file written by [`vtu_string`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct VtuData {
-    pub n_points: usize,
-    pub n_cells: usize,
-    pub points: Vec<f64>,
-    pub connectivity: Vec<usize>,
-    pub offsets: Vec<usize>,
-    pub types: Vec<u8>,
-    pub point_data: Vec<DataArray>,
-    pub cell_data: Vec<DataArray>,
-}
-
-impl VtuData {
-    pub fn point_array(&self, name: &str) -> Option<&DataArray> {
-        self.point_data.iter().find(|a| a.name == name)
-    }
-
-    pub fn cell_array(&self, name: &str) -> Option<&DataArray> {
-        self.cell_data.iter().find(|a| a.name == name)
-    }
-}
-
-fn attr(tag: &str, name: &str) -> Option<String> {
-    let key = format!("{name}=\"");
-    let i = tag.find(&key)? + key.len();
-    let j = tag[i..].find('"')? + i;
-    Some(tag[i..j].to_string())
-}
-
-/// Parses the ASCII `.vtu` files written by this module (not a general VTK reader).
-pub fn read_vtu(text: &str) -> Result<VtuData, VtuError> {
-    let bad = |m: &str| VtuError::Malformed(m.to_string());
-    let piece_at = text.find("<Piece").ok_or_else(|| bad("no <Piece>"))?;
-    let piece_tag =
-        &text[piece_at..piece_at + text[piece_at..].find('>').ok_or_else(|| bad("unterminated <Piece>"))?];
-    let count = |k: &str| -> Result<usize, VtuError> {
-        attr(piece_tag, k).and_then(|v| v.parse().ok()).ok_or_else(|| bad(&format!("Piece without {k}")))
-    };
-    let (n_points, n_cells) = (count("NumberOfPoints")?, count("NumberOfCells")?);
-    let section = |open: &str, close: &str| -> &str {
-        match (text.find(open), text.find(close)) {
-            (Some(a), Some(b)) if a < b => &text[a..b],
-            _ => "",
-        }
-    };
-    let arrays = |sec: &str| -> Result<Vec<DataArray>, VtuError> {
-        let mut out = Vec::new();
-        let mut rest = sec;
-        while let Some(a) = rest.find("<DataArray") {
-            let tag_end = a + rest[a..].find('>').ok_or_else(|| bad("unterminated <DataArray>"))?;
-            let tag = &rest[a..tag_end];
-            let body_end =
-                tag_end + rest[tag_end..].find("</DataArray>").ok_or_else(|| bad("unterminated DataArray"))?;
-            let values = rest[tag_end + 1..body_end]
-                .split_whitespace()
-                .map(|w| w.parse::<f64>().map_err(|_| bad(&format!("not a number: {w}"))))
-                .collect::<Result<Vec<f64>, _>>()?;
-            out.push(DataArray {
-                name: attr(tag, "Name").unwrap_or_default(),
-                components: attr(tag, "NumberOfComponents").and_then(|v| v.parse().ok()).unwrap_or(1),
-                values,
-            });
-            rest = &rest[body_end..];
-        }
-        Ok(out)
-    };
-    let points = arrays(section("<Points>", "</Points>"))?.into_iter().next().ok_or_else(|| bad("no points"))?;
-    if points.values.len() != 3 * n_points {
-        return Err(bad("point count"));
-    }
-    let cells = arrays(section("<Cells>", "</Cells>"))?;
-    let ints = |name: &str| -> Result<Vec<usize>, VtuError> {
-        let a = cells.iter().find(|a| a.name == name).ok_or_else(|| bad(&format!("no {name}")))?;
-        Ok(a.values.iter().map(|&x| x as usize).collect())
-    };
-    let point_data = arrays(section("<PointData", "</PointData>"))?;
-    let cell_data = arrays(section("<CellData", "</CellData>"))?;
-    if point_data.iter().any(|a| a.values.len() != a.components * n_points)
-        || cell_data.iter().any(|a| a.values.len() != a.components * n_cells)
-    {
-        return Err(bad("data array length"));
-    }
-    Ok(VtuData {
-        n_points,
-        n_cells,
-        points: points.values,
-        connectivity: ints("connectivity")?,
-        offsets: ints("offsets")?,
-        types: ints("types")?.into_iter().map(|t| t as u8).collect(),
-        point_data,
-        cell_data,
-    })
-}
-
-/// Reads the `(timestep, file)` entries of a `.pvd` written by [`pvd_string`].
-pub fn read_pvd(text: &str) -> Vec<(f64, String)> {
-    text.lines()
-        .filter(|l| l.contains("<DataSet"))
-        .filter_map(|l| Some((attr(l, "timestep")?.parse().ok()?, attr(l, "file")?)))
-        .collect()
-}
+// The reader of the files written here is the one of every mesh (`crate::fem::vtu`).
+pub use crate::fem::vtu::{DataArray, VtuData, VtuError, read_pvd, read_vtu};
 
 /// Streams VTU frames into a folder as the run produces them: every `every` steps it writes
 /// `vtu/frame_NNNNN.vtu` and adds its line to `plate.pvd`, which [`FrameWriter::finish`] closes.
