@@ -6,7 +6,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use massredist::output::OutputDir;
 use massredist::run::{Observer, RunFolderError, Sample, run_scene_into};
-use massredist::scene::{AnyScene, BarScene, PlateScene};
+use massredist::scene::{AnyScene, PlateScene};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -135,8 +135,12 @@ fn main() -> ExitCode {
                 (Ok(_), Engine::Fenicsx) => {
                     fail(&scene, "--engine fenicsx runs plate scenes ([plate]); bars run in Rust".into(), exit::INVALID)
                 }
-                (Ok(AnyScene::Bar(s)), Engine::Rust) => run_bar(&scene, s, dir),
-                (Ok(AnyScene::Plate(s)), Engine::Rust) => run_plate(&scene, s, dir),
+                (Ok(AnyScene::Bar(s)), Engine::Rust) => {
+                    run_with(&scene, s.time.steps, dir, |d, p| run_scene_into(&s, d, &mut [p]))
+                }
+                (Ok(AnyScene::Plate(s)), Engine::Rust) => run_with(&scene, s.time.steps, dir, |d, p| {
+                    massredist::run::plate::run_plate_scene_into(&s, d, &mut [p])
+                }),
                 (Err(e), _) => fail(&scene, e.to_string(), exit::INVALID),
             },
             Err(code) => code,
@@ -204,33 +208,17 @@ fn run_failed<E: massredist::run::RunFailure>(scene: &Path, e: RunFolderError<E>
     }
 }
 
-/// `run` for a scene with a `[bar]` table.
-fn run_bar(scene: &Path, s: BarScene, dir: OutputDir) -> ExitCode {
+/// `run` in Rust for any geometry: the progress bar, the run streamed into `dir`, the report
+/// line and the exit code.
+fn run_with<E: massredist::run::RunFailure>(
+    scene: &Path,
+    steps: usize,
+    dir: OutputDir,
+    run: impl FnOnce(OutputDir, &mut Progress) -> Result<massredist::run::Summary, RunFolderError<E>>,
+) -> ExitCode {
     let out = dir.path().to_path_buf();
-    let mut bar = progress(s.time.steps as u64);
-    let result = run_scene_into(&s, dir, &mut [&mut bar]);
-    bar.0.finish_and_clear();
-    let summary = match result {
-        Ok(r) => r,
-        Err(e) => return run_failed(scene, e),
-    };
-    eprintln!(
-        "{}: {} steps in {:.3} s, L∞(L²) error {}, energy {} -> {}",
-        out.display(),
-        summary.divergence.map_or(summary.steps, |d| d.step),
-        summary.wall_seconds,
-        summary.linf_l2_error.map_or("n/a".into(), |e| format!("{e:.4e}")),
-        summary.energy_initial,
-        summary.energy_final
-    );
-    status(&out, &summary)
-}
-
-/// `run` for a scene with a `[plate]` table (2D).
-fn run_plate(scene: &Path, s: PlateScene, dir: OutputDir) -> ExitCode {
-    let out = dir.path().to_path_buf();
-    let mut bar = progress(s.time.steps as u64);
-    let result = massredist::run::plate::run_plate_scene_into(&s, dir, &mut [&mut bar]);
+    let mut bar = progress(steps as u64);
+    let result = run(dir, &mut bar);
     bar.0.finish_and_clear();
     let summary = match result {
         Ok(r) => r,
