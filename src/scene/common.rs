@@ -4,7 +4,7 @@
 use super::*;
 use crate::mass::MassKind;
 
-/// The `[mass]` table (shared with the plate scenes of `crate::plate::scene`).
+/// The `[mass]` table (every scene has one).
 #[derive(Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawMass {
