@@ -1,9 +1,8 @@
 //! The FEniCSx engine as a process: `massredist run SCENE --engine fenicsx --ranks N --out DIR`
 //! (issue 12).
 //!
-//! The scene is validated exactly as for a Rust run ([`PlateScene::from_file`], then the mesh and
-//! the cell weights of [`crate::plate::layers::cell_weights`], which a Rust run checks before its
-//! first step), its resolved form is written into the output folder's temporary sibling, and
+//! The scene is validated exactly as for a Rust run (`crate::scene::AnyScene::from_file`: keys,
+//! mesh, cell weights, schemes), its resolved form is written into the output folder's temporary sibling, and
 //!
 //! ```text
 //! mpirun -n N /usr/bin/python3 python/fenicsx_engine.py DIR.tmp/scene.resolved.toml DIR.tmp --staged
@@ -23,7 +22,6 @@
 //! `MASSREDIST_ENGINE` (the entry point, default `python/fenicsx_engine.py` of this source tree).
 
 use crate::output::OutputDir;
-use crate::plate::layers::cell_weights;
 use crate::scene::PlateScene;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -119,16 +117,12 @@ pub fn check_available() -> Result<(), EngineError> {
     Ok(())
 }
 
-/// Validates `scene` as a Rust run does before stepping, and what the engine cannot run yet.
+/// What the engine cannot run yet. Everything a Rust run refuses (keys, mesh, cell weights,
+/// bar-only schemes) the validated scene has already refused (`crate::scene::validate_sections`).
 pub fn validate(scene: &PlateScene) -> Result<(), EngineError> {
     if scene.geometry.mesh_file.is_some() {
         return Err(EngineError::Scene("plate.mesh: the fenicsx engine runs structured plates only (for now)".into()));
     }
-    if let Some((key, why)) = scene.scheme.bar_only() {
-        return Err(EngineError::Scene(format!("{key} is not available for plate scenes: {why}")));
-    }
-    let mesh = scene.geometry.mesh().map_err(|e| EngineError::Scene(e.to_string()))?;
-    cell_weights(mesh.as_ref(), &scene.mass).map_err(|e| EngineError::Scene(e.to_string()))?;
     Ok(())
 }
 

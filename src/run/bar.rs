@@ -2,6 +2,7 @@
 //! the observers [`crate::observe`]). Nothing here does I/O but [`run_scene_into`] (through
 //! [`crate::output`]).
 
+use super::{Setup, setup_error};
 use crate::bar::assembly::{AssemblyError, Bar, BarSystem, Load};
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
@@ -100,24 +101,12 @@ fn general_exact(scene: &BarScene) -> Result<Characteristics, CharacteristicsErr
     }
 }
 
-/// A scene's problem with its scheme built (matrices assembled and factored), not yet stepped:
-/// what `check` runs, so that a scene it accepts starts its run.
-pub struct Setup<G: crate::problem::Geometry = crate::bar::assembly::BarSystem> {
-    pub problem: Problem<G>,
-    pub scheme: Box<dyn crate::schemes::Scheme>,
-}
-
 /// The problem and scheme of a bar scene; a failure names the keys that shape the matrices.
 pub fn setup(scene: &BarScene) -> Result<Setup, SceneError> {
     let keys = "bar.length, bar.elements, bar.density, bar.modulus, mass.*, scheme.*, time.dt";
     let problem = Problem::from_scene(scene).map_err(|e| setup_error(keys, e))?;
     let scheme = problem.scheme(&scene.scheme, scene.time.dt).map_err(|e| setup_error(keys, e))?;
     Ok(Setup { problem, scheme })
-}
-
-/// A setup failure as a scene error naming `keys`.
-pub(crate) fn setup_error(keys: &str, e: impl std::fmt::Display) -> SceneError {
-    SceneError::Setup { keys: keys.to_string(), reason: e.to_string() }
 }
 
 /// Runs a scene: the summary always, plus the requested series, held in memory (for library

@@ -9,6 +9,18 @@ pub mod plate;
 
 pub use bar::*;
 
+/// A scene's problem with its scheme built (matrices assembled and factored), not yet stepped:
+/// what `check` runs, so that a scene it accepts starts its run.
+pub struct Setup<G: crate::problem::Geometry = crate::bar::assembly::BarSystem> {
+    pub problem: Problem<G>,
+    pub scheme: Box<dyn crate::schemes::Scheme>,
+}
+
+/// A setup failure as a scene error naming `keys`.
+pub(crate) fn setup_error(keys: &str, e: impl std::fmt::Display) -> crate::scene::SceneError {
+    crate::scene::SceneError::Setup { keys: keys.to_string(), reason: e.to_string() }
+}
+
 /// A run's failure, and whether the input is at fault (the scene cannot be set up: exit code 2)
 /// rather than the computation (exit code 1).
 pub trait RunFailure: std::error::Error {

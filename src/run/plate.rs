@@ -13,7 +13,7 @@ use crate::plate::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
 use crate::plate::layers::cell_weights;
 use crate::plate::mesh::{Mesh2d, MeshError};
 use crate::plate::vtu::FrameWriter;
-use crate::run::bar::{Setup, setup_error};
+use crate::run::{Setup, setup_error};
 use crate::scene::{Body, Force, PlateInitial, PlateScene, PlateSpec, SceneError};
 use crate::schemes::SchemeError;
 use serde::Serialize;

@@ -104,6 +104,7 @@ impl SceneGeometry for BarSpec {
     const COLUMN_LIST: &'static str = "any subset of u0, u1, lambda, energy, l2_error, exact_u0, exact_lambda";
     const SIZE_KEYS: &'static str = "bar.elements";
     const VTU: bool = false;
+    const BAR_ONLY_SCHEMES: bool = true;
 
     fn unknowns(&self) -> usize {
         self.elements

@@ -334,7 +334,7 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
     let mass = parse_mass(raw.mass)?;
     let w0 = geometry.contact_weight(&mass)?;
     let scheme = parse_scheme(raw.scheme, w0, &mass)?;
-    if G::TABLE != BarSpec::TABLE {
+    if !G::BAR_ONLY_SCHEMES {
         if let Some((key, why)) = scheme.bar_only() {
             return Err(SceneError::Inapplicable { key, context: format!("[{}] scenes ({why})", G::TABLE) });
         }

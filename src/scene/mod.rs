@@ -240,6 +240,8 @@ pub trait SceneGeometry: Sized {
     const SIZE_KEYS: &'static str;
     /// Whether the geometry writes VTU frames (`output.vtu`).
     const VTU: bool;
+    /// Whether the bar-only schemes (Paoli–Schatzman, reduced Newmark) apply.
+    const BAR_ONLY_SCHEMES: bool = false;
     /// Unknowns per step (the work limit's measure).
     fn unknowns(&self) -> usize;
     /// The extent along x (the default `time.end` is 3 L).
