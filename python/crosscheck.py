@@ -1,9 +1,11 @@
-"""The 1D benchmark of section 4 assembled by a FEM backend and run by the independent steppers."""
+"""The 1D benchmark of section 4 assembled by a FEM backend and run by the independent steppers;
+elastic matrices of a mesh file read through meshio."""
 import importlib
 
 import numpy as np
 import scipy.sparse as sp
 
+import mesh_io
 import stepper
 
 SCHEMES = {"crank-nicolson", "hybrid"}
@@ -18,12 +20,23 @@ def bar_mesh(L, m):
     return points, cells
 
 
-def free_matrices(backend, L, m, weights):
-    """M and S of the bar from ``backend`` on the m free dofs (Dirichlet vertex m dropped)."""
+def _backend(backend):
     if backend not in BACKENDS:
         raise ValueError(f"unknown backend {backend!r}; allowed: {sorted(BACKENDS)}")
+    return importlib.import_module("fem_" + backend)
+
+
+def assemble_elastic_file(backend, path, weights, lam, mu, rho):
+    """``backend``'s ``assemble_elastic`` on the mesh file ``path`` as ``mesh_io.read_cells``
+    reads it (the file's vertex and cell order; ``weights`` one per cell)."""
+    points, cells, _ = mesh_io.read_cells(path)
+    return _backend(backend).assemble_elastic(points, cells, weights, lam, mu, rho)
+
+
+def free_matrices(backend, L, m, weights):
+    """M and S of the bar from ``backend`` on the m free dofs (Dirichlet vertex m dropped)."""
     points, cells = bar_mesh(L, m)
-    out = importlib.import_module("fem_" + backend).assemble(points, cells, weights)
+    out = _backend(backend).assemble(points, cells, weights)
     n = out["n"]
     M, S = (sp.csr_matrix((data, indices, indptr), shape=(n, n))[:m, :m]
             for indptr, indices, data in (out["mass"], out["stiffness"]))

@@ -3,19 +3,31 @@
 Both backends take the same mesh description (see ``normalize``) and return the weighted mass
 ``M_ij = ∫ w φ_i φ_j dx`` and the stiffness ``S_ij = ∫ ∇φ_i·∇φ_j dx`` (paper section 3) as CSR
 triplets over all input vertices, in input vertex order, with no boundary condition applied.
+
+For elastic solids (``assemble_elastic``) the unknowns are interleaved per vertex, as in the Rust
+crate (``src/solid/assembly.rs``): component i of vertex a is row ``a·d + i``, and
+
+    M_(a,i),(b,j) = δ_ij ρ ∫ w φ_a φ_b,   S = ∫ σ(u):ε(v),  σ = λ tr ε I + 2μ ε  (plane strain in 2D).
 """
 import numpy as np
 import scipy.sparse as sp
 
 # (geometric dimension, vertices per cell) -> cell name
-CELL_TYPES = {(1, 2): "interval", (2, 3): "triangle", (2, 4): "quadrilateral"}
+CELL_TYPES = {
+    (1, 2): "interval",
+    (2, 3): "triangle",
+    (2, 4): "quadrilateral",
+    (3, 4): "tetrahedron",
+    (3, 8): "hexahedron",
+}
 
 
 def normalize(points, cells, weights):
     """Return ``(points (n, gdim) float64, cells (k, nv) int64, weights (k,) float64, cell_type)``.
 
-    ``points`` has shape (n,) or (n, 1) for intervals and (n, 2) in 2D; quadrilaterals are given
-    counter-clockwise (v0, v1, v2, v3); ``weights`` holds one value per cell, in cell order.
+    ``points`` has shape (n,) or (n, 1) for intervals, (n, 2) in 2D and (n, 3) in 3D;
+    quadrilaterals are given counter-clockwise (v0, v1, v2, v3), hexahedra in VTK order (the face
+    z = 0 counter-clockwise, then the face z = 1 likewise); ``weights`` holds one value per cell.
     """
     points = np.asarray(points, dtype=np.float64)
     points = points.reshape(len(points), -1)
@@ -43,3 +55,15 @@ def csr_triplets(matrix):
     return (np.ascontiguousarray(csr.indptr, dtype=np.int64),
             np.ascontiguousarray(csr.indices, dtype=np.int64),
             np.ascontiguousarray(csr.data, dtype=np.float64))
+
+
+def interleaved_rows(node_of_block, bs):
+    """Rust row ``node·bs + component`` of every unblocked library row ``block·bs + component``."""
+    node_of_block = np.asarray(node_of_block, dtype=np.int64)
+    return (node_of_block[:, None] * bs + np.arange(bs)[None, :]).reshape(-1)
+
+
+def permuted_csr(matrix, row_of, n):
+    """The scipy matrix ``matrix`` (n × n) with row and column k moved to ``row_of[k]``."""
+    coo = sp.coo_matrix(matrix)
+    return csr_triplets(sp.csr_matrix((coo.data, (row_of[coo.row], row_of[coo.col])), shape=(n, n)))

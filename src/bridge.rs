@@ -28,6 +28,8 @@ use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::PyModuleNotFoundError;
 use pyo3::prelude::*;
 
+use crate::solid::Lame;
+
 /// The interpreter we embed: Debian's, which sees `python3-dolfinx-real`.
 pub const PYTHON_EXECUTABLE: &std::ffi::CStr = c"/usr/bin/python3";
 
@@ -157,10 +159,86 @@ pub fn assemble(
     verts_per_cell: usize,
     weights: &[f64],
 ) -> Result<(Csr, Csr), BridgeError> {
-    if !matches!((gdim, verts_per_cell), (1, 2) | (2, 3) | (2, 4)) {
-        return invalid(format!(
-            "gdim {gdim} with {verts_per_cell} vertices per cell; allowed: (1, 2), (2, 3), (2, 4)"
-        ));
+    let (n, ncells) = check_mesh(points, gdim, cells, verts_per_cell, weights, &[(1, 2), (2, 3), (2, 4)])?;
+    backend_ready(backend)?;
+    attach(|py| {
+        let args = mesh_args(py, points, gdim, cells, verts_per_cell, weights, (n, ncells))?;
+        let out = py.import(backend.module())?.call_method1("assemble", args)?;
+        Ok((csr(&out.get_item("mass")?, n)?, csr(&out.get_item("stiffness")?, n)?))
+    })
+}
+
+/// The elastic solid's weighted vector mass and stiffness assembled by `backend`, the matrices
+/// of [`crate::solid::assembly::assemble`]:
+///
+/// M_(a,i),(b,j) = δ_ij ρ ∫ w φ_a φ_b,   S = ∫ σ(u) : ε(v),  σ = λ tr ε(u) I + 2μ ε(u)
+///
+/// (plane strain in 2D), P1 on triangles and tetrahedra, Q1 on quadrilaterals (counter-clockwise)
+/// and hexahedra (VTK order), `w` constant on each cell. Rows and columns are interleaved per
+/// vertex, `vertex·gdim + component`, over all vertices in input order (no boundary condition).
+/// dolfinx: `VectorFunctionSpace`, `ufl.sym(ufl.grad(u))`; scikit-fem: `ElementVector`,
+/// `skfem.models.elasticity.linear_elasticity` (`python/fem_*.py::assemble_elastic`).
+pub fn assemble_elastic(
+    backend: Backend,
+    mesh: &MeshArrays,
+    weights: &[f64],
+    lame: &Lame,
+) -> Result<(Csr, Csr), BridgeError> {
+    let MeshArrays { points, dim: gdim, cells, verts_per_cell } = mesh;
+    let (points, gdim, cells, verts_per_cell) = (points.as_slice(), *gdim, cells.as_slice(), *verts_per_cell);
+    let (n, ncells) = check_mesh(points, gdim, cells, verts_per_cell, weights, &SOLID_CELLS)?;
+    backend_ready(backend)?;
+    attach(|py| {
+        let (p, c, w) = mesh_args(py, points, gdim, cells, verts_per_cell, weights, (n, ncells))?;
+        let args = (p, c, w, lame.lambda, lame.mu, lame.density);
+        let out = py.import(backend.module())?.call_method1("assemble_elastic", args)?;
+        Ok((csr(&out.get_item("mass")?, n * gdim)?, csr(&out.get_item("stiffness")?, n * gdim)?))
+    })
+}
+
+/// [`assemble_elastic`] on the mesh of a file, which the Python side reads itself through meshio
+/// (`python/crosscheck.py::assemble_elastic_file`, [`read_cells`]'s reader): `weights` one per
+/// cell in the file's order. The matrices have `vertices·dim` rows in the file's vertex order.
+pub fn assemble_elastic_file(
+    backend: Backend,
+    path: &Path,
+    weights: &[f64],
+    lame: &Lame,
+) -> Result<(Csr, Csr), BridgeError> {
+    backend_ready(backend)?;
+    attach(|py| {
+        let path = path.to_string_lossy().into_owned();
+        let args = (backend.name(), path, PyArray1::from_slice(py, weights), lame.lambda, lame.mu, lame.density);
+        let out = py.import("crosscheck")?.call_method1("assemble_elastic_file", args)?;
+        let n: usize = out.get_item("n")?.extract()?;
+        Ok((csr(&out.get_item("mass")?, n)?, csr(&out.get_item("stiffness")?, n)?))
+    })
+}
+
+/// `(dim, vertices per cell)` of triangles, quadrilaterals, tetrahedra and hexahedra.
+const SOLID_CELLS: [(usize, usize); 4] = [(2, 3), (2, 4), (3, 4), (3, 8)];
+
+/// A mesh as flat arrays: `dim` coordinates per vertex, `verts_per_cell` vertex indices per cell.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshArrays {
+    pub points: Vec<f64>,
+    pub dim: usize,
+    pub cells: Vec<usize>,
+    pub verts_per_cell: usize,
+}
+
+/// Validates a mesh given as arrays; returns `(vertices, cells)`. `allowed` lists the
+/// `(gdim, verts_per_cell)` pairs the caller's Python function accepts.
+fn check_mesh(
+    points: &[f64],
+    gdim: usize,
+    cells: &[usize],
+    verts_per_cell: usize,
+    weights: &[f64],
+    allowed: &[(usize, usize)],
+) -> Result<(usize, usize), BridgeError> {
+    if !allowed.contains(&(gdim, verts_per_cell)) {
+        return invalid(format!("gdim {gdim} with {verts_per_cell} vertices per cell; allowed: {allowed:?}"));
     }
     if !points.len().is_multiple_of(gdim) || !cells.len().is_multiple_of(verts_per_cell) {
         return invalid(format!(
@@ -177,15 +255,24 @@ pub fn assemble(
     if let Some(&v) = cells.iter().find(|&&v| v >= n) {
         return invalid(format!("cell vertex {v} out of range 0..{n}"));
     }
-    backend_ready(backend)?;
-    attach(|py| {
-        let points = PyArray1::from_slice(py, points).reshape([n, gdim])?;
-        let cells: Vec<i64> = cells.iter().map(|&v| v as i64).collect();
-        let cells = PyArray1::from_vec(py, cells).reshape([ncells, verts_per_cell])?;
-        let weights = PyArray1::from_slice(py, weights);
-        let out = py.import(backend.module())?.call_method1("assemble", (points, cells, weights))?;
-        Ok((csr(&out.get_item("mass")?, n)?, csr(&out.get_item("stiffness")?, n)?))
-    })
+    Ok((n, ncells))
+}
+
+/// The numpy arrays `(points (n, gdim), cells (ncells, verts_per_cell) int64, weights)`.
+#[allow(clippy::type_complexity)] // three numpy arrays, named in the doc line
+fn mesh_args<'py>(
+    py: Python<'py>,
+    points: &[f64],
+    gdim: usize,
+    cells: &[usize],
+    verts_per_cell: usize,
+    weights: &[f64],
+    (n, ncells): (usize, usize),
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>, Bound<'py, PyArray1<f64>>)> {
+    let points = PyArray1::from_slice(py, points).reshape([n, gdim])?.into_any();
+    let cells: Vec<i64> = cells.iter().map(|&v| v as i64).collect();
+    let cells = PyArray1::from_vec(py, cells).reshape([ncells, verts_per_cell])?.into_any();
+    Ok((points, cells, PyArray1::from_slice(py, weights)))
 }
 
 /// The 1D benchmark of section 4 (bar (0, L), m uniform elements, h = L/m, element j with weight
@@ -233,19 +320,54 @@ pub fn trajectory_1d(
 /// files with `file_format="gmsh"`). Returns `(points, cells, verts_per_cell)`: two coordinates
 /// per vertex and `verts_per_cell` vertex indices per cell, points outside every cell dropped.
 pub fn read_mesh(path: &Path) -> Result<(Vec<f64>, Vec<usize>, usize), BridgeError> {
+    let m = read_with(path, "read_mesh")?;
+    Ok((m.points, m.cells, m.verts_per_cell))
+}
+
+/// A 2D or 3D mesh file read by meshio (`python/mesh_io.py::read_cells`): tetrahedra or
+/// hexahedra (dim 3, VTK order) if the file has any, else triangles or quadrilaterals (dim 2,
+/// counter-clockwise). Points outside every such cell are dropped, the file's order kept
+/// otherwise.
+pub fn read_cells(path: &Path) -> Result<MeshArrays, BridgeError> {
+    read_with(path, "read_cells")
+}
+
+fn read_with(path: &Path, function: &str) -> Result<MeshArrays, BridgeError> {
     startup()?;
     attach(|py| {
         let path = path.to_string_lossy().into_owned();
-        let out = py.import("mesh_io")?.call_method1("read_mesh", (path,))?;
+        let out = py.import("mesh_io")?.call_method1(function, (path,))?;
         let (points, cells, _cell_type): (PyReadonlyArray2<f64>, PyReadonlyArray2<i64>, String) = out.extract()?;
-        let verts_per_cell = cells.as_array().ncols();
-        let points = points.as_array().iter().copied().collect();
-        let cells = cells.as_array().iter().map(|&v| v as usize).collect();
-        Ok((points, cells, verts_per_cell))
+        Ok(MeshArrays {
+            dim: points.as_array().ncols(),
+            verts_per_cell: cells.as_array().ncols(),
+            points: points.as_array().iter().copied().collect(),
+            cells: cells.as_array().iter().map(|&v| v as usize).collect(),
+        })
     })
 }
 
-/// Imports `module` in the embedded interpreter and returns its `__version__` (empty if it has
+/// Writes a mesh with meshio (`python/mesh_io.py::write_mesh`; `.msh` as gmsh 2.2 ASCII, else
+/// by the extension, e.g. `.vtu`): triangles, quadrilaterals, tetrahedra or hexahedra by `dim`
+/// and `verts_per_cell`.
+pub fn write_mesh(path: &Path, mesh: &MeshArrays) -> Result<(), BridgeError> {
+    let (n, ncells) = check_mesh(
+        &mesh.points,
+        mesh.dim,
+        &mesh.cells,
+        mesh.verts_per_cell,
+        &vec![0.0; mesh.cells.len() / mesh.verts_per_cell.max(1)],
+        &SOLID_CELLS,
+    )?;
+    startup()?;
+    attach(|py| {
+        let (points, cells, _) =
+            mesh_args(py, &mesh.points, mesh.dim, &mesh.cells, mesh.verts_per_cell, &[], (n, ncells))?;
+        let path = path.to_string_lossy().into_owned();
+        py.import("mesh_io")?.call_method1("write_mesh", (path, points, cells))?;
+        Ok(())
+    })
+}
 
 /// The points (x, y, z per point) and one point-data array (`components` values per point) of a
 /// file read by meshio (`python/mesh_io.py::read_point_data`), e.g. a `.vtu` frame.
@@ -260,6 +382,21 @@ pub fn read_point_data(path: &Path, name: &str) -> Result<(Vec<f64>, Vec<f64>, u
     })
 }
 
+/// The points (x, y, z per point) and the cell blocks `(meshio cell type, flat vertex indices)`
+/// of a file as meshio reads it, nothing dropped (`python/mesh_io.py::read_cell_blocks`).
+#[allow(clippy::type_complexity)] // points and a list of blocks, named in the doc line
+pub fn read_cell_blocks(path: &Path) -> Result<(Vec<f64>, Vec<(String, Vec<usize>)>), BridgeError> {
+    startup()?;
+    attach(|py| {
+        let path = path.to_string_lossy().into_owned();
+        let out = py.import("mesh_io")?.call_method1("read_cell_blocks", (path,))?;
+        let (points, blocks): (PyReadonlyArray2<f64>, Vec<(String, PyReadonlyArray2<i64>)>) = out.extract()?;
+        let blocks = blocks.into_iter().map(|(t, c)| (t, c.as_array().iter().map(|&v| v as usize).collect())).collect();
+        Ok((points.as_array().iter().copied().collect(), blocks))
+    })
+}
+
+/// Imports `module` in the embedded interpreter and returns its `__version__` (empty if it has
 /// none). A module that is not installed gives [`BridgeError::MissingModule`].
 pub fn module_version(module: &str) -> Result<String, BridgeError> {
     startup()?;

@@ -2,7 +2,8 @@
 //! scikit-fem, through the pyo3 bridge (feature `python`).
 //!
 //! Per case and backend: `max |M_rust − M_py|` and `max |S_rust − S_py|` over all vertices (no
-//! boundary condition), and for trajectory cases the max over steps and free nodes of
+//! boundary condition; for elastic solids over all vertices and components, rows interleaved
+//! `vertex·d + component`, [`crate::solid::assembly::assemble`]), and for trajectory cases the max over steps and free nodes of
 //! `|U_rust − U_py|` and of `|λ_rust − λ_py|`, where the Python side assembles with the backend
 //! and steps with the independent numpy steppers of `python/stepper.py`.
 //!
@@ -15,15 +16,20 @@
 //!   equations; their rounding differs by O(ε) per step and grows at most linearly for w_0 = 0
 //!   masses. The standard mass is chaotic after impact (the issue measured a 1e-13 change of the
 //!   data changing u_0 at t = 30 by 16%), so it is compared on its pre-impact part only.
+//! - elastic matrices: `8 ε · max|entry| · r` with r the largest number of non-zero entries in a
+//!   row of the Rust stiffness (at most 2·9 in 2D, 3·27 in 3D): an entry is a sum over the cells around an
+//!   edge of quadrature sums whose terms are each bounded by `max|entry|`-sized products, computed
+//!   in different orders by the three codes (the 2D scalar cases keep their `16 n ε` bound);
 //! - the hybrid scheme's contact column at n = 0: the Python stepper reports (u_1⁰)⁺ there, this
 //!   crate the interpolant u(0) (its stated convention); row n = 0 of the contact node is skipped.
 
 use crate::bar::assembly::{Bar, full_matrices};
-use crate::bridge::{self, Backend, BridgeError, Csr};
+use crate::bridge::{self, Backend, BridgeError, Csr, MeshArrays};
 use crate::linalg::tridiag::SymTridiag;
 use crate::mass::MassKind;
 use crate::run::{Observer, Problem, Sample, integrate};
 use crate::scene::{Formulation, SchemeSpec};
+use crate::solid::Lame;
 use serde::Serialize;
 
 /// One line of the report.
@@ -31,6 +37,8 @@ use serde::Serialize;
 pub struct CaseReport {
     pub backend: &'static str,
     pub dim: usize,
+    /// `"scalar"` (bars, plates) or `"elastic"` (solids).
+    pub physics: &'static str,
     pub case: String,
     pub mass_max_abs_diff: f64,
     pub stiffness_max_abs_diff: f64,
@@ -63,14 +71,42 @@ pub struct Tamper {
     pub delta: f64,
 }
 
-/// A 2D case supplied by the plate module: vertices (x, y), cells, weights and the Rust matrices.
-pub struct Case2d {
+/// What a matrix case assembles: the plate's scalar M and S, or the solid's vector mass and
+/// elasticity stiffness with these Lamé coefficients and density.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Physics {
+    Scalar,
+    Elastic(Lame),
+}
+
+impl Physics {
+    pub fn name(self) -> &'static str {
+        match self {
+            Physics::Scalar => "scalar",
+            Physics::Elastic(_) => "elastic",
+        }
+    }
+}
+
+/// A mesh file as written and read back through meshio on the Rust side: the Python side reads
+/// the same bytes (written again to a temporary file with this extension) through meshio.
+#[derive(Debug, Clone)]
+pub struct MeshFile {
+    /// `"msh"` (gmsh 2.2) or `"vtu"`.
+    pub extension: &'static str,
+    pub bytes: Vec<u8>,
+}
+
+/// A 2D or 3D matrix case: the mesh, the weights, what is assembled and the Rust matrices.
+pub struct MatrixCase {
     pub name: String,
-    pub points: Vec<f64>,
-    pub cells: Vec<usize>,
-    pub verts_per_cell: usize,
+    pub mesh: MeshArrays,
     pub weights: Vec<f64>,
-    /// Dense Rust mass and stiffness over all vertices, row-major n×n.
+    pub physics: Physics,
+    /// Set for the meshio cases: the Python side reads the mesh from this file, not the arrays.
+    pub file: Option<MeshFile>,
+    /// Dense Rust mass and stiffness over all unknowns (vertices, times d if elastic),
+    /// row-major.
     pub mass: Vec<f64>,
     pub stiffness: Vec<f64>,
 }
@@ -119,8 +155,12 @@ fn max_diff_tridiag(a: &SymTridiag, b: &Csr) -> f64 {
     d
 }
 
+/// max |a − b| entrywise (a dense row-major n×n, n = b's rows); ∞ if the sizes differ.
 fn max_diff_dense(a: &[f64], b: &Csr) -> f64 {
     let n = b.nrows;
+    if a.len() != n * n {
+        return f64::INFINITY;
+    }
     let mut d: f64 = 0.0;
     for i in 0..n {
         for j in 0..n {
@@ -172,8 +212,9 @@ fn trajectory_diff(
     Ok((du, dl))
 }
 
-/// Runs every case against both backends. `cases_2d` comes from the plate module (may be empty).
-pub fn run(tamper: Option<&Tamper>, cases_2d: &[Case2d]) -> Result<Report, BridgeError> {
+/// Runs every case against both backends: the 1D cases, then `matrix_cases` ([`matrix_cases`],
+/// may be empty).
+pub fn run(tamper: Option<&Tamper>, matrix_cases: &[MatrixCase]) -> Result<Report, BridgeError> {
     let versions = bridge::versions()?;
     let mut cases = Vec::new();
     for (name, l, m, mass) in cases_1d() {
@@ -211,6 +252,7 @@ pub fn run(tamper: Option<&Tamper>, cases_2d: &[Case2d]) -> Result<Report, Bridg
             cases.push(CaseReport {
                 backend: backend.name(),
                 dim: 1,
+                physics: "scalar",
                 case: name.clone(),
                 mass_max_abs_diff: dm,
                 stiffness_max_abs_diff: ds,
@@ -223,22 +265,19 @@ pub fn run(tamper: Option<&Tamper>, cases_2d: &[Case2d]) -> Result<Report, Bridg
             });
         }
     }
-    for c in cases_2d {
-        let n = c.points.len() / 2;
+    for c in matrix_cases {
         let mut py_weights = c.weights.clone();
         if let Some(t) = tamper.filter(|t| t.case == c.name) {
             py_weights[t.element] += t.delta;
         }
-        // 2D entries sum up to 6 (triangles) or 4 (quads) cell contributions per entry.
-        let eps_n = 16.0 * n as f64 * f64::EPSILON;
-        let (mass_tol, stiff_tol) =
-            (eps_n * max_abs(c.mass.iter().copied()), eps_n * max_abs(c.stiffness.iter().copied()));
+        let (mass_tol, stiff_tol) = tolerances(c);
         for backend in Backend::ALL {
-            let (mp, sp) = bridge::assemble(backend, &c.points, 2, &c.cells, c.verts_per_cell, &py_weights)?;
+            let (mp, sp) = python_matrices(backend, c, &py_weights)?;
             let (dm, ds) = (max_diff_dense(&c.mass, &mp), max_diff_dense(&c.stiffness, &sp));
             cases.push(CaseReport {
                 backend: backend.name(),
-                dim: 2,
+                dim: c.mesh.dim,
+                physics: c.physics.name(),
                 case: c.name.clone(),
                 mass_max_abs_diff: dm,
                 stiffness_max_abs_diff: ds,
@@ -257,13 +296,13 @@ pub fn run(tamper: Option<&Tamper>, cases_2d: &[Case2d]) -> Result<Report, Bridg
 /// The report as a fixed-width table.
 pub fn table(report: &Report) -> String {
     let mut s = format!(
-        "{:<8} {:>3} {:<26} {:>10} {:>10} {:>10} {:>10}  {}\n",
+        "{:<8} {:>3} {:<36} {:>10} {:>10} {:>10} {:>10}  {}\n",
         "backend", "dim", "case", "|ΔM|max", "|ΔS|max", "|ΔU|max", "|Δλ|max", "status"
     );
     let opt = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.2e}"));
     for c in &report.cases {
         s.push_str(&format!(
-            "{:<8} {:>3} {:<26} {:>10.2e} {:>10.2e} {:>10} {:>10}  {}\n",
+            "{:<8} {:>3} {:<36} {:>10.2e} {:>10.2e} {:>10} {:>10}  {}\n",
             c.backend,
             c.dim,
             c.case,
@@ -285,7 +324,7 @@ pub fn table(report: &Report) -> String {
 /// The 2D cases: structured triangle (P1) and quadrilateral (Q1) meshes with the 2D mass
 /// redistributions of `plate::layers` and seeded random per-cell weights, plus the gmsh fixture
 /// mesh read through meshio. Panics only on a bug in these fixed, valid cases.
-pub fn cases_2d() -> Vec<Case2d> {
+pub fn cases_2d() -> Vec<MatrixCase> {
     use crate::linalg::sparse::to_dense;
     use crate::plate::{CellKind, Mesh2d, assemble, layers::cell_weights};
     let structured = |l: f64, h: f64, nx: usize, ny: usize, kind: CellKind| {
@@ -309,15 +348,168 @@ pub fn cases_2d() -> Vec<Case2d> {
             let weights = cell_weights(&mesh, &mass).expect("valid weights");
             let (m, s) = assemble(&mesh, &weights).expect("assembly succeeds");
             let flat = |a: Vec<Vec<f64>>| a.into_iter().flatten().collect::<Vec<f64>>();
-            Case2d {
+            MatrixCase {
                 name,
-                points: mesh.points_flat(),
-                cells: mesh.cells.clone(),
-                verts_per_cell: mesh.kind.verts(),
+                mesh: MeshArrays {
+                    points: mesh.points_flat(),
+                    dim: 2,
+                    cells: mesh.cells.clone(),
+                    verts_per_cell: mesh.kind.verts(),
+                },
                 weights,
+                physics: Physics::Scalar,
+                file: None,
                 mass: flat(to_dense(&m)),
                 stiffness: flat(to_dense(&s)),
             }
         })
         .collect()
+}
+
+/// The (mass, stiffness) tolerances of a matrix case (module docs).
+fn tolerances(c: &MatrixCase) -> (f64, f64) {
+    let abs_max = |a: &[f64]| max_abs(a.iter().copied());
+    let eps_n = match c.physics {
+        // 2D scalar entries sum up to 6 (triangles) or 4 (quads) cell contributions per entry.
+        Physics::Scalar => 16.0 * (c.mesh.points.len() / c.mesh.dim) as f64 * f64::EPSILON,
+        // 8 ε times the entries per row (module docs).
+        Physics::Elastic(_) => 8.0 * f64::EPSILON * max_row_entries(&c.stiffness, c.mass.len().isqrt()) as f64,
+    };
+    (eps_n * abs_max(&c.mass), eps_n * abs_max(&c.stiffness))
+}
+
+/// The largest number of non-zero entries in a row of a dense row-major n×n matrix.
+fn max_row_entries(a: &[f64], n: usize) -> usize {
+    a.chunks(n.max(1)).map(|row| row.iter().filter(|x| **x != 0.0).count()).max().unwrap_or(0)
+}
+
+/// The backend's matrices of a case: from the arrays, or from the case's mesh file (written to
+/// a temporary file for the Python side to read through meshio, removed afterwards).
+fn python_matrices(backend: Backend, c: &MatrixCase, py_weights: &[f64]) -> Result<(Csr, Csr), BridgeError> {
+    let m = &c.mesh;
+    match (c.physics, &c.file) {
+        (Physics::Scalar, _) => bridge::assemble(backend, &m.points, m.dim, &m.cells, m.verts_per_cell, py_weights),
+        (Physics::Elastic(lame), None) => bridge::assemble_elastic(backend, m, py_weights, &lame),
+        (Physics::Elastic(lame), Some(file)) => {
+            let path = scratch_path(&c.name, file.extension);
+            std::fs::write(&path, &file.bytes)
+                .map_err(|e| BridgeError::InvalidInput { reason: format!("{}: {e}", path.display()) })?;
+            let out = bridge::assemble_elastic_file(backend, &path, py_weights, &lame);
+            let _ = std::fs::remove_file(&path);
+            out
+        }
+    }
+}
+
+/// A fresh path in the system's temporary folder (unique per process and call).
+fn scratch_path(name: &str, extension: &str) -> std::path::PathBuf {
+    static COUNTER: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    std::env::temp_dir().join(format!("massredist-crosscheck-{}-{k}-{name}.{extension}", std::process::id()))
+}
+
+/// Every matrix case of `massredist crosscheck`: the plate's ([`cases_2d`]) and the solid's
+/// ([`solid_cases`]).
+pub fn matrix_cases() -> Result<Vec<MatrixCase>, BridgeError> {
+    let mut cases = cases_2d();
+    cases.extend(solid_cases()?);
+    Ok(cases)
+}
+
+/// The material of the elastic cases: λ > 0 and μ ≠ ½ so that both Lamé terms and ρ ≠ 1 show.
+pub const SOLID_LAME: Lame = Lame { lambda: 0.8, mu: 0.3, density: 1.7 };
+
+/// The elastic solid cases: structured triangle, quadrilateral, tetrahedron and hexahedron meshes
+/// of boxes with unequal sides, cell-layer masses (mod1–3) and seeded random per-cell weights, and
+/// two meshio cases: jittered triangle (gmsh `.msh`) and tetrahedron (`.vtu`) meshes written with
+/// meshio and read back through it on both sides ([`crate::fem::Mesh::read_file`] here,
+/// `python/crosscheck.py::assemble_elastic_file` there). Fails only if the bridge does (writing
+/// the files); panics only on a bug in these fixed, valid cases.
+pub fn solid_cases() -> Result<Vec<MatrixCase>, BridgeError> {
+    use crate::fem::layers::cell_weights;
+    use crate::fem::{Cell, Mesh};
+    use crate::plate::CellKind;
+    let random = |mesh: &Mesh, seed: u64| {
+        MassKind::Custom(seeded_weights(mesh.n_cells(), seed).iter().map(|w| w + 0.5).collect())
+    };
+    let tri = Mesh::structured_2d(1.0, 0.75, 4, 3, CellKind::Triangle).expect("valid mesh");
+    let quad = Mesh::structured_2d(2.0, 1.0, 3, 3, CellKind::Quad).expect("valid mesh");
+    let tet = Mesh::structured_3d([1.0, 0.75, 0.5], [3, 2, 2], Cell::Tet).expect("valid mesh");
+    let hex = Mesh::structured_3d([1.5, 0.5, 0.75], [3, 2, 2], Cell::Hex).expect("valid mesh");
+    let (quad_mass, hex_mass) = (random(&quad, 0x50_11d), random(&hex, 0x4e_c5));
+    let mut meshes: Vec<(String, Mesh, MassKind, Option<MeshFile>)> = vec![
+        ("elastic_tri_4x3_mod3".into(), tri, MassKind::Mod3, None),
+        ("elastic_quad_3x3_L2_custom".into(), quad, quad_mass, None),
+        ("elastic_tet_3x2x2_mod2".into(), tet, MassKind::Mod2, None),
+        ("elastic_hex_3x2x2_custom".into(), hex, hex_mass, None),
+    ];
+    for (name, mesh, extension, mass) in [
+        ("elastic_meshio_tri_5x4_mod3", Mesh::structured_2d(1.0, 0.8, 5, 4, CellKind::Triangle), "msh", MassKind::Mod3),
+        (
+            "elastic_meshio_tet_3x2x2_mod1",
+            Mesh::structured_3d([1.0, 1.0, 1.0], [3, 2, 2], Cell::Tet),
+            "vtu",
+            MassKind::Mod1,
+        ),
+    ] {
+        let (mesh, file) = written_and_read_back(&jittered(mesh.expect("valid mesh")), name, extension)?;
+        meshes.push((name.into(), mesh, mass, Some(file)));
+    }
+    let lame = SOLID_LAME;
+    Ok(meshes
+        .into_iter()
+        .map(|(name, mesh, mass, file)| {
+            let weights = cell_weights(&mesh, &mass).expect("valid weights");
+            let (m, s) = crate::solid::assembly::assemble(&mesh, &weights, &lame).expect("assembly succeeds");
+            let flat = |a: Vec<Vec<f64>>| a.into_iter().flatten().collect::<Vec<f64>>();
+            MatrixCase {
+                name,
+                mesh: mesh.arrays(),
+                weights,
+                physics: Physics::Elastic(lame),
+                file,
+                mass: flat(crate::linalg::sparse::to_dense(&m)),
+                stiffness: flat(crate::linalg::sparse::to_dense(&s)),
+            }
+        })
+        .collect())
+}
+
+/// The mesh with its interior vertices moved by up to 0.15 h per coordinate (seeded xorshift), so
+/// that the meshio cases are unstructured; boundary vertices stay on the box's faces. A 0.15 h
+/// move keeps every triangle and Kuhn tetrahedron positively sized (their heights are ≥ h/√3).
+fn jittered(mut mesh: crate::fem::Mesh) -> crate::fem::Mesh {
+    let h = mesh.h();
+    let mut s: u64 = 0x3e5_1a7_u64.wrapping_add(mesh.n_nodes() as u64);
+    let (ext, d) = (mesh.extent, mesh.dim);
+    for p in &mut mesh.points {
+        let interior = (0..d).all(|k| p[k] > 0.0 && p[k] < ext[k]);
+        for x in p.iter_mut().take(d) {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            if interior {
+                *x += 0.15 * h * ((s % 2001) as f64 / 1000.0 - 1.0);
+            }
+        }
+    }
+    mesh
+}
+
+/// Writes `mesh` with meshio to a temporary `.{extension}` file and reads it back through meshio
+/// ([`crate::fem::Mesh::read_file`]); returns the mesh read and the file's bytes.
+fn written_and_read_back(
+    mesh: &crate::fem::Mesh,
+    name: &str,
+    extension: &'static str,
+) -> Result<(crate::fem::Mesh, MeshFile), BridgeError> {
+    let path = scratch_path(name, extension);
+    let read = bridge::write_mesh(&path, &mesh.arrays()).and_then(|()| {
+        let back = crate::fem::Mesh::read_file(&path)
+            .map_err(|e| BridgeError::InvalidInput { reason: format!("reading back {}: {e}", path.display()) })?;
+        let bytes = std::fs::read(&path).map_err(|e| BridgeError::InvalidInput { reason: e.to_string() })?;
+        Ok((back, MeshFile { extension, bytes }))
+    });
+    let _ = std::fs::remove_file(&path);
+    read
 }

@@ -267,7 +267,7 @@ fn status(out: &Path, summary: &massredist::run::Summary) -> ExitCode {
 
 #[cfg(feature = "python")]
 fn crosscheck(json: Option<PathBuf>) -> ExitCode {
-    let report = match massredist::crosscheck::run(None, &massredist::crosscheck::cases_2d()) {
+    let report = match massredist::crosscheck::matrix_cases().and_then(|c| massredist::crosscheck::run(None, &c)) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: crosscheck: {e}");

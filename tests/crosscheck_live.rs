@@ -2,11 +2,13 @@
 //! `bash python/install-deps.sh` installs what it needs).
 #![cfg(feature = "python")]
 
-use massredist::crosscheck::{Tamper, cases_2d, run};
+use massredist::crosscheck::{SOLID_LAME, Tamper, cases_2d, matrix_cases, run, solid_cases};
+use massredist::fem::{Cell, Mesh};
+use massredist::plate::CellKind;
 
 #[test]
 fn every_case_agrees_with_both_backends() {
-    let report = run(None, &cases_2d()).expect("bridge works");
+    let report = run(None, &matrix_cases().expect("bridge works")).expect("bridge works");
     let failed: Vec<_> = report.cases.iter().filter(|c| !c.pass).collect();
     assert!(failed.is_empty(), "outside tolerance: {failed:#?}");
     for backend in ["dolfinx", "skfem"] {
@@ -14,8 +16,14 @@ fn every_case_agrees_with_both_backends() {
         assert_eq!(n, 20, "{backend}: every 1D case");
         let traj = report.cases.iter().filter(|c| c.backend == backend && c.trajectory_max_abs_diff.is_some()).count();
         assert!(traj >= 12, "{backend}: trajectory cases ({traj})");
-        let two_d = report.cases.iter().filter(|c| c.backend == backend && c.dim == 2).count();
-        assert_eq!(two_d, cases_2d().len(), "{backend}: every 2D case");
+        let scalar_2d = report.cases.iter().filter(|c| c.backend == backend && c.dim == 2 && c.physics == "scalar");
+        assert_eq!(scalar_2d.count(), cases_2d().len(), "{backend}: every 2D plate case");
+        // The solids: triangle, quad and meshio triangle in 2D; tet, hex and meshio tet in 3D.
+        for dim in [2, 3] {
+            let elastic =
+                report.cases.iter().filter(|c| c.backend == backend && c.dim == dim && c.physics == "elastic");
+            assert_eq!(elastic.count(), 3, "{backend}: every {dim}D elastic case");
+        }
     }
     assert_eq!(report.versions.executable, "/usr/bin/python3");
 }
@@ -35,4 +43,32 @@ fn a_perturbed_weight_on_the_python_side_is_caught() {
         }
     }
     assert!(!report.all_pass());
+}
+
+#[test]
+fn the_elastic_cases_test_both_lame_terms_and_catch_a_perturbed_weight() {
+    // Both Lamé terms and ρ show (λ > 0, μ ≠ 1/2, ρ ≠ 1), the meshio cases are really
+    // unstructured (jittered) and came through a file, and one weight changed by 1e-6 on the
+    // Python side of the 3D meshio case makes both backends fail that case only.
+    assert!(SOLID_LAME.lambda > 0.0 && SOLID_LAME.mu != 0.5 && SOLID_LAME.density != 1.0);
+    let cases = solid_cases().expect("bridge works");
+    let meshio: Vec<_> = cases.iter().filter(|c| c.file.is_some()).collect();
+    let grids = [
+        Mesh::structured_2d(1.0, 0.8, 5, 4, CellKind::Triangle).unwrap(),
+        Mesh::structured_3d([1.0, 1.0, 1.0], [3, 2, 2], Cell::Tet).unwrap(),
+    ];
+    assert_eq!(meshio.len(), grids.len());
+    for (c, grid) in meshio.iter().zip(&grids) {
+        // Same cells as the grid, but moved interior vertices (and the file holds them).
+        assert_eq!(c.mesh.cells, grid.cells, "{}", c.name);
+        let moved = c.mesh.points.iter().zip(grid.arrays().points).filter(|(a, b)| *a != b).count();
+        assert!(moved >= grid.dim, "{}: {moved} coordinates moved", c.name);
+        assert!(!c.file.as_ref().unwrap().bytes.is_empty());
+    }
+    let tamper = Tamper { case: "elastic_meshio_tet_3x2x2_mod1".into(), element: 40, delta: 1e-6 };
+    let report = run(Some(&tamper), &cases).expect("bridge works");
+    for c in report.cases.iter().filter(|c| c.physics == "elastic") {
+        // A 1e-6 weight change moves mass entries by ρ |c| 1e-6/10 ≈ 1e-9, far above the ~1e-15 tolerance.
+        assert_eq!(c.pass, c.case != tamper.case, "{c:?}");
+    }
 }

@@ -124,6 +124,88 @@ impl Mesh {
         Ok(Self { dim: 3, points, cells, kind, extent, grid: Some(n) })
     }
 
+    /// A mesh from flat arrays (`points`: `dim` coordinates per vertex; `cells`:
+    /// `verts_per_cell` vertex indices per cell), e.g. a mesh file read by meshio.
+    ///
+    /// - dim 2: triangles (3) or quadrilaterals (4), checked and reoriented counter-clockwise by
+    ///   [`Mesh2d::from_arrays`] (quadrilaterals must be axis-aligned rectangles).
+    /// - dim 3: tetrahedra (4) of non-zero volume, either orientation (the P1 element uses
+    ///   |det J|; the structured Kuhn split has both), or hexahedra (8) that are axis-aligned boxes with the vertices in VTK order (vertex a at the
+    ///   corner of [`super::element`]'s reference cube, each axis possibly mirrored): the Q1
+    ///   element and the contact face areas assume boxes, as plates assume rectangles.
+    ///
+    /// The smallest x must be 0 (the contact face); L is the largest x, H and D the extents in
+    /// y and z. No `grid` (so [`Mesh::h`] is NaN). Errors name the cell or vertex.
+    pub fn from_arrays(points: &[f64], cells: &[usize], verts_per_cell: usize, dim: usize) -> Result<Self, MeshError> {
+        match dim {
+            2 => return Ok(Self::from_2d(&Mesh2d::from_arrays(points, cells, verts_per_cell)?)),
+            3 => {}
+            _ => return Err(MeshError::Arrays(format!("dimension {dim}: allowed are 2 and 3"))),
+        }
+        let kind = match verts_per_cell {
+            4 => Cell::Tet,
+            8 => Cell::Hex,
+            k => {
+                return Err(MeshError::Arrays(format!(
+                    "{k} vertices per cell in 3D: allowed are 4 (tetrahedra) and 8 (hexahedra)"
+                )));
+            }
+        };
+        let pts = checked_points(points, cells, verts_per_cell, 3)?;
+        let lo = |k: usize| pts.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min);
+        let hi = |k: usize| pts.iter().map(|p| p[k]).fold(f64::NEG_INFINITY, f64::max);
+        let extent = [hi(0), hi(1) - lo(1), hi(2) - lo(2)];
+        if lo(0).abs() > 1e-12 * (hi(0) - lo(0)).abs().max(f64::MIN_POSITIVE) {
+            return Err(MeshError::NotAtOrigin { xmin: lo(0) });
+        }
+        if !(extent[0] > 0.0) {
+            return Err(MeshError::Length(extent[0]));
+        }
+        let mesh = Self { dim: 3, points: pts, cells: cells.to_vec(), kind, extent, grid: None };
+        let tol = 1e-12 * extent.iter().sum::<f64>();
+        for c in 0..mesh.n_cells() {
+            let p = mesh.cell_points(c);
+            if kind == Cell::Tet {
+                let e = |a: usize| [p[a][0] - p[0][0], p[a][1] - p[0][1], p[a][2] - p[0][2]];
+                let (a, b, d) = (e(1), e(2), e(3));
+                // Signed volume: (a × b)·d / 6.
+                let vol = ((a[1] * b[2] - a[2] * b[1]) * d[0]
+                    + (a[2] * b[0] - a[0] * b[2]) * d[1]
+                    + (a[0] * b[1] - a[1] * b[0]) * d[2])
+                    / 6.0;
+                if !(vol.abs() > tol * tol * tol) {
+                    return Err(MeshError::Arrays(format!("tetrahedron {c} has volume {vol:e} (degenerate)")));
+                }
+            } else if !is_vtk_box(&p, tol) {
+                return Err(MeshError::Arrays(format!(
+                    "hexahedron {c} is not an axis-aligned box with its vertices in VTK order \
+                     (only such boxes are supported for Q1)"
+                )));
+            }
+        }
+        Ok(mesh)
+    }
+
+    /// A 2D (triangles, quadrilaterals) or 3D (tetrahedra, hexahedra) mesh file read by meshio
+    /// through the Python bridge ([`crate::bridge::read_cells`]: gmsh `.msh`, `.vtu`, …), then
+    /// checked and oriented by [`Mesh::from_arrays`]. The file's vertex and cell order is kept.
+    #[cfg(feature = "python")]
+    pub fn read_file(path: &std::path::Path) -> Result<Self, MeshError> {
+        let m = crate::bridge::read_cells(path).map_err(|e| MeshError::Arrays(format!("{}: {e}", path.display())))?;
+        Self::from_arrays(&m.points, &m.cells, m.verts_per_cell, m.dim)
+    }
+
+    /// The mesh as the bridge's flat arrays (`dim` coordinates per vertex).
+    #[cfg(feature = "python")]
+    pub fn arrays(&self) -> crate::bridge::MeshArrays {
+        crate::bridge::MeshArrays {
+            points: self.points.iter().flat_map(|p| p[..self.dim].to_vec()).collect(),
+            dim: self.dim,
+            cells: self.cells.clone(),
+            verts_per_cell: self.kind.verts(),
+        }
+    }
+
     pub fn n_nodes(&self) -> usize {
         self.points.len()
     }
@@ -174,6 +256,49 @@ impl Mesh {
     }
 }
 
+/// `dim` coordinates per vertex as points in ℝ³, after checking the array lengths, finiteness,
+/// the cells' vertex range and that every vertex belongs to a cell.
+fn checked_points(points: &[f64], cells: &[usize], k: usize, dim: usize) -> Result<Vec<[f64; 3]>, MeshError> {
+    if !points.len().is_multiple_of(dim) || !cells.len().is_multiple_of(k) || cells.is_empty() {
+        return Err(MeshError::Arrays(format!(
+            "{} coordinates (need {dim} per vertex), {} cell entries (need a positive multiple of {k})",
+            points.len(),
+            cells.len()
+        )));
+    }
+    if let Some(x) = points.iter().find(|x| !x.is_finite()) {
+        return Err(MeshError::Arrays(format!("coordinate {x} is not finite")));
+    }
+    let pts: Vec<[f64; 3]> = points.chunks(dim).map(|p| [p[0], p[1], if dim == 3 { p[2] } else { 0.0 }]).collect();
+    let mut used = vec![false; pts.len()];
+    for &v in cells {
+        if v >= pts.len() {
+            return Err(MeshError::Arrays(format!("cell vertex {v} out of range 0..{}", pts.len())));
+        }
+        used[v] = true;
+    }
+    match used.iter().position(|u| !u) {
+        Some(vertex) => Err(MeshError::Orphan { vertex }),
+        None => Ok(pts),
+    }
+}
+
+/// Whether the 8 points are an axis-aligned box of positive size with vertex a at the VTK corner
+/// (x bit `[0, 1, 1, 0][a % 4]`, y bit `[0, 0, 1, 1][a % 4]`, z bit `a / 4`), each axis possibly
+/// mirrored: coordinate k of vertex a equals that of vertex 0 when bit k of a is 0, and that of
+/// vertex 1, 3 or 4 (the neighbours of vertex 0 along x, y, z) when it is 1.
+fn is_vtk_box(p: &[[f64; 3]; 8], tol: f64) -> bool {
+    const NEIGHBOUR: [usize; 3] = [1, 3, 4];
+    (0..3).all(|k| {
+        let (lo, hi) = (p[0][k], p[NEIGHBOUR[k]][k]);
+        (hi - lo).abs() > tol
+            && (0..8).all(|a| {
+                let bit = [[0, 1, 1, 0][a % 4], [0, 0, 1, 1][a % 4], a / 4][k];
+                (p[a][k] - if bit == 1 { hi } else { lo }).abs() <= tol
+            })
+    })
+}
+
 impl CellMesh for Mesh {
     fn n_nodes(&self) -> usize {
         Mesh::n_nodes(self)
@@ -222,6 +347,40 @@ mod tests {
             assert!((0..m.n_cells()).all(|c| m.measure(c) > 0.0));
             assert_eq!(m.points[m.n_nodes() - 1], [2.0, 0.5, 0.75]);
         }
+    }
+
+    #[test]
+    fn from_arrays_rebuilds_structured_meshes() {
+        // The arrays of a structured mesh give back the same points, cells and extent (2D through
+        // Mesh2d::from_arrays, 3D here); only `grid` is lost. A flat tetrahedron and a
+        // hexahedron with two vertices swapped are refused.
+        let flat = |m: &Mesh| m.points.iter().flat_map(|p| p[..m.dim].to_vec()).collect::<Vec<f64>>();
+        let meshes = [
+            Mesh::structured_2d(2.0, 0.5, 4, 3, CellKind::Triangle).unwrap(),
+            Mesh::structured_2d(2.0, 0.5, 4, 3, CellKind::Quad).unwrap(),
+            Mesh::structured_3d([2.0, 0.5, 0.75], [3, 2, 2], Cell::Tet).unwrap(),
+            Mesh::structured_3d([2.0, 0.5, 0.75], [3, 2, 2], Cell::Hex).unwrap(),
+        ];
+        for m in meshes {
+            let back = Mesh::from_arrays(&flat(&m), &m.cells, m.kind.verts(), m.dim).unwrap();
+            assert_eq!(back, Mesh { grid: None, ..m.clone() }, "{:?}", m.kind);
+        }
+        let tet = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+        let mut flat_tet = tet;
+        flat_tet[11] = 0.0;
+        // mutation: `vol.abs() > tol * tol * tol` -> `true` -> this assertion fails.
+        let err = Mesh::from_arrays(&flat_tet, &[0, 1, 2, 3], 4, 3).unwrap_err();
+        assert!(err.to_string().contains("tetrahedron 0 has volume 0e0"), "{err}");
+        let hex = Mesh::structured_3d([1.0, 1.0, 1.0], [2, 1, 1], Cell::Hex).unwrap();
+        let mut cells = hex.cells.clone();
+        cells.swap(2, 3);
+        // mutation: `is_vtk_box` returning true -> this assertion fails.
+        let err = Mesh::from_arrays(&flat(&hex), &cells, 8, 3).unwrap_err();
+        assert!(err.to_string().contains("hexahedron 0"), "{err}");
+        let shifted: Vec<f64> = tet.iter().enumerate().map(|(i, x)| if i % 3 == 0 { x + 1.0 } else { *x }).collect();
+        assert!(matches!(Mesh::from_arrays(&shifted, &[0, 1, 2, 3], 4, 3), Err(MeshError::NotAtOrigin { .. })));
+        assert!(matches!(Mesh::from_arrays(&tet, &[0, 1, 2, 3], 5, 3), Err(MeshError::Arrays(_))));
+        assert!(matches!(Mesh::from_arrays(&tet, &[0, 1, 2, 2], 4, 3), Err(MeshError::Orphan { vertex: 3 })));
     }
 
     #[test]
