@@ -158,7 +158,7 @@ impl Mesh {
         if lo(0).abs() > 1e-12 * (hi(0) - lo(0)).abs().max(f64::MIN_POSITIVE) {
             return Err(MeshError::NotAtOrigin { xmin: lo(0) });
         }
-        if !(extent[0] > 0.0) {
+        if extent[0] <= 0.0 {
             return Err(MeshError::Length(extent[0]));
         }
         let mesh = Self { dim: 3, points: pts, cells: cells.to_vec(), kind, extent, grid: None };
@@ -173,7 +173,7 @@ impl Mesh {
                     + (a[2] * b[0] - a[0] * b[2]) * d[1]
                     + (a[0] * b[1] - a[1] * b[0]) * d[2])
                     / 6.0;
-                if !(vol.abs() > tol * tol * tol) {
+                if vol.abs() <= tol * tol * tol {
                     return Err(MeshError::Arrays(format!("tetrahedron {c} has volume {vol:e} (degenerate)")));
                 }
             } else if !is_vtk_box(&p, tol) {
@@ -368,7 +368,7 @@ mod tests {
         let tet = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
         let mut flat_tet = tet;
         flat_tet[11] = 0.0;
-        // mutation: `vol.abs() > tol * tol * tol` -> `true` -> this assertion fails.
+        // mutation: `vol.abs() <= tol * tol * tol` -> `false` -> this assertion fails.
         let err = Mesh::from_arrays(&flat_tet, &[0, 1, 2, 3], 4, 3).unwrap_err();
         assert!(err.to_string().contains("tetrahedron 0 has volume 0e0"), "{err}");
         let hex = Mesh::structured_3d([1.0, 1.0, 1.0], [2, 1, 1], Cell::Hex).unwrap();
