@@ -161,3 +161,28 @@ fn a_solid_run_folder_holds_series_summary_frames_and_the_resolved_scene() {
     let resolved = std::fs::read_to_string(out.join("scene.resolved.toml")).unwrap();
     assert_eq!(SolidScene::from_toml(&resolved).unwrap(), solid(&text));
 }
+
+#[test]
+fn every_shipped_solid_scene_reads_back_and_runs_with_complementarity() {
+    // Each `scenes/solid-*.toml`: the resolved scene reads back to itself, and the run keeps
+    // u_x ≥ −gap and λ ≤ 0 on every contact node at every step (the summary's extremes) with
+    // (u_x + gap) λ = 0 to round-off (the exact LCP solve: products of O(1) values, 1e3 ε).
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut n = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        if !(name.starts_with("solid-") && name.ends_with(".toml")) {
+            continue;
+        }
+        let scene = SolidScene::from_file(&path).unwrap();
+        assert_eq!(scene, solid(&scene.resolved_toml()), "{name}");
+        let run = massredist::run::solid::run_solid_scene(&scene, &mut []).unwrap();
+        let s = &run.summary;
+        assert_eq!(s.steps, scene.time.steps, "{name}");
+        assert!(s.min_u0 >= -scene.geometry.gap && s.max_lambda <= 0.0, "{name}");
+        assert!(s.max_complementarity_product <= 1e3 * f64::EPSILON, "{name}: {:e}", s.max_complementarity_product);
+        n += 1;
+    }
+    assert!(n >= 1, "expected the solid scenes, found {n}");
+}
