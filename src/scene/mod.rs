@@ -296,7 +296,7 @@ impl AnyScene {
                 )))
             }
             (None, Some(p), None) => Ok(AnyScene::Plate(validate_sections(PlateSpec::validate(p, base)?, raw)?)),
-            (None, None, Some(s)) => Ok(AnyScene::Solid(validate_sections(parse_solid(&s)?, raw)?)),
+            (None, None, Some(s)) => Ok(AnyScene::Solid(validate_sections(parse_solid_at(&s, base)?, raw)?)),
             (b, _, _) => Ok(AnyScene::Bar(validate_sections(BarSpec::validate(b.unwrap_or_default())?, raw)?)),
         }
     }

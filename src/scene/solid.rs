@@ -32,10 +32,11 @@ use crate::fem::layers::{cell_weights, layers};
 use crate::fem::mesh::{Cell, Mesh};
 use crate::mass::MassKind;
 use crate::solid::{Lame, Lateral, SolidInitial, SolidSpec};
+use std::sync::Arc;
 
 /// The keys of `[solid]`, for the unknown-key message.
 const KEYS: &str =
-    "dim, length, height, depth, nx, ny, nz, cells, lame_lambda, lame_mu, density, gap, lateral, force, initial";
+    "dim, length, height, depth, nx, ny, nz, cells, mesh, lame_lambda, lame_mu, density, gap, lateral, force, initial";
 
 fn number(t: &toml::Table, key: &str, full: &'static str, default: f64) -> Result<f64, SceneError> {
     match t.get(key) {
@@ -75,6 +76,11 @@ fn string<'a>(t: &'a toml::Table, key: &str, full: &'static str, default: &'a st
 /// and its allowed range; unknown keys are refused. The size is checked before any mesh is
 /// built (cells, contact nodes, cell aspect ratios), the initial data at the mesh nodes.
 pub fn parse_solid(t: &toml::Table) -> Result<SolidSpec, SceneError> {
+    parse_solid_at(t, std::path::Path::new("."))
+}
+
+/// [`parse_solid`] with `mesh = "…"` relative to `base` (the scene's folder), read here, once.
+pub(crate) fn parse_solid_at(t: &toml::Table, base: &std::path::Path) -> Result<SolidSpec, SceneError> {
     if let Some(key) = t.keys().find(|k| !KEYS.split(", ").any(|x| x == k.as_str())) {
         return Err(SceneError::Parse(format!("unknown field `{key}` in [solid], expected one of {KEYS}")));
     }
@@ -83,16 +89,6 @@ pub fn parse_solid(t: &toml::Table) -> Result<SolidSpec, SceneError> {
         Some(toml::Value::Integer(d @ (2 | 3))) => *d as usize,
         Some(v) => return Err(SceneError::Range { key: "solid.dim", value: v.to_string(), range: "2 | 3" }),
     };
-    let extent = [
-        length(t, "length", "solid.length")?,
-        length(t, "height", "solid.height")?,
-        length(t, "depth", "solid.depth")?,
-    ];
-    let n = [
-        count(t, "nx", "solid.nx", 2, "integers in [2, 10000]")?,
-        count(t, "ny", "solid.ny", 1, "integers in [1, 10000]")?,
-        count(t, "nz", "solid.nz", 1, "integers in [1, 10000]")?,
-    ];
     if dim == 2 {
         for key in ["depth", "nz"] {
             if t.contains_key(key) {
@@ -101,14 +97,20 @@ pub fn parse_solid(t: &toml::Table) -> Result<SolidSpec, SceneError> {
             }
         }
     }
-    let cells = match (dim, string(t, "cells", "solid.cells", if dim == 2 { "quad" } else { "hex" })?) {
-        (2, "quad") => Cell::Quad,
-        (2, "triangle") => Cell::Triangle,
-        (3, "hex") => Cell::Hex,
-        (3, "tet") => Cell::Tet,
-        (d, other) => {
-            let range = if d == 2 { "quad | triangle (dim = 2)" } else { "hex | tet (dim = 3)" };
-            return Err(SceneError::Range { key: "solid.cells", value: format!("\"{other}\""), range });
+    let (extent, n, cells, mesh, mesh_file) = match t.get("mesh") {
+        Some(file) => {
+            let file = file.as_str().ok_or_else(|| SceneError::Range {
+                key: "solid.mesh",
+                value: file.to_string(),
+                range: "a mesh file name (a string, relative to the scene file)",
+            })?;
+            let path = base.join(file);
+            let mesh = file_mesh(t, dim, &path)?;
+            (mesh.extent, [0; 3], mesh.kind, Some(Arc::new(mesh)), Some(path))
+        }
+        None => {
+            let (extent, n, cells) = structured(t, dim)?;
+            (extent, n, cells, None, None)
         }
     };
     let lambda = number(t, "lame_lambda", "solid.lame_lambda", 0.0)?;
@@ -137,9 +139,8 @@ pub fn parse_solid(t: &toml::Table) -> Result<SolidSpec, SceneError> {
             *f = x.as_float().or_else(|| x.as_integer().map(|i| i as f64)).filter(|f| f.is_finite()).ok_or_else(bad)?;
         }
     }
-    check_size(dim, extent, n)?;
     let initial = parse_initial(t.get("initial"), dim, extent)?;
-    let spec = SolidSpec { dim, extent, cells_per_axis: n, cells, lame, gap, lateral, force, initial };
+    let spec = SolidSpec { dim, extent, cells_per_axis: n, cells, lame, gap, lateral, force, initial, mesh_file, mesh };
     if let SolidInitial::Fields { displacement, velocity } = &spec.initial {
         let mesh = spec.mesh()?;
         for e in displacement.iter().chain(velocity) {
@@ -192,6 +193,85 @@ fn parse_initial(v: Option<&toml::Value>, dim: usize, extent: [f64; 3]) -> Resul
     })
 }
 
+/// The structured box of a `[solid]` table without `mesh`: extent, cells per axis, cell kind,
+/// its size checked before any mesh is built.
+fn structured(t: &toml::Table, dim: usize) -> Result<([f64; 3], [usize; 3], Cell), SceneError> {
+    let extent = [
+        length(t, "length", "solid.length")?,
+        length(t, "height", "solid.height")?,
+        length(t, "depth", "solid.depth")?,
+    ];
+    let n = [
+        count(t, "nx", "solid.nx", 2, "integers in [2, 10000]")?,
+        count(t, "ny", "solid.ny", 1, "integers in [1, 10000]")?,
+        count(t, "nz", "solid.nz", 1, "integers in [1, 10000]")?,
+    ];
+    let cells = match (dim, string(t, "cells", "solid.cells", if dim == 2 { "quad" } else { "hex" })?) {
+        (2, "quad") => Cell::Quad,
+        (2, "triangle") => Cell::Triangle,
+        (3, "hex") => Cell::Hex,
+        (3, "tet") => Cell::Tet,
+        (d, other) => {
+            let range = if d == 2 { "quad | triangle (dim = 2)" } else { "hex | tet (dim = 3)" };
+            return Err(SceneError::Range { key: "solid.cells", value: format!("\"{other}\""), range });
+        }
+    };
+    check_size(dim, extent, n)?;
+    Ok((extent, n, cells))
+}
+
+/// The mesh of `solid.mesh`: read by meshio, of the table's `dim`, filling the box
+/// (0, L) × (0, H) [× (0, D)] (the contact face x = 0 and the lateral faces are the box's).
+fn file_mesh(t: &toml::Table, dim: usize, path: &std::path::Path) -> Result<Mesh, SceneError> {
+    let context = "solid.mesh (the mesh file gives the geometry)";
+    for key in ["solid.length", "solid.height", "solid.depth", "solid.nx", "solid.ny", "solid.nz", "solid.cells"] {
+        if t.contains_key(&key[6..]) {
+            return Err(SceneError::Inapplicable { key, context: context.into() });
+        }
+    }
+    let mesh = read_mesh_file(path)?;
+    let bad = |what: String| SceneError::Range {
+        key: "solid.mesh",
+        value: format!("\"{}\" ({what})", path.display()),
+        range: "a triangle or quad mesh (solid.dim = 2), a tetrahedron or hexahedron mesh (solid.dim = 3), filling the box (0, L) × (0, H) [× (0, D)]",
+    };
+    if mesh.dim != dim {
+        return Err(bad(format!("a {}D mesh", mesh.dim)));
+    }
+    for axis in 1..dim {
+        let lo = mesh.points.iter().map(|p| p[axis]).fold(f64::INFINITY, f64::min);
+        if lo.abs() > 1e-12 * mesh.extent[axis] {
+            return Err(bad(format!("smallest {} = {}", ["x", "y", "z"][axis], short(lo))));
+        }
+    }
+    let volume: f64 = (0..mesh.n_cells())
+        .map(|c| crate::fem::element::CellIntegrals::new(mesh.kind, &mesh.cell_points(c)).measure())
+        .sum();
+    let bbox: f64 = mesh.extent[..dim].iter().product();
+    if (volume - bbox).abs() > 1e-9 * bbox {
+        return Err(bad(format!("its cells measure {} of the box's {}", short(volume), short(bbox))));
+    }
+    check_contact_memory((0..mesh.n_nodes()).filter(|&v| crate::fem::CellMesh::on_contact(&mesh, v)).count())?;
+    Ok(mesh)
+}
+
+/// A mesh file through meshio (feature `python`).
+#[cfg(feature = "python")]
+fn read_mesh_file(path: &std::path::Path) -> Result<Mesh, SceneError> {
+    Ok(Mesh::read_file(path)?)
+}
+
+#[cfg(not(feature = "python"))]
+fn read_mesh_file(path: &std::path::Path) -> Result<Mesh, SceneError> {
+    Err(SceneError::Inapplicable {
+        key: "solid.mesh",
+        context: format!(
+            "this build ({}): mesh files are read by meshio through the `python` feature; run `cargo run --features python -- run SCENE --out DIR` after `bash python/install-deps.sh`",
+            path.display()
+        ),
+    })
+}
+
 /// Sizes refused before a mesh is built: more than [`MAX_ELEMENTS`] cells, more contact nodes
 /// than the dense contact Schur complement allows ([`MAX_CONTACT_VALUES`]), or cells so far from
 /// cubes that the stiffness cannot be factored in double precision (as for plates).
@@ -234,6 +314,15 @@ impl SceneGeometry for SolidSpec {
     /// Free nodes (all but x = L) times the components, less the normal components a roller
     /// face removes.
     fn unknowns(&self) -> usize {
+        if let Some(mesh) = &self.mesh {
+            let d = self.dim;
+            let roller = self.lateral == Lateral::Roller;
+            let free = |v: usize| (0..d).filter(|&c| !(c >= 1 && roller && mesh.on_lateral(v, c))).count();
+            return (0..mesh.n_nodes())
+                .filter(|&v| !crate::fem::CellMesh::on_dirichlet(mesh.as_ref(), v))
+                .map(free)
+                .sum();
+        }
         let [nx, ny, nz] = self.cells_per_axis;
         let nz = if self.dim == 2 { 0 } else { nz };
         let (sy, sz) = (ny + 1, nz + 1);
@@ -265,7 +354,13 @@ impl SceneGeometry for SolidSpec {
                 "the exact solution (l2_error, exact_u0, exact_lambda) is a plane wave: x-only data, no force, and solid.lame_lambda = 0 or solid.lateral = \"roller\"".into(),
             );
         }
-        (column == Column::L2Error && !self.cells.is_tensor()).then(|| {
+        if column != Column::L2Error {
+            return None;
+        }
+        if self.mesh_file.is_some() {
+            return Some("solid.mesh: the exact L² error is integrated on structured quad and hex meshes only".into());
+        }
+        (!self.cells.is_tensor()).then(|| {
             format!(
                 "solid.cells = \"{}\": the exact L² error is integrated on quad and hex cells only",
                 self.cells.name()
@@ -275,7 +370,7 @@ impl SceneGeometry for SolidSpec {
 
     fn default_series(&self) -> Vec<Column> {
         let mut series = vec![Column::U0, Column::UMean, Column::Lambda, Column::ContactForce, Column::Energy];
-        if self.is_plane_wave() && self.cells.is_tensor() {
+        if self.unavailable(Column::L2Error).is_none() {
             series.push(Column::L2Error);
         }
         series
@@ -288,17 +383,21 @@ impl SceneGeometry for SolidSpec {
         let s = |x: &str| toml::Value::String(x.into());
         let three = self.dim == 3;
         t.insert("dim".into(), i(self.dim));
-        t.insert("length".into(), f(self.extent[0]));
-        t.insert("height".into(), f(self.extent[1]));
-        if three {
-            t.insert("depth".into(), f(self.extent[2]));
+        if let Some(file) = &self.mesh_file {
+            t.insert("mesh".into(), s(&file.display().to_string()));
+        } else {
+            t.insert("length".into(), f(self.extent[0]));
+            t.insert("height".into(), f(self.extent[1]));
+            if three {
+                t.insert("depth".into(), f(self.extent[2]));
+            }
+            t.insert("nx".into(), i(self.cells_per_axis[0]));
+            t.insert("ny".into(), i(self.cells_per_axis[1]));
+            if three {
+                t.insert("nz".into(), i(self.cells_per_axis[2]));
+            }
+            t.insert("cells".into(), s(self.cells.name()));
         }
-        t.insert("nx".into(), i(self.cells_per_axis[0]));
-        t.insert("ny".into(), i(self.cells_per_axis[1]));
-        if three {
-            t.insert("nz".into(), i(self.cells_per_axis[2]));
-        }
-        t.insert("cells".into(), s(self.cells.name()));
         t.insert("lame_lambda".into(), f(self.lame.lambda));
         t.insert("lame_mu".into(), f(self.lame.mu));
         t.insert("density".into(), f(self.lame.density));
@@ -320,6 +419,12 @@ impl SceneGeometry for SolidSpec {
     }
 
     fn header(&self, time: &TimeSpec) -> String {
+        if self.mesh_file.is_some() {
+            return format!(
+                "# Resolved solid scene (every default filled in); {} steps, mesh from a file.\n",
+                time.steps
+            );
+        }
         let [l, h, d] = self.extent;
         let [nx, ny, nz] = self.cells_per_axis;
         let dz = if self.dim == 3 { format!(", dx3 = {:e}", d / nz as f64) } else { String::new() };

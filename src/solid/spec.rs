@@ -79,6 +79,11 @@ pub struct SolidSpec {
     /// Constant body force (entries beyond `dim` are 0).
     pub force: [f64; 3],
     pub initial: SolidInitial,
+    /// The mesh file (read by meshio) that replaced the structured mesh; `extent` and `cells`
+    /// then describe the file's mesh and `cells_per_axis` is `[0, 0, 0]`.
+    pub mesh_file: Option<std::path::PathBuf>,
+    /// The file's mesh, read once when the scene is validated (None: the structured mesh).
+    pub mesh: Option<std::sync::Arc<Mesh>>,
 }
 
 impl SolidSpec {
@@ -95,11 +100,16 @@ impl SolidSpec {
             lateral: Lateral::Free,
             force: [0.0; 3],
             initial: SolidInitial::Paper,
+            mesh_file: None,
+            mesh: None,
         }
     }
 
-    /// The structured mesh of the spec.
+    /// The mesh: the file's, read with the scene, or the structured mesh of the spec.
     pub fn mesh(&self) -> Result<Mesh, MeshError> {
+        if let Some(m) = &self.mesh {
+            return Ok(Mesh::clone(m));
+        }
         let ([l, h, d], [nx, ny, nz]) = (self.extent, self.cells_per_axis);
         match self.cells {
             Cell::Quad => Mesh::structured_2d(l, h, nx, ny, CellKind::Quad),
