@@ -141,7 +141,7 @@ fn solid_vtu_frames_read_back_through_meshio() {
             "{n}\ncells = \"{cells}\"\nlame_lambda = 0.6\nlame_mu = 0.4\ngap = 0.02\n\
              initial = {{ displacement = [\"(1-x)/2*(1+0.5*cos(pi*y/H))\", \"0.05*x*y\"{z}], velocity = [\"0\", \"0.1*x\"{z}] }}"
         );
-        let spec = massredist::solid::spec::parse_solid(&toml::from_str(&text).unwrap()).unwrap();
+        let spec = massredist::scene::parse_solid(&toml::from_str(&text).unwrap()).unwrap();
         let p = spec.problem(&MassKind::Mod3, 3.0).unwrap();
         let g = &p.system;
         let mut s = p.scheme(&SchemeSpec::Hybrid, 0.02).unwrap();
