@@ -190,8 +190,8 @@ fn every_shipped_solid_scene_reads_back_and_runs_with_complementarity() {
 /// `solid.mesh`: a meshio file of the structured mesh (written as VTU by our writer, read by
 /// meshio) gives the structured scene's run: same u0, λ and energy at every step. The file keeps
 /// the node order, so the two runs do the same arithmetic; tolerance 1e3 ε as above.
-/// mutation: `file_mesh` returning the mesh with its y coordinates scaled by 2 (a different
-/// solid) -> fails (series differ at O(1e-2)).
+/// mutation: `file_mesh` stretching the file's mesh by 1.1 in x (points and extent) -> fails
+/// (the points read differ from the structured mesh's).
 #[cfg(feature = "python")]
 #[test]
 fn a_mesh_file_of_the_structured_mesh_gives_the_structured_run() {
