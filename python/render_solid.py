@@ -91,7 +91,7 @@ def render(vtu_path, t, color, out_png, size=(1200, 700), title=None):
 
     # The obstacle: the plane x = 0, a little larger than the contact face.
     x0, x1, y0, y1, z0, z1 = grid.GetBounds()
-    pad = 0.15 * max(y1 - y0, z1 - z0, 1e-9)
+    pad = 0.6 * max(y1 - y0, z1 - z0, 1e-9)
     plane = vtk.vtkPlaneSource()
     plane.SetOrigin(0.0, y0 - pad, z0 - pad)
     plane.SetPoint1(0.0, y1 + pad, z0 - pad)
@@ -101,7 +101,7 @@ def render(vtu_path, t, color, out_png, size=(1200, 700), title=None):
     wall = vtk.vtkActor()
     wall.SetMapper(plane_mapper)
     wall.GetProperty().SetColor(0.55, 0.55, 0.55)
-    wall.GetProperty().SetOpacity(0.6)
+    wall.GetProperty().SetOpacity(0.45)
 
     bar = vtk.vtkScalarBarActor()
     bar.SetLookupTable(lut)
@@ -132,7 +132,7 @@ def render(vtu_path, t, color, out_png, size=(1200, 700), title=None):
     cam = renderer.GetActiveCamera()
     cx, cy, cz = (x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2
     cam.SetFocalPoint(cx, cy, cz)
-    cam.SetPosition(cx - 0.35 * (x1 - x0), cy - 1.6 * (x1 - x0), cz + 0.9 * (x1 - x0))
+    cam.SetPosition(cx + 0.7 * (x1 - x0), cy - 1.3 * (x1 - x0), cz + 0.7 * (x1 - x0))
     cam.SetViewUp(0.0, 0.0, 1.0)
     renderer.ResetCamera()
     cam.Zoom(1.25)
