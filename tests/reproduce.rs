@@ -52,7 +52,8 @@ fn expected_files(config: &Config) -> BTreeSet<String> {
         out.insert(format!("{stem}-periods.csv"));
         out.insert(format!("table-long-{}.csv", horizon_tag(end)));
     }
-    for f in ["table-2d.csv", "table-2d-sweep.csv", "summaries.json", "report.md"] {
+    for f in ["table-2d.csv", "table-2d-sweep.csv", paper::elastic_table::ELASTIC_TABLE, "summaries.json", "report.md"]
+    {
         out.insert(f.into());
     }
     for ext in ["png", "svg", "csv"] {
@@ -293,6 +294,48 @@ fn the_2d_table_row_is_the_plate_code_s_error() {
     for (shown, value) in cells.iter().zip([t.mod1, t.mod2, t.mod3]) {
         assert!((shown - value).abs() <= 5e-3 * value, "{row}");
     }
+}
+
+#[test]
+fn the_elastic_section_states_the_closest_configuration_and_the_10_percent_verdict() {
+    use massredist::paper::elastic_table::{elastic_section, elastic_table};
+    use std::collections::BTreeMap;
+    // The paper's Table 1, quoted from the paper (conclusion), and its "within 10 %".
+    let paper = [("mod1", 0.0104), ("mod2", 0.0046), ("mod3", 0.0038)];
+    let within = 1.1;
+    let rows = elastic_table(true);
+    // quick: {quad, triangle} × {λ = 0 free, λ > 0 free, λ > 0 roller} × CN, Δt = 0.01, T = 3 × 3 masses.
+    assert_eq!(rows.len(), 2 * 3 * 3);
+    // The worst factor of each configuration, grouped here independently of the library.
+    let mut groups: BTreeMap<(String, u64, String, String, u64, u64), Vec<f64>> = BTreeMap::new();
+    for r in &rows {
+        let e = r.linf_l2_error.unwrap_or_else(|| panic!("{r:?}"));
+        let p = paper.iter().find(|(m, _)| *m == r.mass).unwrap().1;
+        let key =
+            (r.cells.into(), r.lambda.to_bits(), r.lateral.into(), r.scheme.into(), r.dt.to_bits(), r.end.to_bits());
+        groups.entry(key).or_default().push((e / p).max(p / e));
+    }
+    assert_eq!(groups.len(), 6);
+    let best = groups
+        .values()
+        .map(|f| {
+            assert_eq!(f.len(), 3);
+            f.iter().copied().fold(1.0, f64::max)
+        })
+        .fold(f64::INFINITY, f64::min);
+    let section = elastic_section(&rows, None);
+    assert!(section.contains(&format!("(worst factor {best:.2} from the paper)")), "{section}");
+    let matching = groups.values().filter(|f| f.iter().all(|&x| x <= within)).count();
+    if matching == 0 {
+        assert!(
+            section.contains("None of the 6 elastic configurations matches all three values within 10 %"),
+            "{section}"
+        );
+    } else {
+        assert!(section.contains(&format!("{matching} of the 6 configurations match all three")), "{section}");
+    }
+    // mutation: MATCH_FACTOR = 6.0 -> fails: the section claims "4 of the 6 configurations match
+    // all three values within 10 %" (best factor 5.01).
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -29,6 +29,7 @@
 mod band;
 mod claims;
 mod config;
+pub mod elastic_table;
 mod experiments;
 mod figures;
 pub mod plate_table;
@@ -92,7 +93,8 @@ pub struct Outcome {
 /// Runs every experiment of `config` and writes into `out` (a folder prepared before computing,
 /// [`OutputDir::prepare`]; atomically: complete or absent):
 /// per figure `<stem>.png`, `<stem>.svg`, `<stem>.csv`; `table-T*.csv`, `table-long-T*.csv`,
-/// `table-2d.csv`, `summaries.json`, `report.md`; for the rebounding bar `rebound-u0.png`,
+/// `table-2d.csv`, `table-2d-elastic.csv` (the elastic candidates, [`elastic_table`]),
+/// `summaries.json`, `report.md`; for the rebounding bar `rebound-u0.png`,
 /// `.svg`, `.csv` and `rebound.csv`. `progress` is advanced once per case and per figure (pass
 /// `ProgressBar::hidden()` for none).
 pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Result<Outcome, ReproduceError> {
@@ -113,9 +115,11 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
     let tables = tables::result_tables(config, &results);
-    let table2d = plate_2d_errors(config);
+    // The scalar plates run one after another; the elastic candidates in parallel beside them.
+    let (table2d, elastic) =
+        rayon::join(|| plate_2d_errors(config), || elastic_table::elastic_table(!config.full_2d_sweep));
     let files = file_names(config, &figures, &tables, &rebound_figure, table2d.is_some());
-    let report = report_markdown(config, &results, &rebound, &files, table2d.as_ref());
+    let report = report_markdown(config, &results, &rebound, &files, table2d.as_ref(), &elastic);
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
         figures.par_iter().chain([&rebound_figure]).try_for_each(|f| -> std::io::Result<()> {
@@ -127,6 +131,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         let header = REBOUND_COLUMNS.map(String::from);
         tables::write_csv(&tmp.join(REBOUND_TABLE), &header, &rebound_report::rebound_csv_rows(&rebound))?;
         table2d::write_csvs(tmp, table2d.as_ref())?;
+        elastic_table::write_elastic_csv(tmp, &elastic)?;
         std::fs::write(tmp.join("summaries.json"), summaries_json(config, &results)?)?;
         std::fs::write(tmp.join("report.md"), &report)
     })
@@ -136,7 +141,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
 }
 
 /// The files [`reproduce`] writes, in the order of [`Outcome::files`]: figures, tables, events,
-/// the rebounding bar's figure and table, `table-2d.csv`, `summaries.json`, `report.md`, and
+/// the rebounding bar's figure and table, `table-2d.csv`, `table-2d-elastic.csv`, `summaries.json`, `report.md`, and
 /// `table-2d-sweep.csv` if the 2D runs gave one.
 fn file_names(
     config: &Config,
@@ -150,7 +155,12 @@ fn file_names(
     files.extend(config.horizons.iter().map(|&end| tables::events_file(end)));
     files.extend(rebound_figure.file_names());
     files.push(REBOUND_TABLE.into());
-    files.extend(["table-2d.csv".to_string(), "summaries.json".into(), "report.md".into()]);
+    files.extend([
+        "table-2d.csv".to_string(),
+        elastic_table::ELASTIC_TABLE.into(),
+        "summaries.json".into(),
+        "report.md".into(),
+    ]);
     if with_2d_sweep {
         files.push("table-2d-sweep.csv".into());
     }

@@ -3,6 +3,7 @@
 
 use super::claims::claims;
 use super::claims::growth_band;
+use super::elastic_table::{ElasticRow, elastic_section};
 use super::experiments::massless_contact;
 use super::figures::{energy_stem, solution_stem};
 use super::rebound::Rebound;
@@ -17,20 +18,22 @@ use crate::output::fmt_f64;
 use crate::scene::Column;
 use std::fmt::Write as _;
 
-/// `report.md`: configuration, tables, one paragraph per figure, the claims, the 2D table, the
-/// rebounding bar (beyond the paper).
+/// `report.md`: configuration, tables, one paragraph per figure, the claims, the 2D table (scalar
+/// plates, then elastic solids), the rebounding bar (beyond the paper).
 pub fn report_markdown(
     config: &Config,
     results: &[CaseResult],
     rebound: &Rebound,
     files: &[String],
     table2d: Option<&Table2d>,
+    elastic: &[ElasticRow],
 ) -> String {
     let mut s = intro(config);
     s.push_str(&results_tables(config, results));
     s.push_str(&claims(config, results));
     s.push_str(&figure_sections(config, results));
     s.push_str(&table_2d(table2d));
+    s.push_str(&elastic_section(elastic, table2d));
     s.push_str(&rebound_section(config, rebound));
     s.push_str("\n## Files\n\n");
     for f in files {
