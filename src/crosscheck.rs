@@ -421,7 +421,8 @@ pub const SOLID_LAME: Lame = Lame { lambda: 0.8, mu: 0.3, density: 1.7 };
 
 /// The elastic solid cases: structured triangle, quadrilateral, tetrahedron and hexahedron meshes
 /// of boxes with unequal sides, cell-layer masses (mod1–3) and seeded random per-cell weights, and
-/// two meshio cases: jittered triangle (gmsh `.msh`) and tetrahedron (`.vtu`) meshes written with
+/// three meshio cases: jittered triangle (gmsh `.msh`), tetrahedron (`.vtu`) and hexahedron
+/// (non-uniform grid, gmsh `.msh`) meshes written with
 /// meshio and read back through it on both sides ([`crate::fem::Mesh::read_file`] here,
 /// `python/crosscheck.py::assemble_elastic_file` there). Fails only if the bridge does (writing
 /// the files); panics only on a bug in these fixed, valid cases.
@@ -451,6 +452,12 @@ pub fn solid_cases() -> Result<Vec<MatrixCase>, BridgeError> {
             "vtu",
             MassKind::Mod1,
         ),
+        (
+            "elastic_meshio_hex_3x2x2_mod3",
+            Mesh::structured_3d([1.0, 0.5, 0.75], [3, 2, 2], Cell::Hex),
+            "msh",
+            MassKind::Mod3,
+        ),
     ] {
         let (mesh, file) = written_and_read_back(&jittered(mesh.expect("valid mesh")), name, extension)?;
         meshes.push((name.into(), mesh, mass, Some(file)));
@@ -478,8 +485,21 @@ pub fn solid_cases() -> Result<Vec<MatrixCase>, BridgeError> {
 /// The mesh with its interior vertices moved by up to 0.15 h per coordinate (seeded xorshift), so
 /// that the meshio cases are unstructured; boundary vertices stay on the box's faces. A 0.15 h
 /// move keeps every triangle and Kuhn tetrahedron positively sized (their heights are ≥ h/√3).
+/// Hexahedra must stay boxes: there each interior grid plane t moves as a whole, by
+/// 0.15 h sin(7 t/h) (a non-uniform grid).
 fn jittered(mut mesh: crate::fem::Mesh) -> crate::fem::Mesh {
     let h = mesh.h();
+    if mesh.kind.is_tensor() {
+        let ext = mesh.extent;
+        for p in &mut mesh.points {
+            for (x, e) in p.iter_mut().zip(ext) {
+                if *x > 0.0 && *x < e {
+                    *x += 0.15 * h * (7.0 * *x / h).sin();
+                }
+            }
+        }
+        return mesh;
+    }
     let mut s: u64 = 0x3e5_1a7_u64.wrapping_add(mesh.n_nodes() as u64);
     let (ext, d) = (mesh.extent, mesh.dim);
     for p in &mut mesh.points {

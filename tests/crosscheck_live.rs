@@ -18,11 +18,12 @@ fn every_case_agrees_with_both_backends() {
         assert!(traj >= 12, "{backend}: trajectory cases ({traj})");
         let scalar_2d = report.cases.iter().filter(|c| c.backend == backend && c.dim == 2 && c.physics == "scalar");
         assert_eq!(scalar_2d.count(), cases_2d().len(), "{backend}: every 2D plate case");
-        // The solids: triangle, quad and meshio triangle in 2D; tet, hex and meshio tet in 3D.
-        for dim in [2, 3] {
+        // The solids: triangle, quad and meshio triangle in 2D; tet, hex, meshio tet and meshio
+        // hex in 3D.
+        for (dim, count) in [(2, 3), (3, 4)] {
             let elastic =
                 report.cases.iter().filter(|c| c.backend == backend && c.dim == dim && c.physics == "elastic");
-            assert_eq!(elastic.count(), 3, "{backend}: every {dim}D elastic case");
+            assert_eq!(elastic.count(), count, "{backend}: every {dim}D elastic case");
         }
     }
     assert_eq!(report.versions.executable, "/usr/bin/python3");
@@ -61,6 +62,7 @@ fn the_elastic_cases_test_both_lame_terms_and_catch_a_perturbed_weight() {
     let grids = [
         Mesh::structured_2d(1.0, 0.8, 5, 4, CellKind::Triangle).unwrap(),
         Mesh::structured_3d([1.0, 1.0, 1.0], [3, 2, 2], Cell::Tet).unwrap(),
+        Mesh::structured_3d([1.0, 0.5, 0.75], [3, 2, 2], Cell::Hex).unwrap(),
     ];
     assert_eq!(meshio.len(), grids.len());
     for (c, grid) in meshio.iter().zip(&grids) {
