@@ -110,3 +110,40 @@ def l2_error_squared(cell_points, cell_values, kind, exact, t):
         # is that of both pieces.
         total += float(np.sum((b - a) / 6.0 * (g(a) + 4.0 * g(0.5 * (a + b)) + g(b))))
     return max(total, 0.0)
+
+
+def l2_error_squared_box(cell_points, cell_values, exact, t):
+    """``Σ_cells ∫ (u_h − u(x, t))²`` over axis-parallel boxes with trilinear u_h (a solid's u_x
+    on hexahedra), as src/solid/geometry.rs: on a line (y, z) fixed u_h is linear in x, so
+    ``∫ (u_h − u)² dx`` (u piecewise linear between its kinks) is exact by Simpson's rule on
+    the pieces, and it is a polynomial of degree ≤ 2 in y and in z: the 2 × 2-point Gauss rule
+    across the cell integrates it exactly.
+
+    ``cell_points``: (k, 8, 3) vertex coordinates; ``cell_values``: (k, 8) u_h at them."""
+    p = cell_points
+    lo, hi = p.min(axis=1), p.max(axis=1)
+    # corner values by position: index = (x high) + 2 (y high) + 4 (z high)
+    slot = sum((np.isclose(p[..., a], hi[:, a, None]) << a) for a in range(3))
+    corner = np.zeros((len(p), 8))
+    rows = np.arange(len(p))
+    for k in range(8):
+        corner[rows, slot[:, k]] = cell_values[:, k]
+    g = (0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0))
+    x0, x1 = lo[:, 0], hi[:, 0]
+    kinks = exact.kinks(t)
+    brk = np.sort(np.clip(np.concatenate([np.column_stack([x0, x1]),
+                                          np.broadcast_to(kinks, (len(p), len(kinks)))], axis=1),
+                          x0[:, None], x1[:, None]), axis=1)
+    total = 0.0
+    for r in g:
+        for s in g:
+            w = [(1 - r) * (1 - s), r * (1 - s), (1 - r) * s, r * s]     # (y, z) corners 00 10 01 11
+            left = sum(w[m] * corner[:, 2 * m] for m in range(4))
+            right = sum(w[m] * corner[:, 2 * m + 1] for m in range(4))
+            e = lambda x: left + (right - left) * (x - x0) / (x1 - x0) - exact.u(x, t)
+            line = 0.0
+            for k in range(brk.shape[1] - 1):
+                a, b = brk[:, k], brk[:, k + 1]
+                line = line + (b - a) / 6.0 * (e(a) ** 2 + 4.0 * e(0.5 * (a + b)) ** 2 + e(b) ** 2)
+            total += float(np.sum(0.25 * (hi[:, 1] - lo[:, 1]) * (hi[:, 2] - lo[:, 2]) * line))
+    return max(total, 0.0)
