@@ -62,6 +62,10 @@ enum Command {
         out: PathBuf,
         #[command(flatten)]
         force: Force,
+        /// Only draw the engine-scaling figure (PNG and SVG next to this table, as written by
+        /// python/bench_engine.py), then exit.
+        #[arg(long, value_name = "CSV")]
+        scaling_figure: Option<PathBuf>,
     },
 }
 
@@ -101,7 +105,14 @@ fn progress(len: u64) -> Progress {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Bench { quick, out, force } => {
+        Command::Bench { scaling_figure: Some(csv), .. } => match massredist::bench::scaling::scaling_figure(&csv) {
+            Ok(paths) => {
+                paths.iter().for_each(|p| eprintln!("wrote {}", p.display()));
+                ExitCode::SUCCESS
+            }
+            Err(m) => fail(&csv, m, exit::FAILURE),
+        },
+        Command::Bench { quick, out, force, .. } => {
             let dir = match prepare(&out, force, &[]) {
                 Ok(d) => d,
                 Err(code) => return code,
