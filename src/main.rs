@@ -286,16 +286,28 @@ fn crosscheck(json: Option<PathBuf>) -> ExitCode {
         }
     };
     print!("{}", massredist::crosscheck::table(&report));
+    // Trajectory cases: plate and solid scenes stepped by this binary and by the FEniCSx engine.
+    let tmp = std::env::temp_dir().join(format!("massredist-crosscheck-{}", std::process::id()));
+    let exe = std::env::current_exe().unwrap_or_else(|_| PathBuf::from("massredist"));
+    let traj = std::fs::create_dir_all(&tmp).map_or_else(
+        |e| vec![massredist::crosscheck_trajectory::failed_setup(&tmp, &e)],
+        |()| massredist::crosscheck_trajectory::run_all(&exe, &tmp),
+    );
+    let _ = std::fs::remove_dir_all(&tmp);
+    print!("{}", massredist::crosscheck_trajectory::table(&traj));
+    let failed = report.cases.iter().filter(|c| !c.pass).count() + traj.iter().filter(|c| !c.pass).count();
     if let Some(path) = json {
-        let text = serde_json::to_string_pretty(&report).expect("report serialises") + "\n";
+        let mut value = serde_json::to_value(&report).expect("report serialises");
+        value["trajectories"] = serde_json::to_value(&traj).expect("trajectories serialise");
+        let text = serde_json::to_string_pretty(&value).expect("report serialises") + "\n";
         if let Err(e) = massredist::output::write_file_atomically(&path, text.as_bytes()) {
             return fail(&path, e.to_string(), exit::FAILURE);
         }
     }
-    if report.all_pass() {
+    if failed == 0 {
         ExitCode::SUCCESS
     } else {
-        eprintln!("crosscheck: {} case(s) outside tolerance", report.cases.iter().filter(|c| !c.pass).count());
+        eprintln!("crosscheck: {failed} case(s) outside tolerance");
         ExitCode::from(exit::FAILURE)
     }
 }
