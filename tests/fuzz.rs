@@ -48,7 +48,7 @@ fn shipped() -> Vec<(String, Table)> {
 }
 
 /// A shipped scene made short: T = 0.05 at Δt = 0.01 (5 steps), at most 12 elements (bars) or
-/// 4 × 4 cells (plates), VTU frames off. Each mutated case then runs in well under a second.
+/// 4 × 4 cells (plates), 4 × 2 (× 2) cells (solids), VTU frames off. Each mutated case then runs in well under a second.
 fn shorten(mut scene: Table) -> Table {
     let time = scene.entry("time").or_insert_with(|| Value::Table(Table::new()));
     if let Value::Table(t) = time {
@@ -61,6 +61,13 @@ fn shorten(mut scene: Table) -> Table {
     if let Some(Value::Table(plate)) = scene.get_mut("plate") {
         plate.insert("nx".into(), Value::Integer(4));
         plate.insert("ny".into(), Value::Integer(4));
+    }
+    if let Some(Value::Table(solid)) = scene.get_mut("solid") {
+        solid.insert("nx".into(), Value::Integer(4));
+        solid.insert("ny".into(), Value::Integer(2));
+        if solid.contains_key("nz") {
+            solid.insert("nz".into(), Value::Integer(2));
+        }
     }
     if let Some(Value::Table(out)) = scene.get_mut("output") {
         out.remove("vtu");
