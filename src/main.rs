@@ -6,7 +6,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use massredist::output::OutputDir;
 use massredist::run::{Observer, RunFolderError, Sample, run_scene_into};
-use massredist::scene::{AnyScene, PlateScene};
+use massredist::scene::AnyScene;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -143,9 +143,10 @@ fn main() -> ExitCode {
         Command::Run { scene, out, force, engine, ranks } => match prepare(&out, force, &[&scene]) {
             Ok(dir) => match (AnyScene::from_file(&scene), engine) {
                 (Ok(AnyScene::Plate(s)), Engine::Fenicsx) => run_engine(&scene, s, dir, ranks.into()),
+                (Ok(AnyScene::Solid(s)), Engine::Fenicsx) => run_engine(&scene, s, dir, ranks.into()),
                 (Ok(_), Engine::Fenicsx) => fail(
                     &scene,
-                    "--engine fenicsx runs plate scenes ([plate]); bars and solids run in Rust".into(),
+                    "--engine fenicsx runs plate and solid scenes ([plate], [solid]); bars run in Rust".into(),
                     exit::INVALID,
                 ),
                 (Ok(AnyScene::Bar(s)), Engine::Rust) => {
@@ -254,7 +255,12 @@ fn run_with<E: massredist::run::RunFailure>(
 }
 
 /// `run --engine fenicsx`: the scene stepped by dolfinx/PETSc in `ranks` MPI processes.
-fn run_engine(scene: &Path, s: PlateScene, dir: OutputDir, ranks: usize) -> ExitCode {
+fn run_engine<G: massredist::engine::EngineGeometry>(
+    scene: &Path,
+    s: massredist::scene::Scene<G>,
+    dir: OutputDir,
+    ranks: usize,
+) -> ExitCode {
     let out = dir.path().to_path_buf();
     let outcome = massredist::engine::run(&s, dir, ranks);
     if outcome.is_ok() {

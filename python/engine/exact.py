@@ -9,6 +9,8 @@ affine in x between its kinks, the chord ends are affine in x between the vertic
 interval between breakpoints (vertex x's and kinks): Simpson's rule on each is exact, so the
 only error is round-off.
 """
+import math
+
 import numpy as np
 
 
@@ -50,6 +52,56 @@ class ImpactingBar:
 
     def energy(self):
         return self.length / 8.0
+
+    def first_contact(self):
+        """The exact first contact phase (t_impact, t_release) = (L, 2L)."""
+        return (self.length, 2.0 * self.length)
+
+
+class ScaledBar:
+    """The paper's bar with density ρ and modulus E (wave speed c = sqrt(E/ρ)):
+    ``u(x, t) = U(x, c t)`` with U the unit-speed solution (ρ u_tt = E u_xx is the unit
+    equation in τ = c t; the data (v = 0) and the contact conditions are invariant), the contact
+    pressure ``E u_x(0, t) = E Λ(c t)`` and the energy ``E L/8`` (as src/exact.rs by
+    characteristics for these data)."""
+
+    def __init__(self, length, density, modulus):
+        self.bar, self.length = ImpactingBar(length), length
+        self.c, self.modulus = math.sqrt(modulus / density), modulus
+
+    def u(self, x, t):
+        return self.bar.u(x, self.c * t)
+
+    def u0(self, t):
+        return self.bar.u0(self.c * t)
+
+    def lambda_(self, t):
+        return self.modulus * self.bar.lambda_(self.c * t)
+
+    def kinks(self, t):
+        return self.bar.kinks(self.c * t)
+
+    def energy(self):
+        return self.modulus * self.length / 8.0
+
+    def first_contact(self):
+        return (self.length / self.c, 2.0 * self.length / self.c)
+
+
+def plane_wave(scene):
+    """The exact solution the Rust run compares with, where the engine has it: the paper's
+    closed form (plates: paper data on the default body; solids: the paper's data as a plane
+    wave, λ = 0 or roller faces, no gap, no force, any λ + 2μ and ρ); None otherwise."""
+    if not scene.solid:
+        return ImpactingBar(scene.length) if scene.has_paper_exact else None
+    plane = (scene.initial == "paper" and scene.gap == 0.0 and not any(scene.force)
+             and (scene.lame_lambda == 0.0 or scene.lateral == "roller"))
+    if not plane:
+        return None
+    e = scene.lame_lambda + 2.0 * scene.lame_mu
+    if e == 1.0 and scene.density == 1.0:
+        return ImpactingBar(scene.length)
+    return ScaledBar(scene.length, scene.density, e)
 
 
 def l2_error_squared(cell_points, cell_values, kind, exact, t):

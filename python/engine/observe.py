@@ -12,13 +12,10 @@ class SummaryObserver:
     """Accumulates summary.json exactly as src/observe.rs SummaryObserver does."""
 
     def __init__(self, steps, h, dt, lower0, exact=None, energy_exact=math.nan, first_contact=None,
-                 with_l2=False, node_impact=False):
+                 with_l2=False):
         self.steps, self.h, self.dt, self.lower0 = steps, h, dt, lower0
         self.exact, self.energy_exact, self.first_contact = exact, energy_exact, first_contact
         self.with_l2 = with_l2 and exact is not None
-        # Impact and release node by node (CONTRACT, solids): first t with SOME contact value on
-        # its bound, release the first later t with none; else by the reference u0.
-        self.node_impact = node_impact
         self.linf_l2 = self.linf_interp = self.max_contact = self.lambda_sq = 0.0
         self.energy = [math.nan, math.nan, math.inf, -math.inf]
         self.prev_energy = math.nan
@@ -52,11 +49,12 @@ class SummaryObserver:
         self.max_y = max(self.max_y, s["y_variation"])
         self.max_pivots = max(self.max_pivots, s["pivots"])
         self.final_u_mean, self.final_force = s["u_mean"], s["contact_force"]
-        probe = s["min_uc"] if self.node_impact else u0
+        # Impact and release node by node (src/observe.rs): the first t with SOME contact value
+        # on its bound, release the first later t with none.
         if self.first_impact is None:
-            if probe <= self.lower0:
+            if s["min_uc"] <= self.lower0:
                 self.first_impact = t
-        elif self.first_release is None and probe > self.lower0:
+        elif self.first_release is None and s["min_uc"] > self.lower0:
             self.first_release = t
         if self.exact is not None:
             self.max_contact = max(self.max_contact, abs(u0 - self.exact.u0(t)))

@@ -120,6 +120,8 @@ class Problem:
         ymin = self.comm.allreduce(float(y.min()), op=MPI.MIN)
         self.ref = self.contact[y == ymin][0] if len(self.contact) and y.min() == ymin else None
         self.n_contact = self.comm.allreduce(len(self.contact))
+        # Free unknowns (not held), as the Rust run counts them.
+        self.n_free = V.dofmap.index_map.size_global * self.bs - self.comm.allreduce(len(self.dirichlet))
 
     def _assemble(self, points, cells):
         scene, V = self.scene, self.V
@@ -141,17 +143,12 @@ class Problem:
         diag = self.M.getDiagonal().getArray()
         self.massless = diag == 0.0
         self.massless[self.dirichlet] = False
-        if scene.solid:
-            # Solids (CONTRACT): u0 is the plain mean of u_x over the face nodes, λ the total
-            # reaction over |Γ_C| (src/solid/geometry.rs).
-            self.contact_lengths = np.ones(len(self.contact))
-            self.contact_measure = self.n_contact
-            self.face_area = scene.face_area
-        else:
-            lengths = fpetsc.assemble_vector(fem.form(ufl.TestFunction(V) * self.ds_c))
-            lengths.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-            self.contact_lengths = lengths.getArray()[: self.n_owned][self.contact].copy()
-            self.contact_measure = self.face_area = self.comm.allreduce(float(self.contact_lengths.sum()))
+        # ℓ_c = ∫_{Γ_C} φ_c (a solid: of the x-component's basis function); Σ ℓ_c = |Γ_C|.
+        test = ufl.TestFunction(V)
+        lengths = fpetsc.assemble_vector(fem.form((test[0] if scene.solid else test) * self.ds_c))
+        lengths.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        self.contact_lengths = lengths.getArray()[: self.n_owned][self.contact].copy()
+        self.contact_measure = self.face_area = self.comm.allreduce(float(self.contact_lengths.sum()))
         u0f, v0f = initial_fields(scene)
         self.u0, self.v0 = self.interpolate(u0f), self.interpolate(v0f)
         for vec in (self.u0, self.v0):
@@ -182,10 +179,13 @@ class Problem:
         return 0.5 * _quad(self.M, v) + 0.5 * _quad(self.S, u) - u.dot(self.F)
 
     def contact_mean(self, u):
-        """``Σ_c ℓ_c u_c / |Γ_C|`` with ``ℓ_c = ∫_{Γ_C} φ_c`` (plates); a solid's plain mean of
-        u_x over the face nodes (ℓ_c = 1 over their count)."""
+        """``Σ_c ℓ_c u_c / |Γ_C|`` with ``ℓ_c = ∫_{Γ_C} φ_c`` (u_mean)."""
         s = float(np.dot(self.contact_lengths, u.getArray()[self.contact]))
         return self.comm.allreduce(s) / self.contact_measure
+
+    def contact_node_mean(self, u):
+        """The plain mean of the contact values over the face nodes (a solid's u0)."""
+        return self.comm.allreduce(float(u.getArray()[self.contact].sum())) / self.n_contact
 
     def at_ref(self, u):
         """u at the reference contact node (x = 0, lowest y), on every rank."""

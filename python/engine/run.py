@@ -80,10 +80,10 @@ class Sampler:
         uc = u.getArray()[p.contact]
         gap = uc - s.lb
         force = comm.allreduce(float(lam.sum()))
-        # u0: the reference node (plates), the plain mean over Γ_C (solids; CONTRACT).
-        u0 = p.contact_mean(u) if p.scene.solid else p.at_ref(u)
+        # u0: the reference node (plates), the plain mean over the face nodes (solids).
+        u0 = p.contact_node_mean(u) if p.scene.solid else p.at_ref(u)
         out = {"n": s.n, "t": s.n * p.scene.dt, "energy": p.energy(u, s.v), "u0": u0,
-               "u_mean": p.contact_mean(u), "contact_force": force, "lambda": force / p.face_area,
+               "u_mean": p.contact_mean(u), "contact_force": force, "lambda": force / p.contact_measure,
                "min_uc": comm.allreduce(float(uc.min(initial=np.inf)), op=MPI.MIN),
                "max_lambda": comm.allreduce(float(lam.max(initial=-np.inf)), op=MPI.MAX),
                "max_product": comm.allreduce(float(np.abs(gap * lam).max(initial=0.0)), op=MPI.MAX),
@@ -112,7 +112,7 @@ def run(scene, folder, resolved_text, comm=MPI.COMM_WORLD):
     caller handles the atomic layout). Returns the exit code of a Rust run (0, or 3 if diverged)."""
     started = time.perf_counter()
     p = Problem(scene, comm)
-    bar = exact_mod.ImpactingBar(scene.length) if scene.has_paper_exact else None
+    bar = exact_mod.plane_wave(scene)
     # A solid on simplices has no exact L² error (src/solid/geometry.rs: NaN, not integrated).
     integrates = not (scene.solid and scene.cells in ("triangle", "tet"))
     want_l2 = bar is not None and integrates and (scene.summary_l2 or "l2_error" in scene.series)
@@ -120,10 +120,9 @@ def run(scene, folder, resolved_text, comm=MPI.COMM_WORLD):
     s = schemes.make(p)
     setup = time.perf_counter() - started
     summ = observe.SummaryObserver(scene.steps, p.h, scene.dt, 0.0 - scene.gap, bar,
-                                   scene.length * scene.face_area / 8.0 if bar else math.nan,
-                                   (scene.length, 2.0 * scene.length) if bar else None,
-                                   with_l2=scene.summary_l2 and integrates,
-                                   node_impact=scene.solid)
+                                   bar.energy() * scene.face_area if bar else math.nan,
+                                   bar.first_contact() if bar else None,
+                                   with_l2=scene.summary_l2 and integrates)
     rows, e_load, reference, divergence = [], load_energy(p), None, None
     frames = scene.vtu_every
     xdmf = io.XDMFFile(comm, f"{folder}/fields.xdmf", "w")
@@ -189,12 +188,15 @@ def _write(folder, scene, p, s, summ, rows, worst, timing, resolved_text):
             "initial": scene.initial if isinstance(scene.initial, str) else "expressions",
             "total_mass": p.total_mass}
     if scene.solid:
-        head.update({"dim": scene.dim, "nz": scene.nz if scene.dim == 3 else None,
-                     "depth": scene.depth if scene.dim == 3 else None, "lateral": scene.lateral,
-                     "lame_lambda": scene.lame_lambda, "lame_mu": scene.lame_mu,
-                     "density": scene.density})
-        if scene.initial != "paper":
-            head["initial"] = "fields"
+        three = scene.dim == 3
+        head = {"scheme": scene.scheme, "mass": scene.mass, "elements": scene.nx, "length": scene.length,
+                "end": scene.end, "dim": scene.dim, "height": scene.height,
+                **({"depth": scene.depth} if three else {}), "nx": scene.nx, "ny": scene.ny,
+                **({"nz": scene.nz} if three else {}), "cells": scene.cells, "lateral": scene.lateral,
+                "lame_lambda": scene.lame_lambda, "lame_mu": scene.lame_mu, "density": scene.density,
+                "gap": scene.gap, "initial": "paper" if scene.initial == "paper" else "fields",
+                "total_mass": p.total_mass,
+                "unknowns": p.n_free}
     engine = {"ranks": p.comm.size, "unknowns": p.V.dofmap.index_map.size_global,
               "contact_dofs": p.n_contact, "solver": s.qp.describe(), "atol_factor": qp.ATOL_FACTOR,
               "vi_bound_tol": qp.VI_BOUND_TOL, **timing, "min_gap": worst[0], "max_lambda": worst[1],

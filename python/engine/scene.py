@@ -71,15 +71,11 @@ class Scene:
 
     @property
     def has_paper_exact(self):
-        """The paper's closed form applies (src/run/plate.rs: paper data, default body; solids,
-        src/solid/spec.rs ``SolidSpec::problem``: the plane wave with λ + 2μ = ρ = 1, no gap,
-        no force, and λ = 0 or roller lateral faces)."""
-        if self.solid:
-            return (self.initial == "paper" and self.lame_lambda + 2.0 * self.lame_mu == 1.0
-                    and self.density == 1.0 and self.gap == 0.0 and not any(self.force)
-                    and (self.lame_lambda == 0.0 or self.lateral == "roller"))
-        return (self.initial == "paper" and self.density == 1.0 and self.modulus == 1.0
-                and self.far_end == "clamped" and self.gap == 0.0 and self.force == 0.0)
+        """The paper's closed form applies to a plate (src/run/plate.rs: paper data, default
+        body); solids: engine.exact.plane_wave."""
+        return (not self.solid and self.initial == "paper" and self.density == 1.0
+                and self.modulus == 1.0 and self.far_end == "clamped" and self.gap == 0.0
+                and self.force == 0.0)
 
 
 def parse(text):
