@@ -1,5 +1,5 @@
 //! The FEniCSx engine as a process: `massredist run SCENE --engine fenicsx --ranks N --out DIR`
-//! (issue 12).
+//! for plate and solid scenes (issue 12).
 //!
 //! The scene is validated exactly as for a Rust run (`crate::scene::AnyScene::from_file`: keys,
 //! mesh, cell weights, schemes), its resolved form is written into the output folder's temporary sibling, and
@@ -22,7 +22,8 @@
 //! `MASSREDIST_ENGINE` (the entry point, default `python/fenicsx_engine.py` of this source tree).
 
 use crate::output::OutputDir;
-use crate::scene::PlateScene;
+use crate::scene::{PlateSpec, Scene, SceneGeometry};
+use crate::solid::SolidSpec;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use thiserror::Error;
@@ -117,18 +118,35 @@ pub fn check_available() -> Result<(), EngineError> {
     Ok(())
 }
 
-/// What the engine cannot run yet. Everything a Rust run refuses (keys, mesh, cell weights,
-/// bar-only schemes) the validated scene has already refused (`crate::scene::validate_sections`).
-pub fn validate(scene: &PlateScene) -> Result<(), EngineError> {
-    if scene.geometry.mesh_file.is_some() {
-        return Err(EngineError::Scene("plate.mesh: the fenicsx engine runs structured plates only (for now)".into()));
+/// The geometries the engine runs (plates and solids; bars are 1D and serial), and what of them
+/// it cannot run yet. Everything a Rust run refuses (keys, mesh, cell weights, bar-only schemes)
+/// the validated scene has already refused (`crate::scene::validate_sections`).
+pub trait EngineGeometry: SceneGeometry {
+    /// Why the engine cannot run this geometry (None if it can).
+    fn engine_refusal(&self) -> Option<String>;
+}
+
+impl EngineGeometry for PlateSpec {
+    fn engine_refusal(&self) -> Option<String> {
+        self.mesh_file.as_ref().map(|_| "plate.mesh: the fenicsx engine runs structured plates only (for now)".into())
     }
-    Ok(())
+}
+
+/// Solids: structured meshes of every cell kind (the only ones a `[solid]` table describes).
+impl EngineGeometry for SolidSpec {
+    fn engine_refusal(&self) -> Option<String> {
+        None
+    }
+}
+
+/// What the engine cannot run yet ([`EngineGeometry::engine_refusal`]).
+pub fn validate<G: EngineGeometry>(scene: &Scene<G>) -> Result<(), EngineError> {
+    scene.geometry.engine_refusal().map_or(Ok(()), |m| Err(EngineError::Scene(m)))
 }
 
 /// Runs `scene` with the engine on `ranks` MPI ranks and writes the run folder `out` (module
 /// docs), prepared before anything is computed ([`OutputDir::prepare`]).
-pub fn run(scene: &PlateScene, out: OutputDir, ranks: usize) -> Result<EngineOutcome, EngineError> {
+pub fn run<G: EngineGeometry>(scene: &Scene<G>, out: OutputDir, ranks: usize) -> Result<EngineOutcome, EngineError> {
     validate(scene)?;
     check_available()?;
     let mut outcome = EngineOutcome::Completed;

@@ -10,6 +10,7 @@ pub mod bar;
 pub mod bench;
 pub mod characteristics;
 pub mod contact;
+pub mod crosscheck_trajectory;
 pub mod driver;
 pub mod engine;
 pub mod exact;

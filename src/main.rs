@@ -6,7 +6,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use massredist::output::OutputDir;
 use massredist::run::{Observer, RunFolderError, Sample, run_scene_into};
-use massredist::scene::{AnyScene, PlateScene};
+use massredist::scene::AnyScene;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -62,6 +62,10 @@ enum Command {
         out: PathBuf,
         #[command(flatten)]
         force: Force,
+        /// Only draw the engine-scaling figure (PNG and SVG next to this table, as written by
+        /// python/bench_engine.py), then exit.
+        #[arg(long, value_name = "CSV")]
+        scaling_figure: Option<PathBuf>,
     },
 }
 
@@ -101,7 +105,14 @@ fn progress(len: u64) -> Progress {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Bench { quick, out, force } => {
+        Command::Bench { scaling_figure: Some(csv), .. } => match massredist::bench::scaling::scaling_figure(&csv) {
+            Ok(paths) => {
+                paths.iter().for_each(|p| eprintln!("wrote {}", p.display()));
+                ExitCode::SUCCESS
+            }
+            Err(m) => fail(&csv, m, exit::FAILURE),
+        },
+        Command::Bench { quick, out, force, .. } => {
             let dir = match prepare(&out, force, &[]) {
                 Ok(d) => d,
                 Err(code) => return code,
@@ -132,9 +143,10 @@ fn main() -> ExitCode {
         Command::Run { scene, out, force, engine, ranks } => match prepare(&out, force, &[&scene]) {
             Ok(dir) => match (AnyScene::from_file(&scene), engine) {
                 (Ok(AnyScene::Plate(s)), Engine::Fenicsx) => run_engine(&scene, s, dir, ranks.into()),
+                (Ok(AnyScene::Solid(s)), Engine::Fenicsx) => run_engine(&scene, s, dir, ranks.into()),
                 (Ok(_), Engine::Fenicsx) => fail(
                     &scene,
-                    "--engine fenicsx runs plate scenes ([plate]); bars and solids run in Rust".into(),
+                    "--engine fenicsx runs plate and solid scenes ([plate], [solid]); bars run in Rust".into(),
                     exit::INVALID,
                 ),
                 (Ok(AnyScene::Bar(s)), Engine::Rust) => {
@@ -243,7 +255,12 @@ fn run_with<E: massredist::run::RunFailure>(
 }
 
 /// `run --engine fenicsx`: the scene stepped by dolfinx/PETSc in `ranks` MPI processes.
-fn run_engine(scene: &Path, s: PlateScene, dir: OutputDir, ranks: usize) -> ExitCode {
+fn run_engine<G: massredist::engine::EngineGeometry>(
+    scene: &Path,
+    s: massredist::scene::Scene<G>,
+    dir: OutputDir,
+    ranks: usize,
+) -> ExitCode {
     let out = dir.path().to_path_buf();
     let outcome = massredist::engine::run(&s, dir, ranks);
     if outcome.is_ok() {
@@ -280,16 +297,28 @@ fn crosscheck(json: Option<PathBuf>) -> ExitCode {
         }
     };
     print!("{}", massredist::crosscheck::table(&report));
+    // Trajectory cases: plate and solid scenes stepped by this binary and by the FEniCSx engine.
+    let tmp = std::env::temp_dir().join(format!("massredist-crosscheck-{}", std::process::id()));
+    let exe = std::env::current_exe().unwrap_or_else(|_| PathBuf::from("massredist"));
+    let traj = std::fs::create_dir_all(&tmp).map_or_else(
+        |e| vec![massredist::crosscheck_trajectory::failed_setup(&tmp, &e)],
+        |()| massredist::crosscheck_trajectory::run_all(&exe, &tmp),
+    );
+    let _ = std::fs::remove_dir_all(&tmp);
+    print!("{}", massredist::crosscheck_trajectory::table(&traj));
+    let failed = report.cases.iter().filter(|c| !c.pass).count() + traj.iter().filter(|c| !c.pass).count();
     if let Some(path) = json {
-        let text = serde_json::to_string_pretty(&report).expect("report serialises") + "\n";
+        let mut value = serde_json::to_value(&report).expect("report serialises");
+        value["trajectories"] = serde_json::to_value(&traj).expect("trajectories serialise");
+        let text = serde_json::to_string_pretty(&value).expect("report serialises") + "\n";
         if let Err(e) = massredist::output::write_file_atomically(&path, text.as_bytes()) {
             return fail(&path, e.to_string(), exit::FAILURE);
         }
     }
-    if report.all_pass() {
+    if failed == 0 {
         ExitCode::SUCCESS
     } else {
-        eprintln!("crosscheck: {} case(s) outside tolerance", report.cases.iter().filter(|c| !c.pass).count());
+        eprintln!("crosscheck: {failed} case(s) outside tolerance");
         ExitCode::from(exit::FAILURE)
     }
 }

@@ -1,5 +1,5 @@
 #![cfg(feature = "python")]
-//! Live trajectory cross-checks of the FEniCSx engine (issue 12): plate scenes stepped by
+//! Live trajectory cross-checks of the FEniCSx engine (issue 12): plate and solid scenes stepped by
 //! `massredist run --engine fenicsx --ranks N` (dolfinx + PETSc under `mpirun`, python/engine/)
 //! against the Rust run of the same scene, on 1 and 2 ranks; complementarity on the engine's side
 //! at every step; a deliberately wrong cell weight on the engine side makes the check fail.
@@ -7,61 +7,40 @@
 //! (tests/run-all.sh); the command itself needs no feature.
 //! Run with `cargo test --features python --test engine_live` after `bash python/install-deps.sh`.
 
-use serde_json::Value;
-use std::collections::HashMap;
+use massredist::crosscheck_trajectory::{self as traj, TOL, plate_scene, solid_scene};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Mutex;
-
-/// PETSc's active-set threshold in SNES `vinewtonrsls` (3.18, `SNESVIGetActiveSetIS`): a contact
-/// value within 1e-8 of its bound may be set onto it, the solver's worst-case error on a contact
-/// value in one step (python/engine/qp.py `VI_BOUND_TOL`; its residual tolerance, 1e-12 ‖r‖∞, is
-/// far below). Over the ≤ 60 steps of these runs the schemes are stable (energy bounded, no
-/// growth of perturbations beyond their sum), and u0, u_mean, λ (a contact row of K = M + σS
-/// with massless contact: entries of S, O(1) here), the energy and the L² error are O(1)-Lipschitz
-/// in the contact values: 60 × 1e-8 < 1e-6. (Measured agreement: ~1e-13.)
-const TOL: f64 = 1e-6;
 
 /// One engine run at a time: dolfinx compiles forms into a shared cache, and two first runs
 /// compiling the same form race on its object file (python/fem_dolfinx.py); the 2 cores of CI
 /// also hold at most one 2-rank run.
 static ENGINE: Mutex<()> = Mutex::new(());
 
-fn bin() -> &'static str {
-    env!("CARGO_BIN_EXE_massredist")
+fn bin() -> &'static Path {
+    Path::new(env!("CARGO_BIN_EXE_massredist"))
 }
 
-/// An 8 × 4 plate, Δt = 0.05, T = 3: the paper's data hit the obstacle at t = 1 and leave it at
-/// t = 2, so every run has steps before, during and after the impact.
-fn scene(dir: &Path, name: &str, cells: &str, initial: &str, scheme: &str, mass: &str) -> PathBuf {
-    let l2 = if initial == "paper" { ", \"l2_error\"" } else { "" };
-    let text = format!(
-        "[plate]\nlength = 1.0\nheight = 1.0\nnx = 8\nny = 4\ncells = \"{cells}\"\ninitial = \"{initial}\"\n\
-         [mass]\nkind = \"{mass}\"\n[scheme]\nkind = \"{scheme}\"\n[time]\ndt = 0.05\nend = 3.0\n\
-         [output]\nseries = [\"u0\", \"u_mean\", \"lambda\", \"contact_force\", \"energy\"{l2}]\n"
-    );
+/// Writes a scene file (texts from `massredist::crosscheck_trajectory`, shared with
+/// `massredist crosscheck`).
+fn scene_file(dir: &Path, name: &str, text: String) -> PathBuf {
     let path = dir.join(format!("{name}.toml"));
     std::fs::write(&path, text).unwrap();
     path
 }
 
-/// Runs `massredist run` (Rust, or the engine on `ranks`) and returns the output folder.
-fn run(scene: &Path, out: &Path, ranks: Option<usize>, perturb: Option<&str>) -> PathBuf {
-    let mut cmd = Command::new(bin());
-    cmd.arg("run").arg(scene).arg("--out").arg(out);
-    if let Some(n) = ranks {
-        cmd.args(["--engine", "fenicsx", "--ranks", &n.to_string()]);
-    }
-    if let Some(p) = perturb {
-        cmd.env("MASSREDIST_ENGINE_PERTURB_WEIGHT", p);
-    }
-    let _one = ranks.map(|_| ENGINE.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
-    let o = cmd.output().unwrap();
-    assert!(o.status.success(), "{cmd:?}: {}\n{}", o.status, String::from_utf8_lossy(&o.stderr));
-    out.to_path_buf()
+fn scene(dir: &Path, name: &str, cells: &str, initial: &str, scheme: &str, mass: &str) -> PathBuf {
+    scene_file(dir, name, plate_scene(cells, initial, scheme, mass))
 }
 
-fn series(dir: &Path) -> Vec<HashMap<String, f64>> {
+/// Runs `massredist run` (Rust, or the engine on `ranks`) and returns the output folder.
+fn run(scene: &Path, out: &Path, ranks: Option<usize>, perturb: Option<&str>) -> PathBuf {
+    let env: Vec<(&str, &str)> = perturb.map(|p| ("MASSREDIST_ENGINE_PERTURB_WEIGHT", p)).into_iter().collect();
+    let _one = ranks.map(|_| ENGINE.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
+    traj::run(bin(), scene, out, ranks, &env).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn series(dir: &Path) -> Vec<std::collections::HashMap<String, f64>> {
     let mut r = csv::Reader::from_path(dir.join("series.csv")).unwrap();
     let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
     r.records()
@@ -69,36 +48,14 @@ fn series(dir: &Path) -> Vec<HashMap<String, f64>> {
         .collect()
 }
 
-fn json(path: &Path) -> serde_json::Map<String, Value> {
-    serde_json::from_str::<Value>(&std::fs::read_to_string(path).unwrap()).unwrap().as_object().unwrap().clone()
+fn json(path: &Path) -> serde_json::Map<String, serde_json::Value> {
+    traj::json(path).unwrap()
 }
 
-/// Summary keys whose values are not trajectory quantities: the wall time, the solver's own count
-/// (Rust: principal pivots; engine: SNES iterations) and the step of the largest energy increase
-/// (for energy-conserving runs the increases are round-off, so their arg-max is too).
-const NOT_COMPARED: [&str; 3] = ["wall_seconds", "max_pivots", "energy_max_increase_step"];
-
-/// The largest difference between two runs over every series column (but pivots) and every
-/// numeric summary value; panics if the columns, the rows or the summary keys differ.
+/// [`traj::difference`]: the largest difference over every series column and numeric summary
+/// value; panics if the folders do not have the same columns, rows and summary keys.
 fn difference(a: &Path, b: &Path) -> f64 {
-    let (sa, sb) = (series(a), series(b));
-    assert_eq!(sa.len(), sb.len(), "rows of {} and {}", a.display(), b.display());
-    let mut worst: f64 = 0.0;
-    for (ra, rb) in sa.iter().zip(&sb) {
-        assert_eq!(ra.len(), rb.len(), "columns");
-        for (k, x) in ra.iter().filter(|(k, _)| k.as_str() != "pivots") {
-            worst = worst.max((x - rb[k]).abs());
-        }
-    }
-    let (ja, jb) = (json(&a.join("summary.json")), json(&b.join("summary.json")));
-    assert_eq!(ja.keys().collect::<Vec<_>>(), jb.keys().collect::<Vec<_>>(), "summary.json keys");
-    for (k, va) in ja.iter().filter(|(k, _)| !NOT_COMPARED.contains(&k.as_str())) {
-        match (va.as_f64(), jb[k].as_f64()) {
-            (Some(x), Some(y)) => worst = worst.max((x - y).abs()),
-            _ => assert_eq!(va, &jb[k], "summary.json {k}"),
-        }
-    }
-    worst
+    traj::difference(a, b).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The engine's complementarity record of every step (engine.json, python/engine/schemes.py):
@@ -107,6 +64,11 @@ fn difference(a: &Path, b: &Path) -> f64 {
 /// within the solver's tolerance (its residual tolerance 1e-12 ‖r‖∞ over σ = Δt²/4 ≥ 6e-4, with
 /// ‖r‖∞ = O(1): < 1e-8).
 fn assert_complementarity(dir: &Path) {
+    assert_complementarity_with_gap(dir, 0.0)
+}
+
+/// [`assert_complementarity`] for an obstacle at u_x = −gap (summary.json's min_u0 ≥ −gap).
+fn assert_complementarity_with_gap(dir: &Path, gap: f64) {
     let e = json(&dir.join("engine.json"));
     let get = |k: &str| e[k].as_f64().unwrap_or_else(|| panic!("engine.json {k}: {:?}", e[k]));
     assert!(get("min_gap") >= 0.0, "{}: min gap {}", dir.display(), get("min_gap"));
@@ -114,7 +76,7 @@ fn assert_complementarity(dir: &Path) {
     assert_eq!(get("max_complementarity_product"), 0.0, "{}", dir.display());
     assert!(get("max_inactive_multiplier") <= 1e-8, "{}: {}", dir.display(), get("max_inactive_multiplier"));
     let s = json(&dir.join("summary.json"));
-    assert!(s["min_u0"].as_f64().unwrap() >= 0.0 && s["max_lambda"].as_f64().unwrap() <= 0.0);
+    assert!(s["min_u0"].as_f64().unwrap() >= -gap && s["max_lambda"].as_f64().unwrap() <= 0.0);
     assert_eq!(s["max_complementarity_product"].as_f64(), Some(0.0));
 }
 
@@ -173,6 +135,64 @@ fn a_wrong_weight_on_the_engine_side_fails_the_cross_check() {
     let s = scene(dir.path(), "quad", "quad", "paper", "crank-nicolson", "mod3");
     let rust = run(&s, &dir.path().join("rust"), None, None);
     let wrong = run(&s, &dir.path().join("wrong"), Some(1), Some("1:1.01"));
+    let d = difference(&rust, &wrong);
+    assert!(d > 100.0 * TOL, "a 1% weight error must show: difference {d:e}");
+}
+
+/// A solid case on the Rust side and on the engine's 1 and 2 ranks: each engine run agrees with
+/// the Rust run, and 1 rank with 2 ranks, within [`TOL`]; complementarity at every engine step;
+/// the Rust run hits the obstacle and leaves it.
+fn solid_case(dir: &Path, name: &str, text: String, gap: f64) {
+    let s = scene_file(dir, name, text);
+    let rust = run(&s, &dir.join(format!("{name}-rust")), None, None);
+    assert_impact(&rust);
+    let one = run(&s, &dir.join(format!("{name}-1")), Some(1), None);
+    let two = run(&s, &dir.join(format!("{name}-2")), Some(2), None);
+    for eng in [&one, &two] {
+        let d = difference(&rust, eng);
+        assert!(d <= TOL, "{} vs Rust: {d:e} > {TOL:e}", eng.display());
+        assert_complementarity_with_gap(eng, gap);
+    }
+    let d = difference(&one, &two);
+    assert!(d <= TOL, "{name}: 1 rank vs 2 ranks: {d:e} > {TOL:e}");
+}
+
+// mutation: solid stiffness `+ 2.0 * scene.lame_mu * inner(eps, eps)` -> `+ scene.lame_mu * ...` in
+//   problem.py -> fails with "quad-1 vs Rust: 9.29e-1 > 1e-6".
+// mutation: hybrid Φ without the free massless unknowns (`free = ...[:0]` in schemes.py
+//   QuasiStatic) -> fails with "tri-1 vs Rust: 2.26e-3 > 1e-6".
+#[test]
+fn solid_2d_quad_and_triangle_agree_with_rust_on_1_and_2_ranks() {
+    let dir = tempfile::tempdir().unwrap();
+    solid_case(dir.path(), "quad", solid_scene(2, "quad", "crank-nicolson", "mod3", ""), 0.0);
+    solid_case(dir.path(), "tri", solid_scene(2, "triangle", "hybrid", "mod3", traj::ROLLER), 0.0);
+    let l2 = json(&dir.path().join("quad-1").join("summary.json"))["linf_l2_error"].as_f64();
+    assert!(l2.is_some_and(|e| e > 0.0), "the L∞(L²) error is computed on quads: {l2:?}");
+}
+
+// mutation: hexahedron vertex map `[0, 1, 3, 2, 4, 5, 7, 6]` -> `[0, 1, 2, 3, 4, 5, 6, 7]` in
+//   problem.py -> fails: the engine run exits with status 1 (dolfinx cannot build the twisted cells).
+#[test]
+fn solid_3d_hex_and_tet_agree_with_rust_on_1_and_2_ranks() {
+    let dir = tempfile::tempdir().unwrap();
+    // Roller faces, a gap and data varying in y and z (not a plane wave: no exact solution on
+    // either side; the engine has the plane wave without gap only).
+    let hex = "lame_lambda = 0.25\nlateral = \"roller\"\ngap = 0.02\n\
+               initial = { displacement = [\"(1-x)/2*(1+0.2*y*z)\", \"0\", \"0\"], velocity = [\"0\", \"0\", \"0\"] }";
+    solid_case(dir.path(), "hex", solid_scene(3, "hex", "hybrid", "mod3", hex), 0.02);
+    solid_case(dir.path(), "tet", solid_scene(3, "tet", "backward-euler", "mod1", "lame_lambda = 0.25"), 0.0);
+}
+
+/// Cell 6 of the 4 × 2 × 2 tet mesh (the first tetrahedron of the second cube along x) is in
+/// layer 1, weight 2 under mod3; the engine multiplies it by 1.01 (measured: 3.5e-4 in the series
+/// alone, against 3.2e-14 unperturbed).
+// mutation: `Some("6:1.01")` -> `None` (no wrong weight) -> fails with "difference 3.2e-14"-class values.
+#[test]
+fn a_wrong_weight_on_the_engine_side_fails_the_solid_cross_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene_file(dir.path(), "tet", solid_scene(3, "tet", "crank-nicolson", "mod3", ""));
+    let rust = run(&s, &dir.path().join("rust"), None, None);
+    let wrong = run(&s, &dir.path().join("wrong"), Some(1), Some("6:1.01"));
     let d = difference(&rust, &wrong);
     assert!(d > 100.0 * TOL, "a 1% weight error must show: difference {d:e}");
 }

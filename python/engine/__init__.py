@@ -1,22 +1,23 @@
-"""The FEniCSx engine (issue 12): plate scenes stepped by dolfinx 0.5 and PETSc under MPI,
-step for step the schemes of the Rust solver, so that trajectories compare.
+"""The FEniCSx engine (issue 12): plate and solid scenes stepped by dolfinx 0.5 and PETSc under
+MPI, step for step the schemes of the Rust solver, so that trajectories compare.
 
 Modules (pure ones first; only ``problem``, ``qp``, ``schemes`` and ``run`` touch dolfinx/PETSc):
 
-- ``scene``: the resolved scene (``scene.resolved.toml``) as data; scene expressions.
-- ``layers``: the structured mesh arrays and the cell weights (src/plate/{mesh,layers}.rs).
-- ``exact``: the paper's impacting bar and an exact L² error (chord integration).
+- ``scene``: the resolved scene (``scene.resolved.toml``, ``[plate]`` or ``[solid]``) as data;
+  scene expressions.
+- ``layers``: the structured 2D/3D mesh arrays and the cell weights (src/fem/{mesh,layers}.rs).
+- ``exact``: the paper's impacting bar (scaled to any wave speed for solids) and exact L² errors
+  (chord integration on 2D cells, Gauss lines on boxes).
 - ``observe``: series rows and the summary, with the Rust columns and keys.
 - ``output``: number format, summary.json, the atomic run folder with its marker.
-- ``problem``: the distributed mesh, DG0 weights, M, S, F, Dirichlet and contact dofs.
+- ``problem``: the distributed mesh, DG0 weights, M, S, F, held and contact dofs.
 - ``qp``: one step's contact problem as a bound-constrained QP (SNES ``vinewtonrsls``).
 - ``schemes``: Newmark / Crank–Nicolson, backward Euler, hybrid.
 - ``run``: the loop, the samples of src/driver.rs, rank 0's files.
 
-A vector field (elastic solids, issue 11) is a small addition: ``Scene.field = "vector"`` makes
-``problem._space`` a ``VectorFunctionSpace``; ``problem._stiffness_form`` gets the elastic
-``σ(u) : ε(v)``; the contact dofs become those of the normal component on Γ_C
-(``V.sub(0)`` dofs at x = 0, in the owned block numbering) and the Dirichlet condition the whole
-vector. ``qp``, ``schemes``, ``observe`` and ``output`` work on dof vectors and contact index
-lists and need no change.
+A solid is a vector field (``Scene.field = "vector"``): a ``VectorFunctionSpace`` with the elastic
+``λ div u div v + 2μ ε(u):ε(v)``; the contact dofs are the x-components of the nodes on x = 0
+(block index × d), the held dofs every component on x = L and, with roller faces, the normal
+component on the lateral faces. ``qp``, ``schemes``, ``observe`` and ``output`` work on dof
+vectors and index lists alike for both fields.
 """

@@ -9,6 +9,8 @@ affine in x between its kinks, the chord ends are affine in x between the vertic
 interval between breakpoints (vertex x's and kinks): Simpson's rule on each is exact, so the
 only error is round-off.
 """
+import math
+
 import numpy as np
 
 
@@ -50,6 +52,56 @@ class ImpactingBar:
 
     def energy(self):
         return self.length / 8.0
+
+    def first_contact(self):
+        """The exact first contact phase (t_impact, t_release) = (L, 2L)."""
+        return (self.length, 2.0 * self.length)
+
+
+class ScaledBar:
+    """The paper's bar with density ρ and modulus E (wave speed c = sqrt(E/ρ)):
+    ``u(x, t) = U(x, c t)`` with U the unit-speed solution (ρ u_tt = E u_xx is the unit
+    equation in τ = c t; the data (v = 0) and the contact conditions are invariant), the contact
+    pressure ``E u_x(0, t) = E Λ(c t)`` and the energy ``E L/8`` (as src/exact.rs by
+    characteristics for these data)."""
+
+    def __init__(self, length, density, modulus):
+        self.bar, self.length = ImpactingBar(length), length
+        self.c, self.modulus = math.sqrt(modulus / density), modulus
+
+    def u(self, x, t):
+        return self.bar.u(x, self.c * t)
+
+    def u0(self, t):
+        return self.bar.u0(self.c * t)
+
+    def lambda_(self, t):
+        return self.modulus * self.bar.lambda_(self.c * t)
+
+    def kinks(self, t):
+        return self.bar.kinks(self.c * t)
+
+    def energy(self):
+        return self.modulus * self.length / 8.0
+
+    def first_contact(self):
+        return (self.length / self.c, 2.0 * self.length / self.c)
+
+
+def plane_wave(scene):
+    """The exact solution the Rust run compares with, where the engine has it: the paper's
+    closed form (plates: paper data on the default body; solids: the paper's data as a plane
+    wave, λ = 0 or roller faces, no gap, no force, any λ + 2μ and ρ); None otherwise."""
+    if not scene.solid:
+        return ImpactingBar(scene.length) if scene.has_paper_exact else None
+    plane = (scene.initial == "paper" and scene.gap == 0.0 and not any(scene.force)
+             and (scene.lame_lambda == 0.0 or scene.lateral == "roller"))
+    if not plane:
+        return None
+    e = scene.lame_lambda + 2.0 * scene.lame_mu
+    if e == 1.0 and scene.density == 1.0:
+        return ImpactingBar(scene.length)
+    return ScaledBar(scene.length, scene.density, e)
 
 
 def l2_error_squared(cell_points, cell_values, kind, exact, t):
@@ -109,4 +161,41 @@ def l2_error_squared(cell_points, cell_values, kind, exact, t):
         # Simpson's rule (zero-width intervals add 0); u is continuous, so its value at a kink
         # is that of both pieces.
         total += float(np.sum((b - a) / 6.0 * (g(a) + 4.0 * g(0.5 * (a + b)) + g(b))))
+    return max(total, 0.0)
+
+
+def l2_error_squared_box(cell_points, cell_values, exact, t):
+    """``Σ_cells ∫ (u_h − u(x, t))²`` over axis-parallel boxes with trilinear u_h (a solid's u_x
+    on hexahedra), as src/solid/geometry.rs: on a line (y, z) fixed u_h is linear in x, so
+    ``∫ (u_h − u)² dx`` (u piecewise linear between its kinks) is exact by Simpson's rule on
+    the pieces, and it is a polynomial of degree ≤ 2 in y and in z: the 2 × 2-point Gauss rule
+    across the cell integrates it exactly.
+
+    ``cell_points``: (k, 8, 3) vertex coordinates; ``cell_values``: (k, 8) u_h at them."""
+    p = cell_points
+    lo, hi = p.min(axis=1), p.max(axis=1)
+    # corner values by position: index = (x high) + 2 (y high) + 4 (z high)
+    slot = sum((np.isclose(p[..., a], hi[:, a, None]) << a) for a in range(3))
+    corner = np.zeros((len(p), 8))
+    rows = np.arange(len(p))
+    for k in range(8):
+        corner[rows, slot[:, k]] = cell_values[:, k]
+    g = (0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0))
+    x0, x1 = lo[:, 0], hi[:, 0]
+    kinks = exact.kinks(t)
+    brk = np.sort(np.clip(np.concatenate([np.column_stack([x0, x1]),
+                                          np.broadcast_to(kinks, (len(p), len(kinks)))], axis=1),
+                          x0[:, None], x1[:, None]), axis=1)
+    total = 0.0
+    for r in g:
+        for s in g:
+            w = [(1 - r) * (1 - s), r * (1 - s), (1 - r) * s, r * s]     # (y, z) corners 00 10 01 11
+            left = sum(w[m] * corner[:, 2 * m] for m in range(4))
+            right = sum(w[m] * corner[:, 2 * m + 1] for m in range(4))
+            e = lambda x: left + (right - left) * (x - x0) / (x1 - x0) - exact.u(x, t)
+            line = 0.0
+            for k in range(brk.shape[1] - 1):
+                a, b = brk[:, k], brk[:, k + 1]
+                line = line + (b - a) / 6.0 * (e(a) ** 2 + 4.0 * e(0.5 * (a + b)) ** 2 + e(b) ** 2)
+            total += float(np.sum(0.25 * (hi[:, 1] - lo[:, 1]) * (hi[:, 2] - lo[:, 2]) * line))
     return max(total, 0.0)

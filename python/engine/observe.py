@@ -49,10 +49,12 @@ class SummaryObserver:
         self.max_y = max(self.max_y, s["y_variation"])
         self.max_pivots = max(self.max_pivots, s["pivots"])
         self.final_u_mean, self.final_force = s["u_mean"], s["contact_force"]
+        # Impact and release node by node (src/observe.rs): the first t with SOME contact value
+        # on its bound, release the first later t with none.
         if self.first_impact is None:
-            if u0 <= self.lower0:
+            if s["min_uc"] <= self.lower0:
                 self.first_impact = t
-        elif self.first_release is None and u0 > self.lower0:
+        elif self.first_release is None and s["min_uc"] > self.lower0:
             self.first_release = t
         if self.exact is not None:
             self.max_contact = max(self.max_contact, abs(u0 - self.exact.u0(t)))

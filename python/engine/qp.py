@@ -19,6 +19,7 @@ active when ``u_c ≤ lb_c + 1e-8`` and ``(K U − r)_c > 0``, so a dof closer t
 may be set on it: ``VI_BOUND_TOL = 1e-8`` is the absolute accuracy of the contact values the
 solver guarantees, and what the cross-checks derive their tolerances from.
 """
+from mpi4py import MPI
 from petsc4py import PETSc
 
 ATOL_FACTOR = 1e-12
@@ -88,6 +89,15 @@ class BoundQP:
             raise RuntimeError(f"SNES vinewtonrsls did not converge (reason {reason}, "
                                f"{self.snes.getIterationNumber()} iterations)")
         self._function(self.snes, x, self.residual)
+        # PETSc's active set: within VI_BOUND_TOL of the bound with the residual pushing onto
+        # it. The solver leaves such a dof where the Newton step found it (up to 1e-8 above
+        # the bound); set it onto the bound, as the Rust solver does (exact complementarity),
+        # so that the multiplier is read from the residual there and not taken as 0.
+        xa, lo, res = x.getArray(), lower.getArray(), self.residual.getArray()
+        snap = (xa <= lo + VI_BOUND_TOL) & (res > 0.0) & (xa != lo)
+        if self.K.getComm().tompi4py().allreduce(bool(snap.any()), op=MPI.LOR):
+            xa[snap] = lo[snap]
+            self._function(self.snes, x, self.residual)
         return self.snes.getIterationNumber(), self.residual
 
 

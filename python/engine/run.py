@@ -12,7 +12,7 @@ from petsc4py import PETSc
 
 from . import exact as exact_mod
 from . import observe, output, qp, schemes
-from .problem import Problem
+from .problem import Problem, _quad
 
 
 class Sampler:
@@ -20,11 +20,12 @@ class Sampler:
 
     def __init__(self, p, bar, with_l2):
         self.p, self.bar, self.with_l2 = p, bar, with_l2
-        comm = p.comm
-        ymin = comm.allreduce(float(p.x[:, 1].min(initial=np.inf)), op=MPI.MIN)
-        bottom = np.flatnonzero(p.x[:, 1] == ymin)
+        comm, bs = p.comm, p.bs
+        # The base line: the nodes at the lowest y (and z), matched to every node by its x.
+        lo = [comm.allreduce(float(p.x[:, a].min(initial=np.inf)), op=MPI.MIN) for a in (1, 2)]
+        bottom = np.flatnonzero((p.x[:, 1] == lo[0]) & (p.x[:, 2] == lo[1]))
         self.bottom_x = np.concatenate(comm.allgather(p.x[bottom, 0]))
-        self.bottom_idx = bottom
+        self.bottom_idx = bottom * bs             # u (u_x of a solid) at the base nodes
         order = np.argsort(self.bottom_x)
         self.bottom_x, self.order = self.bottom_x[order], order
         pos = np.clip(np.searchsorted(self.bottom_x, p.x[:, 0]), 0, len(self.bottom_x) - 1)
@@ -35,27 +36,43 @@ class Sampler:
         tdim = msh.topology.dim
         nloc = msh.topology.index_map(tdim).size_local
         geo = msh.geometry.dofmap.array.reshape(-1, len(msh.geometry.dofmap.links(0)))[:nloc]
-        self.cell_points = msh.geometry.x[geo][..., :2]
+        self.cell_points = msh.geometry.x[geo]
         self.cell_dofs = p.V.dofmap.list.array.reshape(-1, p.V.dofmap.dof_layout.num_dofs)[:nloc]
 
     def y_variation(self, u):
-        ua = u.getArray()
+        """``max |u_x(x, y, z) − u_x(x, y_0, z_0)|`` and, for a solid, the largest transverse
+        component (src/solid/geometry.rs; the plate's is the first term)."""
+        ua, bs = u.getArray(), self.p.bs
         ub = np.concatenate(self.p.comm.allgather(ua[self.bottom_idx]))[self.order]
-        local = np.abs(ua - ub[self.base_pos])[self.has_base].max(initial=0.0)
+        ux = ua[::bs] if bs > 1 else ua
+        local = np.abs(ux - ub[self.base_pos])[self.has_base].max(initial=0.0)
+        if bs > 1:
+            local = max(local, np.abs(ua.reshape(-1, bs)[:, 1:]).max(initial=0.0))
         return self.p.comm.allreduce(float(local), op=MPI.MAX)
 
     def l2(self, u, t):
-        """(‖u_h − u(t)‖, ‖I_h u(t)‖) in L²(Ω) (exact; see engine.exact)."""
+        """(‖u_h − u(t)‖, ‖I_h u(t)‖) in L²(Ω) (exact; see engine.exact). A solid: the x-error
+        of the plane wave plus the transverse components' ``‖u_t‖²`` (unit mass)."""
         p = self.p
         self.fn.x.array[: p.n_owned] = u.getArray()
         self.fn.x.scatter_forward()
-        vals = self.fn.x.array[self.cell_dofs]
-        kind = "quad" if p.scene.cells == "quad" else "triangle"
-        e2 = p.comm.allreduce(exact_mod.l2_error_squared(self.cell_points, vals, kind, self.bar, t))
-        ih = p.interpolate(lambda x, y: self.bar.u(x, t))
-        y = p.M1.createVecLeft()
-        p.M1.mult(ih, y)
-        return math.sqrt(e2), math.sqrt(max(ih.dot(y), 0.0))
+        bs = p.bs
+        vals = self.fn.x.array.reshape(-1, bs)[self.cell_dofs, 0]
+        if p.scene.solid and p.scene.dim == 3:
+            e2 = exact_mod.l2_error_squared_box(self.cell_points, vals, self.bar, t)
+        else:
+            kind = "quad" if p.scene.cells == "quad" else "triangle"
+            e2 = exact_mod.l2_error_squared(self.cell_points[..., :2], vals, kind, self.bar, t)
+        e2 = p.comm.allreduce(e2)
+        if bs > 1:
+            tr = u.copy()
+            tr.getArray()[::bs] = 0.0
+            e2 += max(_quad(p.M1, tr), 0.0)
+        if bs > 1:
+            ih = p.interpolate(lambda i, x, y, z: self.bar.u(x, t) if i == 0 else 0.0 * x)
+        else:
+            ih = p.interpolate(lambda x, y: self.bar.u(x, t))
+        return math.sqrt(e2), math.sqrt(max(_quad(p.M1, ih), 0.0))
 
     def sample(self, s):
         p, comm = self.p, self.p.comm
@@ -63,7 +80,9 @@ class Sampler:
         uc = u.getArray()[p.contact]
         gap = uc - s.lb
         force = comm.allreduce(float(lam.sum()))
-        out = {"n": s.n, "t": s.n * p.scene.dt, "energy": p.energy(u, s.v), "u0": p.at_ref(u),
+        # u0: the reference node (plates), the plain mean over the face nodes (solids).
+        u0 = p.contact_node_mean(u) if p.scene.solid else p.at_ref(u)
+        out = {"n": s.n, "t": s.n * p.scene.dt, "energy": p.energy(u, s.v), "u0": u0,
                "u_mean": p.contact_mean(u), "contact_force": force, "lambda": force / p.contact_measure,
                "min_uc": comm.allreduce(float(uc.min(initial=np.inf)), op=MPI.MIN),
                "max_lambda": comm.allreduce(float(lam.max(initial=-np.inf)), op=MPI.MAX),
@@ -93,26 +112,30 @@ def run(scene, folder, resolved_text, comm=MPI.COMM_WORLD):
     caller handles the atomic layout). Returns the exit code of a Rust run (0, or 3 if diverged)."""
     started = time.perf_counter()
     p = Problem(scene, comm)
-    bar = exact_mod.ImpactingBar(scene.length) if scene.has_paper_exact else None
-    want_l2 = bar is not None and (scene.summary_l2 or "l2_error" in scene.series)
+    bar = exact_mod.plane_wave(scene)
+    # A solid on simplices has no exact L² error (src/solid/geometry.rs: NaN, not integrated).
+    integrates = not (scene.solid and scene.cells in ("triangle", "tet"))
+    want_l2 = bar is not None and integrates and (scene.summary_l2 or "l2_error" in scene.series)
     sampler = Sampler(p, bar, want_l2)
     s = schemes.make(p)
     setup = time.perf_counter() - started
     summ = observe.SummaryObserver(scene.steps, p.h, scene.dt, 0.0 - scene.gap, bar,
-                                   scene.length * scene.height / 8.0 if bar else math.nan,
-                                   (scene.length, 2.0 * scene.length) if bar else None,
-                                   with_l2=scene.summary_l2)
+                                   bar.energy() * scene.face_area if bar else math.nan,
+                                   bar.first_contact() if bar else None,
+                                   with_l2=scene.summary_l2 and integrates)
     rows, e_load, reference, divergence = [], load_energy(p), None, None
     frames = scene.vtu_every
     xdmf = io.XDMFFile(comm, f"{folder}/fields.xdmf", "w")
     xdmf.write_mesh(p.msh)
-    fn = fem.Function(p.V, name="u")
+    fields = [(fem.Function(p.V, name="displacement"), lambda: s.u),
+              (fem.Function(p.V, name="velocity"), lambda: s.v)]
     worst = [np.inf, -np.inf, 0.0, 0.0]
 
     def write_frame():
-        fn.x.array[: p.n_owned] = s.u.getArray()
-        fn.x.scatter_forward()
-        xdmf.write_function(fn, s.n * scene.dt)
+        for fn, vec in fields:
+            fn.x.array[: p.n_owned] = vec().getArray()
+            fn.x.scatter_forward()
+            xdmf.write_function(fn, s.n * scene.dt)
 
     stepping = time.perf_counter()
     for n in range(scene.steps + 1):
@@ -164,6 +187,16 @@ def _write(folder, scene, p, s, summ, rows, worst, timing, resolved_text):
             "cells": scene.cells,
             "initial": scene.initial if isinstance(scene.initial, str) else "expressions",
             "total_mass": p.total_mass}
+    if scene.solid:
+        three = scene.dim == 3
+        head = {"scheme": scene.scheme, "mass": scene.mass, "elements": scene.nx, "length": scene.length,
+                "end": scene.end, "dim": scene.dim, "height": scene.height,
+                **({"depth": scene.depth} if three else {}), "nx": scene.nx, "ny": scene.ny,
+                **({"nz": scene.nz} if three else {}), "cells": scene.cells, "lateral": scene.lateral,
+                "lame_lambda": scene.lame_lambda, "lame_mu": scene.lame_mu, "density": scene.density,
+                "gap": scene.gap, "initial": "paper" if scene.initial == "paper" else "fields",
+                "total_mass": p.total_mass,
+                "unknowns": p.n_free}
     engine = {"ranks": p.comm.size, "unknowns": p.V.dofmap.index_map.size_global,
               "contact_dofs": p.n_contact, "solver": s.qp.describe(), "atol_factor": qp.ATOL_FACTOR,
               "vi_bound_tol": qp.VI_BOUND_TOL, **timing, "min_gap": worst[0], "max_lambda": worst[1],

@@ -1,4 +1,5 @@
-"""The resolved plate scene that ``massredist`` writes (``scene.resolved.toml``), as plain data.
+"""The resolved plate or solid scene that ``massredist`` writes (``scene.resolved.toml``), as
+plain data.
 
 Pure: reads a TOML text, returns a :class:`Scene`; no dolfinx, no MPI. Every default is already
 filled in by the Rust side (``massredist check`` / ``run`` write the resolved scene), so this
@@ -47,20 +48,44 @@ class Scene:
     divergence_factor: float
     field: str = "scalar"  # "scalar" (plates) | "vector" (elastic solids, issue 11)
     raw: dict = dc_field(default_factory=dict)
+    # Solids only (field = "vector"; the [solid] table, src/solid/spec.rs).
+    dim: int = 2
+    depth: float = 0.0
+    nz: int = 0
+    lame_lambda: float = 0.0
+    lame_mu: float = 0.5
+    lateral: str = "free"   # "free" | "roller"
+
+    @property
+    def solid(self):
+        return self.field == "vector"
+
+    @property
+    def extent(self):
+        return (self.length, self.height, self.depth)[: 3 if self.dim == 3 else 2]
+
+    @property
+    def face_area(self):
+        """|Γ_C|: H (plates, 2D solids) or H·D (3D solids)."""
+        return self.height * (self.depth if self.dim == 3 else 1.0)
 
     @property
     def has_paper_exact(self):
-        """The paper's closed form applies (src/run/plate.rs: paper data, default body)."""
-        return (self.initial == "paper" and self.density == 1.0 and self.modulus == 1.0
-                and self.far_end == "clamped" and self.gap == 0.0 and self.force == 0.0)
+        """The paper's closed form applies to a plate (src/run/plate.rs: paper data, default
+        body); solids: engine.exact.plane_wave."""
+        return (not self.solid and self.initial == "paper" and self.density == 1.0
+                and self.modulus == 1.0 and self.far_end == "clamped" and self.gap == 0.0
+                and self.force == 0.0)
 
 
 def parse(text):
     """A :class:`Scene` from the text of ``scene.resolved.toml``."""
     raw = tomllib.loads(text)
-    if "plate" not in raw:
-        raise SceneError("the engine runs [plate] scenes (bars are 1D and serial; solids: issue 11)")
+    if "plate" not in raw and "solid" not in raw:
+        raise SceneError("the engine runs [plate] and [solid] scenes (bars are 1D and serial)")
     p, m, s, t, o = (raw.get(k, {}) for k in ("plate", "mass", "scheme", "time", "output"))
+    if "solid" in raw:
+        p = raw["solid"]
     if "mesh" in p:
         raise SceneError("plate.mesh: mesh files are not run by the engine yet (structured plates only)")
     kind = s.get("kind", "crank-nicolson")
@@ -72,17 +97,50 @@ def parse(text):
     dt, end = float(t["dt"]), float(t["end"])
     steps = round(end / dt)
     vtu_every = o.get("vtu_every") if o.get("vtu", False) else None
+    common = dict(mass=m.get("kind", "mod3"), weights=m.get("weights"), scheme=kind, beta=float(beta),
+                  gamma=float(gamma), dt=dt, end=end, steps=steps, series=list(o.get("series", [])),
+                  every=int(o.get("every", 1)), summary_l2=bool(o.get("summary_l2", True)),
+                  vtu_every=int(vtu_every) if vtu_every else None,
+                  divergence_factor=float(o.get("divergence_factor", 1e6)), raw=raw)
+    if "solid" in raw:
+        return _solid(p, common)
     return Scene(
         length=float(p["length"]), height=float(p["height"]), nx=int(p["nx"]), ny=int(p["ny"]),
         cells=p.get("cells", "quad"), density=float(p.get("density", 1.0)),
         modulus=float(p.get("modulus", 1.0)), far_end=p.get("far_end", "clamped"),
         gap=float(p.get("gap", 0.0)), initial=p.get("initial", "paper"),
         force=p.get("force", 0.0) if isinstance(p.get("force", 0.0), str) else float(p.get("force", 0.0)),
-        mass=m.get("kind", "mod3"), weights=m.get("weights"), scheme=kind, beta=float(beta),
-        gamma=float(gamma), dt=dt, end=end, steps=steps, series=list(o.get("series", [])),
-        every=int(o.get("every", 1)), summary_l2=bool(o.get("summary_l2", True)),
-        vtu_every=int(vtu_every) if vtu_every else None,
-        divergence_factor=float(o.get("divergence_factor", 1e6)), raw=raw)
+        **common)
+
+
+# The cells of each dimension (src/solid/spec.rs parse_solid).
+SOLID_CELLS = {2: ("quad", "triangle"), 3: ("hex", "tet")}
+
+
+def _solid(p, common):
+    """A solid :class:`Scene` from the resolved ``[solid]`` table (CONTRACT: every key written)."""
+    dim = int(p.get("dim", 2))
+    if dim not in SOLID_CELLS:
+        raise SceneError(f"solid.dim = {dim}: allowed 2 | 3")
+    cells = p.get("cells", SOLID_CELLS[dim][0])
+    if cells not in SOLID_CELLS[dim]:
+        raise SceneError(f'solid.cells = "{cells}": allowed {" | ".join(SOLID_CELLS[dim])} (dim = {dim})')
+    lateral = p.get("lateral", "free")
+    if lateral not in ("free", "roller"):
+        raise SceneError(f'solid.lateral = "{lateral}": allowed "free" | "roller"')
+    force = [float(f) for f in p.get("force", [0.0] * dim)]
+    if len(force) != dim:
+        raise SceneError(f"solid.force = {force}: one number per component ({dim})")
+    initial = p.get("initial", "paper")
+    if not (initial == "paper" or isinstance(initial, dict)):
+        raise SceneError(f'solid.initial = {initial!r}: allowed "paper" or {{ displacement, velocity }}')
+    return Scene(
+        length=float(p.get("length", 1.0)), height=float(p.get("height", 1.0)), nx=int(p.get("nx", 20)),
+        ny=int(p.get("ny", 20)), cells=cells, density=float(p.get("density", 1.0)), modulus=math.nan,
+        far_end="clamped", gap=float(p.get("gap", 0.0)), initial=initial, force=force,
+        field="vector", dim=dim, depth=float(p.get("depth", 1.0)) if dim == 3 else 0.0,
+        nz=int(p.get("nz", 20)) if dim == 3 else 0, lame_lambda=float(p.get("lame_lambda", 0.0)),
+        lame_mu=float(p.get("lame_mu", 0.5)), lateral=lateral, **common)
 
 
 # --- scene expressions (src/expr: x, y, L, H, pi; + - * / ^ **; sin cos tan exp log sqrt abs
@@ -107,7 +165,10 @@ def expression(text, names):
 
 
 def initial_fields(scene):
-    """``(u0(x, y), v0(x, y))`` as numpy functions (src/plate/scene.rs, PlateInitial)."""
+    """``(u0(x, y), v0(x, y))`` as numpy functions (src/plate/scene.rs, PlateInitial); for a
+    solid, functions ``(i, x, y, z)`` of the component i (src/solid/spec.rs, SolidInitial)."""
+    if scene.solid:
+        return solid_initial_fields(scene)
     L, H = scene.length, scene.height
     base = lambda x: (L - x) / 2.0
     if scene.initial == "paper":
@@ -122,8 +183,32 @@ def initial_fields(scene):
     raise SceneError(f"plate.initial = {scene.initial!r}: allowed \"paper\", \"bump\" or expressions")
 
 
+def solid_initial_fields(scene):
+    """Component functions ``(i, x, y, z)`` of u⁰ and v⁰ of a solid: ``"paper"`` is
+    u = ((L − x)/2, 0[, 0]), v = 0; otherwise one expression per component in x, y[, z] and
+    L, H[, D], pi (a missing array is all zeros)."""
+    L = scene.length
+    if scene.initial == "paper":
+        return (lambda i, x, y, z: (L - x) / 2.0 if i == 0 else 0.0 * x), (lambda i, x, y, z: 0.0 * x)
+    three = scene.dim == 3
+    names = ("x", "y", "z", "L", "H", "D", "pi") if three else ("x", "y", "L", "H", "pi")
+    env = {"L": L, "H": scene.height, "pi": math.pi, **({"D": scene.depth} if three else {})}
+
+    def field(key):
+        exprs = [str(e) for e in scene.initial.get(key, ["0"] * scene.dim)]
+        fs = [expression(e, names) for e in exprs]
+        def f(i, x, y, z):
+            coords = {"x": x, "y": y, **({"z": z} if three else {})}
+            return fs[i](**coords, **env) + 0.0 * x
+        return f
+    return field("displacement"), field("velocity")
+
+
 def force_field(scene):
-    """The body force f(x, y) as a numpy function (constant or expression)."""
+    """The body force f(x, y) as a numpy function (constant or expression); for a solid, the
+    constant vector as a function ``(i, x, y, z)``."""
+    if scene.solid:
+        return lambda i, x, y, z: scene.force[i] + 0.0 * x
     if isinstance(scene.force, str):
         f = expression(scene.force, ("x", "y", "L", "H", "pi"))
         return lambda x, y: f(x=x, y=y, L=scene.length, H=scene.height, pi=math.pi) + 0.0 * x

@@ -3,10 +3,11 @@
 Each implicit step is ``(M + σ S) X = M Ũ + σ F − σ Σ λ_c e_c`` with contact, one
 :class:`~engine.qp.BoundQP` (σ = β Δt² for Newmark / Crank–Nicolson, Δt² for backward Euler,
 Δt²/4 for the hybrid scheme's mid-step). Massless unknowns (zero mass diagonal: the contact
-nodes with mod1/2/3) are treated as in Rust: Newmark keeps ``a = 0`` and reports
+nodes with mod1/2/3, every component of a solid's) are treated as in Rust: Newmark keeps ``a = 0`` and reports
 ``v = (u^{n+1} − uⁿ)/Δt`` there, A⁰ solves ``M A⁰ = F − S U⁰`` on the unknowns with mass only;
 backward Euler needs nothing special; the hybrid scheme replaces the contact values by the
-quasi-static map Φ (a second bound-constrained QP with ``S_CC``), src/schemes/hybrid.rs.
+quasi-static map Φ (a second bound-constrained QP with ``S_QQ`` over the massless unknowns, bounds
+on the contact ones only), src/schemes/hybrid.rs. All four map onto bound-constrained QPs.
 """
 import numpy as np
 from dolfinx import fem
@@ -128,8 +129,9 @@ class Hybrid(Step):
         self.pred.axpy(0.5 * dt, self.v)
 
     def _advance(self):
-        dt, c = self.dt, self.p.contact
+        dt, c, q = self.dt, self.p.contact, self.phi.q
         uc = self.u.getArray()[c].copy()
+        uq = self.u.getArray()[q].copy()
         its = self.contact_solve(self.pred, 0.5 * (uc + self.lb), self.sigma, self.lam_bar)
         u, v, pred, x = (w.getArray() for w in (self.u, self.v, self.pred, self.x))
         u_new = 2.0 * x - u
@@ -137,37 +139,46 @@ class Hybrid(Step):
         u[:] = u_new
         its += self.phi.apply(self.u, self.lb, self.lam, self)
         u, v, pred = (w.getArray() for w in (self.u, self.v, self.pred))
-        v[c] = (u[c] - uc) / dt
+        v[q] = (u[q] - uq) / dt                 # every quasi-static unknown (src/schemes/hybrid.rs)
         pred[:] = u + 0.5 * dt * v
         return its
 
 
 class QuasiStatic:
-    """Φ: ``S_CC u + S_CI U − F_C = −λ``, ``0 ≤ u − lb ⊥ λ ≤ 0`` — the QP
-    ``min ½ uᵀ S_CC u − (F_C − S_CI U)ᵀ u`` over ``u ≥ lb`` on the contact dofs."""
+    """Φ: ``S_QQ u + S_QI U − F_Q = −λ`` on the massless unknowns Q = C ∪ F, with
+    ``0 ≤ u_c − lb ⊥ λ_c ≤ 0`` on the contact dofs C and λ = 0, no bound, on the free massless
+    ones F (a solid's tangential components on Γ_C, frictionless; src/schemes/hybrid.rs) — the
+    QP ``min ½ uᵀ S_QQ u − (F_Q − S_QI U)ᵀ u`` over ``u_C ≥ lb``."""
 
     def __init__(self, problem):
-        self.p = problem
-        start = problem.S.getOwnershipRange()[0]
-        self.is_c = PETSc.IS().createGeneral((problem.contact + start).astype(np.int32), comm=problem.comm)
-        self.scc = problem.S.createSubMatrix(self.is_c, self.is_c)
-        self.qp = BoundQP(self.scc, problem.comm, prefix="phi_")
-        self.work = problem.S.createVecLeft()
-        self.su = problem.S.createVecLeft()
-        self.r, self.uc = self.scc.createVecLeft(), self.scc.createVecLeft()
-        self.lower = self.scc.createVecLeft()
+        self.p = p = problem
+        free = np.setdiff1d(np.flatnonzero(p.massless), p.contact)
+        self.q = np.union1d(p.contact, free).astype(np.int32)
+        self.pos = np.searchsorted(self.q, p.contact)            # C inside Q
+        start = p.S.getOwnershipRange()[0]
+        self.is_q = PETSc.IS().createGeneral(self.q + start, comm=p.comm)
+        self.sqq = p.S.createSubMatrix(self.is_q, self.is_q)
+        self.qp = BoundQP(self.sqq, p.comm, prefix="phi_")
+        self.work = p.S.createVecLeft()
+        self.su = p.S.createVecLeft()
+        self.r, self.uq = self.sqq.createVecLeft(), self.sqq.createVecLeft()
+        self.lower = self.sqq.createVecLeft()
+        self.lower.set(PETSc.NINFINITY)
 
     def apply(self, u, lb, lam, owner):
-        c = self.p.contact
+        q, pos, c = self.q, self.pos, self.p.contact
         u.copy(self.work)
-        self.work.getArray()[c] = 0.0
+        self.work.getArray()[q] = 0.0
         self.p.S.mult(self.work, self.su)                                   # S_·I U
-        self.r.getArray()[:] = self.p.F.getArray()[c] - self.su.getArray()[c]
-        self.uc.getArray()[:] = np.maximum(u.getArray()[c], lb)
-        self.lower.getArray()[:] = lb
-        its, res = self.qp.solve(self.r, self.lower, self.uc)
-        u.getArray()[c] = self.uc.getArray()
-        owner._multipliers(self.uc.getArray(), lb, res.getArray(), 1.0, lam)
+        self.r.getArray()[:] = self.p.F.getArray()[q] - self.su.getArray()[q]
+        uq = self.uq.getArray()
+        uq[:] = u.getArray()[q]
+        uq[pos] = np.maximum(u.getArray()[c], lb)
+        self.lower.getArray()[pos] = lb
+        its, res = self.qp.solve(self.r, self.lower, self.uq)
+        uq = self.uq.getArray()
+        u.getArray()[q] = uq
+        owner._multipliers(uq[pos], lb, res.getArray()[pos], 1.0, lam)
         return its
 
 

@@ -14,6 +14,7 @@
 pub mod env;
 pub mod perf;
 pub mod report;
+pub mod scaling;
 pub mod sweep;
 pub mod timing;
 

@@ -1,0 +1,243 @@
+//! Trajectory cross-checks of the FEniCSx engine against the Rust solver (issue 12): the same
+//! scene stepped by `massredist run` and by `massredist run --engine fenicsx --ranks N`, compared
+//! over every series column and every numeric summary value. Used by `massredist crosscheck`
+//! (the trajectory cases below) and by tests/engine_live.rs (the same scenes and comparison).
+//!
+//! Both runs are processes of the `massredist` binary (the engine is one anyway): this module
+//! writes scene files, starts them and reads their output folders, at the edge of the crate.
+
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The agreement required between the engine and the Rust run, and between 1 and 2 ranks.
+///
+/// PETSc's active-set threshold in SNES `vinewtonrsls` (3.18, `SNESVIGetActiveSetIS`): a contact
+/// value within 1e-8 of its bound may be set onto it, the solver's worst-case error on a contact
+/// value in one step (python/engine/qp.py `VI_BOUND_TOL`; its residual tolerance, 1e-12 ‖r‖∞, is
+/// far below). Over the ≤ 60 steps of these runs the schemes are stable (energy bounded, no
+/// growth of perturbations beyond their sum), and u0, u_mean, λ (a contact row of K = M + σS
+/// with massless contact: entries of S, O(1) here), the energy and the L² error are O(1)-Lipschitz
+/// in the contact values: 60 × 1e-8 < 1e-6. (Measured agreement: 1e-15 … 2e-13.)
+pub const TOL: f64 = 1e-6;
+
+/// Summary keys whose values are not trajectory quantities: the wall time, the solver's own count
+/// (Rust: principal pivots; engine: SNES iterations) and the step of the largest energy increase
+/// (for energy-conserving runs the increases are round-off, so their arg-max is too).
+pub const NOT_COMPARED: [&str; 3] = ["wall_seconds", "max_pivots", "energy_max_increase_step"];
+
+/// An 8 × 4 plate, Δt = 0.05, T = 3: the paper's data hit the obstacle at t = 1 and leave it at
+/// t = 2, so every run has steps before, during and after the impact.
+pub fn plate_scene(cells: &str, initial: &str, scheme: &str, mass: &str) -> String {
+    let l2 = if initial == "paper" { ", \"l2_error\"" } else { "" };
+    format!(
+        "[plate]\nlength = 1.0\nheight = 1.0\nnx = 8\nny = 4\ncells = \"{cells}\"\ninitial = \"{initial}\"\n\
+         [mass]\nkind = \"{mass}\"\n[scheme]\nkind = \"{scheme}\"\n[time]\ndt = 0.05\nend = 3.0\n\
+         [output]\nseries = [\"u0\", \"u_mean\", \"lambda\", \"contact_force\", \"energy\"{l2}]\n"
+    )
+}
+
+/// A small solid (CONTRACT.md's `[solid]` table): 8 × 4 in 2D, 4 × 2 × 2 in 3D, Δt = 0.05,
+/// T = 3; `extra` lines are added to `[solid]` (material, lateral, initial data, gap). With the
+/// paper's data the face hits the obstacle at t = 1 and leaves it near t = 2.
+pub fn solid_scene(dim: usize, cells: &str, scheme: &str, mass: &str, extra: &str) -> String {
+    let size = if dim == 2 { "nx = 8\nny = 4\n" } else { "nx = 4\nny = 2\nnz = 2\n" };
+    // The exact L² error: the paper's plane wave (no `extra`) on tensor cells only.
+    let l2 = if matches!(cells, "quad" | "hex") && extra.is_empty() { ", \"l2_error\"" } else { "" };
+    format!(
+        "[solid]\ndim = {dim}\n{size}cells = \"{cells}\"\n{extra}\n\
+         [mass]\nkind = \"{mass}\"\n[scheme]\nkind = \"{scheme}\"\n[time]\ndt = 0.05\nend = 3.0\n\
+         [output]\nseries = [\"u0\", \"u_mean\", \"lambda\", \"contact_force\", \"energy\"{l2}]\n"
+    )
+}
+
+/// Runs `massredist run SCENE --out OUT` (Rust, or the engine on `ranks`) with `bin`; `env`
+/// is added to the process's environment. Returns OUT or the failure with its stderr.
+pub fn run(
+    bin: &Path,
+    scene: &Path,
+    out: &Path,
+    ranks: Option<usize>,
+    env: &[(&str, &str)],
+) -> Result<PathBuf, String> {
+    let mut cmd = Command::new(bin);
+    cmd.arg("run").arg(scene).arg("--out").arg(out);
+    if let Some(n) = ranks {
+        cmd.args(["--engine", "fenicsx", "--ranks", &n.to_string()]);
+    }
+    // `massredist crosscheck` has MPI initialised in-process (mpi4py through the bridge), which
+    // puts Open MPI's and PMIx's own variables into its environment; an mpirun started with them
+    // fails or runs isolated singletons (measured: exit 1, or 141 s instead of 5 s). The child
+    // gets a clean launcher environment (only the run-as-root permissions are kept).
+    for (k, _) in std::env::vars_os() {
+        let k = k.to_string_lossy();
+        if (k.starts_with("OMPI_") && !k.starts_with("OMPI_ALLOW_RUN_AS_ROOT")) || k.starts_with("PMIX_") {
+            cmd.env_remove(k.as_ref());
+        }
+    }
+    cmd.envs(env.iter().copied());
+    let o = cmd.output().map_err(|e| format!("{}: {e}", bin.display()))?;
+    if !o.status.success() {
+        return Err(format!("{cmd:?}: {}\n{}", o.status, String::from_utf8_lossy(&o.stderr)));
+    }
+    Ok(out.to_path_buf())
+}
+
+type Rows = Vec<BTreeMap<String, f64>>;
+
+fn series(dir: &Path) -> Result<Rows, String> {
+    let path = dir.join("series.csv");
+    let mut r = csv::Reader::from_path(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let header: Vec<String> = r.headers().map_err(|e| e.to_string())?.iter().map(String::from).collect();
+    r.records()
+        .map(|rec| {
+            let rec = rec.map_err(|e| e.to_string())?;
+            let nums = rec.iter().map(|x| x.parse::<f64>().map_err(|e| format!("{}: {x}: {e}", path.display())));
+            header.iter().cloned().zip(nums).map(|(k, v)| Ok((k, v?))).collect()
+        })
+        .collect()
+}
+
+/// A JSON file of a run folder as an object.
+pub fn json(path: &Path) -> Result<serde_json::Map<String, serde_json::Value>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    match serde_json::from_str(&text) {
+        Ok(serde_json::Value::Object(m)) => Ok(m),
+        _ => Err(format!("{}: not a JSON object", path.display())),
+    }
+}
+
+/// The largest difference between two run folders over every series column (but pivots) and
+/// every numeric summary value (but [`NOT_COMPARED`]); an error if the columns, the rows, the
+/// summary keys or a non-numeric summary value differ.
+pub fn difference(a: &Path, b: &Path) -> Result<f64, String> {
+    let (sa, sb) = (series(a)?, series(b)?);
+    let (da, db) = (a.display(), b.display());
+    if sa.len() != sb.len() {
+        return Err(format!("{da} has {} rows, {db} {}", sa.len(), sb.len()));
+    }
+    let mut worst: f64 = 0.0;
+    for (ra, rb) in sa.iter().zip(&sb) {
+        if ra.keys().ne(rb.keys()) {
+            return Err(format!("series columns differ: {:?} vs {:?}", ra.keys(), rb.keys()));
+        }
+        for (k, x) in ra.iter().filter(|(k, _)| k.as_str() != "pivots") {
+            // NaN in both (no exact L² error on simplices) agrees.
+            if !(x.is_nan() && rb[k].is_nan()) {
+                worst = worst.max((x - rb[k]).abs());
+            }
+        }
+    }
+    let (ja, jb) = (json(&a.join("summary.json"))?, json(&b.join("summary.json"))?);
+    if ja.keys().ne(jb.keys()) {
+        let only: Vec<&String> =
+            ja.keys().filter(|k| !jb.contains_key(*k)).chain(jb.keys().filter(|k| !ja.contains_key(*k))).collect();
+        return Err(format!("summary.json keys differ: {only:?}"));
+    }
+    for (k, va) in ja.iter().filter(|(k, _)| !NOT_COMPARED.contains(&k.as_str())) {
+        match (va.as_f64(), jb[k].as_f64()) {
+            (Some(x), Some(y)) => worst = worst.max((x - y).abs()),
+            _ if va == &jb[k] => {}
+            _ => return Err(format!("summary.json {k}: {va} vs {}", jb[k])),
+        }
+    }
+    Ok(worst)
+}
+
+/// One trajectory case of `massredist crosscheck`.
+#[derive(Debug, Clone)]
+pub struct TrajectoryCase {
+    pub name: &'static str,
+    pub scene: String,
+    pub ranks: usize,
+}
+
+/// Plate and solid scenes stepped by both engines (one per geometry and cell kind, the engine
+/// on 2 ranks).
+pub fn cases() -> Vec<TrajectoryCase> {
+    let case = |name, scene| TrajectoryCase { name, scene, ranks: 2 };
+    vec![
+        case("plate quad crank-nicolson mod3", plate_scene("quad", "paper", "crank-nicolson", "mod3")),
+        case("plate triangle hybrid mod3 bump", plate_scene("triangle", "bump", "hybrid", "mod3")),
+        case("solid 2D quad crank-nicolson mod3", solid_scene(2, "quad", "crank-nicolson", "mod3", "")),
+        case("solid 2D triangle hybrid mod3 roller", solid_scene(2, "triangle", "hybrid", "mod3", ROLLER)),
+        case("solid 3D hex backward-euler mod1", solid_scene(3, "hex", "backward-euler", "mod1", "")),
+        case("solid 3D tet crank-nicolson mod2", solid_scene(3, "tet", "crank-nicolson", "mod2", "lame_lambda = 0.25")),
+    ]
+}
+
+/// A solid that is not a plane wave: λ > 0, roller lateral faces, data varying in y.
+pub const ROLLER: &str = "lame_lambda = 0.3\nlateral = \"roller\"\n\
+     initial = { displacement = [\"(1-x)/2*(1+0.3*y)\", \"0.05*x\"], velocity = [\"0\", \"0\"] }";
+
+/// The result of one case.
+#[derive(Debug, Clone, Serialize)]
+pub struct TrajectoryReport {
+    pub case: String,
+    pub ranks: usize,
+    /// Largest difference ([`difference`]); None when a run failed (`error`).
+    pub max_abs_diff: Option<f64>,
+    pub tolerance: f64,
+    pub error: Option<String>,
+    pub pass: bool,
+}
+
+/// Runs every case of [`cases`] with `bin` in fresh folders under `dir`.
+pub fn run_all(bin: &Path, dir: &Path) -> Vec<TrajectoryReport> {
+    cases()
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let scene = dir.join(format!("case{k}.toml"));
+            let result = std::fs::write(&scene, &c.scene).map_err(|e| e.to_string()).and_then(|()| {
+                let rust = run(bin, &scene, &dir.join(format!("case{k}-rust")), None, &[])?;
+                let eng = run(bin, &scene, &dir.join(format!("case{k}-fenicsx")), Some(c.ranks), &[])?;
+                difference(&rust, &eng)
+            });
+            let (max_abs_diff, error) = match result {
+                Ok(d) => (Some(d), None),
+                Err(e) => (None, Some(e)),
+            };
+            let pass = max_abs_diff.is_some_and(|d| d <= TOL);
+            TrajectoryReport { case: c.name.to_string(), ranks: c.ranks, max_abs_diff, tolerance: TOL, error, pass }
+        })
+        .collect()
+}
+
+/// The one line reporting that the cases could not be set up (no folder for them).
+pub fn failed_setup(dir: &Path, e: &std::io::Error) -> TrajectoryReport {
+    let error = Some(format!("{}: {e}", dir.display()));
+    TrajectoryReport {
+        case: "trajectory cases".into(),
+        ranks: 0,
+        max_abs_diff: None,
+        tolerance: TOL,
+        error,
+        pass: false,
+    }
+}
+
+/// The report as a text table.
+pub fn table(reports: &[TrajectoryReport]) -> String {
+    let mut s = format!(
+        "{:<40} {:>5} {:>12} {:>10}  pass\n",
+        "trajectory (rust vs fenicsx engine)", "ranks", "max diff", "tol"
+    );
+    for r in reports {
+        let d = r.max_abs_diff.map_or("failed".to_string(), |d| format!("{d:.3e}"));
+        s += &format!(
+            "{:<40} {:>5} {:>12} {:>10.1e}  {}\n",
+            r.case,
+            r.ranks,
+            d,
+            r.tolerance,
+            if r.pass { "yes" } else { "NO" }
+        );
+        if let Some(e) = &r.error {
+            let lines: Vec<&str> = e.lines().filter(|l| !l.starts_with("INFO:")).collect();
+            lines[lines.len().saturating_sub(6)..].iter().for_each(|l| s += &format!("    {l}\n"));
+        }
+    }
+    s
+}
