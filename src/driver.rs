@@ -133,7 +133,8 @@ pub struct Sample<'a> {
     pub l2_error: f64,
     /// ‖I_h u(·, t_n)‖_{L²(Ω)}: the norm of the nodal interpolant of the exact solution.
     pub exact_interp_norm: f64,
-    /// u at the reference contact node (x = 0, lowest y; u_0 for a bar).
+    /// [`GeometryView::u0`]: u at the reference contact node (x = 0, lowest y; u_0 for a bar),
+    /// the plain mean of u_x over the contact-face nodes for a solid.
     pub u0: f64,
     /// Mean of u over Γ_C (u_0 for a bar).
     pub u_mean: f64,
@@ -316,7 +317,7 @@ fn drive<G: Geometry>(
             energy,
             l2_error,
             exact_interp_norm,
-            u0: state.u[geometry.contact()[0]],
+            u0: geometry.u0(state.u),
             u_mean: geometry.contact_mean(state.u),
             contact_force,
             pressure: contact_force / geometry.contact_measure(),

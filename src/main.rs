@@ -132,14 +132,19 @@ fn main() -> ExitCode {
         Command::Run { scene, out, force, engine, ranks } => match prepare(&out, force, &[&scene]) {
             Ok(dir) => match (AnyScene::from_file(&scene), engine) {
                 (Ok(AnyScene::Plate(s)), Engine::Fenicsx) => run_engine(&scene, s, dir, ranks.into()),
-                (Ok(_), Engine::Fenicsx) => {
-                    fail(&scene, "--engine fenicsx runs plate scenes ([plate]); bars run in Rust".into(), exit::INVALID)
-                }
+                (Ok(_), Engine::Fenicsx) => fail(
+                    &scene,
+                    "--engine fenicsx runs plate scenes ([plate]); bars and solids run in Rust".into(),
+                    exit::INVALID,
+                ),
                 (Ok(AnyScene::Bar(s)), Engine::Rust) => {
                     run_with(&scene, s.time.steps, dir, |d, p| run_scene_into(&s, d, &mut [p]))
                 }
                 (Ok(AnyScene::Plate(s)), Engine::Rust) => run_with(&scene, s.time.steps, dir, |d, p| {
                     massredist::run::plate::run_plate_scene_into(&s, d, &mut [p])
+                }),
+                (Ok(AnyScene::Solid(s)), Engine::Rust) => run_with(&scene, s.time.steps, dir, |d, p| {
+                    massredist::run::solid::run_solid_scene_into(&s, d, &mut [p])
                 }),
                 (Err(e), _) => fail(&scene, e.to_string(), exit::INVALID),
             },

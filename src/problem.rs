@@ -33,8 +33,13 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
     fn contact_measure(&self) -> f64;
     /// The contact unknowns (λ order); the first is the reference node (x = 0, lowest y).
     fn contact(&self) -> &[usize];
-    /// The mean of u over Γ_C (u_0 for a bar).
+    /// The mean of u over Γ_C, `∫_{Γ_C} u_h / |Γ_C|` (u_0 for a bar).
     fn contact_mean(&self, u: &[f64]) -> f64;
+    /// The reported contact displacement `u0`: u at the reference contact node (bars, plates);
+    /// solids report the plain mean over the contact-face nodes.
+    fn u0(&self, u: &[f64]) -> f64 {
+        u[self.contact()[0]]
+    }
     /// `‖u_h − u(·, t)‖_{L²(Ω)}` against an x-only exact solution (NaN where the geometry
     /// cannot integrate it: [`GeometryView::integrates`]).
     fn l2_error(&self, u: &[f64], exact: &Exact, t: f64) -> f64;

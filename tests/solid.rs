@@ -10,9 +10,9 @@ use massredist::linalg::sparse;
 use massredist::mass::MassKind;
 use massredist::observe::{EnergyRecorder, SummaryObserver};
 use massredist::problem::Problem;
+use massredist::scene::parse_solid;
 use massredist::scene::{Formulation, SchemeSpec};
 use massredist::schemes::{Hybrid, Scheme};
-use massredist::solid::spec::parse_solid;
 use massredist::solid::{Lame, Lateral, SolidSpec, SolidSystem};
 
 const CN: SchemeSpec = SchemeSpec::CrankNicolson { formulation: Formulation::Full };

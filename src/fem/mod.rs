@@ -5,6 +5,7 @@
 //! implements [`CellMesh`] (the plate's `Mesh2d` and [`mesh::Mesh`]).
 
 pub mod element;
+pub mod frames;
 pub mod layers;
 pub mod mesh;
 pub mod mesh2d;

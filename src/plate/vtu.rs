@@ -8,10 +8,8 @@
 //! the frames of a run as they are produced.
 
 use super::mesh::{CellKind, Mesh2d};
-use crate::driver::{Observer, Sample};
 use crate::numfmt::Shortest;
 use std::io::Write;
-use std::path::Path;
 
 /// VTK cell type codes.
 pub fn vtk_type(kind: CellKind) -> u8 {
@@ -21,7 +19,7 @@ pub fn vtk_type(kind: CellKind) -> u8 {
     }
 }
 
-fn data_array<W: Write>(
+fn data_array<W: Write + ?Sized>(
     out: &mut W,
     name: &str,
     components: usize,
@@ -40,7 +38,12 @@ fn data_array<W: Write>(
     out.write_all(b"\n        </DataArray>\n")
 }
 
-fn int_array<W: Write>(out: &mut W, name: &str, ty: &str, values: impl Iterator<Item = usize>) -> std::io::Result<()> {
+fn int_array<W: Write + ?Sized>(
+    out: &mut W,
+    name: &str,
+    ty: &str,
+    values: impl Iterator<Item = usize>,
+) -> std::io::Result<()> {
     write!(out, "        <DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">\n         ")?;
     for (j, x) in values.enumerate() {
         if j > 0 && j % 20 == 0 {
@@ -52,7 +55,13 @@ fn int_array<W: Write>(out: &mut W, name: &str, ty: &str, values: impl Iterator<
 }
 
 /// Writes the `.vtu` text of one frame: `u`, `v` at every mesh node, `weights` per cell.
-pub fn write_vtu<W: Write>(out: &mut W, mesh: &Mesh2d, u: &[f64], v: &[f64], weights: &[f64]) -> std::io::Result<()> {
+pub fn write_vtu<W: Write + ?Sized>(
+    out: &mut W,
+    mesh: &Mesh2d,
+    u: &[f64],
+    v: &[f64],
+    weights: &[f64],
+) -> std::io::Result<()> {
     assert!(u.len() == mesh.n_nodes() && v.len() == mesh.n_nodes() && weights.len() == mesh.n_cells());
     out.write_all(b"<?xml version=\"1.0\"?>\n")?;
     out.write_all(
@@ -104,85 +113,14 @@ pub fn pvd_string(frames: &[(f64, String)]) -> String {
 // The reader of the files written here is the one of every mesh (`crate::fem::vtu`).
 pub use crate::fem::vtu::{DataArray, VtuData, VtuError, read_pvd, read_vtu};
 
-/// Streams VTU frames into a folder as the run produces them: every `every` steps it writes
-/// `vtu/frame_NNNNN.vtu` and adds its line to `plate.pvd`, which [`FrameWriter::finish`] closes.
-/// Memory holds one frame's nodal values, whatever the number of steps (a
-/// [`crate::observe::FrameRecorder`] keeps the frames in memory instead). An observer cannot fail:
-/// the first write error is kept, the run is halted ([`Observer::halted`]), and `finish` returns
-/// it.
-pub struct FrameWriter<'a> {
-    dir: std::path::PathBuf,
-    mesh: &'a Mesh2d,
-    weights: &'a [f64],
-    every: usize,
-    frames: usize,
-    pvd: std::io::BufWriter<std::fs::File>,
-    u: Vec<f64>,
-    v: Vec<f64>,
-    name: String,
-    error: Option<std::io::Error>,
-}
+/// The plate's frames for the streaming writer: `u`, `v`, `warp` and `weight` ([`write_vtu`]).
+impl crate::fem::frames::VtuFrames for super::PlateSystem {
+    const COLLECTION: &'static str = "plate";
 
-impl<'a> FrameWriter<'a> {
-    /// Creates `dir/vtu/` and `dir/plate.pvd` (its head written) for frames of `plate`.
-    pub fn create(dir: &Path, plate: &'a super::PlateSystem, every: usize) -> std::io::Result<Self> {
-        std::fs::create_dir(dir.join("vtu"))?;
-        let mut pvd = std::io::BufWriter::new(std::fs::File::create(dir.join("plate.pvd"))?);
-        pvd.write_all(PVD_HEAD.as_bytes())?;
-        let n = plate.mesh.n_nodes();
-        Ok(Self {
-            dir: dir.to_path_buf(),
-            mesh: &plate.mesh,
-            weights: &plate.weights,
-            every: every.max(1),
-            frames: 0,
-            pvd,
-            u: vec![0.0; n],
-            v: vec![0.0; n],
-            name: String::with_capacity(32),
-            error: None,
-        })
-    }
-
-    /// Closes `plate.pvd`; the first write error if there was one.
-    pub fn finish(mut self) -> std::io::Result<()> {
-        if let Some(e) = self.error.take() {
-            return Err(e);
-        }
-        self.pvd.write_all(PVD_TAIL.as_bytes())?;
-        self.pvd.flush()
-    }
-
-    fn write_frame(&mut self, t: f64) -> std::io::Result<()> {
-        use std::fmt::Write as _;
-        self.name.clear();
-        let _ = write!(self.name, "vtu/frame_{:05}.vtu", self.frames);
-        let mut f = std::io::BufWriter::new(std::fs::File::create(self.dir.join(&self.name))?);
-        write_vtu(&mut f, self.mesh, &self.u, &self.v, self.weights)?;
-        f.flush()?;
-        write_pvd_entry(&mut self.pvd, t, &self.name)?;
-        self.frames += 1;
-        Ok(())
+    fn write_vtu(&self, out: &mut dyn Write, u: &[f64], v: &[f64], _lambda: &[f64]) -> std::io::Result<()> {
+        write_vtu(out, &self.mesh, u, v, &self.weights)
     }
 }
 
-impl Observer for FrameWriter<'_> {
-    fn every(&self) -> usize {
-        self.every
-    }
-
-    fn observe(&mut self, s: &Sample) {
-        if self.error.is_some() {
-            return;
-        }
-        s.geometry.nodal_values(s.state.u, &mut self.u);
-        s.geometry.nodal_values(s.state.v, &mut self.v);
-        if let Err(e) = self.write_frame(s.state.t) {
-            self.error = Some(e);
-        }
-    }
-
-    fn halted(&self) -> bool {
-        self.error.is_some()
-    }
-}
+/// The streaming frame writer of every geometry ([`crate::fem::frames`]).
+pub use crate::fem::frames::FrameWriter;

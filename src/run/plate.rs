@@ -4,15 +4,14 @@
 
 use super::RunFolderError;
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
-use crate::driver::{DivergenceCriterion, Observer, integrate_watched};
+use crate::driver::Observer;
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::mass::MassKind;
-use crate::observe::{FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
-use crate::output::{OutputDir, commit_run};
+use crate::observe::Summary;
+use crate::output::OutputDir;
 use crate::plate::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
 use crate::plate::layers::cell_weights;
 use crate::plate::mesh::{Mesh2d, MeshError};
-use crate::plate::vtu::FrameWriter;
 use crate::run::{Setup, setup_error};
 use crate::scene::{Body, Force, PlateInitial, PlateScene, PlateSpec, SceneError};
 use crate::schemes::SchemeError;
@@ -139,14 +138,8 @@ fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, P
     Ok(Some(solution.map_err(PlateRunError::Exact)?))
 }
 
-/// Everything a plate scene run produces (the problem is kept for the VTU writer).
-#[derive(Debug)]
-pub struct PlateRun {
-    pub problem: PlateProblem,
-    pub summary: Summary,
-    pub series: SeriesRecorder,
-    pub frames: Option<FrameRecorder>,
-}
+/// Everything a plate scene run produces (in memory).
+pub type PlateRun = super::MeshRun<PlateSystem>;
 
 /// The problem and scheme of a plate scene; a failure names the keys that shape the matrices.
 pub fn setup(scene: &PlateScene) -> Result<Setup<PlateSystem>, SceneError> {
@@ -162,18 +155,8 @@ pub fn setup(scene: &PlateScene) -> Result<Setup<PlateSystem>, SceneError> {
 /// memory (for library users; `massredist run` streams them: [`run_plate_scene_into`]). A run
 /// that diverges stops there and is still a result (as [`crate::run::run_scene`]).
 pub fn run_plate_scene(scene: &PlateScene, extra: &mut [&mut dyn Observer]) -> Result<PlateRun, PlateRunError> {
-    let Setup { problem, scheme } = setup(scene).map_err(PlateRunError::Setup)?;
-    let mut series = SeriesRecorder::new(scene.output.series.clone(), scene.output.every, 0);
-    let mut frames = scene.output.vtu_every.map(FrameRecorder::new);
-    let mut observers: Vec<&mut dyn Observer> = vec![&mut series];
-    if let Some(f) = frames.as_mut() {
-        observers.push(f);
-    }
-    for o in extra.iter_mut() {
-        observers.push(&mut **o);
-    }
-    let summary = run_observed(scene, &problem, scheme, &mut observers)?;
-    Ok(PlateRun { problem, summary, series, frames })
+    let setup = setup(scene).map_err(PlateRunError::Setup)?;
+    Ok(super::run_in_memory(scene, setup, extra)?)
 }
 
 /// `massredist run` for a plate scene: as [`crate::run::run_scene_into`], with the VTU frames
@@ -184,44 +167,9 @@ pub fn run_plate_scene_into(
     out: OutputDir,
     extra: &mut [&mut dyn Observer],
 ) -> Result<Summary, RunFolderError<PlateRunError>> {
-    let Setup { problem, scheme } = setup(scene).map_err(|e| RunFolderError::Run(PlateRunError::Setup(e)))?;
-    let create = |k| FrameWriter::create(out.staging(), &problem.system, k).map_err(|e| out.fill_error(e));
-    let mut frames = scene.output.vtu_every.map(create).transpose()?;
-    let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(extra.len() + 1);
-    for o in extra.iter_mut() {
-        observers.push(&mut **o);
-    }
-    if let Some(f) = frames.as_mut() {
-        observers.push(f);
-    }
-    let run = |obs: &mut [&mut dyn Observer]| run_observed(scene, &problem, scheme, obs);
-    let summary = super::stream_series(&out, &scene.output, &mut observers, run)?;
-    drop(observers);
-    if let Some(f) = frames {
-        f.finish().map_err(|e| out.fill_error(e))?;
-    }
-    commit_run(out, &summary_json(scene, &problem, &summary), &scene.resolved_toml())?;
-    Ok(summary)
-}
-
-/// Runs a plate problem with its scheme, its summary and `observers` (series and frames among
-/// them).
-fn run_observed(
-    scene: &PlateScene,
-    problem: &PlateProblem,
-    mut scheme: Box<dyn crate::schemes::Scheme>,
-    observers: &mut [&mut dyn Observer],
-) -> Result<Summary, PlateRunError> {
-    let steps = scene.time.steps;
-    let mut summary = SummaryObserver::new(problem, steps, scene.time.dt, scene.output.summary_l2);
-    let mut all: Vec<&mut dyn Observer> = vec![&mut summary];
-    for o in observers.iter_mut() {
-        all.push(&mut **o);
-    }
-    let criterion = DivergenceCriterion { energy_factor: scene.output.divergence_factor };
-    // The outcome reaches the summary through `Observer::diverged`.
-    let _ = integrate_watched(problem, scheme.as_mut(), steps, &criterion, &mut all)?;
-    Ok(summary.finish())
+    let setup = setup(scene).map_err(|e| RunFolderError::Run(PlateRunError::Setup(e)))?;
+    let json = |problem: &PlateProblem, summary: &Summary| summary_json(scene, problem, summary);
+    super::run_frames_into(scene, setup, out, extra, json, PlateRunError::Scheme)
 }
 
 #[derive(Serialize)]

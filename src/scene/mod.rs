@@ -29,11 +29,13 @@ mod bar;
 mod body;
 mod common;
 mod plate;
+mod solid;
 
 pub use bar::*;
 pub use body::*;
 pub use common::*;
 pub use plate::*;
+pub use solid::*;
 // The scheme and column vocabularies live with the code that uses them; scenes name them.
 pub use crate::observe::Column;
 pub use crate::schemes::{Formulation, SchemeSpec};
@@ -117,7 +119,7 @@ pub enum SceneError {
     #[error(transparent)]
     Mesh(#[from] crate::plate::mesh::MeshError),
     #[error(
-        "{contact} contact nodes: their dense Schur complement would take {values:.3e} values ({megabytes:.0} MB), over the limit of {limit:.1e}: reduce plate.ny or the contact edge of plate.mesh"
+        "{contact} contact nodes: their dense Schur complement would take {values:.3e} values ({megabytes:.0} MB), over the limit of {limit:.1e}: reduce the nodes of the contact face (plate.ny, solid.ny and solid.nz, or the contact edge of plate.mesh)"
     )]
     TooManyContactNodes { contact: usize, values: f64, limit: f64, megabytes: f64 },
     #[error(transparent)]
@@ -204,13 +206,16 @@ pub struct Scene<G = BarSpec> {
 pub type BarScene = Scene<BarSpec>;
 /// A plate scene (`[plate]`).
 pub type PlateScene = Scene<PlateSpec>;
+/// An elastic solid scene (`[solid]`).
+pub type SolidScene = Scene<crate::solid::SolidSpec>;
 
-/// A scene file of any geometry: the geometry table it has (`[bar]`, the default, or `[plate]`)
-/// decides the variant.
+/// A scene file of any geometry: the geometry table it has (`[bar]`, the default, `[plate]` or
+/// `[solid]`) decides the variant.
 #[derive(Debug, Clone, PartialEq)]
 pub enum AnyScene {
     Bar(BarScene),
     Plate(PlateScene),
+    Solid(SolidScene),
 }
 
 /// The tables of a scene file (one geometry table at most), as read and as resolved (opaque
@@ -222,6 +227,9 @@ pub struct RawScene {
     pub(crate) bar: Option<RawBar>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) plate: Option<RawPlate>,
+    /// Validated by [`parse_solid`] from the table itself (its keys depend on `dim`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) solid: Option<toml::Table>,
     pub(crate) mass: Option<RawMass>,
     pub(crate) scheme: Option<RawScheme>,
     pub(crate) time: Option<RawTime>,
@@ -276,12 +284,20 @@ impl AnyScene {
 
     fn parse(text: &str, base: &std::path::Path) -> Result<AnyScene, SceneError> {
         let mut raw: RawScene = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
-        match (raw.bar.take(), raw.plate.take()) {
-            (Some(_), Some(_)) => Err(SceneError::Parse(
-                "[bar] and [plate]: a scene has one geometry table, [bar] (the default) or [plate]".into(),
-            )),
-            (None, Some(p)) => Ok(AnyScene::Plate(validate_sections(PlateSpec::validate(p, base)?, raw)?)),
-            (b, None) => Ok(AnyScene::Bar(validate_sections(BarSpec::validate(b.unwrap_or_default())?, raw)?)),
+        match (raw.bar.take(), raw.plate.take(), raw.solid.take()) {
+            (b, p, s) if b.is_some() as u8 + p.is_some() as u8 + s.is_some() as u8 > 1 => {
+                let tables: Vec<&str> = [(b.is_some(), "[bar]"), (p.is_some(), "[plate]"), (s.is_some(), "[solid]")]
+                    .into_iter()
+                    .filter_map(|(has, name)| has.then_some(name))
+                    .collect();
+                Err(SceneError::Parse(format!(
+                    "{}: a scene has one geometry table, [bar] (the default), [plate] or [solid]",
+                    tables.join(" and ")
+                )))
+            }
+            (None, Some(p), None) => Ok(AnyScene::Plate(validate_sections(PlateSpec::validate(p, base)?, raw)?)),
+            (None, None, Some(s)) => Ok(AnyScene::Solid(validate_sections(parse_solid(&s)?, raw)?)),
+            (b, _, _) => Ok(AnyScene::Bar(validate_sections(BarSpec::validate(b.unwrap_or_default())?, raw)?)),
         }
     }
 
@@ -290,6 +306,7 @@ impl AnyScene {
         match self {
             AnyScene::Bar(s) => s.resolved_toml(),
             AnyScene::Plate(s) => s.resolved_toml(),
+            AnyScene::Solid(s) => s.resolved_toml(),
         }
     }
 
@@ -297,6 +314,7 @@ impl AnyScene {
         match self {
             AnyScene::Bar(s) => &s.time,
             AnyScene::Plate(s) => &s.time,
+            AnyScene::Solid(s) => &s.time,
         }
     }
 
@@ -305,6 +323,7 @@ impl AnyScene {
         match self {
             AnyScene::Bar(_) => BarSpec::TABLE,
             AnyScene::Plate(_) => PlateSpec::TABLE,
+            AnyScene::Solid(_) => crate::solid::SolidSpec::TABLE,
         }
     }
 }

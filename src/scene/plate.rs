@@ -225,7 +225,7 @@ fn structured_mesh(p: &RawPlate) -> Result<Mesh2d, SceneError> {
     Ok(Mesh2d::structured(length, height, nx, ny, cells)?)
 }
 
-const SERIES_NAMES: &str =
+pub(crate) const SERIES_NAMES: &str =
     "any subset of u0, u_mean, lambda, contact_force, energy, l2_error, exact_u0, exact_lambda, pivots";
 
 impl SceneGeometry for PlateSpec {
@@ -362,7 +362,7 @@ fn parse_initial(raw: Option<RawInitial>, consts: &[(&str, f64)]) -> Result<Plat
 }
 
 /// The dense contact Schur complement takes contact² values.
-fn check_contact_memory(contact: usize) -> Result<(), SceneError> {
+pub(crate) fn check_contact_memory(contact: usize) -> Result<(), SceneError> {
     let values = contact as f64 * contact as f64;
     if values > MAX_CONTACT_VALUES {
         let megabytes = values * 8.0 / 1e6;

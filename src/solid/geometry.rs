@@ -1,7 +1,8 @@
 //! The solid as a [`Geometry`] of the one driver: contact means over Γ_C, the vector L² norms
 //! against the plane wave, nodal values for output.
 //!
-//! - `contact_mean`: the plain mean of u_x over the contact-face nodes (each node once);
+//! - `u0`: the plain mean of u_x over the contact-face nodes (each node once); `contact_mean`
+//!   (the series' `u_mean`): `∫_{Γ_C} u_{h,x} / |Γ_C|`, as for plates;
 //! - `contact_measure` = `section` = `|Γ_C|` (H in 2D, H·D in 3D), so the driver's pressure is
 //!   the total contact reaction divided by the face area;
 //! - `l2_error`: `‖u_h − u‖_{L²(Ω)^d}` against the plane wave `u = (u¹ᴰ(x, t), 0[, 0])`. The
@@ -23,10 +24,17 @@ use crate::problem::{Geometry, GeometryView};
 use crate::system::ContactSystem;
 
 impl SolidSystem {
-    /// The plain mean of u_x over the contact nodes.
-    pub fn contact_mean(&self, u: &[f64]) -> f64 {
+    /// The plain mean of u_x over the contact nodes (each node once): the reported `u0`.
+    pub fn contact_node_mean(&self, u: &[f64]) -> f64 {
         let c = &self.system.contact;
         c.iter().map(|&i| u[i]).sum::<f64>() / c.len() as f64
+    }
+
+    /// The mean of u_x over Γ_C, `Σ_c a_c u_c / |Γ_C|` with `a_c = ∫_{Γ_C} φ_c`: the reported
+    /// `u_mean` (as for plates).
+    pub fn contact_mean(&self, u: &[f64]) -> f64 {
+        let s: f64 = self.system.contact.iter().zip(&self.contact_areas).map(|(&c, a)| a * u[c]).sum();
+        s / self.mesh.face_area()
     }
 
     /// `∫_Ω (u_{h,x} − u(x, t))² ` on a structured Q1 mesh (module docs); NaN otherwise.
@@ -111,6 +119,10 @@ impl GeometryView for SolidSystem {
 
     fn contact_mean(&self, u: &[f64]) -> f64 {
         SolidSystem::contact_mean(self, u)
+    }
+
+    fn u0(&self, u: &[f64]) -> f64 {
+        self.contact_node_mean(u)
     }
 
     /// Module docs: exact on structured Q1 meshes, NaN on simplices.

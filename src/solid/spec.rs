@@ -1,7 +1,7 @@
-//! The `[solid]` table: its keys validated into a [`SolidSpec`] (a pure function of the raw
-//! table, [`parse_solid`], for the one scene type to call), and the problem a spec poses
-//! ([`SolidSpec::problem`]: the assembled [`SolidSystem`], the interpolated initial data and the
-//! plane-wave exact solution where it applies).
+//! A solid's specification, [`SolidSpec`] (what the `[solid]` table of a scene validates into:
+//! `crate::scene::parse_solid`), and the problem a spec poses ([`SolidSpec::problem`]: the
+//! assembled [`SolidSystem`], the interpolated initial data and the plane-wave exact solution
+//! where it applies).
 //!
 //! ```toml
 //! [solid]
@@ -34,7 +34,6 @@ use crate::mass::MassKind;
 use crate::material::{FarEnd, Material};
 use crate::plate::mesh::{CellKind, MeshError};
 use crate::problem::Problem;
-use crate::scene::SceneError;
 use thiserror::Error;
 
 /// The initial data of a solid.
@@ -173,151 +172,4 @@ pub enum SolidError {
     Assembly(#[from] SolidAssemblyError),
     #[error("the plane-wave exact solution of this solid: {0}")]
     Exact(CharacteristicsError),
-}
-
-/// The keys of `[solid]`, for the unknown-key message.
-const KEYS: &str =
-    "dim, length, height, depth, nx, ny, nz, cells, lame_lambda, lame_mu, density, gap, lateral, force, initial";
-
-fn number(t: &toml::Table, key: &str, full: &'static str, default: f64) -> Result<f64, SceneError> {
-    match t.get(key) {
-        None => Ok(default),
-        Some(toml::Value::Integer(i)) => Ok(*i as f64),
-        Some(toml::Value::Float(f)) => Ok(*f),
-        Some(v) => Err(SceneError::Range { key: full, value: v.to_string(), range: "a number" }),
-    }
-}
-
-fn positive(t: &toml::Table, key: &str, full: &'static str, default: f64) -> Result<f64, SceneError> {
-    let v = number(t, key, full, default)?;
-    crate::scene::finite_in(full, v, v > 0.0, "(0, ∞)")
-}
-
-fn count(t: &toml::Table, key: &str, full: &'static str, min: i64, range: &'static str) -> Result<usize, SceneError> {
-    match t.get(key) {
-        None => Ok(20),
-        Some(toml::Value::Integer(i)) if *i >= min && *i <= 10_000 => Ok(*i as usize),
-        Some(v) => Err(SceneError::Range { key: full, value: v.to_string(), range }),
-    }
-}
-
-fn string<'a>(t: &'a toml::Table, key: &str, full: &'static str, default: &'a str) -> Result<&'a str, SceneError> {
-    match t.get(key) {
-        None => Ok(default),
-        Some(toml::Value::String(s)) => Ok(s),
-        Some(v) => Err(SceneError::Range { key: full, value: v.to_string(), range: "a string" }),
-    }
-}
-
-/// The `[solid]` table validated into a [`SolidSpec`]: every error names the key (`solid.…`)
-/// and its allowed range; unknown keys are refused. Pure (no file is read: `mesh = "…"` is
-/// refused until mesh files are wired for solids).
-pub fn parse_solid(t: &toml::Table) -> Result<SolidSpec, SceneError> {
-    if let Some(key) = t.keys().find(|k| !KEYS.split(", ").any(|x| x == k.as_str())) {
-        return Err(SceneError::Parse(format!("unknown field `{key}` in [solid], expected one of {KEYS}")));
-    }
-    let dim = match t.get("dim") {
-        None => 2,
-        Some(toml::Value::Integer(d @ (2 | 3))) => *d as usize,
-        Some(v) => return Err(SceneError::Range { key: "solid.dim", value: v.to_string(), range: "2 | 3" }),
-    };
-    let extent = [
-        positive(t, "length", "solid.length", 1.0)?,
-        positive(t, "height", "solid.height", 1.0)?,
-        positive(t, "depth", "solid.depth", 1.0)?,
-    ];
-    let n = [
-        count(t, "nx", "solid.nx", 2, "integers in [2, 10000]")?,
-        count(t, "ny", "solid.ny", 1, "integers in [1, 10000]")?,
-        count(t, "nz", "solid.nz", 1, "integers in [1, 10000]")?,
-    ];
-    if dim == 2 {
-        for key in ["depth", "nz"] {
-            if t.contains_key(key) {
-                let key = if key == "depth" { "solid.depth" } else { "solid.nz" };
-                return Err(SceneError::Inapplicable { key, context: "solid.dim = 2".into() });
-            }
-        }
-    }
-    let cells = match (dim, string(t, "cells", "solid.cells", if dim == 2 { "quad" } else { "hex" })?) {
-        (2, "quad") => Cell::Quad,
-        (2, "triangle") => Cell::Triangle,
-        (3, "hex") => Cell::Hex,
-        (3, "tet") => Cell::Tet,
-        (d, other) => {
-            let range = if d == 2 { "quad | triangle (dim = 2)" } else { "hex | tet (dim = 3)" };
-            return Err(SceneError::Range { key: "solid.cells", value: format!("\"{other}\""), range });
-        }
-    };
-    let lambda = number(t, "lame_lambda", "solid.lame_lambda", 0.0)?;
-    let lambda = crate::scene::finite_in("solid.lame_lambda", lambda, lambda >= 0.0, "[0, ∞)")?;
-    let lame = Lame {
-        lambda,
-        mu: positive(t, "lame_mu", "solid.lame_mu", 0.5)?,
-        density: positive(t, "density", "solid.density", 1.0)?,
-    };
-    let gap = number(t, "gap", "solid.gap", 0.0)?;
-    let gap = crate::scene::finite_in("solid.gap", gap, gap >= 0.0, "[0, ∞)")?;
-    let lateral = match string(t, "lateral", "solid.lateral", "free")? {
-        "free" => Lateral::Free,
-        "roller" => Lateral::Roller,
-        other => {
-            let range = "\"free\" (traction-free) | \"roller\" (u·n = 0)";
-            return Err(SceneError::Range { key: "solid.lateral", value: format!("\"{other}\""), range });
-        }
-    };
-    let mut force = [0.0; 3];
-    if let Some(v) = t.get("force") {
-        let range = "an array of one finite number per component";
-        let bad = || SceneError::Range { key: "solid.force", value: v.to_string(), range };
-        let a = v.as_array().filter(|a| a.len() == dim).ok_or_else(bad)?;
-        for (f, x) in force.iter_mut().zip(a) {
-            *f = x.as_float().or_else(|| x.as_integer().map(|i| i as f64)).filter(|f| f.is_finite()).ok_or_else(bad)?;
-        }
-    }
-    let initial = parse_initial(t.get("initial"), dim, extent)?;
-    Ok(SolidSpec { dim, extent, cells_per_axis: n, cells, lame, gap, lateral, force, initial })
-}
-
-/// `initial = "paper"` or `{ displacement = [..], velocity = [..] }` (one entry per component;
-/// a missing array is all zeros).
-fn parse_initial(v: Option<&toml::Value>, dim: usize, extent: [f64; 3]) -> Result<SolidInitial, SceneError> {
-    let range = "\"paper\" or { displacement = [...], velocity = [...] } with one expression per component";
-    let bad = |v: &toml::Value| SceneError::Range { key: "solid.initial", value: v.to_string(), range };
-    let table = match v {
-        None => return Ok(SolidInitial::Paper),
-        Some(toml::Value::String(s)) if s == "paper" => return Ok(SolidInitial::Paper),
-        Some(toml::Value::Table(t)) => t,
-        Some(v) => return Err(bad(v)),
-    };
-    if let Some(k) = table.keys().find(|k| *k != "displacement" && *k != "velocity") {
-        return Err(SceneError::Parse(format!(
-            "unknown field `{k}` in solid.initial, expected one of displacement, velocity"
-        )));
-    }
-    let vars: &[&str] = if dim == 2 { &["x", "y"] } else { &["x", "y", "z"] };
-    let pi = std::f64::consts::PI;
-    let consts = [("L", extent[0]), ("H", extent[1]), ("D", extent[2]), ("pi", pi)];
-    let consts = if dim == 2 { &[consts[0], consts[1], consts[3]][..] } else { &consts[..] };
-    let field = |key: &'static str, name: &str| -> Result<Vec<Expr>, SceneError> {
-        let Some(v) = table.get(name) else {
-            return Ok((0..dim).map(|_| Expr::parse(key, "0", vars, consts).expect("0 parses")).collect());
-        };
-        let a = v.as_array().filter(|a| a.len() == dim).ok_or_else(|| bad(v))?;
-        a.iter()
-            .map(|x| {
-                let text = match x {
-                    toml::Value::String(s) => s.clone(),
-                    toml::Value::Integer(i) => i.to_string(),
-                    toml::Value::Float(f) if f.is_finite() => crate::expr::sci(*f),
-                    other => return Err(bad(other)),
-                };
-                Ok(Expr::parse(key, &text, vars, consts)?)
-            })
-            .collect()
-    };
-    Ok(SolidInitial::Fields {
-        displacement: field("solid.initial.displacement", "displacement")?,
-        velocity: field("solid.initial.velocity", "velocity")?,
-    })
 }

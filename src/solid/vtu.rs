@@ -41,3 +41,12 @@ pub fn write_frames(
     let times: Vec<f64> = frames.iter().map(|f| f.t).collect();
     write_series(dir, "solid", &times, |k| vtu_string(solid, &frames[k].u, &frames[k].v, &frames[k].lambda))
 }
+
+/// The solid's frames for the streaming writer ([`crate::fem::frames::FrameWriter`]).
+impl crate::fem::frames::VtuFrames for SolidSystem {
+    const COLLECTION: &'static str = "solid";
+
+    fn write_vtu(&self, out: &mut dyn std::io::Write, u: &[f64], v: &[f64], lambda: &[f64]) -> std::io::Result<()> {
+        out.write_all(vtu_string(self, u, v, lambda).as_bytes())
+    }
+}
