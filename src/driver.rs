@@ -229,7 +229,7 @@ struct Diagnostics<'p, G: Geometry> {
     bar_energy: Option<crate::bar::norms::Energy>,
     /// The exact solution at the nodes.
     interp: Vec<f64>,
-    /// A bar's node coordinates and nodal values (u_m = 0 when clamped), for the general
+    /// A bar's node coordinates, and its nodal values (u_m = 0 when clamped) for the general
     /// exact solution's L² error.
     nodes: Vec<f64>,
     values: Vec<f64>,
@@ -266,7 +266,7 @@ impl<'p, G: Geometry> Diagnostics<'p, G> {
         let geometry = &self.problem.system;
         match (geometry.bar(), exact) {
             (Some(bar), Exact::Paper(e)) => {
-                crate::bar::norms::l2_error_and_interp_norm(&bar.bar, u, e, t, &mut self.interp)
+                crate::bar::norms::l2_error_and_interp_norm(&bar.bar, u, e, t, &self.nodes, &mut self.interp)
             }
             (Some(_), Exact::General(c)) => {
                 self.values.clear();

@@ -136,21 +136,17 @@ impl ImpactingBar {
         }
     }
 
-    /// `u(x_j, t)` at the nodes `x_j = L j/m`, j = 0..out.len(), with the phase found once
-    /// (not per node, as [`Self::u`] does): the same closed forms evaluated at `y_j = j/m`
-    /// (`x_j/L` up to one rounding), so the values agree with [`Self::u`] to an ulp of L. The
-    /// loop is branch-free (min/max), for the per-step exact L² error of long runs.
+    /// `u(x, t)` at every x of `xs` into `out`, with the phase found once (not per node, as
+    /// [`Self::u`] does): the same closed forms, so the same values bit for bit. The loop is
+    /// branch-free (min/max), for the per-step exact L² error of long runs.
     #[inline(always)]
-    pub fn nodal_values(&self, t: f64, m: usize, out: &mut [f64]) {
-        let (l, inv) = (self.length, 1.0 / m as f64);
-        // j as i32: a conversion that vectorises (m ≤ scene::MAX_ELEMENTS = 10⁷ < 2³¹).
-        debug_assert!(out.len() <= i32::MAX as usize);
-        let ys = (0..out.len() as i32).map(|j| j as f64 * inv);
+    pub fn nodal_values(&self, t: f64, xs: &[f64], out: &mut [f64]) {
+        let l = self.length;
+        let ys = xs.iter().map(|&x| x / l);
         match self.phase(t) {
             Phase::Flight(tau) => out.iter_mut().zip(ys).for_each(|(o, y)| *o = l * ((1.0 - y.max(tau)) / 2.0)),
             Phase::Contact(s) => {
-                let d = s.min(1.0 - s);
-                out.iter_mut().zip(ys).for_each(|(o, y)| *o = l * (-y.min(1.0 - y).min(d) / 2.0));
+                out.iter_mut().zip(ys).for_each(|(o, y)| *o = l * (-y.min(1.0 - y).min(s).min(1.0 - s) / 2.0));
             }
             Phase::Release(r) => out.iter_mut().zip(ys).for_each(|(o, y)| *o = l * (r.min(1.0 - y) / 2.0)),
         }
