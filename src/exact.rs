@@ -136,6 +136,22 @@ impl ImpactingBar {
         }
     }
 
+    /// `u(x, t)` at every x of `xs` into `out`, with the phase found once (not per node, as
+    /// [`Self::u`] does): the same closed forms, so the same values bit for bit. The loop is
+    /// branch-free (min/max), for the per-step exact L² error of long runs.
+    #[inline(always)]
+    pub fn nodal_values(&self, t: f64, xs: &[f64], out: &mut [f64]) {
+        let l = self.length;
+        let ys = xs.iter().map(|&x| x / l);
+        match self.phase(t) {
+            Phase::Flight(tau) => out.iter_mut().zip(ys).for_each(|(o, y)| *o = l * ((1.0 - y.max(tau)) / 2.0)),
+            Phase::Contact(s) => {
+                out.iter_mut().zip(ys).for_each(|(o, y)| *o = l * (-y.min(1.0 - y).min(s).min(1.0 - s) / 2.0));
+            }
+            Phase::Release(r) => out.iter_mut().zip(ys).for_each(|(o, y)| *o = l * (r.min(1.0 - y) / 2.0)),
+        }
+    }
+
     /// Contact-node displacement u(0, t).
     pub fn u0(&self, t: f64) -> f64 {
         self.u(0.0, t)

@@ -88,7 +88,7 @@ fn a_y_dependent_run_writes_vtu_that_reads_back() {
     let mesh = &run.problem.system.mesh;
     for ((t, file), frame) in pvd.iter().zip(&frames.frames) {
         assert_eq!(*t, frame.t);
-        let data = read_vtu(&std::fs::read_to_string(out.join(file)).unwrap()).unwrap();
+        let data = read_vtu(std::fs::read(out.join(file)).unwrap()).unwrap();
         assert_eq!((data.n_points, data.n_cells), (mesh.n_nodes(), mesh.n_cells()));
         assert_eq!(data.connectivity, mesh.cells);
         assert!(data.types.iter().all(|&t| t == 5));

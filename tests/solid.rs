@@ -428,7 +428,7 @@ fn vtu_frames_carry_vectors_and_pressure_and_read_back() {
         let mut pressed = 0;
         for ((t, file), frame) in pvd.iter().zip(&frames.frames) {
             assert_eq!(*t, frame.t);
-            let data = read_vtu(&std::fs::read_to_string(dir.path().join(file)).unwrap()).unwrap();
+            let data = read_vtu(std::fs::read(dir.path().join(file)).unwrap()).unwrap();
             assert_eq!((data.n_points, data.n_cells), (g.mesh.n_nodes(), g.mesh.n_cells()));
             assert_eq!(data.connectivity, g.mesh.cells);
             assert!(data.types.iter().all(|&t| t == vtk));

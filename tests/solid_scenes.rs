@@ -153,7 +153,7 @@ fn a_solid_run_folder_holds_series_summary_frames_and_the_resolved_scene() {
     // 60 steps, a frame every 20: frames at steps 0, 20, 40, 60.
     let pvd = std::fs::read_to_string(out.join("solid.pvd")).unwrap();
     assert_eq!(massredist::fem::vtu::read_pvd(&pvd).len(), 4);
-    let frame = std::fs::read_to_string(out.join("vtu/frame_00003.vtu")).unwrap();
+    let frame = std::fs::read(out.join("vtu/frame_00003.vtu")).unwrap();
     let data = massredist::fem::vtu::read_vtu(&frame).unwrap();
     assert_eq!(data.point_array("displacement").unwrap().components, 3);
     let series = std::fs::read_to_string(out.join("series.csv")).unwrap();

@@ -17,6 +17,7 @@ pub mod report;
 pub mod scaling;
 pub mod sweep;
 pub mod timing;
+pub mod whole;
 
 use crate::mass::MassKind;
 use crate::scene::{Formulation, SchemeSpec};
@@ -54,6 +55,8 @@ pub struct BenchReport {
     pub python: Vec<PythonRatio>,
     /// Why the Python comparison is missing or partial.
     pub python_note: Option<String>,
+    /// Whole-process user-facing runs against the bare kernel and numpy ([`whole`]).
+    pub whole: whole::WholeProcess,
     pub seconds: f64,
 }
 
@@ -132,6 +135,7 @@ pub fn run(quick: bool) -> BenchReport {
     let (python, python_note) = python_ratios(quick);
     let plate_sizes: &[(usize, usize)] = if quick { &[(48, 12)] } else { &[(48, 12), (96, 24)] };
     let plate = plate_sizes.iter().filter_map(|&(nx, ny)| perf::time_plate(nx, ny, min_total)).collect();
+    let whole = whole::measure(quick);
     bar.finish_and_clear();
 
     let config = if quick { sweep::SweepConfig::quick() } else { sweep::SweepConfig::full() };
@@ -161,6 +165,7 @@ pub fn run(quick: bool) -> BenchReport {
         plate,
         python,
         python_note,
+        whole,
         seconds: started.elapsed().as_secs_f64(),
     }
 }
@@ -285,6 +290,7 @@ pub fn performance_markdown(r: &BenchReport) -> String {
             }
         }
     }
+    s += &whole::markdown(&r.whole);
     if let Some(n) = &r.python_note {
         let _ = writeln!(s, "\nPython: {n}");
     }

@@ -9,6 +9,7 @@
 //! ([`Observer::halted`]), and `finish` returns it.
 
 use crate::driver::{Observer, Sample};
+use crate::fem::vtu::Layout;
 use crate::problem::GeometryView;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -17,9 +18,13 @@ use std::path::{Path, PathBuf};
 pub trait VtuFrames: GeometryView {
     /// The name of the `.pvd` collection (`plate`, `solid`).
     const COLLECTION: &'static str;
-    /// Writes the `.vtu` of one state: `u`, `v` as [`GeometryView::nodal_values`] gives them,
-    /// `lambda` the contact reactions in contact order.
-    fn write_vtu(&self, out: &mut dyn Write, u: &[f64], v: &[f64], lambda: &[f64]) -> std::io::Result<()>;
+    /// The layout of this geometry's frames: the mesh and the constant cell data, serialised
+    /// once per run ([`Layout`]).
+    fn frame_layout(&self) -> Layout;
+    /// The point arrays of one state, in the layout's order, into `arrays` (buffers reused from
+    /// frame to frame): `u`, `v` as [`GeometryView::nodal_values`] gives them, `lambda` the
+    /// contact reactions in contact order.
+    fn point_arrays(&self, u: &[f64], v: &[f64], lambda: &[f64], arrays: &mut Vec<Vec<f64>>);
 }
 
 const PVD_HEAD: &str = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n";
@@ -29,6 +34,10 @@ const PVD_TAIL: &str = "  </Collection>\n</VTKFile>\n";
 pub struct FrameWriter<'a, G: VtuFrames> {
     dir: PathBuf,
     geometry: &'a G,
+    /// The geometry's bytes, serialised once.
+    layout: Layout,
+    /// One frame's point arrays.
+    arrays: Vec<Vec<f64>>,
     every: usize,
     frames: usize,
     pvd: std::io::BufWriter<std::fs::File>,
@@ -49,6 +58,8 @@ impl<'a, G: VtuFrames> FrameWriter<'a, G> {
         Ok(Self {
             dir: dir.to_path_buf(),
             geometry,
+            layout: geometry.frame_layout(),
+            arrays: Vec::new(),
             every: every.max(1),
             frames: 0,
             pvd,
@@ -73,7 +84,9 @@ impl<'a, G: VtuFrames> FrameWriter<'a, G> {
         self.name.clear();
         let _ = write!(self.name, "vtu/frame_{:05}.vtu", self.frames);
         let mut f = std::io::BufWriter::new(std::fs::File::create(self.dir.join(&self.name))?);
-        self.geometry.write_vtu(&mut f, &self.u, &self.v, lambda)?;
+        self.geometry.point_arrays(&self.u, &self.v, lambda, &mut self.arrays);
+        let arrays: Vec<&[f64]> = self.arrays.iter().map(|a| &a[..]).collect();
+        self.layout.write(&mut f, &arrays)?;
         f.flush()?;
         writeln!(
             self.pvd,
