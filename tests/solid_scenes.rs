@@ -195,7 +195,7 @@ fn every_shipped_solid_scene_reads_back_and_runs_with_complementarity() {
 #[cfg(feature = "python")]
 #[test]
 fn a_mesh_file_of_the_structured_mesh_gives_the_structured_run() {
-    use massredist::fem::vtu::{Grid, grid_string, vtk_type};
+    use massredist::fem::vtu::{Grid, Layout, vtk_type};
     let dir = tempfile::tempdir().unwrap();
     for (table, name) in [
         ("dim = 2\nnx = 6\nny = 3\ncells = \"triangle\"", "tri.vtu"),
@@ -208,7 +208,7 @@ fn a_mesh_file_of_the_structured_mesh_gives_the_structured_run() {
         let mesh = structured.geometry.mesh().unwrap();
         let grid =
             Grid { points: &mesh.points, cells: &mesh.cells, verts: mesh.kind.verts(), kind: vtk_type(mesh.kind) };
-        std::fs::write(dir.path().join(name), grid_string(&grid, &[], "", &[])).unwrap();
+        std::fs::write(dir.path().join(name), Layout::new(&grid, &[], "", &[]).frame(&[])).unwrap();
         let lateral = if table.contains("roller") { "lateral = \"roller\"\n" } else { "" };
         let dim = &table[..7];
         let scene_path = dir.path().join("s.toml");
