@@ -81,13 +81,13 @@ fn steps(c: &mut Criterion) {
 type Build = Box<dyn Fn() -> Box<dyn Scheme>>;
 
 fn multid_cases() -> Vec<(&'static str, Build)> {
-    let cn = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
+    let cn = || SchemeSpec::CrankNicolson { formulation: Formulation::Full };
     let plate = move || {
         let spec = PlateSpec::structured(1.0, 1.0, 40, 40, CellKind::Quad, PlateInitial::Paper);
-        PlateProblem::new(&spec, &MassKind::Mod3).unwrap().scheme(&cn, DT).unwrap()
+        PlateProblem::new(&spec, &MassKind::Mod3).unwrap().scheme(&cn(), DT).unwrap()
     };
     let solid = move |dim: usize, n: usize| {
-        move || SolidSpec::paper(dim, [n; 3]).problem(&MassKind::Mod3, 2.0).unwrap().scheme(&cn, DT).unwrap()
+        move || SolidSpec::paper(dim, [n; 3]).problem(&MassKind::Mod3, 2.0).unwrap().scheme(&cn(), DT).unwrap()
     };
     vec![
         ("plate-q1-40x40", Box::new(plate)),

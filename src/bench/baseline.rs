@@ -327,7 +327,7 @@ pub fn markdown(r: &BaselineReport) -> String {
     if !r.scaling.is_empty() {
         let _ = writeln!(
             s,
-            "\n3D solid, hex N×N×N (massredist; set-up, and the mean of 10 free steps of Δt = 0.01). Fitted growth \
+            "\n3D solid, hex N×N×N (massredist; set-up, and the median of 10 free steps of Δt = 0.01). Fitted growth \
              (least squares of log time against log unknowns): set-up ∝ n^{}, step ∝ n^{}. Peak memory: the \
              process's resident high-water mark after that size.\n",
             opt(r.exponents.map(|e| e.0), |x| format!("{x:.2}")),
