@@ -116,10 +116,11 @@ mod tests {
     use super::*;
     use crate::linalg::sparse::{from_triplets, sym_mul_into};
 
-    /// Two set-up blocks (70 contact nodes > [`MAX_BLOCK`]) and a step with active and inactive
-    /// nodes: the returned U solves `K U = r + E μ` (μ = −σλ) with `lb ≤ u_C ⊥ λ ≤ 0`.
-    /// mutation: drop the correction solve (`if any` → `if false`) -> fails with
-    /// "0.6867036979092086 vs 0.8632093666488739" (row 0 of K U = r + E μ).
+    /// 70 contact nodes eliminated last and a step with active and inactive nodes: the returned
+    /// U solves `K U = r + E μ` (μ = −σλ) with `lb ≤ u_C ⊥ λ ≤ 0`.
+    /// mutation: keep the forward block y_C instead of `L_CCᵀ u_C` before the backward solve
+    /// (the contact correction lost) -> fails with "0.6867036979092087 vs 0.8632093666488739"
+    /// (row 0 of K U = r + E μ).
     #[test]
     fn solve_meets_the_equations_and_complementarity() {
         // 5-point Laplacian + I on a 3 × 70 grid (eigenvalues in [1, 9]: κ ≤ 9).
