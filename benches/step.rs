@@ -1,6 +1,11 @@
 //! Criterion micro-benchmarks: one time step of each scheme and one bare tridiagonal solve
 //! (LDLᵀ and two-sided) at m = 10³ and 10⁴ on the paper's benchmark (Δt = h).
 //!
+//! 2D and 3D: set-up (assembly, factorisation, contact operator) and one Crank–Nicolson step,
+//! free and in contact, of the Q1 plate (40 × 40), the plane-strain solid (30 × 30) and the hex
+//! solid (8³), mod3, the paper's data, Δt = 0.02 (small sizes, so `cargo bench --no-run` and a
+//! run stay cheap; the large sizes and the scipy ratios are `massredist bench`).
+//!
 //! `cargo bench --bench step`; throughput is reported in node-steps (elements) per second.
 //! The work–precision sweep and the ratio tables are `massredist bench` (src/bench/).
 
@@ -8,8 +13,14 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use massredist::bench::perf::floor_matrix;
 use massredist::bench::sweep::scheme_cases;
 use massredist::mass::MassKind;
+use massredist::plate::CellKind;
 use massredist::run::Problem;
+use massredist::run::plate::PlateProblem;
+use massredist::scene::{Formulation, PlateInitial, PlateSpec, SchemeSpec};
+use massredist::schemes::Scheme;
+use massredist::solid::SolidSpec;
 use std::hint::black_box;
+use std::time::{Duration, Instant};
 
 const SIZES: [usize; 2] = [1_000, 10_000];
 /// Steps per timed iteration.
@@ -66,5 +77,58 @@ fn steps(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, solves, steps);
+/// The 2D/3D cases: label, and a builder of the problem's scheme (the whole set-up).
+type Build = Box<dyn Fn() -> Box<dyn Scheme>>;
+
+fn multid_cases() -> Vec<(&'static str, Build)> {
+    let cn = || SchemeSpec::CrankNicolson { formulation: Formulation::Full };
+    let plate = move || {
+        let spec = PlateSpec::structured(1.0, 1.0, 40, 40, CellKind::Quad, PlateInitial::Paper);
+        PlateProblem::new(&spec, &MassKind::Mod3).unwrap().scheme(&cn(), DT).unwrap()
+    };
+    let solid = move |dim: usize, n: usize| {
+        move || SolidSpec::paper(dim, [n; 3]).problem(&MassKind::Mod3, 2.0).unwrap().scheme(&cn(), DT).unwrap()
+    };
+    vec![
+        ("plate-q1-40x40", Box::new(plate)),
+        ("solid-2d-30x30", Box::new(solid(2, 30))),
+        ("solid-3d-hex-8", Box::new(solid(3, 8))),
+    ]
+}
+
+const DT: f64 = 0.02;
+
+fn multid(c: &mut Criterion) {
+    let mut g = c.benchmark_group("multid");
+    g.sample_size(10).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2));
+    for (label, build) in multid_cases() {
+        g.bench_function(BenchmarkId::new("setup", label), |bch| bch.iter(|| black_box(build())));
+        // Free steps from t = 0, contact steps from t = 1.1 (the face is in contact on (1, 2)):
+        // chunks of at most 40 steps, each on a fresh scheme advanced untimed to its start.
+        for (phase, skip) in [("free-step", 0usize), ("contact-step", 55)] {
+            g.bench_function(BenchmarkId::new(phase, label), |bch| {
+                bch.iter_custom(|iters| {
+                    let (mut total, mut left) = (Duration::ZERO, iters);
+                    while left > 0 {
+                        let mut s = build();
+                        for _ in 0..skip {
+                            s.step().unwrap();
+                        }
+                        let k = left.min(40);
+                        let t = Instant::now();
+                        for _ in 0..k {
+                            s.step().unwrap();
+                        }
+                        total += t.elapsed();
+                        left -= k;
+                    }
+                    total
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, solves, steps, multid);
 criterion_main!(benches);

@@ -90,21 +90,24 @@ pub struct PythonTiming {
 /// The interpreter with numpy/scipy (Debian's; the `python3` on PATH may not see them).
 pub const PYTHON: &str = "/usr/bin/python3";
 
-/// Runs `python/bench_stepper.py` and parses its JSON; the error says why it could not run.
-pub fn run_python(elements: usize, steps: usize, dense_steps: usize, repeats: usize) -> Result<PythonTiming, String> {
-    let script = crate_dir().join("python").join("bench_stepper.py");
+/// Runs `python/NAME` with `args` under [`PYTHON`] and parses the JSON it prints; the error
+/// says why it could not.
+pub fn run_json<T: serde::de::DeserializeOwned>(name: &str, args: &[String]) -> Result<T, String> {
+    let script = crate_dir().join("python").join(name);
     if !script.exists() {
         return Err(format!("{} not found", script.display()));
     }
-    let out = Command::new(PYTHON)
-        .arg(&script)
-        .args(["--elements", &elements.to_string(), "--steps", &steps.to_string()])
-        .args(["--dense-steps", &dense_steps.to_string(), "--repeats", &repeats.to_string()])
-        .output()
-        .map_err(|e| format!("cannot start {PYTHON}: {e}"))?;
+    let out =
+        Command::new(PYTHON).arg(&script).args(args).output().map_err(|e| format!("cannot start {PYTHON}: {e}"))?;
     if !out.status.success() {
         let err = String::from_utf8_lossy(&out.stderr);
         return Err(format!("{PYTHON} {} failed: {}", script.display(), err.lines().last().unwrap_or("")));
     }
     serde_json::from_slice(&out.stdout).map_err(|e| format!("cannot parse the output of {}: {e}", script.display()))
+}
+
+/// Runs `python/bench_stepper.py` and parses its JSON; the error says why it could not run.
+pub fn run_python(elements: usize, steps: usize, dense_steps: usize, repeats: usize) -> Result<PythonTiming, String> {
+    let args = [("--elements", elements), ("--steps", steps), ("--dense-steps", dense_steps), ("--repeats", repeats)];
+    run_json("bench_stepper.py", &args.iter().flat_map(|(k, v)| [k.to_string(), v.to_string()]).collect::<Vec<_>>())
 }

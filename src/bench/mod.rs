@@ -11,6 +11,7 @@
 //! `report.md` compare like with like. This module is an edge (it times, spawns and writes);
 //! the schemes it drives are the library's own.
 
+pub mod baseline;
 pub mod env;
 pub mod perf;
 pub mod report;
@@ -57,6 +58,8 @@ pub struct BenchReport {
     pub python_note: Option<String>,
     /// Whole-process user-facing runs against the bare kernel and numpy ([`whole`]).
     pub whole: whole::WholeProcess,
+    /// Plates and solids against the scipy baseline, and the 3D scaling.
+    pub baseline: baseline::BaselineReport,
     pub seconds: f64,
 }
 
@@ -137,6 +140,7 @@ pub fn run(quick: bool) -> BenchReport {
     let plate = plate_sizes.iter().filter_map(|&(nx, ny)| perf::time_plate(nx, ny, min_total)).collect();
     let whole = whole::measure(quick);
     bar.finish_and_clear();
+    let baseline = baseline::run(quick);
 
     let config = if quick { sweep::SweepConfig::quick() } else { sweep::SweepConfig::full() };
     let cases = sweep::cases(&config);
@@ -166,6 +170,7 @@ pub fn run(quick: bool) -> BenchReport {
         python,
         python_note,
         whole,
+        baseline,
         seconds: started.elapsed().as_secs_f64(),
     }
 }
@@ -339,6 +344,8 @@ pub fn write(out: crate::output::OutputDir, r: &BenchReport) -> Result<(), crate
     let _ = writeln!(full, "## Work–precision\n\n![work–precision](work_precision.svg)\n");
     let _ = writeln!(full, "## Observed convergence rates\n\n{rates_md}");
     let _ = writeln!(full, "## Performance\n\n{perf_md}");
+    let baseline_md = baseline::markdown(&r.baseline);
+    let _ = writeln!(full, "## Plates and solids against scipy\n\n{baseline_md}");
     if !failures.is_empty() {
         let _ = writeln!(full, "## Diverged or failed runs\n\n{}\n", failures.join("\n"));
     }
@@ -346,6 +353,11 @@ pub fn write(out: crate::output::OutputDir, r: &BenchReport) -> Result<(), crate
         std::fs::write(tmp.join("work_precision.csv"), report::results_csv(&r.results))?;
         std::fs::write(tmp.join("rates.md"), &rates_md)?;
         std::fs::write(tmp.join("performance.md"), &perf_md)?;
+        std::fs::write(tmp.join("baseline.md"), &baseline_md)?;
+        for ext in ["png", "svg"] {
+            let path = tmp.join(format!("solid_scaling.{ext}"));
+            baseline::scaling_figure(&path, &r.baseline.scaling).map_err(std::io::Error::other)?;
+        }
         std::fs::write(tmp.join("report.md"), &full)?;
         std::fs::write(tmp.join("environment.json"), json(&r.environment))?;
         std::fs::write(tmp.join("bench.json"), json(r))?;

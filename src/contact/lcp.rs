@@ -51,6 +51,10 @@ pub struct Lcp {
     active: Vec<bool>,
     idx: Vec<usize>,
     chol: Vec<f64>,
+    /// The active set whose factor `chol` holds, if `factored_valid`: a step whose warm-start
+    /// set is already right reuses it.
+    factored: Vec<usize>,
+    factored_valid: bool,
     y: Vec<f64>,
     mu: Vec<f64>,
     w: Vec<f64>,
@@ -69,6 +73,8 @@ impl Lcp {
             active: vec![false; n],
             idx: Vec::with_capacity(n),
             chol: vec![0.0; n * n],
+            factored: Vec::with_capacity(n),
+            factored_valid: false,
             y: vec![0.0; n],
             mu: vec![0.0; n],
             w: vec![0.0; n],
@@ -158,22 +164,9 @@ impl Lcp {
     fn solve_active(&mut self, q: &[f64]) -> Result<(), f64> {
         let (n, k) = (self.n, self.idx.len());
         self.mu.iter_mut().for_each(|m| *m = 0.0);
-        // L (k × k, row-major in chol) with D_αα = L Lᵀ.
-        for a in 0..k {
-            for b in 0..=a {
-                let mut s = self.d[self.idx[a] * n + self.idx[b]];
-                for c in 0..b {
-                    s -= self.chol[a * n + c] * self.chol[b * n + c];
-                }
-                if a == b {
-                    if !(s > 0.0) {
-                        return Err(s);
-                    }
-                    self.chol[a * n + a] = s.sqrt();
-                } else {
-                    self.chol[a * n + b] = s / self.chol[b * n + b];
-                }
-            }
+        // L (k × k, row-major in chol) with D_αα = L Lᵀ, unless chol holds it already.
+        if !(self.factored_valid && self.factored == self.idx) {
+            self.factor_active()?;
         }
         for a in 0..k {
             let mut s = -q[self.idx[a]];
@@ -192,6 +185,32 @@ impl Lcp {
         for a in 0..k {
             self.mu[self.idx[a]] = self.y[a];
         }
+        Ok(())
+    }
+
+    /// The dense Cholesky factor of D_αα (α = idx) into chol; Err(pivot) if not positive.
+    fn factor_active(&mut self) -> Result<(), f64> {
+        let (n, k) = (self.n, self.idx.len());
+        self.factored_valid = false;
+        for a in 0..k {
+            for b in 0..=a {
+                let mut s = self.d[self.idx[a] * n + self.idx[b]];
+                for c in 0..b {
+                    s -= self.chol[a * n + c] * self.chol[b * n + c];
+                }
+                if a == b {
+                    if !(s > 0.0) {
+                        return Err(s);
+                    }
+                    self.chol[a * n + a] = s.sqrt();
+                } else {
+                    self.chol[a * n + b] = s / self.chol[b * n + b];
+                }
+            }
+        }
+        self.factored.clear();
+        self.factored.extend_from_slice(&self.idx);
+        self.factored_valid = true;
         Ok(())
     }
 

@@ -17,69 +17,53 @@
 //!
 //! an LCP with an SPD matrix, solved exactly by [`Lcp`] (Murty's principal pivoting).
 //!
-//! Only the n_c × n_c matrix D is kept. K is factored once; D is built once from the solves
-//! `K⁻¹ e_c`, done in blocks of columns (faer's supernodal solve on several right-hand sides)
-//! whose contact rows are kept and the rest dropped, so set-up memory is one block, not
-//! `n × n_c`. A step costs one sparse solve for U*, the LCP, and, only if some node is active,
-//! one more sparse solve for the correction `K⁻¹ (E μ)` (E μ has n_c nonzeros). With one contact
-//! node this is the 1D formula `λ = (u*_0 − lb)/(σ z_0)`.
+//! K is factored once with the contact unknowns eliminated last
+//! ([`SparseLlt::with_trailing`]): `P K Pᵀ = L Lᵀ` whose trailing n_c × n_c block `L_CC` is the
+//! Cholesky factor of the Schur complement of the other unknowns, so `D = (K⁻¹)_CC =
+//! L_CC⁻ᵀ L_CC⁻¹` comes from the dense triangular inverse of `L_CC` (O(n_c³), no sparse solve).
+//! A step is one forward substitution `y = L⁻¹ P r`, the contact values
+//! `U*_C = L_CC⁻ᵀ y_C` (dense, O(n_c²)), the LCP, and one backward substitution after the
+//! trailing block is replaced by `L_CCᵀ u_C` with `u_C = U*_C + D μ = w + lb` (the forward substitution
+//! of `r + E μ`, since E's rows are eliminated last): the cost of one sparse solve with or
+//! without contact. With one contact node this is the 1D formula `λ = (u*_0 − lb)/(σ z_0)`.
 
 use super::ContactSolver;
 use super::lcp::{Lcp, LcpError};
 use crate::linalg::sparse::{SpMat, SparseError, SparseLlt};
-
-/// Doubles of the set-up block of unit responses (16 MB): the block width is this divided by
-/// the number of unknowns, at least 1 and at most [`MAX_BLOCK`].
-const BLOCK_VALUES: usize = 1 << 21;
-/// Widest block of right-hand sides: beyond a few dozen columns the blocked solve gains little.
-const MAX_BLOCK: usize = 64;
+use faer::{Mat, Par};
 
 #[derive(Debug)]
 pub struct Schur {
     factor: SparseLlt,
     contact: Vec<usize>,
+    /// `L_CCᵀ`, row-major upper triangular n_c × n_c.
+    upper: Vec<f64>,
     lcp: Lcp,
     q: Vec<f64>,
-    /// Work vector of the correction solve, `E μ` then `K⁻¹ E μ` (n values).
-    correction: Vec<f64>,
+    /// Work vector: `U*_C`, then `u_C`.
+    uc: Vec<f64>,
 }
 
 impl Schur {
-    /// Factors K and builds D = Eᵀ K⁻¹ E (symmetrised: D is symmetric in exact arithmetic, the
-    /// computed columns differ by round-off).
+    /// Factors K (contact unknowns last) and builds D = Eᵀ K⁻¹ E from the trailing block of
+    /// the factor (symmetrised: D is symmetric in exact arithmetic).
     pub fn new(k: &SpMat, contact: &[usize], matrix: &'static str) -> Result<Self, SparseError> {
-        let n = k.nrows();
         let nc = contact.len();
-        let factor = SparseLlt::new(k, matrix)?;
-        // d[a * nc + b] = (K⁻¹ e_b)_{contact[a]}, then symmetrised in place.
+        let factor = SparseLlt::with_trailing(k, contact, matrix)?;
+        let upper = factor.trailing_upper();
+        // X = L_CC⁻¹ (lower triangular), D = Xᵀ X.
+        let l = Mat::<f64>::from_fn(nc, nc, |i, j| upper[j * nc + i]);
+        let mut x = Mat::<f64>::identity(nc, nc);
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), x.as_mut(), Par::Seq);
+        let dm = x.transpose() * &x;
         let mut d = vec![0.0; nc * nc];
-        let width = (BLOCK_VALUES / n.max(1)).clamp(1, MAX_BLOCK).min(nc.max(1));
-        let mut block = vec![0.0; n * width];
-        for first in (0..nc).step_by(width) {
-            let cols = width.min(nc - first);
-            let block = &mut block[..n * cols];
-            block.iter_mut().for_each(|v| *v = 0.0);
-            for j in 0..cols {
-                block[j * n + contact[first + j]] = 1.0;
-            }
-            factor.solve_many_in_place(block, cols);
-            for j in 0..cols {
-                let col = &block[j * n..(j + 1) * n];
-                for (a, &i) in contact.iter().enumerate() {
-                    d[a * nc + first + j] = col[i];
-                }
-            }
-        }
-        drop(block);
         for a in 0..nc {
-            for b in a + 1..nc {
-                let s = 0.5 * (d[a * nc + b] + d[b * nc + a]);
-                d[a * nc + b] = s;
-                d[b * nc + a] = s;
+            for b in 0..nc {
+                d[a * nc + b] = 0.5 * (dm[(a, b)] + dm[(b, a)]);
             }
         }
-        let correction = vec![0.0; n];
-        Ok(Self { factor, contact: contact.to_vec(), lcp: Lcp::new(d, nc), q: vec![0.0; nc], correction })
+        let (q, uc) = (vec![0.0; nc], vec![0.0; nc]);
+        Ok(Self { factor, contact: contact.to_vec(), upper, lcp: Lcp::new(d, nc), q, uc })
     }
 }
 
@@ -87,27 +71,37 @@ impl ContactSolver for Schur {
     /// Solves `K U = r − σ Σ λ_c e_c`, `lb ≤ u_C ⊥ λ ≤ 0` in place (`rhs` = r on entry, U on
     /// exit) and writes λ. On active nodes `u_c = lb_c` is set exactly. Returns the pivot count.
     fn solve(&mut self, rhs: &mut [f64], lower: &[f64], sigma: f64, lambda: &mut [f64]) -> Result<usize, LcpError> {
-        self.factor.solve_in_place(rhs);
-        for (c, &i) in self.contact.iter().enumerate() {
-            self.q[c] = rhs[i] - lower[c];
-        }
-        let (mu, _) = self.lcp.solve(&self.q)?;
-        let mut any = false;
-        for (c, &m) in mu.iter().enumerate() {
-            lambda[c] = if m > 0.0 { -m / sigma } else { 0.0 };
-            any |= m > 0.0;
-        }
-        if any {
-            // U = U* + K⁻¹ (E μ): one more solve on a right-hand side with n_c nonzeros.
-            self.correction.iter_mut().for_each(|v| *v = 0.0);
-            for (&m, &i) in mu.iter().zip(&self.contact) {
-                self.correction[i] = m;
+        let Self { factor, upper, lcp, q, uc, .. } = self;
+        let nc = uc.len();
+        factor.solve_split(rhs, |y| {
+            // U*_C = L_CC⁻ᵀ y_C (back substitution with the rows of U = L_CCᵀ).
+            for a in (0..nc).rev() {
+                let row = &upper[a * nc..(a + 1) * nc];
+                let s: f64 = (a + 1..nc).map(|b| row[b] * uc[b]).sum();
+                uc[a] = (y[a] - s) / row[a];
             }
-            self.factor.solve_in_place(&mut self.correction);
-            for (u, z) in rhs.iter_mut().zip(&self.correction) {
-                *u += z;
+            for c in 0..nc {
+                q[c] = uc[c] - lower[c];
             }
-        }
+            let (mu, w) = lcp.solve(q)?;
+            let mut any = false;
+            for (c, &m) in mu.iter().enumerate() {
+                lambda[c] = if m > 0.0 { -m / sigma } else { 0.0 };
+                any |= m > 0.0;
+            }
+            if any {
+                // u_C = U*_C + D μ = w + lb, and the trailing block of L⁻¹ P (r + E μ) is
+                // L_CCᵀ u_C.
+                for ((u, w), l) in uc.iter_mut().zip(w).zip(lower) {
+                    *u = w + l;
+                }
+                for a in 0..nc {
+                    let row = &upper[a * nc..(a + 1) * nc];
+                    y[a] = (a..nc).map(|b| row[b] * uc[b]).sum();
+                }
+            }
+            Ok(())
+        })?;
         for (c, &i) in self.contact.iter().enumerate() {
             if lambda[c] < 0.0 {
                 rhs[i] = lower[c];
@@ -122,10 +116,11 @@ mod tests {
     use super::*;
     use crate::linalg::sparse::{from_triplets, sym_mul_into};
 
-    /// Two set-up blocks (70 contact nodes > [`MAX_BLOCK`]) and a step with active and inactive
-    /// nodes: the returned U solves `K U = r + E μ` (μ = −σλ) with `lb ≤ u_C ⊥ λ ≤ 0`.
-    /// mutation: drop the correction solve (`if any` → `if false`) -> fails with
-    /// "0.6867036979092086 vs 0.8632093666488739" (row 0 of K U = r + E μ).
+    /// 70 contact nodes eliminated last and a step with active and inactive nodes: the returned
+    /// U solves `K U = r + E μ` (μ = −σλ) with `lb ≤ u_C ⊥ λ ≤ 0`.
+    /// mutation: keep the forward block y_C instead of `L_CCᵀ u_C` before the backward solve
+    /// (the contact correction lost) -> fails with "0.6867036979092087 vs 0.8632093666488739"
+    /// (row 0 of K U = r + E μ).
     #[test]
     fn solve_meets_the_equations_and_complementarity() {
         // 5-point Laplacian + I on a 3 × 70 grid (eigenvalues in [1, 9]: κ ≤ 9).

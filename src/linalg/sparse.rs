@@ -13,8 +13,14 @@
 //! time loop does not allocate.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky};
-use faer::sparse::{SparseColMat, Triplet};
+use faer::perm::PermRef;
+use faer::sparse::SparseColMat;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
+};
 use faer::{Conj, MatMut, Par, Side};
 use thiserror::Error;
 
@@ -32,10 +38,90 @@ pub enum SparseError {
     Structure { matrix: &'static str, detail: String },
 }
 
-/// Builds an `n × n` matrix from triplets, summing duplicates (finite-element assembly).
+/// Builds an `n × n` matrix from triplets, summing duplicates (finite-element assembly) in
+/// the order given.
 pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64)], matrix: &'static str) -> Result<SpMat, SparseError> {
-    let t: Vec<Triplet<usize, usize, f64>> = triplets.iter().map(|&(i, j, v)| Triplet::new(i, j, v)).collect();
-    SpMat::try_new_from_triplets(n, n, &t).map_err(|e| SparseError::Structure { matrix, detail: format!("{e:?}") })
+    let pattern = Pattern::new(n, triplets.iter().map(|&(i, j, _)| (i, j)), matrix)?;
+    let values: Vec<f64> = triplets.iter().map(|t| t.2).collect();
+    Ok(pattern.assemble(&values))
+}
+
+/// The compressed pattern of a list of entry positions `(i, j)` (duplicates allowed) and where
+/// each position lands, so that several matrices with the same positions (mass and stiffness
+/// of one mesh) are assembled with one sort. Built by two stable counting sorts (by row, then
+/// by column): O(n + nnz), no comparison sort.
+#[derive(Debug, Clone)]
+pub struct Pattern {
+    n: usize,
+    /// Entries per column (`col_ptr[j + 1]`), turned into offsets by [`from_columns`].
+    col_counts: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// Position t of the input → its stored entry.
+    slot: Vec<usize>,
+}
+
+impl Pattern {
+    pub fn new(
+        n: usize,
+        positions: impl Iterator<Item = (usize, usize)>,
+        matrix: &'static str,
+    ) -> Result<Self, SparseError> {
+        let pos: Vec<(usize, usize)> = positions.collect();
+        if let Some(&(i, j)) = pos.iter().find(|&&(i, j)| i >= n || j >= n) {
+            let detail = format!("entry ({i}, {j}) is outside the {n} × {n} matrix");
+            return Err(SparseError::Structure { matrix, detail });
+        }
+        let bucket = |order: &[usize], key: &dyn Fn(usize) -> usize| {
+            let mut start = vec![0usize; n + 1];
+            for &t in order {
+                start[key(t) + 1] += 1;
+            }
+            for k in 0..n {
+                start[k + 1] += start[k];
+            }
+            let mut out = vec![0usize; order.len()];
+            for &t in order {
+                let k = key(t);
+                out[start[k]] = t;
+                start[k] += 1;
+            }
+            out
+        };
+        let by_row = bucket(&(0..pos.len()).collect::<Vec<_>>(), &|t| pos[t].0);
+        let sorted = bucket(&by_row, &|t| pos[t].1);
+        let mut col_counts = vec![0usize; n + 1];
+        let (mut row_idx, mut slot) = (Vec::with_capacity(pos.len()), vec![0usize; pos.len()]);
+        let mut last = (usize::MAX, usize::MAX);
+        for &t in &sorted {
+            let (i, j) = pos[t];
+            if (i, j) != last {
+                row_idx.push(i);
+                col_counts[j + 1] += 1;
+                last = (i, j);
+            }
+            slot[t] = row_idx.len() - 1;
+        }
+        Ok(Self { n, col_counts, row_idx, slot })
+    }
+
+    /// The matrix with value `values[t]` added at position t (in input order).
+    pub fn assemble(&self, values: &[f64]) -> SpMat {
+        assert_eq!(values.len(), self.slot.len(), "one value per position");
+        let mut val = vec![0.0; self.row_idx.len()];
+        for (&k, &v) in self.slot.iter().zip(values) {
+            val[k] += v;
+        }
+        from_columns(self.n, self.col_counts.clone(), self.row_idx.clone(), val)
+    }
+}
+
+/// The matrix from per-column entry counts (`col_ptr[j + 1]` = entries of column j) and the
+/// rows and values column by column, rows increasing.
+fn from_columns(n: usize, mut col_ptr: Vec<usize>, row_idx: Vec<usize>, val: Vec<f64>) -> SpMat {
+    for j in 0..n {
+        col_ptr[j + 1] += col_ptr[j];
+    }
+    SpMat::new(faer::sparse::SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx), val)
 }
 
 /// The entries `(i, j, a_ij)` of a matrix, column by column.
@@ -44,24 +130,61 @@ pub fn triplets(a: &SpMat) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
     (0..a.ncols()).flat_map(move |j| (ptr[j]..ptr[j + 1]).map(move |k| (idx[k], j, val[k])))
 }
 
-/// `ca·A + cb·B` (union of the patterns).
-pub fn combine(a: &SpMat, ca: f64, b: &SpMat, cb: f64, matrix: &'static str) -> Result<SpMat, SparseError> {
-    let t: Vec<(usize, usize, f64)> =
-        triplets(a).map(|(i, j, v)| (i, j, ca * v)).chain(triplets(b).map(|(i, j, v)| (i, j, cb * v))).collect();
-    from_triplets(a.nrows(), &t, matrix)
+/// `ca·A + cb·B` (union of the patterns), merging the sorted columns.
+pub fn combine(a: &SpMat, ca: f64, b: &SpMat, cb: f64, _matrix: &'static str) -> Result<SpMat, SparseError> {
+    let n = a.nrows();
+    let (pa, ia, va) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+    let (pb, ib, vb) = (b.symbolic().col_ptr(), b.symbolic().row_idx(), b.val());
+    let mut col_ptr = vec![0usize; n + 1];
+    let cap = ia.len().max(ib.len());
+    let (mut row_idx, mut val) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
+    for j in 0..n {
+        let (mut p, mut q) = (pa[j], pb[j]);
+        let before = row_idx.len();
+        while p < pa[j + 1] || q < pb[j + 1] {
+            let ra = if p < pa[j + 1] { ia[p] } else { usize::MAX };
+            let rb = if q < pb[j + 1] { ib[q] } else { usize::MAX };
+            let r = ra.min(rb);
+            let mut v = 0.0;
+            if ra == r {
+                v += ca * va[p];
+                p += 1;
+            }
+            if rb == r {
+                v += cb * vb[q];
+                q += 1;
+            }
+            row_idx.push(r);
+            val.push(v);
+        }
+        col_ptr[j + 1] = row_idx.len() - before;
+    }
+    Ok(from_columns(n, col_ptr, row_idx, val))
 }
 
 /// The principal submatrix on the index set `keep` (in that order).
-pub fn principal(a: &SpMat, keep: &[usize], matrix: &'static str) -> Result<SpMat, SparseError> {
+pub fn principal(a: &SpMat, keep: &[usize], _matrix: &'static str) -> Result<SpMat, SparseError> {
     let mut new = vec![usize::MAX; a.nrows()];
     for (k, &i) in keep.iter().enumerate() {
         new[i] = k;
     }
-    let t: Vec<(usize, usize, f64)> = triplets(a)
-        .filter(|&(i, j, _)| new[i] != usize::MAX && new[j] != usize::MAX)
-        .map(|(i, j, v)| (new[i], new[j], v))
-        .collect();
-    from_triplets(keep.len(), &t, matrix)
+    let (ptr, idx, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+    let m = keep.len();
+    let mut col_ptr = vec![0usize; m + 1];
+    let (mut row_idx, mut val) = (Vec::new(), Vec::new());
+    let mut column: Vec<(usize, f64)> = Vec::new();
+    for (k, &j) in keep.iter().enumerate() {
+        column.clear();
+        column.extend((ptr[j]..ptr[j + 1]).filter(|&p| new[idx[p]] != usize::MAX).map(|p| (new[idx[p]], v[p])));
+        // Already increasing when `keep` is; otherwise a small per-column sort.
+        if column.windows(2).any(|w| w[0].0 > w[1].0) {
+            column.sort_unstable_by_key(|e| e.0);
+        }
+        row_idx.extend(column.iter().map(|e| e.0));
+        val.extend(column.iter().map(|e| e.1));
+        col_ptr[k + 1] = column.len();
+    }
+    Ok(from_columns(m, col_ptr, row_idx, val))
 }
 
 /// Entry (i, j), 0 outside the pattern.
@@ -120,11 +243,24 @@ pub fn total(a: &SpMat) -> f64 {
     a.val().iter().sum()
 }
 
-/// A sparse `A = LLᵀ` (with a fill-reducing AMD permutation) and its solve work space.
+/// A sparse `A = LLᵀ` (supernodal, with a fill-reducing AMD permutation) and its solve work
+/// space.
+///
+/// Optionally a set of "trailing" unknowns T is ordered last (AMD orders the others): then the
+/// last |T| columns of L hold the dense Cholesky factor `L_TT` of the Schur complement
+/// `A_TT − A_TI A_II⁻¹ A_IT`, so that `(A⁻¹)_TT = L_TT⁻ᵀ L_TT⁻¹` and a right-hand side supported
+/// on T changes only the trailing block of the forward substitution `L⁻¹ P b`
+/// ([`SparseLlt::solve_split`]). The contact solver ([`crate::contact::Schur`]) puts the
+/// contact unknowns there.
 pub struct SparseLlt {
     n: usize,
+    trailing: usize,
     symbolic: SymbolicCholesky<usize>,
+    /// `fwd[p]` = the unknown at position p of the elimination order.
+    fwd: Vec<usize>,
     values: Vec<f64>,
+    /// The permuted right-hand side (n values).
+    work: Vec<f64>,
     scratch: MemBuffer,
 }
 
@@ -134,15 +270,50 @@ impl std::fmt::Debug for SparseLlt {
     }
 }
 
+/// The elimination order: AMD on the principal submatrix without `last`, then `last` in its
+/// given order. Returns `fwd` (position → unknown).
+fn ordering(a: &SpMat, last: &[usize], matrix: &'static str) -> Result<Vec<usize>, SparseError> {
+    let n = a.nrows();
+    let mut is_last = vec![false; n];
+    for &i in last {
+        is_last[i] = true;
+    }
+    let keep: Vec<usize> = (0..n).filter(|&i| !is_last[i]).collect();
+    let sub = principal(a, &keep, matrix)?;
+    let m = keep.len();
+    let (mut perm, mut inv) = (vec![0usize; m], vec![0usize; m]);
+    if m > 0 {
+        let nnz = sub.symbolic().row_idx().len();
+        let mut mem = MemBuffer::new(amd::order_maybe_unsorted_scratch::<usize>(m, nnz));
+        amd::order_maybe_unsorted(&mut perm, &mut inv, sub.symbolic(), Default::default(), MemStack::new(&mut mem))
+            .map_err(|e| SparseError::Structure { matrix, detail: format!("{e:?}") })?;
+    }
+    Ok(perm.iter().map(|&p| keep[p]).chain(last.iter().copied()).collect())
+}
+
 impl SparseLlt {
     /// Symbolic analysis and numeric factorisation of the symmetric matrix `a` (its lower
     /// triangle is read). Fails if `a` is not numerically positive definite.
     pub fn new(a: &SpMat, matrix: &'static str) -> Result<Self, SparseError> {
+        Self::with_trailing(a, &[], matrix)
+    }
+
+    /// The same with the distinct unknowns `last` eliminated last, in that order (type docs).
+    pub fn with_trailing(a: &SpMat, last: &[usize], matrix: &'static str) -> Result<Self, SparseError> {
         let n = a.nrows();
         let structure = |e: faer::sparse::FaerError| SparseError::Structure { matrix, detail: format!("{e:?}") };
-        let symbolic =
-            factorize_symbolic_cholesky(a.symbolic(), Side::Lower, SymmetricOrdering::Amd, Default::default())
-                .map_err(structure)?;
+        let fwd = ordering(a, last, matrix)?;
+        let mut inv = vec![0usize; n];
+        for (p, &i) in fwd.iter().enumerate() {
+            inv[i] = p;
+        }
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
+        let perm = PermRef::new_checked(&fwd, &inv, n);
+        let symbolic = factorize_symbolic_cholesky(a.symbolic(), Side::Lower, SymmetricOrdering::Custom(perm), params)
+            .map_err(structure)?;
         let mut values = vec![0.0; symbolic.len_val()];
         let mut work = MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()));
         symbolic
@@ -161,7 +332,7 @@ impl SparseLlt {
                 }
             })?;
         let scratch = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
-        Ok(Self { n, symbolic, values, scratch })
+        Ok(Self { n, trailing: last.len(), symbolic, fwd, values, work: vec![0.0; n], scratch })
     }
 
     pub fn len(&self) -> usize {
@@ -172,31 +343,88 @@ impl SparseLlt {
         self.n == 0
     }
 
-    /// Overwrites the `ncols` columns of `b` (column-major, `n` values each) with `A⁻¹ b`: one
-    /// blocked solve (faer's supernodal kernels work on all columns at once). Allocates its work
-    /// space: meant for set-up, not for the time loop.
-    pub fn solve_many_in_place(&self, b: &mut [f64], ncols: usize) {
-        debug_assert_eq!(b.len(), self.n * ncols);
-        let mut work = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(ncols, Par::Seq));
-        let rhs = MatMut::from_column_major_slice_mut(b, self.n, ncols);
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
-            Conj::No,
-            rhs,
-            Par::Seq,
-            MemStack::new(&mut work),
-        );
+    /// Stored entries of L (the fill).
+    pub fn factor_len(&self) -> usize {
+        self.values.len()
+    }
+
+    fn supernodal(&self) -> Option<SupernodalLltRef<'_, usize, f64>> {
+        supernodal(&self.symbolic, &self.values)
+    }
+
+    /// The trailing block `L_TT` of L (T the unknowns `last` of [`Self::with_trailing`], in that
+    /// order), transposed: row-major upper triangular `t × t`, `U = L_TTᵀ`.
+    pub fn trailing_upper(&self) -> Vec<f64> {
+        let (n, t) = (self.n, self.trailing);
+        let mut u = vec![0.0; t * t];
+        let Some(llt) = self.supernodal() else { return u };
+        for s in 0..llt.symbolic().n_supernodes() {
+            let sn = llt.supernode(s);
+            let (start, val) = (sn.start(), sn.val());
+            let size = val.ncols();
+            if start + size <= n - t {
+                continue;
+            }
+            // Rows of the supernode: its own columns, then its pattern.
+            let rows = (start..start + size).chain(sn.pattern().iter().copied());
+            for (r, i) in rows.enumerate() {
+                for c in 0..size {
+                    let j = start + c;
+                    if j >= n - t && i >= j {
+                        u[(j + t - n) * t + (i + t - n)] = val[(r, c)];
+                    }
+                }
+            }
+        }
+        u
     }
 
     /// Overwrites `b` with `A⁻¹ b` (no allocation).
     pub fn solve_in_place(&mut self, b: &mut [f64]) {
+        self.solve_split(b, |_| Ok::<(), ()>(())).expect("no error without a hook");
+    }
+
+    /// Solves `A x = b` in place in two halves: `y = L⁻¹ P b`, then `between` may change the
+    /// trailing block of y (|T| values, elimination order), then `x = Pᵀ L⁻ᵀ y`. Changing the
+    /// trailing block by `L_TT⁻¹ g` solves for `b + E g` instead (E the columns of T), since
+    /// `L⁻¹ P E g` is zero above the trailing block. No allocation.
+    pub fn solve_split<E>(
+        &mut self,
+        b: &mut [f64],
+        between: impl FnOnce(&mut [f64]) -> Result<(), E>,
+    ) -> Result<(), E> {
         debug_assert_eq!(b.len(), self.n);
-        let rhs = MatMut::from_column_major_slice_mut(b, self.n, 1);
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
-            Conj::No,
-            rhs,
-            Par::Seq,
-            MemStack::new(&mut self.scratch),
-        );
+        let Self { n, trailing, symbolic, fwd, values, work, scratch } = self;
+        for (w, &i) in work.iter_mut().zip(fwd.iter()) {
+            *w = b[i];
+        }
+        let result = match supernodal(symbolic, values) {
+            None => between(&mut work[*n - *trailing..]),
+            Some(llt) => {
+                let x = MatMut::from_column_major_slice_mut(work, *n, 1);
+                llt.l_solve_with_conj(Conj::No, x, Par::Seq, MemStack::new(scratch));
+                let result = between(&mut work[*n - *trailing..]);
+                let x = MatMut::from_column_major_slice_mut(work, *n, 1);
+                llt.l_transpose_solve_with_conj(Conj::No, x, Par::Seq, MemStack::new(scratch));
+                result
+            }
+        };
+        for (w, &i) in work.iter().zip(fwd.iter()) {
+            b[i] = *w;
+        }
+        result
+    }
+}
+
+/// The supernodal factor, None only for n = 0 (faer picks the simplicial variant when the flop
+/// ratio is 0/0).
+fn supernodal<'a>(
+    symbolic: &'a SymbolicCholesky<usize>,
+    values: &'a [f64],
+) -> Option<SupernodalLltRef<'a, usize, f64>> {
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(s) => Some(SupernodalLltRef::new(s, values)),
+        SymbolicCholeskyRaw::Simplicial(_) => None,
     }
 }
 

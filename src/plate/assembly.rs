@@ -86,20 +86,23 @@ fn element(mesh: &Mesh2d, c: usize) -> ([f64; 16], [f64; 16]) {
 pub fn assemble(mesh: &Mesh2d, weights: &[f64]) -> Result<(SpMat, SpMat), SparseError> {
     assert_eq!(weights.len(), mesh.n_cells(), "one weight per cell");
     let k = mesh.kind.verts();
-    let mut tm = Vec::with_capacity(mesh.n_cells() * k * k);
-    let mut ts = Vec::with_capacity(mesh.n_cells() * k * k);
+    let mut pos = Vec::with_capacity(mesh.n_cells() * k * k);
+    let mut vm = Vec::with_capacity(mesh.n_cells() * k * k);
+    let mut vs = Vec::with_capacity(mesh.n_cells() * k * k);
     for (c, &w) in weights.iter().enumerate() {
         let (m, s) = element(mesh, c);
         let v = mesh.cell(c);
         for p in 0..k {
             for q in 0..k {
-                tm.push((v[p], v[q], w * m[p * 4 + q]));
-                ts.push((v[p], v[q], s[p * 4 + q]));
+                pos.push((v[p], v[q]));
+                vm.push(w * m[p * 4 + q]);
+                vs.push(s[p * 4 + q]);
             }
         }
     }
-    let n = mesh.n_nodes();
-    Ok((sparse::from_triplets(n, &tm, "mass")?, sparse::from_triplets(n, &ts, "stiffness")?))
+    // One pattern for both matrices (the same positions).
+    let pattern = sparse::Pattern::new(mesh.n_nodes(), pos.into_iter(), "mass")?;
+    Ok((pattern.assemble(&vm), pattern.assemble(&vs)))
 }
 
 /// The plate problem on the free nodes (all but x = L): the mesh, its cell weights, the contact
@@ -124,6 +127,9 @@ pub struct PlateSystem {
     /// The cells over each interval of the distinct vertex abscissae, built by the first L²
     /// error against a plane wave ([`crate::plate::norms::l2_error_plane_wave`]).
     pub columns: std::sync::OnceLock<super::mesh::Columns>,
+    /// The Q1 cells as the exact L² pass reads them, built by its first call
+    /// ([`crate::plate::norms::QuadCells`]).
+    pub quad_cells: std::sync::OnceLock<super::norms::QuadCells>,
 }
 
 impl PlateSystem {
@@ -215,8 +221,8 @@ impl PlateSystem {
             .map(|(d, &v)| (mesh.points[v][0].to_bits(), d))
             .collect();
         let base = dofs.iter().map(|&v| bottom.get(&mesh.points[v][0].to_bits()).copied()).collect();
-        let columns = Default::default();
-        Ok(Self { mesh, weights, dofs, node_dof, system, mass_unit, base, contact_lengths, columns })
+        let (columns, quad_cells) = Default::default();
+        Ok(Self { mesh, weights, dofs, node_dof, system, mass_unit, base, contact_lengths, columns, quad_cells })
     }
 
     /// The same system with the obstacle at `u_c = −gap` on every contact node (gap ≥ 0).
