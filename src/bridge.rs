@@ -28,7 +28,7 @@ use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::PyModuleNotFoundError;
 use pyo3::prelude::*;
 
-use crate::solid::Lame;
+use crate::material::Lame;
 
 /// The interpreter we embed: Debian's, which sees `python3-dolfinx-real`.
 pub const PYTHON_EXECUTABLE: &std::ffi::CStr = c"/usr/bin/python3";

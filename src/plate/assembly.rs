@@ -128,8 +128,8 @@ pub struct PlateSystem {
     /// error against a plane wave ([`crate::plate::norms::l2_error_plane_wave`]).
     pub columns: std::sync::OnceLock<super::mesh::Columns>,
     /// The Q1 cells as the exact L² pass reads them, built by its first call
-    /// ([`crate::plate::norms::QuadCells`]).
-    pub quad_cells: std::sync::OnceLock<super::norms::QuadCells>,
+    /// ([`crate::plate::cells::QuadCells`]).
+    pub quad_cells: std::sync::OnceLock<super::cells::QuadCells>,
 }
 
 impl PlateSystem {

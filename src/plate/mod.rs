@@ -26,6 +26,7 @@
 //! bar-only ([`crate::schemes::SchemeSpec::bar_only`]).
 
 pub mod assembly;
+pub mod cells;
 pub mod geometry;
 pub use crate::fem::layers;
 pub mod mesh;

@@ -13,6 +13,7 @@
 //! No quadrature rule is involved: the only error is round-off.
 
 use super::assembly::PlateSystem;
+use super::cells::QuadCells;
 use super::mesh::{CellKind, Columns};
 use crate::characteristics::Characteristics;
 use crate::exact::ImpactingBar;
@@ -67,54 +68,6 @@ fn clip_strip(poly: &[[f64; 2]], lo: f64, hi: f64, out: &mut [[f64; 2]; 8]) -> u
     nb
 }
 
-/// What the exact L² pass needs of each Q1 cell, computed once per plate
-/// ([`PlateSystem::quad_cells`]): its box, its corner unknowns and the positions of its x-ends
-/// among the distinct vertex abscissae, so that a pass reads no mesh point and evaluates the
-/// exact solution once per abscissa, not twice per cell.
-#[derive(Debug, Clone)]
-pub struct QuadCells {
-    /// The distinct vertex abscissae, increasing.
-    xs: Vec<f64>,
-    cells: Vec<QuadCell>,
-}
-
-#[derive(Debug, Clone, Copy)]
-struct QuadCell {
-    /// [x0, x1, y0, y1].
-    bbox: [f64; 4],
-    /// Positions of x0 and x1 in `xs`.
-    ix: [usize; 2],
-    /// Free unknown at (x0,y0), (x1,y0), (x1,y1), (x0,y1); `usize::MAX` on Γ_D (value 0).
-    dof: [usize; 4],
-}
-
-impl QuadCells {
-    pub fn new(plate: &PlateSystem) -> Self {
-        let mesh = &plate.mesh;
-        let mut xs: Vec<f64> = mesh.points.iter().map(|p| p[0]).collect();
-        xs.sort_by(f64::total_cmp);
-        xs.dedup();
-        let at = |x: f64| xs.partition_point(|&v| v < x);
-        let cells = (0..mesh.n_cells())
-            .map(|c| {
-                let bbox = mesh.cell_box(c);
-                let [x0, x1, y0, y1] = bbox;
-                let mut dof = [usize::MAX; 4];
-                for &v in mesh.cell(c) {
-                    let q = mesh.points[v];
-                    let (i, j) = (
-                        usize::from((q[0] - x0).abs() > (q[0] - x1).abs()),
-                        usize::from((q[1] - y0).abs() > (q[1] - y1).abs()),
-                    );
-                    dof[[[0, 3], [1, 2]][i][j]] = plate.node_dof[v].unwrap_or(usize::MAX);
-                }
-                QuadCell { bbox, ix: [at(x0), at(x1)], dof }
-            })
-            .collect();
-        Self { xs, cells }
-    }
-}
-
 /// `∫ e²` over `[a, b] × [y0, y0 + hy]` for e bilinear with values `bottom` at (a, y0), (b, y0)
 /// and `top` at (a, y1), (b, y1): `(b − a) hy / 36 · (2 BᵀAB + 2 TᵀAT + 2 BᵀAT)`, A = [[2,1],[1,2]]
 /// (the tensor product of the 1D mass matrices), exactly.
@@ -127,7 +80,7 @@ fn rectangle_square(len: f64, hy: f64, bottom: [f64; 2], top: [f64; 2]) -> f64 {
 /// The Q1 part of [`l2_error`]: every cell from [`QuadCells`], split at the kinks strictly
 /// inside it.
 fn quad_error_squared(plate: &PlateSystem, u: &[f64], exact: &ImpactingBar, t: f64, kinks: &[f64]) -> f64 {
-    let quads = plate.quad_cells.get_or_init(|| QuadCells::new(plate));
+    let quads = plate.quad_cells.get_or_init(|| QuadCells::new(&plate.mesh, &plate.node_dof));
     let ue: Vec<f64> = quads.xs.iter().map(|&x| exact.u(x, t)).collect();
     let val = |d: usize| if d == usize::MAX { 0.0 } else { u[d] };
     let mut total = 0.0;

@@ -27,23 +27,7 @@ use crate::linalg::sparse::{self, SpMat, SparseError};
 use crate::system::ContactSystem;
 use thiserror::Error;
 
-/// The Lamé coefficients λ ≥ 0, μ > 0 and the density ρ > 0 (P-wave speed sqrt((λ+2μ)/ρ)).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Lame {
-    pub lambda: f64,
-    pub mu: f64,
-    pub density: f64,
-}
-
-impl Lame {
-    /// The paper's bar as a solid: λ = 0, μ = ½, ρ = 1 (so λ + 2μ = 1).
-    pub const PAPER: Lame = Lame { lambda: 0.0, mu: 0.5, density: 1.0 };
-
-    /// The P-wave modulus λ + 2μ (the modulus of the plane wave's 1D bar).
-    pub fn p_modulus(&self) -> f64 {
-        self.lambda + 2.0 * self.mu
-    }
-}
+pub use crate::material::Lame;
 
 /// The condition on the faces other than x = 0 and x = L.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
