@@ -88,6 +88,39 @@ struct Line<'a> {
     points: Vec<(f64, f64)>,
 }
 
+/// A log–log chart on `area` in the bench figures' style (caption, axis descriptions, labels
+/// `1e-3`…); `fine_grid` keeps the light grid lines.
+pub(crate) fn log_log_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    x: (f64, f64),
+    y: (f64, f64),
+    (x_desc, y_desc): (&str, &str),
+    fine_grid: bool,
+) -> Result<ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>, String>
+where
+    DB::ErrorType: 'static,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 18))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(56)
+        .build_cartesian_2d((x.0..x.1).log_scale(), (y.0..y.1).log_scale())
+        .map_err(e)?;
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&|v| format!("{v:.0e}"))
+        .y_label_formatter(&|v| format!("{v:.0e}"));
+    if !fine_grid {
+        mesh.light_line_style(WHITE.mix(0.0));
+    }
+    mesh.draw().map_err(e)?;
+    Ok(chart)
+}
+
 fn panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     title: &str,
@@ -100,22 +133,7 @@ where
     DB::ErrorType: 'static,
 {
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 18))
-        .margin(8)
-        .x_label_area_size(36)
-        .y_label_area_size(56)
-        .build_cartesian_2d((x.0..x.1).log_scale(), (y.0..y.1).log_scale())
-        .map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc("run time [s]")
-        .y_desc("L∞(0,T; L²) error")
-        .x_label_formatter(&|v| format!("{v:.0e}"))
-        .y_label_formatter(&|v| format!("{v:.0e}"))
-        .light_line_style(WHITE.mix(0.0))
-        .draw()
-        .map_err(e)?;
+    let mut chart = log_log_chart(area, title, x, y, ("run time [s]", "L∞(0,T; L²) error"), false)?;
     for l in lines {
         let (r, g, b) = COLOURS[l.scheme % COLOURS.len()];
         let colour = RGBColor(r, g, b);

@@ -80,21 +80,7 @@ where
         };
         let x = span(&mut mine.iter().map(|r| r.unknowns));
         let y = span(&mut mine.iter().map(|r| r.per_step_ms));
-        let mut chart = ChartBuilder::on(area)
-            .caption(*geometry, ("sans-serif", 18))
-            .margin(8)
-            .x_label_area_size(36)
-            .y_label_area_size(56)
-            .build_cartesian_2d((x.0..x.1).log_scale(), (y.0..y.1).log_scale())
-            .map_err(e)?;
-        chart
-            .configure_mesh()
-            .x_desc("unknowns")
-            .y_desc("time per step [ms]")
-            .x_label_formatter(&|v| format!("{v:.0e}"))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .draw()
-            .map_err(e)?;
+        let mut chart = super::report::log_log_chart(area, geometry, x, y, ("unknowns", "time per step [ms]"), true)?;
         for (k, (engine, ranks)) in series.iter().enumerate() {
             let mut pts: Vec<(f64, f64)> = mine
                 .iter()
