@@ -132,10 +132,10 @@ impl EngineGeometry for PlateSpec {
     }
 }
 
-/// Solids: structured meshes of every cell kind (the only ones a `[solid]` table describes).
+/// Solids: structured meshes of every cell kind; `solid.mesh` files not yet.
 impl EngineGeometry for SolidSpec {
     fn engine_refusal(&self) -> Option<String> {
-        None
+        self.mesh_file.as_ref().map(|_| "solid.mesh: the fenicsx engine runs structured solids only (for now)".into())
     }
 }
 

@@ -221,5 +221,10 @@ fn a_mesh_file_of_the_structured_mesh_gives_the_structured_run() {
         let d = max_series_difference(&a.series, &b.series);
         assert!(d < 1e3 * f64::EPSILON, "{name}: {d:e}");
         assert_eq!(SolidScene::from_toml(&from_file.resolved_toml()).unwrap(), from_file, "{name}");
+        // The FEniCSx engine builds structured meshes only: a mesh file is refused by name, not
+        // run on the wrong mesh. mutation: `engine_refusal` returning None for solids -> fails.
+        let refusal = massredist::engine::validate(&from_file).unwrap_err().to_string();
+        assert!(refusal.contains("solid.mesh"), "{refusal}");
+        assert!(massredist::engine::validate(&structured).is_ok());
     }
 }
