@@ -45,6 +45,8 @@ fn the_step_loop_allocates_nothing() {
         assert_eq!(long, short, "{}: {short} allocations in 180 steps, {long} in 360", case.label);
         assert!(short <= 4, "{}: {short} allocations per run (the driver's buffers)", case.label);
     }
+    // mutation: one `vec![0u8; 8]` per step in the driver's loop -> fails with "crank-nicolson:
+    // 182 allocations in 180 steps, 362 in 360".
 }
 
 const NAMED: [MassKind; 4] = [MassKind::Standard, MassKind::Mod1, MassKind::Mod2, MassKind::Mod3];
