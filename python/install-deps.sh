@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Install the Python side of the cross-checks (idempotent; a second run takes about a second):
-#   - Debian's FEniCSx 0.5 stack, meshio and h5py for /usr/bin/python3 (apt, needs root);
+#   - Debian's FEniCSx 0.5 stack, meshio, h5py, GetFEM 5.4 and gmsh 4.8 for /usr/bin/python3
+#     (apt, needs root);
 #   - scikit-fem 12.0.2 into <repo>/.pydeps with --no-deps (pip would otherwise pull numpy 2.x
 #     there, which breaks Debian's dolfinx: "numpy.dtype size changed").
 set -euo pipefail
@@ -14,15 +15,15 @@ die() { echo "install-deps: $*" >&2; exit 1; }
 
 [ -x "$PY" ] || die "$PY not found (Debian's python3 is required: apt-get install python3)"
 
-if ! OMPI_MCA_ess_singleton_isolated=1 "$PY" -c "import dolfinx, meshio, h5py" 2>/dev/null; then
-    [ "$(id -u)" -eq 0 ] || die "dolfinx/meshio/h5py missing and not root: run as root, or apt-get install python3-dolfinx-real python3-meshio python3-h5py"
-    echo "install-deps: installing python3-dolfinx-real python3-meshio python3-h5py with apt-get"
+if ! OMPI_MCA_ess_singleton_isolated=1 "$PY" -c "import dolfinx, meshio, h5py, getfem, gmsh" 2>/dev/null; then
+    [ "$(id -u)" -eq 0 ] || die "dolfinx/meshio/h5py/getfem/gmsh missing and not root: run as root, or apt-get install python3-dolfinx-real python3-meshio python3-h5py python3-getfem python3-gmsh"
+    echo "install-deps: installing python3-dolfinx-real python3-meshio python3-h5py python3-getfem python3-gmsh with apt-get"
     export DEBIAN_FRONTEND=noninteractive
     apt-get update -qq >/dev/null || die "apt-get update failed"
-    apt-get install -y -qq --no-install-recommends python3-dolfinx-real python3-meshio python3-h5py \
-        >/dev/null || die "apt-get install python3-dolfinx-real python3-meshio python3-h5py failed"
-    OMPI_MCA_ess_singleton_isolated=1 "$PY" -c "import dolfinx, meshio, h5py" \
-        || die "dolfinx, meshio or h5py still not importable by $PY after apt-get install"
+    apt-get install -y -qq --no-install-recommends python3-dolfinx-real python3-meshio python3-h5py python3-getfem python3-gmsh \
+        >/dev/null || die "apt-get install python3-dolfinx-real python3-meshio python3-h5py python3-getfem python3-gmsh failed"
+    OMPI_MCA_ess_singleton_isolated=1 "$PY" -c "import dolfinx, meshio, h5py, getfem, gmsh" \
+        || die "dolfinx, meshio, h5py, getfem or gmsh still not importable by $PY after apt-get install"
 fi
 
 skfem_ok() {
