@@ -10,12 +10,12 @@
 //! The work–precision sweep and the ratio tables are `massredist bench` (src/bench/).
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use massredist::bar::BarProblem;
 use massredist::bench::perf::floor_matrix;
 use massredist::bench::sweep::scheme_cases;
 use massredist::mass::MassKind;
 use massredist::plate::CellKind;
-use massredist::run::Problem;
-use massredist::run::plate::PlateProblem;
+use massredist::plate::PlateProblem;
 use massredist::scene::{Formulation, PlateInitial, PlateSpec, SchemeSpec};
 use massredist::schemes::Scheme;
 use massredist::solid::SolidSpec;
@@ -57,7 +57,7 @@ fn steps(c: &mut Criterion) {
         // The reduced formulation and the hybrid scheme need a massless contact node.
         let mass = if case.needs_massless { MassKind::Mod3 } else { MassKind::Standard };
         for m in SIZES {
-            let problem = Problem::benchmark(1.0, m, &mass).unwrap();
+            let problem = BarProblem::benchmark(1.0, m, &mass).unwrap();
             let dt = problem.system.h();
             g.throughput(Throughput::Elements(STEPS * m as u64));
             g.bench_with_input(BenchmarkId::new(format!("{}/{}", case.label, mass.name()), m), &m, |bch, _| {

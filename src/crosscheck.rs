@@ -23,11 +23,12 @@
 //! - the hybrid scheme's contact column at n = 0: the Python stepper reports (u_1⁰)⁺ there, this
 //!   crate the interpolant u(0) (its stated convention); row n = 0 of the contact node is skipped.
 
+use crate::bar::BarProblem;
 use crate::bar::assembly::{Bar, full_matrices};
 use crate::bridge::{self, Backend, BridgeError, Csr, MeshArrays};
+use crate::driver::{Observer, Sample, integrate};
 use crate::linalg::tridiag::SymTridiag;
 use crate::mass::MassKind;
-use crate::run::{Observer, Problem, Sample, integrate};
 use crate::scene::{Formulation, SchemeSpec};
 use crate::solid::Lame;
 use serde::Serialize;
@@ -194,7 +195,7 @@ fn trajectory_diff(
     steps: usize,
 ) -> Result<(f64, f64), BridgeError> {
     let dt = 0.01;
-    let problem = Problem::benchmark(l, m, &MassKind::Custom(weights.to_vec())).expect("valid case");
+    let problem = BarProblem::benchmark(l, m, &MassKind::Custom(weights.to_vec())).expect("valid case");
     let spec = match scheme {
         "hybrid" => SchemeSpec::Hybrid,
         _ => SchemeSpec::CrankNicolson { formulation: Formulation::Full },

@@ -214,71 +214,6 @@ fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> f64 {
     }
 }
 
-/// The per-step diagnostics of a run (energy, exact L² error and interpolant norm) with their
-/// workspaces, allocated once per run. A bar takes the one-pass tridiagonal kernels of
-/// [`crate::bar::norms`] (the energy in one pass instead of three, the closed-form L² error and
-/// interpolant norm together, without per-node phase searches); other geometries their
-/// [`ContactSystem::energy_at`] and [`GeometryView`] methods. Both agree to round-off.
-struct Diagnostics<'p, G: Geometry> {
-    problem: &'p Problem<G>,
-    /// F(t) of a time-dependent load.
-    load: Vec<f64>,
-    /// The load is 0 (its work term is skipped).
-    unloaded: bool,
-    /// A bar's energy kernel.
-    bar_energy: Option<crate::bar::norms::Energy>,
-    /// The exact solution at the nodes.
-    interp: Vec<f64>,
-    /// A bar's node coordinates, and its nodal values (u_m = 0 when clamped) for the general
-    /// exact solution's L² error.
-    nodes: Vec<f64>,
-    values: Vec<f64>,
-}
-
-impl<'p, G: Geometry> Diagnostics<'p, G> {
-    fn new(problem: &'p Problem<G>) -> Self {
-        let sys = problem.system.system();
-        let unloaded = sys.forcing.is_none() && sys.load.iter().all(|&f| f == 0.0);
-        let nodes = problem.system.bar().map_or(Vec::new(), |b| (0..=b.m()).map(|i| b.bar.x(i)).collect());
-        let bar_energy =
-            problem.system.bar().map(|b| crate::bar::norms::Energy::new(&b.system.mass, &b.system.stiffness));
-        Self { problem, load: Vec::new(), unloaded, bar_energy, interp: Vec::new(), nodes, values: Vec::new() }
-    }
-
-    fn energy(&mut self, u: &[f64], v: &[f64], t: f64) -> f64 {
-        let sys = self.problem.system.system();
-        let (Some(bar), Some(kernel)) = (self.problem.system.bar(), &self.bar_energy) else {
-            return sys.energy_at(u, v, t, &mut self.load);
-        };
-        let s = &bar.system;
-        let load = if s.forcing.is_some() {
-            self.load.resize(s.n(), 0.0);
-            s.load_at(t, &mut self.load);
-            Some(&self.load[..])
-        } else {
-            (!self.unloaded).then_some(&s.load[..])
-        };
-        kernel.energy(&s.mass, &s.stiffness, load, u, v)
-    }
-
-    /// `(‖u_h − u(·, t)‖, ‖I_h u(·, t)‖)`.
-    fn l2(&mut self, u: &[f64], exact: &Exact, t: f64) -> (f64, f64) {
-        let geometry = &self.problem.system;
-        match (geometry.bar(), exact) {
-            (Some(bar), Exact::Paper(e)) => {
-                crate::bar::norms::l2_error_and_interp_norm(&bar.bar, u, e, t, &self.nodes, &mut self.interp)
-            }
-            (Some(_), Exact::General(c)) => {
-                self.values.clear();
-                self.values.extend_from_slice(u);
-                self.values.resize(self.nodes.len(), 0.0); // u_m = 0 when clamped
-                (c.l2_error_p1(&self.nodes, &self.values, t), geometry.interp_norm(exact, t, &mut self.interp))
-            }
-            _ => (geometry.l2_error(u, exact, t), geometry.interp_norm(exact, t, &mut self.interp)),
-        }
-    }
-}
-
 /// The loop of [`integrate`] and [`integrate_watched`]. (About 80 lines: the per-step sample,
 /// the cadence and the divergence test share its local state; split, they would pass it around.)
 fn drive<G: Geometry>(
@@ -294,7 +229,7 @@ fn drive<G: Geometry>(
     let e_load = criterion.map_or(0.0, |_| load_energy(problem.system.system()));
     // E_ref, set by the first state shown (t_0).
     let mut reference: Option<f64> = None;
-    let mut diagnostics = Diagnostics::new(problem);
+    let mut diagnostics = problem.system.diagnostics();
     let mut show = |scheme: &dyn Scheme, observers: &mut [&mut dyn Observer]| -> Option<Divergence> {
         let state = scheme.state();
         let due = |k: usize| state.n.is_multiple_of(cadence[k]);

@@ -8,6 +8,7 @@ pub mod crosscheck;
 
 pub mod bar;
 pub mod bench;
+pub mod body;
 pub mod characteristics;
 pub mod contact;
 pub mod crosscheck_trajectory;

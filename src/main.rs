@@ -4,9 +4,12 @@ mod exit;
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use massredist::driver::{Observer, Sample};
+use massredist::observe::Summary;
 use massredist::output::OutputDir;
-use massredist::run::{Observer, RunFolderError, Sample, run_scene_into};
+use massredist::run::{GeometrySpec, RunError, run_scene_into};
 use massredist::scene::AnyScene;
+use massredist::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -149,15 +152,7 @@ fn main() -> ExitCode {
                     "--engine fenicsx runs plate and solid scenes ([plate], [solid]); bars run in Rust".into(),
                     exit::INVALID,
                 ),
-                (Ok(AnyScene::Bar(s)), Engine::Rust) => {
-                    run_with(&scene, s.time.steps, dir, |d, p| run_scene_into(&s, d, &mut [p]))
-                }
-                (Ok(AnyScene::Plate(s)), Engine::Rust) => run_with(&scene, s.time.steps, dir, |d, p| {
-                    massredist::run::plate::run_plate_scene_into(&s, d, &mut [p])
-                }),
-                (Ok(AnyScene::Solid(s)), Engine::Rust) => run_with(&scene, s.time.steps, dir, |d, p| {
-                    massredist::run::solid::run_solid_scene_into(&s, d, &mut [p])
-                }),
+                (Ok(any), Engine::Rust) => massredist::with_scene!(&any, s => run_with(&scene, s, dir)),
                 (Err(e), _) => fail(&scene, e.to_string(), exit::INVALID),
             },
             Err(code) => code,
@@ -212,30 +207,25 @@ fn reproduce(out: OutputDir, quick: bool) -> ExitCode {
 }
 
 /// A run's error: computing (named by the scene) or writing (the message names the folder);
-/// exit code 1 either way, the temporary folder removed.
-fn run_failed<E: massredist::run::RunFailure>(scene: &Path, e: RunFolderError<E>) -> ExitCode {
+/// exit code 2 for a scene that cannot be set up, 1 otherwise, the temporary folder removed.
+fn run_failed(scene: &Path, e: RunError) -> ExitCode {
     match e {
-        // A scene that cannot be set up is invalid input (as `check` says).
-        RunFolderError::Run(e) if e.invalid_input() => fail(scene, e.to_string(), exit::INVALID),
-        RunFolderError::Run(e) => fail(scene, e.to_string(), exit::FAILURE),
-        RunFolderError::Output(e) => {
+        RunError::Output(e) => {
             eprintln!("error: {e}");
             ExitCode::from(exit::FAILURE)
         }
+        // A scene that cannot be set up is invalid input (as `check` says).
+        e if e.invalid_input() => fail(scene, e.to_string(), exit::INVALID),
+        e => fail(scene, e.to_string(), exit::FAILURE),
     }
 }
 
 /// `run` in Rust for any geometry: the progress bar, the run streamed into `dir`, the report
 /// line and the exit code.
-fn run_with<E: massredist::run::RunFailure>(
-    scene: &Path,
-    steps: usize,
-    dir: OutputDir,
-    run: impl FnOnce(OutputDir, &mut Progress) -> Result<massredist::run::Summary, RunFolderError<E>>,
-) -> ExitCode {
+fn run_with<G: GeometrySpec>(scene: &Path, s: &Scene<G>, dir: OutputDir) -> ExitCode {
     let out = dir.path().to_path_buf();
-    let mut bar = progress(steps as u64);
-    let result = run(dir, &mut bar);
+    let mut bar = progress(s.time.steps as u64);
+    let result = run_scene_into(s, dir, &mut [&mut bar]);
     bar.0.finish_and_clear();
     let summary = match result {
         Ok(r) => r,
@@ -274,7 +264,7 @@ fn run_engine<G: massredist::engine::EngineGeometry>(
 }
 
 /// The exit code of a written run: 0, or [`exit::DIVERGED`] with a word on stderr.
-fn status(out: &Path, summary: &massredist::run::Summary) -> ExitCode {
+fn status(out: &Path, summary: &Summary) -> ExitCode {
     match &summary.divergence {
         None => ExitCode::SUCCESS,
         Some(d) => {

@@ -6,9 +6,8 @@
 //! ([`OutputDir`]).
 
 use crate::driver::{Needs, Observer, Sample};
-use crate::observe::{SeriesRecorder, Summary, push_series_row, series_needs};
-use crate::scene::{BarScene, Column};
-use serde::Serialize;
+use crate::observe::{SeriesRecorder, push_series_row, series_needs};
+use crate::scene::Column;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -104,30 +103,6 @@ impl<W: Write> Observer for SeriesWriter<W> {
     fn halted(&self) -> bool {
         self.error.is_some()
     }
-}
-
-#[derive(Serialize)]
-struct SummaryFile<'a> {
-    scheme: &'a str,
-    mass: &'a str,
-    elements: usize,
-    length: f64,
-    end: f64,
-    #[serde(flatten)]
-    summary: &'a Summary,
-}
-
-/// `summary.json` text: the summary plus the scene's identity.
-pub fn summary_json(scene: &BarScene, summary: &Summary) -> String {
-    let file = SummaryFile {
-        scheme: scene.scheme.name(),
-        mass: scene.mass.name(),
-        elements: scene.geometry.elements,
-        length: scene.geometry.length,
-        end: scene.time.end,
-        summary,
-    };
-    serde_json::to_string_pretty(&file).expect("summary serialises") + "\n"
 }
 
 /// Writes the output folder `dir` that was not prepared before computing: prepares it without

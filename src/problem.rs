@@ -2,19 +2,15 @@
 //! solution, and the one place where a scene's scheme is built on it.
 //!
 //! A geometry ([`Geometry`]) is a mesh with its assembled [`ContactSystem`] and what reports
-//! need of it (contact means, exact L² norms, nodal values). A bar ([`BarSystem`]) is one over
-//! a tridiagonal back-end, a plate (`crate::plate::PlateSystem`, its impl in `crate::plate::geometry`) and a solid
-//! (`crate::solid::SolidSystem`, in `crate::solid::geometry`) ones over a sparse back-end. Schemes are
-//! generic; only the bar-only schemes (Paoli–Schatzman and the reduced Newmark formulation)
-//! need the bar itself, and [`Geometry::bar`] is how they get it — every other geometry rejects
-//! them here, in [`Problem::scheme`].
+//! need of it (contact means, exact L² norms, nodal values). Each geometry implements it in its
+//! own folder (`bar/geometry.rs` over a tridiagonal back-end, `plate/geometry.rs` and
+//! `solid/geometry.rs` over a sparse one); this module names none of them. Schemes are generic;
+//! the bar-only schemes (Paoli–Schatzman and the reduced Newmark formulation) are built by
+//! [`Geometry::bar_only_scheme`], which every geometry but the bar leaves at its refusal.
 
-use crate::bar::assembly::BarSystem;
 use crate::contact::Backend;
 use crate::exact::Exact;
-use crate::schemes::{
-    BackwardEuler, Formulation, Hybrid, Newmark, NewmarkReduced, PaoliSchatzman, Scheme, SchemeError, SchemeSpec,
-};
+use crate::schemes::{BackwardEuler, Formulation, Hybrid, Newmark, Scheme, SchemeError, SchemeSpec};
 use crate::system::ContactSystem;
 
 /// What the driver and the observers need of a geometry (object safe).
@@ -69,16 +65,61 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
 pub trait Geometry: GeometryView {
     type Matrix: Backend;
     fn system(&self) -> &ContactSystem<Self::Matrix>;
-    /// The bar, for the bar-only schemes (None for other geometries).
-    fn bar(&self) -> Option<&BarSystem> {
-        None
+
+    /// A bar-only scheme on this geometry ([`SchemeSpec::bar_only`] says which schemes are
+    /// bar-only, and why); every geometry but the bar refuses them with that reason.
+    fn bar_only_scheme(
+        &self,
+        spec: &SchemeSpec,
+        _dt: f64,
+        _u0: Vec<f64>,
+        _v0: Vec<f64>,
+    ) -> Result<Box<dyn Scheme>, SchemeError> {
+        let (key, reason) = spec.bar_only().unwrap_or(("scheme.kind", "not a bar-only scheme"));
+        Err(SchemeError::Unsupported { key, geometry: self.name(), reason })
+    }
+
+    /// The per-step diagnostics of a run on this geometry (energy, exact L² error, interpolant
+    /// norm) with their workspaces, allocated once per run. The default evaluates
+    /// [`ContactSystem::energy_at`], [`GeometryView::l2_error`] and
+    /// [`GeometryView::interp_norm`]; a geometry with faster kernels (the bar's one-pass
+    /// tridiagonal ones) returns its own, equal to round-off.
+    fn diagnostics(&self) -> Box<dyn Diagnostics + '_> {
+        Box::new(GeneralDiagnostics { geometry: self, load: Vec::new(), interp: Vec::new() })
+    }
+}
+
+/// What a run computes of a state for its observers (see [`Geometry::diagnostics`]).
+pub trait Diagnostics {
+    /// The discrete energy `½VᵀMV + ½UᵀSU − UᵀF(t)`.
+    fn energy(&mut self, u: &[f64], v: &[f64], t: f64) -> f64;
+    /// `(‖u_h − u(·, t)‖_{L²(Ω)}, ‖I_h u(·, t)‖_{L²(Ω)})`.
+    fn l2(&mut self, u: &[f64], exact: &Exact, t: f64) -> (f64, f64);
+}
+
+/// [`Diagnostics`] of any geometry from its [`ContactSystem`] and [`GeometryView`].
+struct GeneralDiagnostics<'g, G: Geometry + ?Sized> {
+    geometry: &'g G,
+    /// F(t) of a time-dependent load.
+    load: Vec<f64>,
+    /// The exact solution at the nodes.
+    interp: Vec<f64>,
+}
+
+impl<G: Geometry + ?Sized> Diagnostics for GeneralDiagnostics<'_, G> {
+    fn energy(&mut self, u: &[f64], v: &[f64], t: f64) -> f64 {
+        self.geometry.system().energy_at(u, v, t, &mut self.load)
+    }
+
+    fn l2(&mut self, u: &[f64], exact: &Exact, t: f64) -> (f64, f64) {
+        (self.geometry.l2_error(u, exact, t), self.geometry.interp_norm(exact, t, &mut self.interp))
     }
 }
 
 /// A discretised problem: the geometry with its system, initial data and (if known) the exact
-/// solution. `Problem` alone is a bar problem.
+/// solution.
 #[derive(Debug, Clone)]
-pub struct Problem<G = BarSystem> {
+pub struct Problem<G> {
     pub system: G,
     pub u0: Vec<f64>,
     pub v0: Vec<f64>,
@@ -102,103 +143,12 @@ impl<G: Geometry> Problem<G> {
             // Bar-only schemes (module docs of `schemes`).
             SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
             | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. }
-            | SchemeSpec::PaoliSchatzman { .. } => {
-                let Some(bar) = self.system.bar() else {
-                    let (key, reason) = spec.bar_only().expect("these schemes are bar-only");
-                    return Err(SchemeError::Unsupported { key, geometry: self.system.name(), reason });
-                };
-                match *spec {
-                    SchemeSpec::PaoliSchatzman { beta, restitution } => {
-                        Box::new(PaoliSchatzman::new(bar, beta, restitution, dt, u, v)?)
-                    }
-                    SchemeSpec::Newmark { beta, gamma, .. } => {
-                        Box::new(NewmarkReduced::new(bar, beta, gamma, dt, u, v)?)
-                    }
-                    _ => Box::new(NewmarkReduced::new(bar, 0.25, 0.5, dt, u, v)?),
-                }
-            }
+            | SchemeSpec::PaoliSchatzman { .. } => self.system.bar_only_scheme(spec, dt, u, v)?,
         })
     }
 
     /// The discrete energy `½VᵀMV + ½UᵀSU − UᵀF` of a state.
     pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
         self.system.system().energy(u, v)
-    }
-}
-
-impl GeometryView for BarSystem {
-    fn name(&self) -> &'static str {
-        "bar"
-    }
-
-    fn dim(&self) -> usize {
-        1
-    }
-
-    fn h(&self) -> f64 {
-        self.bar.h()
-    }
-
-    fn length(&self) -> f64 {
-        self.bar.length
-    }
-
-    fn section(&self) -> f64 {
-        1.0
-    }
-
-    fn contact_measure(&self) -> f64 {
-        1.0
-    }
-
-    fn contact(&self) -> &[usize] {
-        &self.system.contact
-    }
-
-    fn contact_mean(&self, u: &[f64]) -> f64 {
-        u[0]
-    }
-
-    /// The paper's closed form is integrated split at its kinks ([`crate::bar::norms::l2_error`]);
-    /// the general solution by its own exact cell rule (`Characteristics::l2_error_p1`).
-    fn l2_error(&self, u: &[f64], exact: &Exact, t: f64) -> f64 {
-        match exact {
-            Exact::Paper(e) => crate::bar::norms::l2_error(&self.bar, u, e, t),
-            Exact::General(c) => {
-                let nodes: Vec<f64> = (0..=self.m()).map(|i| self.bar.x(i)).collect();
-                let mut values = u.to_vec();
-                values.resize(self.m() + 1, 0.0); // u_m = 0 when clamped
-                c.l2_error_p1(&nodes, &values, t)
-            }
-        }
-    }
-
-    fn interp_norm(&self, exact: &Exact, t: f64, scratch: &mut Vec<f64>) -> f64 {
-        scratch.resize(self.n(), 0.0);
-        for (i, e) in scratch.iter_mut().enumerate() {
-            *e = exact.u(self.bar.x(i), t);
-        }
-        crate::bar::norms::l2_norm_p1(&self.bar, scratch)
-    }
-
-    fn n_nodes(&self) -> usize {
-        self.m() + 1
-    }
-
-    fn nodal_values(&self, u: &[f64], out: &mut [f64]) {
-        out[..u.len()].copy_from_slice(u);
-        out[u.len()..].fill(0.0);
-    }
-}
-
-impl Geometry for BarSystem {
-    type Matrix = crate::linalg::tridiag::SymTridiag;
-
-    fn system(&self) -> &ContactSystem<Self::Matrix> {
-        &self.system
-    }
-
-    fn bar(&self) -> Option<&BarSystem> {
-        Some(self)
     }
 }

@@ -219,12 +219,11 @@ fn the_divergence_factor_is_validated() {
 // ---------------------------------------------------------------------------------------------
 // The driver itself (these two did not compile before: `integrate_watched` is new).
 
+use massredist::bar::BarProblem;
 use massredist::bench::sweep::scheme_cases;
+use massredist::driver::{DivergenceCriterion, DivergenceReason, Outcome, integrate, integrate_watched};
 use massredist::mass::MassKind;
-use massredist::run::{
-    DivergenceCriterion, DivergenceReason, Outcome, Problem, SeriesRecorder, SummaryObserver, integrate,
-    integrate_watched,
-};
+use massredist::observe::{SeriesRecorder, SummaryObserver};
 use massredist::scene::Column;
 
 /// The summary without its wall time, as JSON.
@@ -241,7 +240,7 @@ fn watching_changes_nothing_in_a_run_that_does_not_diverge() {
     let masses = [MassKind::Standard, MassKind::Mod1, MassKind::Mod2, MassKind::Mod3];
     for case in scheme_cases() {
         for mass in masses.iter().filter(|m| !case.needs_massless || **m != MassKind::Standard) {
-            let p = Problem::benchmark(1.0, 12, mass).unwrap();
+            let p = BarProblem::benchmark(1.0, 12, mass).unwrap();
             let (dt, steps) = (p.system.h() / 2.0, 3 * 3 * 12 * 2);
             let run = |watched: bool| {
                 let mut s = p.scheme(&case.spec, dt).unwrap();
@@ -268,7 +267,7 @@ fn watching_changes_nothing_in_a_run_that_does_not_diverge() {
 /// (mod1, Δt = h) at the first energy above the bound, and the observers saw t_0 … that state.
 #[test]
 fn the_watched_driver_stops_where_the_strict_one_runs_on() {
-    let p = Problem::benchmark(1.0, 6, &MassKind::Mod1).unwrap();
+    let p = BarProblem::benchmark(1.0, 6, &MassKind::Mod1).unwrap();
     let (dt, steps) = (p.system.h(), 18_000);
     let spec = massredist::scene::SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: 1.0 };
     let mut strict = p.scheme(&spec, dt).unwrap();

@@ -9,7 +9,7 @@ use massredist::mass::MassKind;
 use massredist::paper::elastic_table::{Material, linf_l2_errors, simplex_l2_error, spec};
 use massredist::paper::plate_table;
 use massredist::plate::CellKind;
-use massredist::run::plate::PlateProblem;
+use massredist::plate::PlateProblem;
 use massredist::scene::{Formulation, PlateInitial, PlateSpec, SchemeSpec};
 
 #[test]

@@ -3,9 +3,9 @@
 
 mod common;
 
+use massredist::bar::BarProblem;
 use massredist::bar::assembly::{Bar, full_matrices};
 use massredist::mass::MassKind;
-use massredist::run::Problem;
 use massredist::scene::{Formulation, SchemeSpec};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -77,7 +77,7 @@ fn trajectories_match_the_independent_python_steppers() {
             f["steps"].as_u64().unwrap() as usize,
             f["record_every"].as_u64().unwrap() as usize,
         );
-        let problem = Problem::benchmark(l, m, &MassKind::Custom(f64s(&f["weights"]))).unwrap();
+        let problem = BarProblem::benchmark(l, m, &MassKind::Custom(f64s(&f["weights"]))).unwrap();
         let scheme = f["scheme"].as_str().unwrap();
         let spec = match scheme {
             "hybrid" => SchemeSpec::Hybrid,

@@ -3,8 +3,8 @@
 //! time, contact duration, contact force and departure velocity; complementarity with a gap at
 //! every step; the material scaling identity; rigid motion of a free bar.
 
+use massredist::bar::BarProblem;
 use massredist::driver::{Observer, Sample, integrate};
-use massredist::run::Problem;
 use massredist::scene::{BarScene, Column};
 
 mod common;
@@ -93,9 +93,9 @@ impl Observer for Track {
     }
 }
 
-fn track(text: &str) -> (Problem, Track) {
+fn track(text: &str) -> (BarProblem, Track) {
     let scene = BarScene::from_toml(text).unwrap();
-    let p = Problem::from_scene(&scene).unwrap();
+    let p = BarProblem::from_scene(&scene).unwrap();
     let mut s = p.scheme(&scene.scheme, scene.time.dt).unwrap();
     let mut tr = Track::default();
     integrate(&p, s.as_mut(), scene.time.steps, &mut [&mut tr]).unwrap();
@@ -174,7 +174,7 @@ fn a_free_bar_away_from_the_obstacle_moves_rigidly() {
         let bar =
             "far_end = \"free\"\ndensity = 2.0\ninitial = { displacement = \"0\", velocity = \"1\" }\nelements = 20";
         let scene = BarScene::from_toml(&bar_scene(bar, scheme, 0.01, 1.0)).unwrap();
-        let p = Problem::from_scene(&scene).unwrap();
+        let p = BarProblem::from_scene(&scene).unwrap();
         assert_eq!(p.u0.len(), 21, "a free far end keeps node m");
         let mut s = p.scheme(&scene.scheme, 0.01).unwrap();
         for _ in 0..100 {
@@ -198,7 +198,7 @@ fn a_force_field_integrates_the_weighted_load() {
         let text = format!(
             "[bar]\nfar_end = \"free\"\nelements = 10\nforce = {force}\n[mass]\nkind = \"standard\"\n[output]\nseries = [\"u0\"]\n"
         );
-        Problem::from_scene(&BarScene::from_toml(&text).unwrap()).unwrap()
+        BarProblem::from_scene(&BarScene::from_toml(&text).unwrap()).unwrap()
     };
     let (a, b) = (scene("3"), scene("\"1 + 2\""));
     assert_eq!(a.system.system.load, b.system.system.load);
@@ -219,7 +219,7 @@ fn linf_l2(bar: &str, scheme: &str, m: usize, c: f64, end: f64) -> f64 {
          [output]\nseries = []\n"
     );
     let scene = BarScene::from_toml(&text).unwrap();
-    let (summary, _) = massredist::run::run_scene(&scene, &mut []).unwrap();
+    let massredist::run::SceneRun { summary, .. } = massredist::run::run_scene(&scene, &mut []).unwrap();
     summary.linf_l2_error.expect("an exact solution is known without body force")
 }
 
@@ -286,7 +286,8 @@ fn a_time_dependent_force_converges_at_the_schemes_orders() {
             );
             let scene = BarScene::from_toml(&text).unwrap();
             assert!(!scene.has_exact_solution(), "no closed form with a force");
-            let (summary, series) = massredist::run::run_scene(&scene, &mut []).unwrap();
+            let massredist::run::SceneRun { summary, series, .. } =
+                massredist::run::run_scene(&scene, &mut []).unwrap();
             assert_eq!(summary.first_impact_time, None, "{scheme}: never in contact");
             let u0 = series.column(Column::U0).unwrap();
             let worst = series.times().iter().zip(&u0).map(|(&t, &u)| (u - exact(t)).abs()).fold(0.0, f64::max);

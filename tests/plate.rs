@@ -4,16 +4,16 @@
 
 mod common;
 
+use massredist::bar::BarProblem;
 use massredist::bar::assembly::{Bar, BarSystem};
 use massredist::driver::{Observer, Sample, integrate};
 use massredist::linalg::sparse::{self, SpMat};
 use massredist::linalg::tridiag::SymTridiag;
 use massredist::mass::MassKind;
 use massredist::observe::{EnergyRecorder, SummaryObserver};
+use massredist::plate::PlateProblem;
 use massredist::plate::layers::{cell_weights, layers, total_mass};
 use massredist::plate::{CellKind, Mesh2d};
-use massredist::run::Problem;
-use massredist::run::plate::PlateProblem;
 use massredist::scene::{Formulation, SchemeSpec};
 use massredist::scene::{PlateInitial, PlateSpec};
 use massredist::schemes::{BackwardEuler, Hybrid, Newmark, Scheme};
@@ -32,7 +32,7 @@ fn spec(nx: usize, ny: usize, height: f64, cells: CellKind, initial: PlateInitia
 /// for Q1 on (0,1) × (0,H) with the paper's data.
 fn q1_vs_1d(nx: usize, ny: usize, mass: &MassKind, scheme: &SchemeSpec, dt: f64, steps: usize) -> (f64, f64) {
     let p2 = PlateProblem::new(&spec(nx, ny, 0.5, CellKind::Quad, PlateInitial::Paper), mass).unwrap();
-    let p1 = Problem::benchmark(1.0, nx, mass).unwrap();
+    let p1 = BarProblem::benchmark(1.0, nx, mass).unwrap();
     let mut s2 = p2.scheme(scheme, dt).unwrap();
     let mut s1 = p1.scheme(scheme, dt).unwrap();
     let (mut du, mut dv) = (0.0f64, 0.0f64);
@@ -85,7 +85,7 @@ fn q1_l2_error_equals_the_1d_error_times_sqrt_height() {
     // ‖e‖_{L²((0,1)×(0,H))}² = H ‖e_1D‖²_{L²(0,1)} for a y-independent error.
     let h = 0.5;
     let p2 = PlateProblem::new(&spec(20, 3, h, CellKind::Quad, PlateInitial::Paper), &MassKind::Mod3).unwrap();
-    let p1 = Problem::benchmark(1.0, 20, &MassKind::Mod3).unwrap();
+    let p1 = BarProblem::benchmark(1.0, 20, &MassKind::Mod3).unwrap();
     let steps = 300;
     let mut sum2 = SummaryObserver::new(&p2, steps, 0.01, true);
     let mut s2 = p2.scheme(&CN, 0.01).unwrap();
@@ -486,7 +486,7 @@ fn the_judged_table_rows_are_the_1d_errors_with_h_005() {
             "mod2" => MassKind::Mod2,
             _ => MassKind::Mod3,
         };
-        let p1 = Problem::benchmark(1.0, 20, &mass).unwrap();
+        let p1 = BarProblem::benchmark(1.0, 20, &mass).unwrap();
         let mut s1 = p1.scheme(&CN, 0.01).unwrap();
         let mut sum = SummaryObserver::new(&p1, 300, 0.01, true);
         integrate(&p1, s1.as_mut(), 300, &mut [&mut sum]).unwrap();

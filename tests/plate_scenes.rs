@@ -2,7 +2,7 @@
 //! keys on plates (reduction to the bar with x-only data), the plane-wave reference, VTU frames
 //! read back, a gmsh mesh through meshio.
 
-use massredist::run::Problem;
+use massredist::bar::BarProblem;
 
 #[test]
 fn every_plate_scene_runs() {
@@ -17,7 +17,7 @@ fn every_plate_scene_runs() {
         let scene = massredist::scene::PlateScene::from_file(&path).unwrap();
         let again = massredist::scene::PlateScene::from_toml(&scene.resolved_toml()).unwrap();
         assert_eq!(scene, again, "{name}: the resolved scene reads back to itself");
-        let run = massredist::run::plate::run_plate_scene(&scene, &mut []).unwrap();
+        let run = massredist::run::run_scene(&scene, &mut []).unwrap();
         assert_eq!(run.summary.steps, scene.time.steps);
         assert!(run.summary.min_u0 >= 0.0 && run.summary.max_lambda <= 0.0, "{name}");
         n += 1;
@@ -55,12 +55,12 @@ fn plate_scene_errors_name_the_key() {
 fn a_y_dependent_run_writes_vtu_that_reads_back() {
     use massredist::observe::FrameRecorder;
     use massredist::plate::vtu::{read_pvd, read_vtu};
-    use massredist::run::plate::run_plate_scene;
+    use massredist::run::run_scene;
     use massredist::scene::PlateScene;
     let text = "[plate]\nnx = 40\nny = 40\ncells = \"triangle\"\ninitial = \"bump\"\n[mass]\nkind = \"mod3\"\n\
                 [scheme]\nkind = \"hybrid\"\n[time]\ndt = 0.01\nend = 3.0\n[output]\nvtu = true\nvtu_every = 50\n";
     let scene = PlateScene::from_toml(text).unwrap();
-    let run = run_plate_scene(&scene, &mut []).unwrap();
+    let run = run_scene(&scene, &mut []).unwrap();
     eprintln!(
         "bump 40x40 P1 hybrid mod3 T=3: energy {} -> {}, min {}, largest step increase {:e} (n >= 1: {:e}), max y-variation {}",
         run.summary.energy_initial,
@@ -77,7 +77,7 @@ fn a_y_dependent_run_writes_vtu_that_reads_back() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run");
     let prepared = massredist::output::OutputDir::prepare(&out, false, &[]).unwrap();
-    let streamed = massredist::run::plate::run_plate_scene_into(&scene, prepared, &mut []).unwrap();
+    let streamed = massredist::run::run_scene_into(&scene, prepared, &mut []).unwrap();
     assert_eq!(streamed.energy_final, run.summary.energy_final);
     let mut series = Vec::new();
     massredist::output::write_series_csv(&run.series, &mut series).unwrap();
@@ -115,7 +115,7 @@ fn plates_take_the_bar_keys_and_reduce_to_the_bar_with_x_only_data() {
     // the test above), so both scenes built from text must step alike to round-off, for a free
     // far end, a gap, another material and expression data. Mutation check: assembling the
     // plate's density into its stiffness, or ignoring plate.gap, breaks the comparison.
-    use massredist::run::plate::PlateProblem;
+    use massredist::plate::PlateProblem;
     use massredist::scene::PlateScene;
     let body = "density = 4.0\nmodulus = 2.25\nfar_end = \"free\"\ngap = 0.05\n\
                 initial = { displacement = \"0.1*x\", velocity = \"-1+0.3*x\" }";
@@ -131,7 +131,7 @@ fn plates_take_the_bar_keys_and_reduce_to_the_bar_with_x_only_data() {
         let plate = PlateScene::from_toml(&format!("[plate]\nnx = 20\nny = 3\nheight = 0.5\n{body}\n{tail}")).unwrap();
         let bar = massredist::scene::Scene::from_toml(&format!("[bar]\nelements = 20\n{body}\n{tail}")).unwrap();
         let p2 = PlateProblem::new(&plate.geometry, &plate.mass).unwrap();
-        let p1 = Problem::from_scene(&bar).unwrap();
+        let p1 = BarProblem::from_scene(&bar).unwrap();
         assert_eq!(p2.system.system.lower, vec![-0.05; 4], "the gap on every contact node");
         let (mut s2, mut s1) = (p2.scheme(&plate.scheme, 0.01).unwrap(), p1.scheme(&bar.scheme, 0.01).unwrap());
         let mut worst = 0.0f64;
@@ -158,7 +158,7 @@ fn plates_take_the_bar_keys_and_reduce_to_the_bar_with_x_only_data() {
     assert!(err("heigth = 2").contains("unknown field `heigth` in [plate]"));
     // One [output] table for every geometry: plates honour summary_l2, bars refuse the VTU keys.
     let text = "[plate]\nnx = 4\nny = 2\n[time]\ndt = 0.05\nend = 1.0\n[output]\nsummary_l2 = false\nseries = []\n";
-    let run = massredist::run::plate::run_plate_scene(&PlateScene::from_toml(text).unwrap(), &mut []).unwrap();
+    let run = massredist::run::run_scene(&PlateScene::from_toml(text).unwrap(), &mut []).unwrap();
     assert!(run.summary.linf_l2_error.is_none() && run.summary.max_contact_error.is_some());
     let e = massredist::scene::BarScene::from_toml("[output]\nvtu = true\n").unwrap_err().to_string();
     assert!(e.contains("output.vtu") && e.contains("[bar]"), "{e}");
@@ -180,7 +180,7 @@ fn y_independent_plates_are_measured_against_the_plane_wave() {
     // Mutation check: building the plane wave without the plate's gap changes
     // max_contact_error by O(gap); dropping the `e_lo e_hi` term of the cut integral in
     // `l2_error_plane_wave` moves the L² error by ~30 %.
-    use massredist::run::plate::run_plate_scene;
+    use massredist::run::run_scene;
     use massredist::scene::PlateScene;
     let body = "modulus = 4.0\nfar_end = \"free\"\ngap = 0.1\ninitial = { displacement = \"0\", velocity = \"-1\" }";
     let tail = "[mass]\nkind = \"mod3\"\n[scheme]\nkind = \"hybrid\"\n[time]\ndt = 0.005\nend = 1.5\n";
@@ -188,8 +188,8 @@ fn y_independent_plates_are_measured_against_the_plane_wave() {
         format!("[plate]\nnx = 40\nny = 2\nheight = 0.2\n{body}\n{tail}[output]\nseries = [\"u0\", \"exact_u0\"]\n");
     let plate = PlateScene::from_toml(&plate_text).unwrap();
     let bar = massredist::scene::BarScene::from_toml(&format!("[bar]\nelements = 40\n{body}\n{tail}")).unwrap();
-    let run = run_plate_scene(&plate, &mut []).unwrap();
-    let (summary, _) = massredist::run::run_scene(&bar, &mut []).unwrap();
+    let run = run_scene(&plate, &mut []).unwrap();
+    let massredist::run::SceneRun { summary, .. } = massredist::run::run_scene(&bar, &mut []).unwrap();
     let (e2, e1) = (run.summary.max_contact_error.unwrap(), summary.max_contact_error.unwrap());
     assert!((e2 - e1).abs() <= 1e-12, "max contact error: plate {e2} vs bar {e1}");
     let (l2, l1) = (run.summary.l2_lambda_error.unwrap(), summary.l2_lambda_error.unwrap());

@@ -6,12 +6,15 @@
 //! solutions and identities in `tests/schemes.rs`, `tests/exact_solution.rs` and the claims.
 
 use indicatif::ProgressBar;
+use massredist::bar::BarProblem;
+use massredist::driver::integrate;
 use massredist::mass::MassKind;
+use massredist::observe::{SeriesRecorder, SummaryObserver};
 use massredist::paper::{
     self, Config, EVENT_COLUMNS, Experiment, Outcome, REBOUND_COLUMNS, REBOUND_FIGURE, REBOUND_TABLE, TABLE_COLUMNS,
     horizon_tag,
 };
-use massredist::run::{Problem, SeriesRecorder, SummaryObserver, integrate, run_scene};
+use massredist::run::run_scene;
 use massredist::scene::{BarScene, Column};
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -219,7 +222,7 @@ fn report_cells_carry_the_numbers_of_a_second_run_of_the_same_case() {
          [time]\ndt = 0.01\nend = 3.0\n[output]\nseries = [\"u0\", \"lambda\", \"energy\"]\n",
     )
     .unwrap();
-    let (summary, series) = run_scene(&scene, &mut []).unwrap();
+    let massredist::run::SceneRun { summary, series, .. } = run_scene(&scene, &mut []).unwrap();
     let (_, rows) = csv(&dir.join("table-T3.csv"));
     let row = rows.iter().find(|r| r[0] == "crank-nicolson" && r[1] == "mod3").unwrap();
     let col = |name: &str| row[TABLE_COLUMNS.iter().position(|c| *c == name).unwrap()].parse::<f64>().unwrap();
@@ -245,7 +248,7 @@ fn report_cells_carry_the_numbers_of_a_second_run_of_the_same_case() {
     // Paoli–Schatzman, mod2, long run T = 30, directly through integrate.
     let end = config.long_ends[0];
     let steps = (end / config.dt).round() as usize;
-    let problem = Problem::benchmark(config.length, config.elements, &MassKind::Mod2).unwrap();
+    let problem = BarProblem::benchmark(config.length, config.elements, &MassKind::Mod2).unwrap();
     let mut scheme = problem.scheme(&Experiment::PaoliSchatzman.spec(), config.dt).unwrap();
     let mut obs = SummaryObserver::new(&problem, steps, config.dt, true);
     let mut energy = SeriesRecorder::new(vec![Column::Energy], 1, steps + 1);
@@ -456,7 +459,7 @@ fn rebound_row_plumbing_matches_an_independent_run_scene() {
     assert_eq!(bar, scene.geometry);
 
     let mut states = States::default();
-    let (summary, series) = run_scene(&scene, &mut [&mut states]).unwrap();
+    let massredist::run::SceneRun { summary, series, .. } = run_scene(&scene, &mut [&mut states]).unwrap();
     let (_, rows) = csv(&dir.join(REBOUND_TABLE));
     let row = rows.iter().find(|r| r[0] == "crank-nicolson" && r[1] == "mod3").unwrap();
     let col = |name: &str| row[REBOUND_COLUMNS.iter().position(|c| *c == name).unwrap()].parse::<f64>().unwrap();
@@ -485,7 +488,7 @@ fn rebound_row_plumbing_matches_an_independent_run_scene() {
     let episodes = (0..u0.len()).filter(|&n| u0[n] <= -0.1 && (n == 0 || u0[n - 1] > -0.1)).count();
     assert_eq!(col("contact_episodes"), episodes as f64);
     // Rebound velocity: the centre of mass 1ᵀMU / 1ᵀM1 over [T − 0.5, T], M·1 from the problem.
-    let problem = Problem::from_scene(&scene).unwrap();
+    let problem = BarProblem::from_scene(&scene).unwrap();
     let m = &problem.system.system.mass;
     let mut w = vec![0.0; problem.u0.len()];
     m.mul_into(&vec![1.0; w.len()], &mut w);
@@ -511,7 +514,7 @@ fn the_rebounding_bar_s_exact_facts_hold_to_round_off() {
         // T covers the contact, 2L/c = 4 for the slow bar, and the window after it.
         let text = text.replace("end = 3.0", &format!("end = {:?}", (0.1 + 2.0 / c + 1.0).ceil()));
         let scene = BarScene::from_toml(&text).unwrap();
-        let exact = Problem::from_scene(&scene).unwrap().exact.expect("exact by characteristics");
+        let exact = BarProblem::from_scene(&scene).unwrap().exact.expect("exact by characteristics");
         let (gap, l) = (scene.geometry.gap, scene.geometry.length);
         let facts = paper::exact_rebound(&exact, config.elements, config.dt, scene.time.end).unwrap();
         let label = format!("rho {density} E {modulus}");

@@ -5,18 +5,19 @@
 mod common;
 
 use common::*;
+use massredist::bar::BarProblem;
 use massredist::bar::assembly::{Bar, BarSystem};
+use massredist::driver::{Observer, Sample, integrate};
 use massredist::mass::MassKind;
 use massredist::plate::CellKind;
+use massredist::plate::PlateProblem;
 use massredist::problem::{Geometry, Problem as GenericProblem};
-use massredist::run::plate::PlateProblem;
-use massredist::run::{Observer, Problem, Sample, integrate};
 use massredist::scene::Body;
 use massredist::scene::{Formulation, SchemeSpec};
 use massredist::scene::{PlateInitial, PlateSpec};
 
-fn paper(m: usize, mass: &MassKind) -> Problem {
-    Problem::benchmark(1.0, m, mass).unwrap()
+fn paper(m: usize, mass: &MassKind) -> BarProblem {
+    BarProblem::benchmark(1.0, m, mass).unwrap()
 }
 
 /// Node-wise Signorini conditions `0 ≤ u_c + gap ⊥ λ_c ≤ 0` over a run: the worst violation of
@@ -382,7 +383,7 @@ impl StandingWave {
     /// The P1 problem on m elements. With a massless contact node the start is made consistent
     /// with its row u_0 = u_1 (an O(h²) change, since u_x(0) = 0): the interpolant would make A⁰
     /// inconsistent, a start-up effect the order test is not about.
-    fn problem(&self, m: usize, mass: &MassKind) -> Problem {
+    fn problem(&self, m: usize, mass: &MassKind) -> BarProblem {
         let system = BarSystem::new(Bar { length: 1.0, elements: m }, mass, self.load).unwrap();
         let system = if self.load == 0.0 { system.with_gap(0.5) } else { system };
         let mut u0 = system.interpolate(|x| self.u(x, 0.0));
@@ -390,12 +391,12 @@ impl StandingWave {
             u0[0] = u0[1];
         }
         let v0 = system.interpolate(|x| self.v(x, 0.0));
-        Problem { system, u0, v0, exact: None }
+        BarProblem { system, u0, v0, exact: None }
     }
 }
 
 /// max_i |U_i − u(x_i, T)| after `steps` steps of Δt (only the last state is kept: m is large).
-fn nodal_error_at_the_end(p: &Problem, wave: &StandingWave, spec: &SchemeSpec, dt: f64, steps: usize) -> f64 {
+fn nodal_error_at_the_end(p: &BarProblem, wave: &StandingWave, spec: &SchemeSpec, dt: f64, steps: usize) -> f64 {
     let mut s = p.scheme(spec, dt).unwrap();
     for _ in 0..steps {
         s.step().unwrap();
@@ -464,9 +465,9 @@ fn figure_11_claims_of_the_paper() {
     let run = |mass: MassKind| {
         let p = paper(6, &mass);
         let mut s = p.scheme(&CN, dt).unwrap();
-        let mut sum = massredist::run::SummaryObserver::new(&p, 300, dt, true);
+        let mut sum = massredist::observe::SummaryObserver::new(&p, 300, dt, true);
         let mut rec = Recorder::default();
-        massredist::run::integrate(&p, s.as_mut(), 300, &mut [&mut sum, &mut rec]).unwrap();
+        massredist::driver::integrate(&p, s.as_mut(), 300, &mut [&mut sum, &mut rec]).unwrap();
         (sum.finish(), rec.0)
     };
     let (mod3, _) = run(MassKind::Mod3);

@@ -24,7 +24,13 @@ fn spec(text: &str) -> SolidSpec {
 
 /// Steps a solid and a bar side by side; max over steps 0..=steps of |u_x − u_1D(x_i)|,
 /// |v_x − v_1D| and of the transverse components (which the plane wave has 0).
-fn solid_vs_bar(solid: &Problem<SolidSystem>, bar: &Problem, scheme: &SchemeSpec, dt: f64, steps: usize) -> [f64; 3] {
+fn solid_vs_bar(
+    solid: &Problem<SolidSystem>,
+    bar: &Problem<massredist::bar::BarSystem>,
+    scheme: &SchemeSpec,
+    dt: f64,
+    steps: usize,
+) -> [f64; 3] {
     let g = &solid.system;
     let (d, n1) = (g.mesh.dim, g.mesh.grid.unwrap()[0] + 1);
     let (mut s2, mut s1) = (solid.scheme(scheme, dt).unwrap(), bar.scheme(scheme, dt).unwrap());
@@ -397,7 +403,7 @@ fn solid_keys_are_validated_with_their_ranges() {
     assert!(err("force = [1.0]").contains("solid.force"));
     assert!(err("initial = { displacement = [\"x\"] }").contains("solid.initial"));
     assert!(err("initial = { displacement = [\"x+\", \"0\"] }").starts_with("solid.initial.displacement"));
-    assert!(err("heigth = 2").contains("unknown field `heigth` in [solid]"));
+    assert!(err("heigth = 2").contains("[solid]: unknown field `heigth`"));
     let s = spec("dim = 3\ncells = \"tet\"\nlateral = \"roller\"\nlame_lambda = 2\nforce = [0, 0, -1]");
     assert_eq!((s.dim, s.cells, s.lateral, s.force), (3, Cell::Tet, Lateral::Roller, [0.0, 0.0, -1.0]));
     assert!(!s.is_plane_wave());
@@ -505,4 +511,17 @@ fn simplices_converge_towards_the_plane_wave() {
         eprintln!("{cells}: fitted rate {slope:.3}");
         assert!(slope >= 1.0, "{cells}: rate {slope}");
     }
+}
+
+#[test]
+fn numeric_initial_values_are_kept_exactly() {
+    // Issue 22 D7: numbers in solid.initial were turned into 5-digit text (-0.123456789 became
+    // -1.2346e-1). They are kept as their shortest round-trip text, so the values are exact, in
+    // the spec and after the resolved scene is read back. Mutation: `crate::expr::sci` instead of
+    // `short` in scene/solid.rs -> fails (-0.12346 != -0.123456789).
+    let s = spec("initial = { displacement = [-0.123456789, 0.987654321], velocity = [1e-7, 3] }");
+    let massredist::solid::SolidInitial::Fields { displacement, velocity } = &s.initial else { panic!("fields") };
+    let at = [0.3, 0.7];
+    let values: Vec<f64> = displacement.iter().chain(velocity).map(|e| e.eval(&at)).collect();
+    assert_eq!(values, [-0.123456789, 0.987654321, 1e-7, 3.0]);
 }

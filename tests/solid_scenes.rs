@@ -52,8 +52,9 @@ fn a_q1_solid_scene_is_the_bar_scene_extended_in_y_and_z() {
                 "[bar]\nelements = 10\n{SECTIONS}[scheme]\nkind = \"{scheme}\"\n{series}"
             ))
             .unwrap();
-            let rs = massredist::run::solid::run_solid_scene(&s, &mut []).unwrap();
-            let (bar_summary, bar_series) = massredist::run::run_scene(&b, &mut []).unwrap();
+            let rs = massredist::run::run_scene(&s, &mut []).unwrap();
+            let massredist::run::SceneRun { summary: bar_summary, series: bar_series, .. } =
+                massredist::run::run_scene(&b, &mut []).unwrap();
             let d = max_series_difference(&rs.series, &bar_series);
             assert!(d < 1e3 * f64::EPSILON, "{table} {scheme}: {d:e}");
             assert!(rs.summary.first_impact_time.is_some());
@@ -123,7 +124,7 @@ fn first_impact_and_release_are_decided_node_by_node() {
     );
     let s = solid(&text);
     let mut t = Touching { gap: 0.0, first: None, release: None, first_by_mean: None };
-    let run = massredist::run::solid::run_solid_scene(&s, &mut [&mut t]).unwrap();
+    let run = massredist::run::run_scene(&s, &mut [&mut t]).unwrap();
     assert!(t.first.is_some() && t.first < t.first_by_mean, "{:?} {:?}", t.first, t.first_by_mean);
     assert_eq!(run.summary.first_impact_time, t.first);
     assert_eq!(run.summary.first_release_time, t.release);
@@ -179,7 +180,7 @@ fn every_shipped_solid_scene_reads_back_and_runs_with_complementarity() {
         }
         let scene = SolidScene::from_file(&path).unwrap();
         assert_eq!(scene, solid(&scene.resolved_toml()), "{name}");
-        let run = massredist::run::solid::run_solid_scene(&scene, &mut []).unwrap();
+        let run = massredist::run::run_scene(&scene, &mut []).unwrap();
         let s = &run.summary;
         assert_eq!(s.steps, scene.time.steps, "{name}");
         assert!(s.min_u0 >= -scene.geometry.gap && s.max_lambda <= 0.0, "{name}");
@@ -218,8 +219,8 @@ fn a_mesh_file_of_the_structured_mesh_gives_the_structured_run() {
             .unwrap();
         let from_file = SolidScene::from_file(&scene_path).unwrap();
         assert_eq!(from_file.geometry.mesh().unwrap().points, mesh.points, "{name}");
-        let a = massredist::run::solid::run_solid_scene(&structured, &mut []).unwrap();
-        let b = massredist::run::solid::run_solid_scene(&from_file, &mut []).unwrap();
+        let a = massredist::run::run_scene(&structured, &mut []).unwrap();
+        let b = massredist::run::run_scene(&from_file, &mut []).unwrap();
         let d = max_series_difference(&a.series, &b.series);
         assert!(d < 1e3 * f64::EPSILON, "{name}: {d:e}");
         assert_eq!(SolidScene::from_toml(&from_file.resolved_toml()).unwrap(), from_file, "{name}");

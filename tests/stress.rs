@@ -11,11 +11,11 @@
 
 mod common;
 
+use massredist::bar::BarProblem;
 use massredist::bar::assembly::{Bar, BarSystem};
 use massredist::bench::sweep::scheme_cases;
 use massredist::linalg::tridiag::SymTridiag;
 use massredist::mass::MassKind;
-use massredist::run::Problem;
 use massredist::scene::{BarScene, Formulation, SceneError, SchemeSpec};
 use massredist::schemes::{PaoliSchatzman, Scheme, SchemeError};
 use proptest::prelude::*;
@@ -38,7 +38,7 @@ fn the_step_loop_allocates_nothing() {
             let mut s = p.scheme(&case.spec, p.system.h()).unwrap();
             let before = common::alloc::allocations();
             assert!(before > built, "the counter sees the construction's allocations");
-            massredist::run::integrate(&p, s.as_mut(), steps, &mut []).unwrap();
+            massredist::driver::integrate(&p, s.as_mut(), steps, &mut []).unwrap();
             common::alloc::allocations() - before
         };
         let (short, long) = (count(3 * 60), count(6 * 60));
@@ -86,7 +86,7 @@ fn frame(bar: &BarSystem, s: &dyn Scheme) -> Frame {
 /// Runs `steps` steps, calling `check(n, before, after)` on every step; returns (E₀, max E,
 /// final E) or the scheme's error.
 fn run_checked(
-    problem: &Problem,
+    problem: &BarProblem,
     spec: &SchemeSpec,
     dt: f64,
     steps: usize,
@@ -123,8 +123,8 @@ fn energy_tol(m: usize, a: &Frame, b: &Frame) -> f64 {
     1e3 * m as f64 * f64::EPSILON * (a.scale + b.scale)
 }
 
-fn benchmark(m: usize, mass: &MassKind) -> Problem {
-    Problem::benchmark(1.0, m, mass).expect("valid benchmark")
+fn benchmark(m: usize, mass: &MassKind) -> BarProblem {
+    BarProblem::benchmark(1.0, m, mass).expect("valid benchmark")
 }
 
 /// Energy over a long run of every scheme and mass, as a table row.
@@ -292,7 +292,7 @@ proptest! {
         let system = BarSystem::new(Bar { length: 1.0, elements: m }, &MassKind::Custom(w.clone()), 0.0).unwrap();
         let exact = massredist::exact::ImpactingBar { length: 1.0 };
         let u0 = system.interpolate(|x| exact.initial_displacement(x));
-        let p = Problem { system, u0, v0: vec![0.0; m], exact: None };
+        let p = BarProblem { system, u0, v0: vec![0.0; m], exact: None };
         let dt = r * p.system.h();
         let steps = (6.0 / dt).ceil() as usize;
         let (sys, e_init) = (&p.system.system, p.system.energy(&p.u0, &p.v0));
@@ -341,7 +341,7 @@ proptest! {
         let system = BarSystem::new(Bar { length: 1.0, elements: m }, &mass, force).unwrap();
         let mut u0 = u[..m].to_vec();
         u0[0] = u0[0].abs();
-        let p = Problem { system, u0, v0: v[..m].to_vec(), exact: None };
+        let p = BarProblem { system, u0, v0: v[..m].to_vec(), exact: None };
         let dt = r * p.system.h();
         for case in scheme_cases() {
             if case.needs_massless && mass == MassKind::Standard {
@@ -360,9 +360,9 @@ proptest! {
 
 /// Paoli–Schatzman's contact condition `0 ≤ (u_0^{n+1} + e u_0^{n−1})/(1+e) ⊥ λⁿ ≤ 0`, checked on
 /// the scheme's look-ahead iterate at every step (exactly: on contact u_0^{n+1} = −e u_0^{n−1}).
-fn paoli_schatzman_contact_condition(p: &Problem, dt: f64, steps: usize, label: &str) {
+fn paoli_schatzman_contact_condition(p: &BarProblem, dt: f64, steps: usize, label: &str) {
     let e = 1.0;
-    let mut s = PaoliSchatzman::new(&p.system, 0.25, e, dt, p.u0.clone(), p.v0.clone()).unwrap();
+    let mut s = PaoliSchatzman::new(p.system.one_node(), 0.25, e, dt, p.u0.clone(), p.v0.clone()).unwrap();
     for n in 0..steps {
         let older = s.state().u[0];
         s.step().unwrap_or_else(|err| panic!("{label}: {err}"));
@@ -447,7 +447,7 @@ fn hostile_parameters_through_the_library_give_errors_not_panics() {
     let e = bad.scheme(&SchemeSpec::BackwardEuler, 0.01).unwrap().step().unwrap_err();
     assert!(matches!(e, SchemeError::NonFinite { step: 1, .. }), "{e}");
     // Custom weights that leave an interior node massless are rejected by assembly.
-    assert!(Problem::benchmark(1.0, 4, &MassKind::Custom(vec![0.0; 4])).is_err());
+    assert!(BarProblem::benchmark(1.0, 4, &MassKind::Custom(vec![0.0; 4])).is_err());
 }
 
 /// A bar scene (the paper's benchmark, closed-form exact solution: nothing in the run is sized by
@@ -512,7 +512,7 @@ fn memory_of_a_streamed_run_does_not_grow_with_steps() {
     let plate = |end: f64| {
         let scene = long_plate_scene(end);
         streamed_peak(|out| {
-            massredist::run::plate::run_plate_scene_into(&scene, out, &mut []).unwrap();
+            massredist::run::run_scene_into(&scene, out, &mut []).unwrap();
         })
     };
     // A first run, not measured: one-time state of the thread and process (the sparse
@@ -545,8 +545,8 @@ impl std::io::Write for FullDisk {
 /// The last state shown.
 struct LastState(usize);
 
-impl massredist::run::Observer for LastState {
-    fn observe(&mut self, s: &massredist::run::Sample) {
+impl massredist::driver::Observer for LastState {
+    fn observe(&mut self, s: &massredist::driver::Sample) {
         self.0 = s.state.n;
     }
 }
@@ -558,8 +558,9 @@ impl massredist::run::Observer for LastState {
 /// mutation: `SeriesWriter::halted` returning false -> fails with "halted at 300, not 10".
 #[test]
 fn a_write_error_halts_the_run_at_its_step() {
+    use massredist::driver::integrate;
+    use massredist::observe::SeriesRecorder;
     use massredist::output::{SeriesWriter, write_series_csv};
-    use massredist::run::{SeriesRecorder, integrate};
     use massredist::scene::Column;
     let p = benchmark(20, &MassKind::Mod3);
     let columns = vec![Column::U0, Column::Lambda, Column::Energy];

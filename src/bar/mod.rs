@@ -1,7 +1,15 @@
-//! The bar (0, L): P1 elements on a uniform mesh ([`assembly`]: weighted mass, stiffness, load,
-//! material, far end) and its exact L² norms ([`norms`]); its scenes run in [`crate::run`]. The bar's
-//! [`crate::problem::Geometry`] implementation is in [`crate::problem`]; everything else (the
-//! contact system, schemes, driver, observers) is shared with the other geometries.
+//! The bar (0, L): its specification ([`spec`]), P1 elements on a uniform mesh ([`assembly`]:
+//! weighted mass, stiffness, load, material, far end), the problem a scene poses ([`problem`]),
+//! its exact L² norms ([`norms`]) and its place in the one driver ([`geometry`]: reports, fast
+//! diagnostics, the bar-only schemes). Everything else (the contact system, schemes, driver,
+//! observers, run path) is shared with the other geometries.
 
 pub mod assembly;
+pub mod geometry;
 pub mod norms;
+pub mod problem;
+pub mod spec;
+
+pub use assembly::BarSystem;
+pub use problem::{BarError, BarProblem};
+pub use spec::{BarSpec, Initial};

@@ -158,7 +158,7 @@ pub fn time_rust(case: Case, dt: f64, steps: usize) -> Result<(Timing, Option<f6
     let mass = MassKind::Mod3;
     let (timing, l2) = if case.kind == "plate" {
         use crate::plate::CellKind;
-        use crate::run::plate::PlateProblem;
+        use crate::plate::PlateProblem;
         use crate::scene::{PlateInitial, PlateSpec};
         let spec = PlateSpec::structured(1.0, 1.0, case.n, case.n, CellKind::Quad, PlateInitial::Paper);
         let problem = PlateProblem::new(&spec, &mass).map_err(|e| e.to_string())?;

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 /// A geometry whose states are written as VTU frames.
 pub trait VtuFrames: GeometryView {
     /// The name of the `.pvd` collection (`plate`, `solid`).
-    const COLLECTION: &'static str;
+    fn collection(&self) -> &'static str;
     /// The layout of this geometry's frames: the mesh and the constant cell data, serialised
     /// once per run ([`Layout`]).
     fn frame_layout(&self) -> Layout;
@@ -31,9 +31,9 @@ const PVD_HEAD: &str = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" ve
 const PVD_TAIL: &str = "  </Collection>\n</VTKFile>\n";
 
 /// Streams the frames of one run into a folder (module docs).
-pub struct FrameWriter<'a, G: VtuFrames> {
+pub struct FrameWriter<'a> {
     dir: PathBuf,
-    geometry: &'a G,
+    geometry: &'a dyn VtuFrames,
     /// The geometry's bytes, serialised once.
     layout: Layout,
     /// One frame's point arrays.
@@ -47,11 +47,11 @@ pub struct FrameWriter<'a, G: VtuFrames> {
     error: Option<std::io::Error>,
 }
 
-impl<'a, G: VtuFrames> FrameWriter<'a, G> {
+impl<'a> FrameWriter<'a> {
     /// Creates `dir/vtu/` and `dir/<collection>.pvd` (its head written) for frames of `geometry`.
-    pub fn create(dir: &Path, geometry: &'a G, every: usize) -> std::io::Result<Self> {
+    pub fn create(dir: &Path, geometry: &'a dyn VtuFrames, every: usize) -> std::io::Result<Self> {
         std::fs::create_dir(dir.join("vtu"))?;
-        let pvd = std::fs::File::create(dir.join(format!("{}.pvd", G::COLLECTION)))?;
+        let pvd = std::fs::File::create(dir.join(format!("{}.pvd", geometry.collection())))?;
         let mut pvd = std::io::BufWriter::new(pvd);
         pvd.write_all(PVD_HEAD.as_bytes())?;
         let n = geometry.n_nodes() * geometry.components();
@@ -99,7 +99,7 @@ impl<'a, G: VtuFrames> FrameWriter<'a, G> {
     }
 }
 
-impl<G: VtuFrames> Observer for FrameWriter<'_, G> {
+impl Observer for FrameWriter<'_> {
     fn every(&self) -> usize {
         self.every
     }

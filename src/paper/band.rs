@@ -11,7 +11,7 @@
 use super::runs::{DRIFT_FACTOR, PeriodEnergy};
 use super::{Case, Experiment, Purpose};
 use crate::mass::MassKind;
-use crate::run::Summary;
+use crate::observe::Summary;
 
 /// Perturbed copies per sensitive case (with the unperturbed run: five runs in the band).
 pub const PERTURBATIONS: usize = 4;

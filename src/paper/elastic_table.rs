@@ -46,7 +46,7 @@ use crate::plate::CellKind;
 use crate::problem::GeometryView;
 use crate::scene::{Formulation, SchemeSpec};
 use crate::schemes::SchemeError;
-use crate::solid::spec::SolidError;
+use crate::solid::SolidError;
 use crate::solid::{Lame, Lateral, SolidSpec, SolidSystem};
 use rayon::prelude::*;
 use serde::Serialize;

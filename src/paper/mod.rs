@@ -56,8 +56,9 @@ pub use runs::{
 pub use table2d::{PAPER_TABLE_2D, Table2d, plate_2d_errors, table_2d};
 pub use tables::{EVENT_COLUMNS, TABLE_COLUMNS, horizon_tag, sig};
 
+use crate::observe::Summary;
 use crate::output::OutputDir;
-use crate::run::{RunError, Summary};
+use crate::run::RunError;
 use crate::scene::SceneError;
 use figures::{FigureFile, figure_files};
 use indicatif::ProgressBar;

@@ -16,10 +16,22 @@ use crate::driver::{Observer, Sample, integrate};
 use crate::mass::MassKind;
 use crate::observe::SummaryObserver;
 use crate::plate::mesh::CellKind;
-use crate::run::plate::{PlateProblem, PlateRunError};
+use crate::plate::{PlateError, PlateProblem};
 use crate::scene::{Formulation, SchemeSpec};
 use crate::scene::{PlateInitial, PlateSpec};
+use crate::schemes::SchemeError;
 use serde::Serialize;
+
+/// Why a row of the 2D table could not be computed.
+#[derive(Debug, thiserror::Error)]
+pub enum TableError {
+    #[error(transparent)]
+    Problem(#[from] PlateError),
+    #[error(transparent)]
+    Scheme(#[from] SchemeError),
+    #[error("the 1D reference run failed: {0}")]
+    Reference(String),
+}
 
 /// The paper's values, by mass redistribution.
 pub const PAPER_TABLE: [(&str, f64); 3] = [("mod1", 0.0104), ("mod2", 0.0046), ("mod3", 0.0038)];
@@ -60,7 +72,7 @@ pub fn linf_l2_error(
     scheme: &SchemeSpec,
     dt: f64,
     end: f64,
-) -> Result<f64, PlateRunError> {
+) -> Result<f64, TableError> {
     let spec = unit_square(cells, n);
     let problem = PlateProblem::new(&spec, mass)?;
     let mut s = problem.scheme(scheme, dt)?;
@@ -154,12 +166,12 @@ pub fn compare_with_1d(
     scheme: &SchemeSpec,
     dt: f64,
     end: f64,
-) -> Result<Comparison, PlateRunError> {
+) -> Result<Comparison, TableError> {
     use crate::plate::assembly::PlateSystem;
     use crate::problem::Problem;
     let spec = unit_square(cells, n);
     let p2 = PlateProblem::new(&spec, mass)?;
-    let reference = |e: &dyn std::fmt::Display| PlateRunError::Reference(e.to_string());
+    let reference = |e: &dyn std::fmt::Display| TableError::Reference(e.to_string());
     let p1 = Problem::benchmark(1.0, n, mass).map_err(|e| reference(&e))?;
     let steps = (end / dt).round() as usize;
     let mut s1 = p1.scheme(scheme, dt).map_err(|e| reference(&e))?;

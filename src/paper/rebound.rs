@@ -20,10 +20,12 @@
 //! ([`exact_rebound`]), none is typed in.
 
 use super::{Config, Experiment, ReproduceError};
+use crate::bar::BarProblem;
 use crate::driver::{Needs, Observer, Sample, integrate};
 use crate::exact::Exact;
 use crate::mass::MassKind;
-use crate::run::{Problem, RunError, Summary, SummaryObserver};
+use crate::observe::{Summary, SummaryObserver};
+use crate::run::RunError;
 use crate::scene::{Formulation, Scene, SchemeSpec};
 use crate::schemes::SchemeError;
 use rayon::prelude::*;
@@ -105,7 +107,7 @@ pub struct BarMotion {
 
 impl BarMotion {
     /// For `problem`, with room for `steps` + 1 samples.
-    pub fn new(problem: &Problem, steps: usize) -> Self {
+    pub fn new(problem: &BarProblem, steps: usize) -> Self {
         let system = &problem.system.system;
         let ones = vec![1.0; system.n()];
         let mut weights = vec![0.0; system.n()];
@@ -183,11 +185,16 @@ fn case_name(e: Experiment, mass: &MassKind) -> String {
 }
 
 /// The scene and its problem (with the exact solution by characteristics attached).
-fn problem_of(config: &Config, e: Experiment, mass: &MassKind) -> Result<(Scene, Problem), ReproduceError> {
+fn problem_of(
+    config: &Config,
+    e: Experiment,
+    mass: &MassKind,
+) -> Result<(Scene<crate::bar::BarSpec>, BarProblem), ReproduceError> {
     let case = case_name(e, mass);
     let scene = Scene::from_toml(&rebound_scene_text(config, e, mass))
         .map_err(|source| ReproduceError::Scene { case: case.clone(), source })?;
-    let problem = Problem::from_scene(&scene).map_err(|source| ReproduceError::Run { case, source })?;
+    let problem =
+        BarProblem::from_scene(&scene).map_err(|e| ReproduceError::Run { case, source: RunError::problem(e) })?;
     Ok((scene, problem))
 }
 

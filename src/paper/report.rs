@@ -183,7 +183,7 @@ fn solution_text(config: &Config, group: &[&CaseResult]) -> String {
 }
 
 /// A time over the runs of a case ([`agreed`]).
-fn times(r: &CaseResult, f: impl Fn(&crate::run::Summary) -> Option<f64>, dt: f64) -> String {
+fn times(r: &CaseResult, f: impl Fn(&crate::observe::Summary) -> Option<f64>, dt: f64) -> String {
     agreed(r, f, |x| x.map_or("none".into(), |t| time(t, dt)))
 }
 

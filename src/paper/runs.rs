@@ -4,11 +4,11 @@
 //! per-period growth).
 
 use super::{Case, Config, Purpose, ReproduceError, band, cases};
+use crate::bar::BarProblem;
+use crate::driver::{Divergence, DivergenceCriterion, Needs, Observer, Sample, integrate_watched};
 use crate::exact::ImpactingBar;
-use crate::run::{
-    Divergence, DivergenceCriterion, Needs, Observer, Problem, RunError, Sample, SeriesRecorder, Summary,
-    SummaryObserver, integrate_watched,
-};
+use crate::observe::{SeriesRecorder, Summary, SummaryObserver};
+use crate::run::RunError;
 use crate::scene::Column;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -65,7 +65,8 @@ pub fn run_case(config: &Config, case: &Case) -> Result<CaseResult, ReproduceErr
     let wrap = |source: RunError| ReproduceError::Run { case: case.name(), source };
     let long = case.purpose == Purpose::LongEnergy;
     let steps = config.steps(if long { "long_ends" } else { "horizons" }, case.end)?;
-    let mut problem = Problem::benchmark(config.length, config.elements, &case.mass).map_err(wrap)?;
+    let mut problem =
+        BarProblem::benchmark(config.length, config.elements, &case.mass).map_err(|e| wrap(RunError::problem(e)))?;
     let every = if long { config.long_every(steps) } else { 1 };
     let (summary, series, periods) = run_one(config, case, &problem, steps, case.columns(), every).map_err(wrap)?;
     let mut copies = Vec::new();
@@ -86,7 +87,7 @@ pub fn run_case(config: &Config, case: &Case) -> Result<CaseResult, ReproduceErr
 fn run_one(
     config: &Config,
     case: &Case,
-    problem: &Problem,
+    problem: &BarProblem,
     steps: usize,
     columns: Vec<Column>,
     every: usize,
@@ -335,7 +336,8 @@ mod tests {
         // t = 1000 (t = 1500–1621 over U⁰ perturbed by ≤ 1e-13: the time is round-off amplified);
         // the run stops there, kept.
         use super::super::Experiment;
-        use crate::run::{DivergenceReason, Status};
+        use crate::driver::DivergenceReason;
+        use crate::observe::Status;
         let case = Case {
             experiment: Experiment::PaoliSchatzman,
             mass: MassKind::Mod1,

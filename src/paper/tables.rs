@@ -6,8 +6,8 @@ use super::band::{PERTURBATION, Verdict};
 use super::runs::{CaseResult, events, runs_of};
 use super::{Config, Experiment, Purpose};
 use crate::mass::MassKind;
+use crate::observe::Summary;
 use crate::output::fmt_f64;
-use crate::run::Summary;
 use std::fmt::Write as _;
 use std::path::Path;
 

@@ -11,11 +11,12 @@
 //! weight per cell by layers of cells touching Γ_C ([`layers`]: standard, mod1, mod2, mod3,
 //! custom), the sparse weighted mass and stiffness with the material, far end, gap and load
 //! ([`assembly`]), the plate as a [`crate::problem::Geometry`] ([`geometry`]: contact means, exact
-//! L² norms against x-only solutions ([`norms`]), nodal values), `[plate]` scenes (in [`crate::scene`]) and
-//! VTU/PVD output ([`vtu`]). Everything else is the one core shared with bars: the contact system
+//! L² norms against x-only solutions ([`norms`]), nodal values), its specification ([`spec`], parsed from the
+//! `[plate]` table in [`crate::scene`]), the problem a scene poses ([`problem`]) and VTU/PVD
+//! output ([`vtu`]). Everything else is the one core shared with bars: the contact system
 //! ([`crate::system`]) over the sparse back-end ([`crate::linalg::sparse`]) with the exact
 //! many-node contact solver ([`crate::contact::Schur`]), the schemes ([`crate::schemes`]), the
-//! driver and observers, and the run of a plate scene ([`crate::run::plate`]).
+//! driver and observers, and the run path ([`crate::run`]).
 //!
 //! With Q1 on a structured mesh, x-only weights and y-independent data, every matrix is a
 //! tensor product with the 1D one and the discrete solution is the 1D solution extended in y
@@ -31,8 +32,11 @@ pub mod geometry;
 pub use crate::fem::layers;
 pub mod mesh;
 pub mod norms;
-
+pub mod problem;
+pub mod spec;
 pub mod vtu;
 
 pub use assembly::{PlateSystem, assemble};
 pub use mesh::{CellKind, Mesh2d};
+pub use problem::{PlateError, PlateProblem};
+pub use spec::{PlateInitial, PlateSpec};

@@ -48,7 +48,9 @@ pub use crate::fem::vtu::{DataArray, VtuData, VtuError, read_pvd, read_vtu};
 
 /// The plate's frames for the streaming writer: `u`, `v`, `warp` and `weight`.
 impl crate::fem::frames::VtuFrames for super::PlateSystem {
-    const COLLECTION: &'static str = "plate";
+    fn collection(&self) -> &'static str {
+        "plate"
+    }
 
     fn frame_layout(&self) -> Layout {
         layout(&self.mesh, &self.weights)

@@ -1,116 +1,107 @@
-//! Scenes run: the problem a scene poses, built for its geometry, stepped by the one driver
-//! ([`crate::driver`]) with the one set of observers ([`crate::observe`]). One file per geometry
-//! (as the schemes have one file per method). Nothing here does I/O but the run folders of
-//! `massredist run` ([`run_scene_into`], [`plate::run_plate_scene_into`]), which stream into the
+//! Scenes run, for every geometry alike: the problem a scene poses ([`GeometrySpec::problem`],
+//! built in the geometry's own folder), stepped by the one driver ([`crate::driver`]) with the
+//! one set of observers ([`crate::observe`]). Nothing here names a geometry; nothing here does
+//! I/O but the run folder of `massredist run` ([`run_scene_into`]), which streams into the
 //! folder prepared before computing, through [`crate::output`].
 
-pub mod bar;
-pub mod plate;
-pub mod solid;
+use crate::driver::{DivergenceCriterion, Observer, integrate_watched};
+use crate::fem::frames::{FrameWriter, VtuFrames};
+use crate::observe::{FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
+use crate::output::{OutputDir, OutputError, SeriesWriter, commit_run};
+use crate::problem::{Geometry, Problem};
+use crate::scene::{AnyScene, Scene, SceneError, SceneGeometry};
+use crate::schemes::{Scheme, SchemeError};
+use serde::Serialize;
+use thiserror::Error;
 
-pub use bar::*;
+/// What ties a geometry's validated specification to the one core: the problem it poses, the
+/// geometry keys of its `summary.json`, and its VTU frames. Each geometry implements it in its
+/// own folder (`bar/problem.rs`, `plate/problem.rs`, `solid/problem.rs`), beside its spec
+/// (`spec.rs`), its [`Geometry`] (`geometry.rs`) and its frame writer (`vtu.rs`), and its
+/// `[table]` is parsed in `scene/<geometry>.rs`.
+pub trait GeometrySpec: SceneGeometry {
+    /// The assembled geometry (mesh, contact system, reports).
+    type System: Geometry;
+    /// Why the problem cannot be built (assembly, mesh, exact solution).
+    type Error: std::error::Error + Send + Sync + 'static;
+    /// The geometry keys of `summary.json`, written after `scheme`, `mass`, `elements`,
+    /// `length` and `end` and before the [`Summary`].
+    type Head: Serialize;
+    /// The scene keys that shape the problem, named when it cannot be set up.
+    const SETUP_KEYS: &'static str;
+    /// Cells along x (`elements` in `summary.json`; 0 for a mesh file).
+    fn elements(&self) -> usize;
+    /// The problem of a scene: the assembled system, the interpolated initial data and the
+    /// exact solution up to `time.end` where one is known.
+    fn problem(scene: &Scene<Self>) -> Result<Problem<Self::System>, Self::Error>;
+    /// The geometry keys of `summary.json` ([`GeometrySpec::Head`]).
+    fn summary_head(scene: &Scene<Self>, problem: &Problem<Self::System>) -> Self::Head;
+    /// The VTU frames of this geometry's states (None: it writes none, and its scenes refuse
+    /// `output.vtu`: [`SceneGeometry::VTU`]).
+    fn frames(_system: &Self::System) -> Option<&dyn VtuFrames> {
+        None
+    }
+}
 
 /// A scene's problem with its scheme built (matrices assembled and factored), not yet stepped:
 /// what `check` runs, so that a scene it accepts starts its run.
-pub struct Setup<G: crate::problem::Geometry = crate::bar::assembly::BarSystem> {
+pub struct Setup<G: Geometry> {
     pub problem: Problem<G>,
-    pub scheme: Box<dyn crate::schemes::Scheme>,
+    pub scheme: Box<dyn Scheme>,
 }
 
-/// A setup failure as a scene error naming `keys`.
-pub(crate) fn setup_error(keys: &str, e: impl std::fmt::Display) -> crate::scene::SceneError {
-    crate::scene::SceneError::Setup { keys: keys.to_string(), reason: e.to_string() }
-}
-
-/// A run's failure, and whether the input is at fault (the scene cannot be set up: exit code 2)
-/// rather than the computation (exit code 1).
-pub trait RunFailure: std::error::Error {
-    fn invalid_input(&self) -> bool;
-}
-
-impl RunFailure for RunError {
-    fn invalid_input(&self) -> bool {
-        matches!(self, RunError::Setup(_))
-    }
-}
-
-impl RunFailure for plate::PlateRunError {
-    fn invalid_input(&self) -> bool {
-        matches!(self, plate::PlateRunError::Setup(_))
-    }
-}
-
-impl RunFailure for solid::SolidRunError {
-    fn invalid_input(&self) -> bool {
-        matches!(self, solid::SolidRunError::Setup(_))
-    }
-}
-
-/// Sets a scene up as `run` does (assembly, exact solution, factorisation) without stepping:
-/// `check` calls it, so a scene `check` accepts starts its run.
-pub fn check(scene: &crate::scene::AnyScene) -> Result<(), crate::scene::SceneError> {
-    match scene {
-        crate::scene::AnyScene::Bar(s) => bar::setup(s).map(|_| ()),
-        crate::scene::AnyScene::Plate(s) => plate::setup(s).map(|_| ()),
-        crate::scene::AnyScene::Solid(s) => solid::setup(s).map(|_| ()),
-    }
-}
-
-use crate::fem::frames::{FrameWriter, VtuFrames};
-use crate::output::{OutputDir, OutputError, SeriesWriter, commit_run};
-use crate::problem::Geometry;
-use crate::scene::{OutputSpec, SceneGeometry, TimeSpec};
-use crate::schemes::{Scheme, SchemeError};
-
-/// Why a run into an output folder failed: computing (`Run`, the geometry's error), or writing
-/// (`Output`). Either way the temporary folder is removed and the target left as it was.
-#[derive(Debug, thiserror::Error)]
-pub enum RunFolderError<E: std::error::Error> {
+/// Why a run failed: the scene cannot be set up (the input is at fault: exit code 2), the
+/// scheme failed while stepping, or the output folder could not be written (exit code 1). A
+/// divergence is not an error (it is in the [`Summary`]).
+#[derive(Debug, Error)]
+pub enum RunError {
     #[error(transparent)]
-    Run(E),
+    Setup(SceneError),
+    #[error(transparent)]
+    Scheme(#[from] SchemeError),
+    /// A problem built outside a scene (library users, `reproduce`) failed.
+    #[error(transparent)]
+    Problem(Box<dyn std::error::Error + Send + Sync>),
     #[error(transparent)]
     Output(#[from] OutputError),
 }
 
-/// The part of a run into a folder every geometry shares: `series.csv` (if any column) streamed
-/// into `out`'s temporary folder by a [`SeriesWriter`] while `run` steps with it and `extra` as
-/// observers; a write error (disk full) halts the run at that step and fails it.
-fn stream_series<E: std::error::Error>(
-    out: &OutputDir,
-    spec: &OutputSpec,
-    extra: &mut [&mut dyn Observer],
-    run: impl FnOnce(&mut [&mut dyn Observer]) -> Result<Summary, E>,
-) -> Result<Summary, RunFolderError<E>> {
-    let mut series = match spec.series.is_empty() {
-        true => None,
-        false => {
-            Some(SeriesWriter::create(out.staging(), spec.series.clone(), spec.every).map_err(|e| out.fill_error(e))?)
-        }
-    };
-    let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(extra.len() + 1);
-    for o in extra.iter_mut() {
-        observers.push(&mut **o);
+impl RunError {
+    /// Whether the input is at fault (the scene cannot be set up), rather than the computation.
+    pub fn invalid_input(&self) -> bool {
+        matches!(self, RunError::Setup(_))
     }
-    if let Some(s) = series.as_mut() {
-        observers.push(s);
+
+    /// A geometry's problem error.
+    pub fn problem(e: impl std::error::Error + Send + Sync + 'static) -> Self {
+        RunError::Problem(Box::new(e))
     }
-    let summary = run(&mut observers).map_err(RunFolderError::Run)?;
-    if let Some(s) = series {
-        s.finish().map_err(|e| out.fill_error(e))?;
-    }
-    Ok(summary)
+}
+
+/// The problem and scheme of a scene; a failure names the keys that shape the matrices.
+pub fn setup<G: GeometrySpec>(scene: &Scene<G>) -> Result<Setup<G::System>, SceneError> {
+    let error = |e: &dyn std::fmt::Display| SceneError::Setup { keys: G::SETUP_KEYS.into(), reason: e.to_string() };
+    let problem = G::problem(scene).map_err(|e| error(&e))?;
+    let scheme = problem.scheme(&scene.scheme, scene.time.dt).map_err(|e| error(&e))?;
+    Ok(Setup { problem, scheme })
+}
+
+/// Sets a scene up as `run` does (assembly, exact solution, factorisation) without stepping:
+/// `check` calls it, so a scene `check` accepts starts its run.
+pub fn check(scene: &AnyScene) -> Result<(), SceneError> {
+    crate::with_scene!(scene, s => setup(s).map(|_| ()))
 }
 
 /// Runs a problem with its scheme, its summary and `observers` (series, frames, progress)
 /// until `time.end` or a divergence (which is a result: it reaches the summary through
 /// [`Observer::diverged`]).
-pub(crate) fn run_observed<G: Geometry>(
-    problem: &Problem<G>,
+fn run_observed<G: GeometrySpec>(
+    scene: &Scene<G>,
+    problem: &Problem<G::System>,
     mut scheme: Box<dyn Scheme>,
-    time: &TimeSpec,
-    output: &OutputSpec,
     observers: &mut [&mut dyn Observer],
 ) -> Result<Summary, SchemeError> {
+    let (time, output) = (&scene.time, &scene.output);
     let mut summary = SummaryObserver::new(problem, time.steps, time.dt, output.summary_l2);
     let mut all: Vec<&mut dyn Observer> = vec![&mut summary];
     for o in observers.iter_mut() {
@@ -121,27 +112,31 @@ pub(crate) fn run_observed<G: Geometry>(
     Ok(summary.finish())
 }
 
-/// Everything a run of a plate or solid scene produces, held in memory (the problem is kept for
-/// the VTU writers).
+/// Everything a run of a scene produces, held in memory (the problem is kept for the VTU
+/// writers and for reports).
 #[derive(Debug)]
-pub struct MeshRun<G: Geometry> {
+pub struct SceneRun<G: Geometry> {
     pub problem: Problem<G>,
     pub summary: Summary,
-    pub series: crate::observe::SeriesRecorder,
-    pub frames: Option<crate::observe::FrameRecorder>,
+    pub series: SeriesRecorder,
+    /// The states every `output.vtu_every` steps (None without VTU output).
+    pub frames: Option<FrameRecorder>,
 }
 
-/// Runs a set-up scene with the requested series and VTU frames recorded in memory, and
-/// `extra` observers (for library users; `massredist run` streams: [`run_frames_into`]). A run
-/// that diverges stops there and is still a result.
-pub(crate) fn run_in_memory<G: Geometry, S: SceneGeometry>(
-    scene: &crate::scene::Scene<S>,
-    setup: Setup<G>,
+/// Runs a scene: the summary always, plus the requested series and frames, held in memory (for
+/// library users; `massredist run` streams them: [`run_scene_into`]), and `extra` observers. A
+/// run that diverges (the driver's [`DivergenceCriterion`] with `output.divergence_factor`)
+/// stops there and is still a result: `Summary::divergence` says where and why, the summary
+/// and series hold the finite states.
+pub fn run_scene<G: GeometrySpec>(
+    scene: &Scene<G>,
     extra: &mut [&mut dyn Observer],
-) -> Result<MeshRun<G>, SchemeError> {
-    let Setup { problem, scheme } = setup;
-    let mut series = crate::observe::SeriesRecorder::new(scene.output.series.clone(), scene.output.every, 0);
-    let mut frames = scene.output.vtu_every.map(crate::observe::FrameRecorder::new);
+) -> Result<SceneRun<G::System>, RunError> {
+    let Setup { problem, scheme } = setup(scene).map_err(RunError::Setup)?;
+    let output = &scene.output;
+    let rows = if output.series.is_empty() { 0 } else { scene.time.steps / output.every + 1 };
+    let mut series = SeriesRecorder::new(output.series.clone(), output.every, rows);
+    let mut frames = output.vtu_every.map(FrameRecorder::new);
     let mut observers: Vec<&mut dyn Observer> = vec![&mut series];
     if let Some(f) = frames.as_mut() {
         observers.push(f);
@@ -149,39 +144,81 @@ pub(crate) fn run_in_memory<G: Geometry, S: SceneGeometry>(
     for o in extra.iter_mut() {
         observers.push(&mut **o);
     }
-    let summary = run_observed(&problem, scheme, &scene.time, &scene.output, &mut observers)?;
-    Ok(MeshRun { problem, summary, series, frames })
+    let summary = run_observed(scene, &problem, scheme, &mut observers)?;
+    Ok(SceneRun { problem, summary, series, frames })
 }
 
-/// `massredist run` for a geometry with VTU frames (plates, solids): `series.csv` and the
-/// frames streamed into `out`'s temporary folder while the set-up problem steps, then
-/// `summary.json` (from `summary_json`) and the resolved scene written and the folder
-/// committed. Memory does not depend on the number of steps.
-pub(crate) fn run_frames_into<G: Geometry + VtuFrames, S: SceneGeometry, E: std::error::Error>(
-    scene: &crate::scene::Scene<S>,
-    setup: Setup<G>,
+/// `massredist run`: runs a scene into the output folder `out` prepared before computing,
+/// `series.csv` and the VTU frames (`vtu/frame_NNNNN.vtu`, `<collection>.pvd`) streamed into its
+/// temporary folder as the run produces them (memory does not depend on the number of steps; a
+/// write error such as a full disk halts the run at that step and fails it), then
+/// `summary.json` and `scene.resolved.toml`, and commits it ([`OutputDir::commit`]). On an
+/// error `out` is dropped, which removes the temporary folder and leaves the target as it was.
+pub fn run_scene_into<G: GeometrySpec>(
+    scene: &Scene<G>,
     out: OutputDir,
     extra: &mut [&mut dyn Observer],
-    summary_json: impl FnOnce(&Problem<G>, &Summary) -> String,
-    error: impl Fn(SchemeError) -> E,
-) -> Result<Summary, RunFolderError<E>> {
-    let Setup { problem, scheme } = setup;
-    let create = |k| FrameWriter::create(out.staging(), &problem.system, k).map_err(|e| out.fill_error(e));
-    let mut frames = scene.output.vtu_every.map(create).transpose()?;
-    let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(extra.len() + 1);
+) -> Result<Summary, RunError> {
+    let Setup { problem, scheme } = setup(scene).map_err(RunError::Setup)?;
+    let output = &scene.output;
+    let fill = |e| out.fill_error(e);
+    let mut series = match output.series.is_empty() {
+        true => None,
+        false => Some(SeriesWriter::create(out.staging(), output.series.clone(), output.every).map_err(fill)?),
+    };
+    let vtu = G::frames(&problem.system);
+    let mut frames = match (output.vtu_every, vtu) {
+        (Some(every), Some(g)) => Some(FrameWriter::create(out.staging(), g, every).map_err(fill)?),
+        _ => None,
+    };
+    let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(extra.len() + 2);
     for o in extra.iter_mut() {
         observers.push(&mut **o);
     }
     if let Some(f) = frames.as_mut() {
         observers.push(f);
     }
-    let run =
-        |obs: &mut [&mut dyn Observer]| run_observed(&problem, scheme, &scene.time, &scene.output, obs).map_err(&error);
-    let summary = stream_series(&out, &scene.output, &mut observers, run)?;
-    drop(observers);
-    if let Some(f) = frames {
-        f.finish().map_err(|e| out.fill_error(e))?;
+    if let Some(s) = series.as_mut() {
+        observers.push(s);
     }
-    commit_run(out, &summary_json(&problem, &summary), &scene.resolved_toml())?;
+    let summary = run_observed(scene, &problem, scheme, &mut observers)?;
+    drop(observers);
+    if let Some(s) = series {
+        s.finish().map_err(fill)?;
+    }
+    if let Some(f) = frames {
+        f.finish().map_err(fill)?;
+    }
+    commit_run(out, &summary_json(scene, &problem, &summary), &scene.resolved_toml())?;
     Ok(summary)
+}
+
+/// The `summary.json` of a run: the scene's identity, the geometry's keys
+/// ([`GeometrySpec::summary_head`]) and the [`Summary`].
+#[derive(Serialize)]
+struct SummaryFile<'a, H: Serialize> {
+    scheme: &'static str,
+    mass: &'static str,
+    /// Cells along x (the bar's `elements`).
+    elements: usize,
+    length: f64,
+    end: f64,
+    #[serde(flatten)]
+    head: H,
+    #[serde(flatten)]
+    summary: &'a Summary,
+}
+
+/// `summary.json` text.
+pub fn summary_json<G: GeometrySpec>(scene: &Scene<G>, problem: &Problem<G::System>, summary: &Summary) -> String {
+    let file = SummaryFile {
+        scheme: scene.scheme.name(),
+        mass: scene.mass.name(),
+        elements: scene.geometry.elements(),
+        length: scene.geometry.length(),
+        end: scene.time.end,
+        head: G::summary_head(scene, problem),
+        summary,
+    };
+    serde_json::to_string_pretty(&file).expect("summary serialises") + "\n"
 }

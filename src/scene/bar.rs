@@ -1,9 +1,8 @@
-//! Bar scenes: the `[bar]` table and its [`BarSpec`].
+//! Bar scenes: the `[bar]` table, validated into a [`BarSpec`] (`crate::bar::spec`).
 
 use super::*;
-use crate::expr::Expr;
+use crate::bar::spec::{BarSpec, Initial};
 use crate::mass::MassKind;
-use crate::material::{FarEnd, Material};
 
 #[derive(Debug, Default, Deserialize, Serialize)]
 pub(crate) struct RawBar {
@@ -19,39 +18,7 @@ pub(crate) struct RawBar {
     unknown: std::collections::BTreeMap<String, toml::Value>,
 }
 
-/// Initial data of the bar.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Initial {
-    /// u⁰ = (L − x)/2, v⁰ = 0: the paper's benchmark (exact solution known when f = 0).
-    Paper,
-    /// u⁰(x), v⁰(x) as expressions in x (and L, pi), interpolated at every node.
-    Fields { displacement: Expr, velocity: Expr },
-}
-
-#[derive(Debug, Clone, PartialEq)]
-pub struct BarSpec {
-    pub length: f64,
-    pub elements: usize,
-    pub material: Material,
-    pub far_end: FarEnd,
-    /// The obstacle at x = 0: u(0, t) ≥ −gap.
-    pub gap: f64,
-    pub initial: Initial,
-    pub force: Force,
-}
-
 impl BarSpec {
-    /// The paper's bar: ρ = E = 1, clamped at L, no gap.
-    pub fn is_paper_bar(&self) -> bool {
-        self.material == Material::UNIT && self.far_end == FarEnd::Clamped && self.gap == 0.0
-    }
-
-    /// The exact solution is known without body force: the paper's closed form on its bar, the
-    /// solution by characteristics otherwise ([`crate::characteristics`]).
-    pub fn has_exact_solution(&self) -> bool {
-        self.force.constant() == Some(0.0)
-    }
-
     /// The `[bar]` table, validated.
     pub(crate) fn validate(bar: RawBar) -> Result<BarSpec, SceneError> {
         let length = length_in("bar.length", bar.length.map_or(1.0, Number::get))?;

@@ -31,11 +31,14 @@ mod common;
 mod plate;
 mod solid;
 
-pub use bar::*;
-pub use body::*;
+pub(crate) use body::*;
 pub use common::*;
 pub use plate::*;
 pub use solid::*;
+// The geometries' specifications, which the tables validate into.
+pub use crate::bar::spec::{BarSpec, Initial};
+pub use crate::body::{Body, Force};
+pub use crate::plate::spec::{PlateInitial, PlateSpec};
 // The scheme and column vocabularies live with the code that uses them; scenes name them.
 pub use crate::observe::Column;
 pub use crate::schemes::{Formulation, SchemeSpec};
@@ -193,11 +196,11 @@ pub(crate) fn forbid<T>(key: &'static str, value: &Option<T>, context: &str) -> 
     }
 }
 
-/// A validated scene: one geometry (`G`: [`BarSpec`] or [`PlateSpec`]) and the sections every
+/// A validated scene: one geometry (`G`: [`BarSpec`], [`PlateSpec`], `SolidSpec`) and the sections every
 /// scene shares. A scene file is read as an [`AnyScene`], whose variant is the geometry table
 /// the file has.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Scene<G = BarSpec> {
+pub struct Scene<G> {
     pub geometry: G,
     pub mass: crate::mass::MassKind,
     pub scheme: SchemeSpec,
@@ -211,6 +214,20 @@ pub type BarScene = Scene<BarSpec>;
 pub type PlateScene = Scene<PlateSpec>;
 /// An elastic solid scene (`[solid]`).
 pub type SolidScene = Scene<crate::solid::SolidSpec>;
+
+/// `with_scene!(any, s => expr)`: `expr` with `s` bound to the scene of whichever geometry
+/// `any: &AnyScene` holds (generic code over [`SceneGeometry`] and `crate::run::GeometrySpec`).
+/// The one dispatch over the geometries: a new geometry adds its variant here.
+#[macro_export]
+macro_rules! with_scene {
+    ($any:expr, $s:ident => $body:expr) => {
+        match $any {
+            $crate::scene::AnyScene::Bar($s) => $body,
+            $crate::scene::AnyScene::Plate($s) => $body,
+            $crate::scene::AnyScene::Solid($s) => $body,
+        }
+    };
+}
 
 /// A scene file of any geometry: the geometry table it has (`[bar]`, the default, `[plate]` or
 /// `[solid]`) decides the variant.
@@ -227,12 +244,11 @@ pub enum AnyScene {
 #[serde(deny_unknown_fields)]
 pub struct RawScene {
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) bar: Option<RawBar>,
+    pub(crate) bar: Option<bar::RawBar>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) plate: Option<RawPlate>,
-    /// Validated by [`parse_solid`] from the table itself (its keys depend on `dim`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) solid: Option<toml::Table>,
+    pub(crate) solid: Option<solid::RawSolid>,
     pub(crate) mass: Option<RawMass>,
     pub(crate) scheme: Option<RawScheme>,
     pub(crate) time: Option<RawTime>,
@@ -299,35 +315,26 @@ impl AnyScene {
                 )))
             }
             (None, Some(p), None) => Ok(AnyScene::Plate(validate_sections(PlateSpec::validate(p, base)?, raw)?)),
-            (None, None, Some(s)) => Ok(AnyScene::Solid(validate_sections(parse_solid_at(&s, base)?, raw)?)),
+            (None, None, Some(s)) => Ok(AnyScene::Solid(validate_sections(validate_solid(s, base)?, raw)?)),
             (b, _, _) => Ok(AnyScene::Bar(validate_sections(BarSpec::validate(b.unwrap_or_default())?, raw)?)),
         }
     }
 
     /// The scene with every default filled in, as TOML.
     pub fn resolved_toml(&self) -> String {
-        match self {
-            AnyScene::Bar(s) => s.resolved_toml(),
-            AnyScene::Plate(s) => s.resolved_toml(),
-            AnyScene::Solid(s) => s.resolved_toml(),
-        }
+        crate::with_scene!(self, s => s.resolved_toml())
     }
 
     pub fn time(&self) -> &TimeSpec {
-        match self {
-            AnyScene::Bar(s) => &s.time,
-            AnyScene::Plate(s) => &s.time,
-            AnyScene::Solid(s) => &s.time,
-        }
+        crate::with_scene!(self, s => &s.time)
     }
 
     /// The geometry table's name.
     pub fn table(&self) -> &'static str {
-        match self {
-            AnyScene::Bar(_) => BarSpec::TABLE,
-            AnyScene::Plate(_) => PlateSpec::TABLE,
-            AnyScene::Solid(_) => crate::solid::SolidSpec::TABLE,
+        fn table<G: SceneGeometry>(_: &Scene<G>) -> &'static str {
+            G::TABLE
         }
+        crate::with_scene!(self, s => table(s))
     }
 }
 

@@ -22,9 +22,10 @@
 //! # initial = { displacement = ["(1-x)/2", "0"], velocity = ["0", "0"] }
 //! ```
 //!
-//! The table is read as a TOML table and validated by [`parse_solid`] (a pure function: every
-//! error names the key, `solid.…`, and its allowed range; unknown keys are refused); the
-//! resolved scene writes every key back ([`SceneGeometry::raw`]).
+//! The table is read by serde into a closed [`RawSolid`] (unknown keys are refused, naming the
+//! key) and validated by [`validate_solid`] (a pure function but for the mesh file it reads:
+//! every error names the key, `solid.…`, and its allowed range); the resolved scene writes
+//! every key back ([`SceneGeometry::raw`]). The specification itself is `crate::solid::spec`.
 
 use super::*;
 use crate::expr::Expr;
@@ -34,95 +35,120 @@ use crate::mass::MassKind;
 use crate::solid::{Lame, Lateral, SolidInitial, SolidSpec};
 use std::sync::Arc;
 
-/// The keys of `[solid]`, for the unknown-key message.
-const KEYS: &str =
-    "dim, length, height, depth, nx, ny, nz, cells, mesh, lame_lambda, lame_mu, density, gap, lateral, force, initial";
+/// The `[solid]` table as written (closed: unknown keys are refused, naming the key).
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSolid {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dim: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mesh: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    length: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    height: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    depth: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    nx: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ny: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    nz: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    cells: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lame_lambda: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lame_mu: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    density: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gap: Option<Number>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lateral: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    force: Option<Vec<Number>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    initial: Option<RawSolidInitial>,
+}
 
-fn number(t: &toml::Table, key: &str, full: &'static str, default: f64) -> Result<f64, SceneError> {
-    match t.get(key) {
-        None => Ok(default),
-        Some(toml::Value::Integer(i)) => Ok(*i as f64),
-        Some(toml::Value::Float(f)) => Ok(*f),
-        Some(v) => Err(SceneError::Range { key: full, value: v.to_string(), range: "a number" }),
+/// `solid.initial`: `"paper"` or a table of per-component fields.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(untagged)]
+pub(crate) enum RawSolidInitial {
+    Name(String),
+    Fields(RawSolidFields),
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSolidFields {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    displacement: Option<Vec<RawField>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    velocity: Option<Vec<RawField>>,
+}
+
+/// A number key in (0, ∞).
+fn positive(key: &'static str, v: Option<Number>, default: f64) -> Result<f64, SceneError> {
+    let v = v.map_or(default, Number::get);
+    finite_in(key, v, v > 0.0, "(0, ∞)")
+}
+
+/// A number key in [0, ∞).
+fn non_negative(key: &'static str, v: Option<Number>) -> Result<f64, SceneError> {
+    let v = v.map_or(0.0, Number::get);
+    finite_in(key, v, v >= 0.0, "[0, ∞)")
+}
+
+/// A cell count in [min, 10000] (default 20).
+fn count(key: &'static str, v: Option<i64>, min: i64, range: &'static str) -> Result<usize, SceneError> {
+    match v.unwrap_or(20) {
+        k if (min..=10_000).contains(&k) => Ok(k as usize),
+        k => Err(SceneError::Range { key, value: k.to_string(), range }),
     }
 }
 
-fn positive(t: &toml::Table, key: &str, full: &'static str, default: f64) -> Result<f64, SceneError> {
-    let v = number(t, key, full, default)?;
-    finite_in(full, v, v > 0.0, "(0, ∞)")
-}
-
-fn length(t: &toml::Table, key: &str, full: &'static str) -> Result<f64, SceneError> {
-    length_in(full, number(t, key, full, 1.0)?)
-}
-
-fn count(t: &toml::Table, key: &str, full: &'static str, min: i64, range: &'static str) -> Result<usize, SceneError> {
-    match t.get(key) {
-        None => Ok(20),
-        Some(toml::Value::Integer(i)) if *i >= min && *i <= 10_000 => Ok(*i as usize),
-        Some(v) => Err(SceneError::Range { key: full, value: v.to_string(), range }),
-    }
-}
-
-fn string<'a>(t: &'a toml::Table, key: &str, full: &'static str, default: &'a str) -> Result<&'a str, SceneError> {
-    match t.get(key) {
-        None => Ok(default),
-        Some(toml::Value::String(s)) => Ok(s),
-        Some(v) => Err(SceneError::Range { key: full, value: v.to_string(), range: "a string" }),
-    }
+/// The `[solid]` table (as a TOML table) validated into a [`SolidSpec`], a mesh file relative to
+/// the current folder (library users; scene files go through [`crate::scene::AnyScene`]).
+pub fn parse_solid(t: &toml::Table) -> Result<SolidSpec, SceneError> {
+    let raw = RawSolid::deserialize(toml::Value::Table(t.clone()))
+        .map_err(|e| SceneError::Parse(format!("[solid]: {}", e.to_string().trim_end())))?;
+    validate_solid(raw, std::path::Path::new("."))
 }
 
 /// The `[solid]` table validated into a [`SolidSpec`]: every error names the key (`solid.…`)
-/// and its allowed range; unknown keys are refused. The size is checked before any mesh is
-/// built (cells, contact nodes, cell aspect ratios), the initial data at the mesh nodes.
-pub fn parse_solid(t: &toml::Table) -> Result<SolidSpec, SceneError> {
-    parse_solid_at(t, std::path::Path::new("."))
-}
-
-/// [`parse_solid`] with `mesh = "…"` relative to `base` (the scene's folder), read here, once.
-pub(crate) fn parse_solid_at(t: &toml::Table, base: &std::path::Path) -> Result<SolidSpec, SceneError> {
-    if let Some(key) = t.keys().find(|k| !KEYS.split(", ").any(|x| x == k.as_str())) {
-        return Err(SceneError::Parse(format!("unknown field `{key}` in [solid], expected one of {KEYS}")));
-    }
-    let dim = match t.get("dim") {
-        None => 2,
-        Some(toml::Value::Integer(d @ (2 | 3))) => *d as usize,
-        Some(v) => return Err(SceneError::Range { key: "solid.dim", value: v.to_string(), range: "2 | 3" }),
+/// and its allowed range. The size is checked before any mesh is built (cells, contact nodes,
+/// cell aspect ratios), the initial data at the mesh nodes; `mesh = "…"` is relative to `base`
+/// (the scene's folder) and read here, once.
+pub(crate) fn validate_solid(t: RawSolid, base: &std::path::Path) -> Result<SolidSpec, SceneError> {
+    let dim = match t.dim.unwrap_or(2) {
+        d @ (2 | 3) => d as usize,
+        d => return Err(SceneError::Range { key: "solid.dim", value: d.to_string(), range: "2 | 3" }),
     };
     if dim == 2 {
-        for key in ["depth", "nz"] {
-            if t.contains_key(key) {
-                let key = if key == "depth" { "solid.depth" } else { "solid.nz" };
-                return Err(SceneError::Inapplicable { key, context: "solid.dim = 2".into() });
-            }
-        }
+        forbid("solid.depth", &t.depth, "solid.dim = 2")?;
+        forbid("solid.nz", &t.nz, "solid.dim = 2")?;
     }
-    let (extent, n, cells, mesh, mesh_file) = match t.get("mesh") {
+    let (extent, n, cells, mesh, mesh_file) = match &t.mesh {
         Some(file) => {
-            let file = file.as_str().ok_or_else(|| SceneError::Range {
-                key: "solid.mesh",
-                value: file.to_string(),
-                range: "a mesh file name (a string, relative to the scene file)",
-            })?;
             let path = base.join(file);
-            let mesh = file_mesh(t, dim, &path)?;
+            let mesh = file_mesh(&t, dim, &path)?;
             (mesh.extent, [0; 3], mesh.kind, Some(Arc::new(mesh)), Some(path))
         }
         None => {
-            let (extent, n, cells) = structured(t, dim)?;
+            let (extent, n, cells) = structured(&t, dim)?;
             (extent, n, cells, None, None)
         }
     };
-    let lambda = number(t, "lame_lambda", "solid.lame_lambda", 0.0)?;
-    let lambda = finite_in("solid.lame_lambda", lambda, lambda >= 0.0, "[0, ∞)")?;
     let lame = Lame {
-        lambda,
-        mu: positive(t, "lame_mu", "solid.lame_mu", 0.5)?,
-        density: positive(t, "density", "solid.density", 1.0)?,
+        lambda: non_negative("solid.lame_lambda", t.lame_lambda)?,
+        mu: positive("solid.lame_mu", t.lame_mu, 0.5)?,
+        density: positive("solid.density", t.density, 1.0)?,
     };
-    let gap = number(t, "gap", "solid.gap", 0.0)?;
-    let gap = finite_in("solid.gap", gap, gap >= 0.0, "[0, ∞)")?;
-    let lateral = match string(t, "lateral", "solid.lateral", "free")? {
+    let gap = non_negative("solid.gap", t.gap)?;
+    let lateral = match t.lateral.as_deref().unwrap_or("free") {
         "free" => Lateral::Free,
         "roller" => Lateral::Roller,
         other => {
@@ -131,15 +157,17 @@ pub(crate) fn parse_solid_at(t: &toml::Table, base: &std::path::Path) -> Result<
         }
     };
     let mut force = [0.0; 3];
-    if let Some(v) = t.get("force") {
+    if let Some(v) = &t.force {
         let range = "an array of one finite number per component";
-        let bad = || SceneError::Range { key: "solid.force", value: v.to_string(), range };
-        let a = v.as_array().filter(|a| a.len() == dim).ok_or_else(bad)?;
-        for (f, x) in force.iter_mut().zip(a) {
-            *f = x.as_float().or_else(|| x.as_integer().map(|i| i as f64)).filter(|f| f.is_finite()).ok_or_else(bad)?;
+        let value = || format!("[{}]", v.iter().map(|x| short(x.get())).collect::<Vec<_>>().join(", "));
+        if v.len() != dim || v.iter().any(|x| !x.get().is_finite()) {
+            return Err(SceneError::Range { key: "solid.force", value: value(), range });
+        }
+        for (f, x) in force.iter_mut().zip(v) {
+            *f = x.get();
         }
     }
-    let initial = parse_initial(t.get("initial"), dim, extent)?;
+    let initial = parse_initial(t.initial, dim, extent)?;
     let spec = SolidSpec { dim, extent, cells_per_axis: n, cells, lame, gap, lateral, force, initial, mesh_file, mesh };
     if let SolidInitial::Fields { displacement, velocity } = &spec.initial {
         let mesh = spec.mesh()?;
@@ -150,63 +178,59 @@ pub(crate) fn parse_solid_at(t: &toml::Table, base: &std::path::Path) -> Result<
     Ok(spec)
 }
 
-/// `initial = "paper"` or `{ displacement = [..], velocity = [..] }` (one entry per component;
-/// a missing array is all zeros).
-fn parse_initial(v: Option<&toml::Value>, dim: usize, extent: [f64; 3]) -> Result<SolidInitial, SceneError> {
+/// `initial = "paper"` or `{ displacement = [..], velocity = [..] }` (one entry per component,
+/// a number or an expression; a missing array is all zeros). A number is kept exactly (its
+/// shortest round-trip text).
+fn parse_initial(v: Option<RawSolidInitial>, dim: usize, extent: [f64; 3]) -> Result<SolidInitial, SceneError> {
     let range = "\"paper\" or { displacement = [...], velocity = [...] } with one expression per component";
-    let bad = |v: &toml::Value| SceneError::Range { key: "solid.initial", value: v.to_string(), range };
-    let table = match v {
+    let fields = match v {
         None => return Ok(SolidInitial::Paper),
-        Some(toml::Value::String(s)) if s == "paper" => return Ok(SolidInitial::Paper),
-        Some(toml::Value::Table(t)) => t,
-        Some(v) => return Err(bad(v)),
+        Some(RawSolidInitial::Name(s)) if s == "paper" => return Ok(SolidInitial::Paper),
+        Some(RawSolidInitial::Name(s)) => {
+            return Err(SceneError::Range { key: "solid.initial", value: format!("\"{s}\""), range });
+        }
+        Some(RawSolidInitial::Fields(f)) => f,
     };
-    if let Some(k) = table.keys().find(|k| *k != "displacement" && *k != "velocity") {
-        return Err(SceneError::Parse(format!(
-            "unknown field `{k}` in solid.initial, expected one of displacement, velocity"
-        )));
-    }
     let vars: &[&str] = if dim == 2 { &["x", "y"] } else { &["x", "y", "z"] };
     let pi = std::f64::consts::PI;
     let consts = [("L", extent[0]), ("H", extent[1]), ("D", extent[2]), ("pi", pi)];
     let consts = if dim == 2 { &[consts[0], consts[1], consts[3]][..] } else { &consts[..] };
-    let field = |key: &'static str, name: &str| -> Result<Vec<Expr>, SceneError> {
-        let Some(v) = table.get(name) else {
+    let field = |key: &'static str, raw: Option<Vec<RawField>>| -> Result<Vec<Expr>, SceneError> {
+        let Some(a) = raw else {
             return Ok((0..dim).map(|_| Expr::parse(key, "0", vars, consts).expect("0 parses")).collect());
         };
-        let a = v.as_array().filter(|a| a.len() == dim).ok_or_else(|| bad(v))?;
-        a.iter()
+        if a.len() != dim {
+            let value = format!("{} entries", a.len());
+            return Err(SceneError::Range { key, value, range: "one expression per component (solid.dim of them)" });
+        }
+        a.into_iter()
             .map(|x| {
                 let text = match x {
-                    toml::Value::String(s) => s.clone(),
-                    toml::Value::Integer(i) => i.to_string(),
-                    toml::Value::Float(f) if f.is_finite() => crate::expr::sci(*f),
-                    other => return Err(bad(other)),
+                    RawField::Expr(s) => s,
+                    RawField::Number(n) => finite_in(key, n.get(), true, "finite numbers or expressions").map(short)?,
                 };
                 Ok(Expr::parse(key, &text, vars, consts)?)
             })
             .collect()
     };
     Ok(SolidInitial::Fields {
-        displacement: field("solid.initial.displacement", "displacement")?,
-        velocity: field("solid.initial.velocity", "velocity")?,
+        displacement: field("solid.initial.displacement", fields.displacement)?,
+        velocity: field("solid.initial.velocity", fields.velocity)?,
     })
 }
 
 /// The structured box of a `[solid]` table without `mesh`: extent, cells per axis, cell kind,
 /// its size checked before any mesh is built.
-fn structured(t: &toml::Table, dim: usize) -> Result<([f64; 3], [usize; 3], Cell), SceneError> {
-    let extent = [
-        length(t, "length", "solid.length")?,
-        length(t, "height", "solid.height")?,
-        length(t, "depth", "solid.depth")?,
-    ];
+fn structured(t: &RawSolid, dim: usize) -> Result<([f64; 3], [usize; 3], Cell), SceneError> {
+    let length = |key, v: Option<Number>| length_in(key, v.map_or(1.0, Number::get));
+    let extent =
+        [length("solid.length", t.length)?, length("solid.height", t.height)?, length("solid.depth", t.depth)?];
     let n = [
-        count(t, "nx", "solid.nx", 2, "integers in [2, 10000]")?,
-        count(t, "ny", "solid.ny", 1, "integers in [1, 10000]")?,
-        count(t, "nz", "solid.nz", 1, "integers in [1, 10000]")?,
+        count("solid.nx", t.nx, 2, "integers in [2, 10000]")?,
+        count("solid.ny", t.ny, 1, "integers in [1, 10000]")?,
+        count("solid.nz", t.nz, 1, "integers in [1, 10000]")?,
     ];
-    let cells = match (dim, string(t, "cells", "solid.cells", if dim == 2 { "quad" } else { "hex" })?) {
+    let cells = match (dim, t.cells.as_deref().unwrap_or(if dim == 2 { "quad" } else { "hex" })) {
         (2, "quad") => Cell::Quad,
         (2, "triangle") => Cell::Triangle,
         (3, "hex") => Cell::Hex,
@@ -222,13 +246,15 @@ fn structured(t: &toml::Table, dim: usize) -> Result<([f64; 3], [usize; 3], Cell
 
 /// The mesh of `solid.mesh`: read by meshio, of the table's `dim`, filling the box
 /// (0, L) × (0, H) [× (0, D)] (the contact face x = 0 and the lateral faces are the box's).
-fn file_mesh(t: &toml::Table, dim: usize, path: &std::path::Path) -> Result<Mesh, SceneError> {
+fn file_mesh(t: &RawSolid, dim: usize, path: &std::path::Path) -> Result<Mesh, SceneError> {
     let context = "solid.mesh (the mesh file gives the geometry)";
-    for key in ["solid.length", "solid.height", "solid.depth", "solid.nx", "solid.ny", "solid.nz", "solid.cells"] {
-        if t.contains_key(&key[6..]) {
-            return Err(SceneError::Inapplicable { key, context: context.into() });
-        }
-    }
+    forbid("solid.length", &t.length, context)?;
+    forbid("solid.height", &t.height, context)?;
+    forbid("solid.depth", &t.depth, context)?;
+    forbid("solid.nx", &t.nx, context)?;
+    forbid("solid.ny", &t.ny, context)?;
+    forbid("solid.nz", &t.nz, context)?;
+    forbid("solid.cells", &t.cells, context)?;
     let mesh = read_mesh_file(path)?;
     let bad = |what: String| SceneError::Range {
         key: "solid.mesh",
@@ -377,45 +403,34 @@ impl SceneGeometry for SolidSpec {
     }
 
     fn raw(&self) -> RawScene {
-        let mut t = toml::Table::new();
-        let f = |x: f64| toml::Value::Float(x);
-        let i = |k: usize| toml::Value::Integer(k as i64);
-        let s = |x: &str| toml::Value::String(x.into());
-        let three = self.dim == 3;
-        t.insert("dim".into(), i(self.dim));
-        if let Some(file) = &self.mesh_file {
-            t.insert("mesh".into(), s(&file.display().to_string()));
-        } else {
-            t.insert("length".into(), f(self.extent[0]));
-            t.insert("height".into(), f(self.extent[1]));
-            if three {
-                t.insert("depth".into(), f(self.extent[2]));
-            }
-            t.insert("nx".into(), i(self.cells_per_axis[0]));
-            t.insert("ny".into(), i(self.cells_per_axis[1]));
-            if three {
-                t.insert("nz".into(), i(self.cells_per_axis[2]));
-            }
-            t.insert("cells".into(), s(self.cells.name()));
-        }
-        t.insert("lame_lambda".into(), f(self.lame.lambda));
-        t.insert("lame_mu".into(), f(self.lame.mu));
-        t.insert("density".into(), f(self.lame.density));
-        t.insert("gap".into(), f(self.gap));
-        t.insert("lateral".into(), s(self.lateral.name()));
-        t.insert("force".into(), toml::Value::Array(self.force[..self.dim].iter().map(|&x| f(x)).collect()));
+        let (f, i) = (|x: f64| Some(Number::Float(x)), |k: usize| Some(k as i64));
+        let (three, structured) = (self.dim == 3, self.mesh_file.is_none());
         let initial = match &self.initial {
-            SolidInitial::Paper => s("paper"),
+            SolidInitial::Paper => RawSolidInitial::Name("paper".into()),
             SolidInitial::Fields { displacement, velocity } => {
-                let texts = |e: &[crate::expr::Expr]| toml::Value::Array(e.iter().map(|x| s(x.text())).collect());
-                let mut fields = toml::Table::new();
-                fields.insert("displacement".into(), texts(displacement));
-                fields.insert("velocity".into(), texts(velocity));
-                toml::Value::Table(fields)
+                let texts = |e: &[Expr]| Some(e.iter().map(|x| RawField::Expr(x.text().into())).collect());
+                RawSolidInitial::Fields(RawSolidFields { displacement: texts(displacement), velocity: texts(velocity) })
             }
         };
-        t.insert("initial".into(), initial);
-        RawScene { solid: Some(t), ..Default::default() }
+        let solid = RawSolid {
+            dim: i(self.dim),
+            mesh: self.mesh_file.as_ref().map(|m| m.display().to_string()),
+            length: f(self.extent[0]).filter(|_| structured),
+            height: f(self.extent[1]).filter(|_| structured),
+            depth: f(self.extent[2]).filter(|_| structured && three),
+            nx: i(self.cells_per_axis[0]).filter(|_| structured),
+            ny: i(self.cells_per_axis[1]).filter(|_| structured),
+            nz: i(self.cells_per_axis[2]).filter(|_| structured && three),
+            cells: structured.then(|| self.cells.name().into()),
+            lame_lambda: f(self.lame.lambda),
+            lame_mu: f(self.lame.mu),
+            density: f(self.lame.density),
+            gap: f(self.gap),
+            lateral: Some(self.lateral.name().into()),
+            force: Some(self.force[..self.dim].iter().map(|&x| Number::Float(x)).collect()),
+            initial: Some(initial),
+        };
+        RawScene { solid: Some(solid), ..Default::default() }
     }
 
     fn header(&self, time: &TimeSpec) -> String {

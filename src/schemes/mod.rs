@@ -29,6 +29,24 @@ use crate::linalg::tridiag::FactorError;
 use thiserror::Error;
 
 pub use crate::system::ContactSystem;
+
+/// What the bar-only schemes (Paoli–Schatzman, the reduced Newmark formulation) need of a bar:
+/// its tridiagonal contact system, whose one contact unknown is u_0, its mesh size h and the
+/// weight w_0 of its contact element (for messages). The bar builds it
+/// (`crate::bar::geometry`); no other geometry has one ([`SchemeSpec::bar_only`]).
+#[derive(Debug, Clone, Copy)]
+pub struct OneNodeContact<'a> {
+    pub system: &'a ContactSystem<crate::linalg::tridiag::SymTridiag>,
+    pub h: f64,
+    pub w0: f64,
+}
+
+impl OneNodeContact<'_> {
+    /// The gap between u_0 and the obstacle, `−lb_0`.
+    pub fn gap(&self) -> f64 {
+        -self.system.lower[0]
+    }
+}
 pub use backward_euler::BackwardEuler;
 pub use hybrid::Hybrid;
 pub use newmark::Newmark;

@@ -18,7 +18,6 @@
 //! solve ([`TwistedFactor`]), then one update pass.
 
 use super::{SchemeError, StateView, check_finite, check_range, factor_err};
-use crate::bar::assembly::BarSystem;
 use crate::linalg::tridiag::{SymTridiag, TwistedFactor};
 
 #[derive(Debug, Clone)]
@@ -48,16 +47,16 @@ impl NewmarkReduced {
     pub const NAME: &'static str = "newmark (reduced formulation)";
 
     pub fn new(
-        bar: &BarSystem,
+        bar: super::OneNodeContact<'_>,
         beta: f64,
         gamma: f64,
         dt: f64,
         u0: Vec<f64>,
         v0: Vec<f64>,
     ) -> Result<Self, SchemeError> {
-        let system = &bar.system;
-        if !bar.massless_contact() {
-            return Err(SchemeError::NeedsMasslessContact { scheme: Self::NAME, w0: bar.weights[0] });
+        let system = bar.system;
+        if !system.massless_contact() {
+            return Err(SchemeError::NeedsMasslessContact { scheme: Self::NAME, w0: bar.w0 });
         }
         if bar.gap() != 0.0 {
             // Its closed form u_0 = u_1⁺ is written for the obstacle at 0 (bar-only scheme).
@@ -74,12 +73,12 @@ impl NewmarkReduced {
         let a = system.initial_acceleration(&u0)?;
         let c = (0.5 - beta) * dt * dt;
         let pred = (1..u0.len()).map(|i| u0[i] + dt * v0[i] + c * a[i]).collect();
-        let m = bar.n();
+        let m = system.n();
         Ok(Self {
             beta,
             gamma,
             dt,
-            h: bar.h(),
+            h: bar.h,
             mass,
             load: system.load[1..].to_vec(),
             forcing: system.forcing.clone().map(|f| (f, system.load.clone())),

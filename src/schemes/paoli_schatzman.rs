@@ -26,7 +26,6 @@
 //! correction and the velocity.
 
 use super::{Newmark, Scheme, SchemeError, StateView, check_finite, check_range, factor_err};
-use crate::bar::assembly::BarSystem;
 use crate::contact::contact_multiplier;
 use crate::linalg::tridiag::{SymTridiag, TwistedFactor};
 
@@ -64,7 +63,7 @@ impl PaoliSchatzman {
     pub const NAME: &'static str = "paoli-schatzman";
 
     pub fn new(
-        bar: &BarSystem,
+        bar: super::OneNodeContact<'_>,
         beta: f64,
         restitution: f64,
         dt: f64,
@@ -74,13 +73,13 @@ impl PaoliSchatzman {
         check_range(Self::NAME, "beta", beta, beta > 0.0 && beta <= 1.0, "(0, 1]")?;
         check_range(Self::NAME, "restitution", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
-        let system = &bar.system;
+        let system = bar.system;
         let k = system.mass.combine(1.0, &system.stiffness, beta * dt * dt);
         let factor = k.factor_twisted().map_err(factor_err("M + β Δt² S"))?;
         let response = factor.unit_response(0);
         let mut start = Newmark::crank_nicolson(system, dt, u0.clone(), v0.clone())?;
         start.step()?;
-        let m = bar.n();
+        let m = system.n();
         Ok(Self {
             beta,
             restitution,
@@ -89,7 +88,7 @@ impl PaoliSchatzman {
             stiffness: system.stiffness.clone(),
             load: system.load.clone(),
             forcing: system.forcing.clone(),
-            project: bar.massless_contact(),
+            project: system.massless_contact(),
             obstacle: system.lower[0],
             factor,
             response,

@@ -12,8 +12,8 @@
 //! [`crate::fem::layers`] (shared with plates), the contact system, the sparse back-end with
 //! its exact many-node contact solver, the schemes, the driver and the observers are the same
 //! as for bars and plates. What is solid-specific: the vector assembly ([`assembly`]), the
-//! solid as a [`crate::problem::Geometry`] ([`geometry`]), and the `[solid]` table and the
-//! problem it poses ([`spec`]), and VTU frames with the displacement and velocity vectors and
+//! solid as a [`crate::problem::Geometry`] ([`geometry`]), its specification ([`spec`], parsed
+//! from the `[solid]` table in `crate::scene`), the problem it poses ([`problem`]), and VTU frames with the displacement and velocity vectors and
 //! the contact pressure ([`vtu`]).
 //!
 //! With Q1 cells on a structured mesh, x-only weights and data u = (u¹ᴰ(x), 0[, 0]), and either
@@ -23,8 +23,10 @@
 
 pub mod assembly;
 pub mod geometry;
+pub mod problem;
 pub mod spec;
 pub mod vtu;
 
 pub use assembly::{Lame, Lateral, SolidSystem};
+pub use problem::{SolidError, SolidProblem};
 pub use spec::{SolidInitial, SolidSpec};

@@ -1,7 +1,6 @@
-//! A solid's specification, [`SolidSpec`] (what the `[solid]` table of a scene validates into:
-//! `crate::scene::parse_solid`), and the problem a spec poses ([`SolidSpec::problem`]: the
-//! assembled [`SolidSystem`], the interpolated initial data and the plane-wave exact solution
-//! where it applies).
+//! A solid's specification, [`SolidSpec`]: what the `[solid]` table of a scene validates into
+//! (`crate::scene`'s solid table), and what the solid's problem is built from
+//! (`super::problem`).
 //!
 //! ```toml
 //! [solid]
@@ -24,17 +23,10 @@
 //! # initial = { displacement = ["(1-x)/2", "0"], velocity = ["0", "0"] }
 //! ```
 
-use super::assembly::{Lame, Lateral, SolidAssemblyError, SolidSystem};
-use crate::characteristics::{CharacteristicsError, InitialData};
-use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
+use super::assembly::{Lame, Lateral};
 use crate::expr::Expr;
-use crate::fem::layers::cell_weights;
 use crate::fem::mesh::{Cell, Mesh};
-use crate::mass::MassKind;
-use crate::material::{FarEnd, Material};
 use crate::plate::mesh::{CellKind, MeshError};
-use crate::problem::Problem;
-use thiserror::Error;
 
 /// The initial data of a solid.
 #[derive(Debug, Clone, PartialEq)]
@@ -125,61 +117,4 @@ impl SolidSpec {
             && self.force.iter().all(|&f| f == 0.0)
             && (self.lame.lambda == 0.0 || self.lateral == Lateral::Roller)
     }
-
-    /// The problem of this spec with a mass redistribution: the assembled solid, the nodal
-    /// interpolants of the initial data, and the plane wave up to `t_end` where it applies
-    /// (the paper's closed form for λ + 2μ = ρ = 1 without gap, else the solution by
-    /// characteristics of the bar with density ρ and modulus λ + 2μ).
-    pub fn problem(&self, mass: &MassKind, t_end: f64) -> Result<Problem<SolidSystem>, SolidError> {
-        let mesh = self.mesh()?;
-        let weights = cell_weights(&mesh, mass).map_err(SolidAssemblyError::from)?;
-        let solid = SolidSystem::assemble(mesh, weights, self.lame, self.lateral, self.force, self.gap)?;
-        let l = self.extent[0];
-        let (u0, v0) = match &self.initial {
-            SolidInitial::Paper => {
-                (solid.interpolate(|i, p| if i == 0 { (l - p[0]) / 2.0 } else { 0.0 }), vec![0.0; solid.dofs.len()])
-            }
-            SolidInitial::Fields { displacement, velocity } => {
-                let eval = |f: &[Expr]| solid.interpolate(|i, p| f[i].eval(&p[..self.dim]));
-                (eval(displacement), eval(velocity))
-            }
-        };
-        let exact = if !self.is_plane_wave() {
-            None
-        } else if self.initial == SolidInitial::Paper
-            && self.lame.p_modulus() == 1.0
-            && self.lame.density == 1.0
-            && self.gap == 0.0
-        {
-            Some(Exact::Paper(ImpactingBar { length: l }))
-        } else {
-            let material = Material { density: self.lame.density, modulus: self.lame.p_modulus() };
-            let exact = |data| by_characteristics(l, material, FarEnd::Clamped, self.gap, data, t_end);
-            let c = match &self.initial {
-                SolidInitial::Paper => {
-                    let (x, u, v) = paper_data(l);
-                    exact(InitialData::PiecewiseLinear { x: &x, u: &u, v: &v })
-                }
-                SolidInitial::Fields { displacement, velocity } => {
-                    let at = |x: f64| [x, 0.0, 0.0];
-                    let u = |x: f64| displacement[0].eval(&at(x)[..self.dim]);
-                    let v = |x: f64| velocity[0].eval(&at(x)[..self.dim]);
-                    exact(InitialData::Smooth { u: &u, v: &v })
-                }
-            }
-            .map_err(SolidError::Exact)?;
-            Some(Exact::General(std::sync::Arc::new(c)))
-        };
-        Ok(Problem { system: solid, u0, v0, exact })
-    }
-}
-
-#[derive(Debug, Error)]
-pub enum SolidError {
-    #[error(transparent)]
-    Mesh(#[from] MeshError),
-    #[error(transparent)]
-    Assembly(#[from] SolidAssemblyError),
-    #[error("the plane-wave exact solution of this solid: {0}")]
-    Exact(CharacteristicsError),
 }

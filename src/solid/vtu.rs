@@ -69,7 +69,9 @@ pub fn write_frames(
 
 /// The solid's frames for the streaming writer ([`crate::fem::frames::FrameWriter`]).
 impl crate::fem::frames::VtuFrames for SolidSystem {
-    const COLLECTION: &'static str = "solid";
+    fn collection(&self) -> &'static str {
+        "solid"
+    }
 
     fn frame_layout(&self) -> Layout {
         layout(self)

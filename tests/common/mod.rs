@@ -3,8 +3,9 @@
 
 pub mod alloc;
 
+use massredist::bar::BarProblem;
+use massredist::driver::{Observer, Sample, integrate};
 use massredist::mass::MassKind;
-use massredist::run::{Observer, Problem, Sample, integrate};
 use massredist::scene::{Formulation, SchemeSpec};
 
 /// One recorded state.
@@ -21,8 +22,8 @@ pub struct Frame {
 pub struct Recorder(pub Vec<Frame>);
 
 impl Observer for Recorder {
-    fn needs(&self) -> massredist::run::Needs {
-        massredist::run::Needs { energy: true, ..Default::default() }
+    fn needs(&self) -> massredist::driver::Needs {
+        massredist::driver::Needs { energy: true, ..Default::default() }
     }
     fn observe(&mut self, s: &Sample) {
         let st = s.state;
@@ -30,7 +31,7 @@ impl Observer for Recorder {
     }
 }
 
-pub fn trajectory(problem: &Problem, spec: &SchemeSpec, dt: f64, steps: usize) -> Vec<Frame> {
+pub fn trajectory(problem: &BarProblem, spec: &SchemeSpec, dt: f64, steps: usize) -> Vec<Frame> {
     let mut scheme = problem.scheme(spec, dt).expect("scheme builds");
     let mut rec = Recorder::default();
     integrate(problem, scheme.as_mut(), steps, &mut [&mut rec]).expect("run succeeds");

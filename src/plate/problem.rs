@@ -1,38 +1,30 @@
-//! Plate scenes: the problem of a `[plate]` scene and its run (the driver is
-//! [`crate::driver`], the observers [`crate::observe`]). Nothing here does I/O but
-//! [`run_plate_scene_into`] (through [`crate::output`] and [`crate::plate::vtu`]).
+//! The problem a plate scene poses ([`PlateSpec`] → [`PlateProblem`]: the assembled plate, the
+//! interpolated initial data, and the paper's closed form or the plane wave where it applies),
+//! and the plate's place in the one run path ([`GeometrySpec`]).
 
-use super::RunFolderError;
+use super::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
+use super::layers::cell_weights;
+use super::mesh::{Mesh2d, MeshError};
+use super::spec::{PlateInitial, PlateSpec};
+use crate::body::{Body, Force};
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
-use crate::driver::Observer;
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
+use crate::fem::frames::VtuFrames;
 use crate::mass::MassKind;
-use crate::observe::Summary;
-use crate::output::OutputDir;
-use crate::plate::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
-use crate::plate::layers::cell_weights;
-use crate::plate::mesh::{Mesh2d, MeshError};
-use crate::run::{Setup, setup_error};
-use crate::scene::{Body, Force, PlateInitial, PlateScene, PlateSpec, SceneError};
-use crate::schemes::SchemeError;
+use crate::run::GeometrySpec;
+use crate::scene::Scene;
 use serde::Serialize;
 use thiserror::Error;
 
+/// Why a plate problem cannot be built.
 #[derive(Debug, Error)]
-pub enum PlateRunError {
+pub enum PlateError {
     #[error(transparent)]
     Mesh(#[from] MeshError),
     #[error(transparent)]
     Assembly(#[from] PlateAssemblyError),
-    #[error(transparent)]
-    Scheme(#[from] SchemeError),
     #[error("the plane-wave exact solution of this scene: {0}")]
     Exact(CharacteristicsError),
-    #[error("the 1D reference run failed: {0}")]
-    Reference(String),
-    /// The scene's problem could not be set up (exit code 2: the input is at fault).
-    #[error(transparent)]
-    Setup(SceneError),
 }
 
 /// A plate problem.
@@ -42,14 +34,14 @@ impl PlateProblem {
     /// The plate of `spec` (its validated mesh, or the structured one), with its exact solution
     /// where one is known: the paper's closed form, or a plane wave (`t_end`: how long the
     /// characteristics are traced).
-    pub fn new(spec: &PlateSpec, mass: &MassKind) -> Result<Self, PlateRunError> {
+    pub fn new(spec: &PlateSpec, mass: &MassKind) -> Result<Self, PlateError> {
         let mesh = Mesh2d::clone(spec.mesh()?.as_ref());
         Self::from_mesh(mesh, mass, &spec.initial, &spec.body)
     }
 
     /// [`PlateProblem::new`] with the plane-wave exact solution up to `t_end` where the data allow
     /// it and the closed form does not apply.
-    pub fn with_plane_wave(spec: &PlateSpec, mass: &MassKind, t_end: f64) -> Result<Self, PlateRunError> {
+    pub fn with_plane_wave(spec: &PlateSpec, mass: &MassKind, t_end: f64) -> Result<Self, PlateError> {
         let mut problem = Self::new(spec, mass)?;
         if problem.exact.is_none() {
             problem.exact = plane_wave(spec, t_end)?.map(|c| Exact::General(std::sync::Arc::new(c)));
@@ -59,12 +51,7 @@ impl PlateProblem {
 
     /// Any mesh of (0, L) × (y_min, y_min + H) (e.g. a triangle mesh read from a file with
     /// [`Mesh2d::from_arrays`]); the initial data use `y − y_min`.
-    pub fn from_mesh(
-        mesh: Mesh2d,
-        mass: &MassKind,
-        initial: &PlateInitial,
-        body: &Body,
-    ) -> Result<Self, PlateRunError> {
+    pub fn from_mesh(mesh: Mesh2d, mass: &MassKind, initial: &PlateInitial, body: &Body) -> Result<Self, PlateError> {
         let (l, h) = (mesh.length, mesh.height);
         let ymin = mesh.points.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
         let weights = cell_weights(&mesh, mass).map_err(PlateAssemblyError::from)?;
@@ -121,7 +108,7 @@ fn transient_load(
 
 /// The plane-wave solution of a plate with y-independent data and no force: the bar's solution
 /// by characteristics, extended in y (None otherwise).
-fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, PlateRunError> {
+fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, PlateError> {
     let b = &spec.body;
     if !spec.initial.y_independent() || b.force.constant() != Some(0.0) {
         return Ok(None);
@@ -135,77 +122,48 @@ fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, P
         }
         _ => exact(InitialData::PiecewiseLinear { x: &x, u: &u, v: &v }),
     };
-    Ok(Some(solution.map_err(PlateRunError::Exact)?))
+    Ok(Some(solution.map_err(PlateError::Exact)?))
 }
 
-/// Everything a plate scene run produces (in memory).
-pub type PlateRun = super::MeshRun<PlateSystem>;
-
-/// The problem and scheme of a plate scene; a failure names the keys that shape the matrices.
-pub fn setup(scene: &PlateScene) -> Result<Setup<PlateSystem>, SceneError> {
-    let keys =
-        "plate.length, plate.height, plate.nx, plate.ny, plate.density, plate.modulus, mass.*, scheme.*, time.dt";
-    let problem = PlateProblem::with_plane_wave(&scene.geometry, &scene.mass, scene.time.end)
-        .map_err(|e| setup_error(keys, e))?;
-    let scheme = problem.scheme(&scene.scheme, scene.time.dt).map_err(|e| setup_error(keys, e))?;
-    Ok(Setup { problem, scheme })
-}
-
-/// Runs a plate scene: the summary always, plus the requested series and VTU frames, held in
-/// memory (for library users; `massredist run` streams them: [`run_plate_scene_into`]). A run
-/// that diverges stops there and is still a result (as [`crate::run::run_scene`]).
-pub fn run_plate_scene(scene: &PlateScene, extra: &mut [&mut dyn Observer]) -> Result<PlateRun, PlateRunError> {
-    let setup = setup(scene).map_err(PlateRunError::Setup)?;
-    Ok(super::run_in_memory(scene, setup, extra)?)
-}
-
-/// `massredist run` for a plate scene: as [`crate::run::run_scene_into`], with the VTU frames
-/// streamed too (`vtu/frame_NNNNN.vtu` written when its step is observed, `plate.pvd` closed at
-/// the end): memory does not depend on the number of steps.
-pub fn run_plate_scene_into(
-    scene: &PlateScene,
-    out: OutputDir,
-    extra: &mut [&mut dyn Observer],
-) -> Result<Summary, RunFolderError<PlateRunError>> {
-    let setup = setup(scene).map_err(|e| RunFolderError::Run(PlateRunError::Setup(e)))?;
-    let json = |problem: &PlateProblem, summary: &Summary| summary_json(scene, problem, summary);
-    super::run_frames_into(scene, setup, out, extra, json, PlateRunError::Scheme)
-}
-
+/// The plate keys of `summary.json`.
 #[derive(Serialize)]
-struct PlateSummaryFile<'a> {
-    scheme: &'a str,
-    mass: &'a str,
-    /// Cells along x (the bar's `elements`).
-    elements: usize,
-    length: f64,
-    end: f64,
+pub struct PlateHead {
     height: f64,
     nx: usize,
     ny: usize,
-    cells: &'a str,
-    initial: &'a str,
+    cells: &'static str,
+    initial: &'static str,
     total_mass: f64,
-    #[serde(flatten)]
-    summary: &'a Summary,
 }
 
-/// `summary.json` text.
-pub fn summary_json(scene: &PlateScene, problem: &PlateProblem, summary: &Summary) -> String {
-    let p = &scene.geometry;
-    let file = PlateSummaryFile {
-        scheme: scene.scheme.name(),
-        mass: scene.mass.name(),
-        elements: p.nx,
-        length: p.length,
-        end: scene.time.end,
-        height: p.height,
-        nx: p.nx,
-        ny: p.ny,
-        cells: p.cells.name(),
-        initial: p.initial.name(),
-        total_mass: problem.system.total_mass(),
-        summary,
-    };
-    serde_json::to_string_pretty(&file).expect("summary serialises") + "\n"
+impl GeometrySpec for PlateSpec {
+    type System = PlateSystem;
+    type Error = PlateError;
+    type Head = PlateHead;
+    const SETUP_KEYS: &'static str =
+        "plate.length, plate.height, plate.nx, plate.ny, plate.density, plate.modulus, mass.*, scheme.*, time.dt";
+
+    fn elements(&self) -> usize {
+        self.nx
+    }
+
+    fn problem(scene: &Scene<Self>) -> Result<PlateProblem, PlateError> {
+        PlateProblem::with_plane_wave(&scene.geometry, &scene.mass, scene.time.end)
+    }
+
+    fn summary_head(scene: &Scene<Self>, problem: &PlateProblem) -> PlateHead {
+        let p = &scene.geometry;
+        PlateHead {
+            height: p.height,
+            nx: p.nx,
+            ny: p.ny,
+            cells: p.cells.name(),
+            initial: p.initial.name(),
+            total_mass: problem.system.total_mass(),
+        }
+    }
+
+    fn frames(system: &PlateSystem) -> Option<&dyn VtuFrames> {
+        Some(system)
+    }
 }

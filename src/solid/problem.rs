@@ -1,0 +1,146 @@
+//! The problem a solid scene poses ([`SolidSpec`] → [`SolidProblem`]: the assembled
+//! [`SolidSystem`], the interpolated initial data and the plane-wave exact solution where it
+//! applies), and the solid's place in the one run path ([`GeometrySpec`]).
+
+use super::assembly::{SolidAssemblyError, SolidSystem};
+use super::spec::{SolidInitial, SolidSpec};
+use crate::characteristics::{CharacteristicsError, InitialData};
+use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
+use crate::expr::Expr;
+use crate::fem::frames::VtuFrames;
+use crate::fem::layers::cell_weights;
+use crate::mass::MassKind;
+use crate::material::{FarEnd, Material};
+use crate::plate::mesh::MeshError;
+use crate::problem::Problem;
+use crate::run::GeometrySpec;
+use crate::scene::Scene;
+use serde::Serialize;
+use thiserror::Error;
+
+/// A solid problem.
+pub type SolidProblem = Problem<SolidSystem>;
+
+impl SolidSpec {
+    /// The problem of this spec with a mass redistribution: the assembled solid, the nodal
+    /// interpolants of the initial data, and the plane wave up to `t_end` where it applies
+    /// (the paper's closed form for λ + 2μ = ρ = 1 without gap, else the solution by
+    /// characteristics of the bar with density ρ and modulus λ + 2μ).
+    pub fn problem(&self, mass: &MassKind, t_end: f64) -> Result<Problem<SolidSystem>, SolidError> {
+        let mesh = self.mesh()?;
+        let weights = cell_weights(&mesh, mass).map_err(SolidAssemblyError::from)?;
+        let solid = SolidSystem::assemble(mesh, weights, self.lame, self.lateral, self.force, self.gap)?;
+        let l = self.extent[0];
+        let (u0, v0) = match &self.initial {
+            SolidInitial::Paper => {
+                (solid.interpolate(|i, p| if i == 0 { (l - p[0]) / 2.0 } else { 0.0 }), vec![0.0; solid.dofs.len()])
+            }
+            SolidInitial::Fields { displacement, velocity } => {
+                let eval = |f: &[Expr]| solid.interpolate(|i, p| f[i].eval(&p[..self.dim]));
+                (eval(displacement), eval(velocity))
+            }
+        };
+        let exact = if !self.is_plane_wave() {
+            None
+        } else if self.initial == SolidInitial::Paper
+            && self.lame.p_modulus() == 1.0
+            && self.lame.density == 1.0
+            && self.gap == 0.0
+        {
+            Some(Exact::Paper(ImpactingBar { length: l }))
+        } else {
+            let material = Material { density: self.lame.density, modulus: self.lame.p_modulus() };
+            let exact = |data| by_characteristics(l, material, FarEnd::Clamped, self.gap, data, t_end);
+            let c = match &self.initial {
+                SolidInitial::Paper => {
+                    let (x, u, v) = paper_data(l);
+                    exact(InitialData::PiecewiseLinear { x: &x, u: &u, v: &v })
+                }
+                SolidInitial::Fields { displacement, velocity } => {
+                    let at = |x: f64| [x, 0.0, 0.0];
+                    let u = |x: f64| displacement[0].eval(&at(x)[..self.dim]);
+                    let v = |x: f64| velocity[0].eval(&at(x)[..self.dim]);
+                    exact(InitialData::Smooth { u: &u, v: &v })
+                }
+            }
+            .map_err(SolidError::Exact)?;
+            Some(Exact::General(std::sync::Arc::new(c)))
+        };
+        Ok(Problem { system: solid, u0, v0, exact })
+    }
+}
+
+#[derive(Debug, Error)]
+pub enum SolidError {
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error(transparent)]
+    Assembly(#[from] SolidAssemblyError),
+    #[error("the plane-wave exact solution of this solid: {0}")]
+    Exact(CharacteristicsError),
+}
+
+/// The solid keys of `summary.json`.
+#[derive(Serialize)]
+pub struct SolidHead {
+    dim: usize,
+    height: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    depth: Option<f64>,
+    nx: usize,
+    ny: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    nz: Option<usize>,
+    cells: &'static str,
+    lateral: &'static str,
+    lame_lambda: f64,
+    lame_mu: f64,
+    density: f64,
+    gap: f64,
+    initial: &'static str,
+    /// `∫ ρ w_h` (per component).
+    total_mass: f64,
+    /// Unknowns (free components).
+    unknowns: usize,
+}
+
+impl GeometrySpec for SolidSpec {
+    type System = SolidSystem;
+    type Error = SolidError;
+    type Head = SolidHead;
+    const SETUP_KEYS: &'static str = "solid.*, mass.*, scheme.*, time.dt";
+
+    fn elements(&self) -> usize {
+        self.cells_per_axis[0]
+    }
+
+    fn problem(scene: &Scene<Self>) -> Result<SolidProblem, SolidError> {
+        scene.geometry.problem(&scene.mass, scene.time.end)
+    }
+
+    fn summary_head(scene: &Scene<Self>, problem: &SolidProblem) -> SolidHead {
+        let s = &scene.geometry;
+        let three = s.dim == 3;
+        SolidHead {
+            dim: s.dim,
+            height: s.extent[1],
+            depth: three.then_some(s.extent[2]),
+            nx: s.cells_per_axis[0],
+            ny: s.cells_per_axis[1],
+            nz: three.then_some(s.cells_per_axis[2]),
+            cells: s.cells.name(),
+            lateral: s.lateral.name(),
+            lame_lambda: s.lame.lambda,
+            lame_mu: s.lame.mu,
+            density: s.lame.density,
+            gap: s.gap,
+            initial: s.initial.name(),
+            total_mass: problem.system.total_mass(),
+            unknowns: problem.system.dofs.len(),
+        }
+    }
+
+    fn frames(system: &SolidSystem) -> Option<&dyn VtuFrames> {
+        Some(system)
+    }
+}
