@@ -121,7 +121,7 @@ fn transient_load(
 
 /// The plane-wave solution of a plate with y-independent data and no force: the bar's solution
 /// by characteristics, extended in y (None otherwise).
-fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, PlateRunError> {
+pub(crate) fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, PlateRunError> {
     let b = &spec.body;
     if !spec.initial.y_independent() || b.force.constant() != Some(0.0) {
         return Ok(None);
@@ -192,6 +192,11 @@ struct PlateSummaryFile<'a> {
 
 /// `summary.json` text.
 pub fn summary_json(scene: &PlateScene, problem: &PlateProblem, summary: &Summary) -> String {
+    summary_json_of(scene, problem.system.total_mass(), summary)
+}
+
+/// [`summary_json`] with the plate's `∫ w_h` given (an engine run's own).
+pub fn summary_json_of(scene: &PlateScene, total_mass: f64, summary: &Summary) -> String {
     let p = &scene.geometry;
     let file = PlateSummaryFile {
         scheme: scene.scheme.name(),
@@ -204,7 +209,7 @@ pub fn summary_json(scene: &PlateScene, problem: &PlateProblem, summary: &Summar
         ny: p.ny,
         cells: p.cells.name(),
         initial: p.initial.name(),
-        total_mass: problem.system.total_mass(),
+        total_mass,
         summary,
     };
     serde_json::to_string_pretty(&file).expect("summary serialises") + "\n"

@@ -92,6 +92,11 @@ struct SolidSummaryFile<'a> {
 /// `summary.json` text: the plate keys and the solid's (module docs of [`crate::scene`]'s
 /// `[solid]`), then the [`Summary`].
 pub fn summary_json(scene: &SolidScene, problem: &SolidProblem, summary: &Summary) -> String {
+    summary_json_of(scene, problem.system.total_mass(), problem.system.dofs.len(), summary)
+}
+
+/// [`summary_json`] with `∫ ρ w_h` and the unknowns given (an engine run's own).
+pub fn summary_json_of(scene: &SolidScene, total_mass: f64, unknowns: usize, summary: &Summary) -> String {
     let s = &scene.geometry;
     let three = s.dim == 3;
     let file = SolidSummaryFile {
@@ -113,8 +118,8 @@ pub fn summary_json(scene: &SolidScene, problem: &SolidProblem, summary: &Summar
         density: s.lame.density,
         gap: s.gap,
         initial: s.initial.name(),
-        total_mass: problem.system.total_mass(),
-        unknowns: problem.system.dofs.len(),
+        total_mass,
+        unknowns,
         summary,
     };
     serde_json::to_string_pretty(&file).expect("summary serialises") + "\n"

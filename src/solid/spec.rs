@@ -144,7 +144,15 @@ impl SolidSpec {
                 (eval(displacement), eval(velocity))
             }
         };
-        let exact = if !self.is_plane_wave() {
+        Ok(Problem { system: solid, u0, v0, exact: self.exact(t_end)? })
+    }
+
+    /// The plane wave up to `t_end` where it applies (module docs of [`crate::solid`]): the
+    /// paper's closed form for λ + 2μ = ρ = 1 without gap, else the solution by characteristics
+    /// of the bar with density ρ and modulus λ + 2μ; None for other data.
+    pub fn exact(&self, t_end: f64) -> Result<Option<Exact>, SolidError> {
+        let l = self.extent[0];
+        Ok(if !self.is_plane_wave() {
             None
         } else if self.initial == SolidInitial::Paper
             && self.lame.p_modulus() == 1.0
@@ -169,8 +177,7 @@ impl SolidSpec {
             }
             .map_err(SolidError::Exact)?;
             Some(Exact::General(std::sync::Arc::new(c)))
-        };
-        Ok(Problem { system: solid, u0, v0, exact })
+        })
     }
 }
 
