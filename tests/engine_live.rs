@@ -233,9 +233,9 @@ fn run_status(scene: &Path, out: &Path, ranks: Option<usize>) -> (Option<i32>, S
 /// folders agreeing within [`TOL`] (same keys and rows), and the engine told to stop there
 /// (engine.json's `steps_taken`).
 // mutation: `Some(_) if energy.abs() > factor * reference` -> `... > 1e3 * factor * reference` in
-//   DivergenceWatch::judge (src/driver.rs) -> fails: both runs complete (exit 0).
-// mutation: the engine ignores the reply (`if reply != "go"` -> `if False` in run.py) -> fails:
-//   the engine's steps_taken is 60, not the divergence step.
+//   DivergenceWatch::judge (src/driver.rs) -> fails: "the Rust run diverges" (it completes, exit 0).
+// mutation: the engine ignores the reply (`if reply != "go":` -> `if False:` in run.py) -> fails:
+//   "the engine sent state 23 after it was told to stop at state 22" (exit 1, not 3).
 #[test]
 fn the_rust_divergence_rule_stops_an_engine_run() {
     let dir = tempfile::tempdir().unwrap();
@@ -266,7 +266,8 @@ fn the_rust_divergence_rule_stops_an_engine_run() {
 /// (interpolated exactly: P1/Q1 hold linear functions; 1e-15 for the round-off of x).
 // mutation: `if self.every and s.n % self.every == 0` -> `if self.every and s.n == 0` in run.py
 //   -> fails: 1 step read instead of 7.
-// mutation: no merge_collections (dolfinx's two collections kept) -> fails: only "velocity" read.
+// mutation: no merge (`if len(cols) < 2:` -> `if True:` in run.py) -> fails: KeyError
+//   'displacement' (meshio reads the last collection only, velocity).
 #[test]
 fn the_engine_writes_an_xdmf_time_series_at_vtu_every() {
     let dir = tempfile::tempdir().unwrap();
@@ -294,4 +295,20 @@ fn the_engine_writes_an_xdmf_time_series_at_vtu_every() {
     }
     let err: f64 = rows[0][3].parse().unwrap();
     assert!(err <= 1e-15, "the first frame is the initial data: {err:e}");
+}
+
+/// Issue 22, D15: `--ranks` above the launcher's slots is invalid input (exit 2) with a message
+/// naming `--ranks` and the processors here, and nothing is written (it used to exit 1 with
+/// "exit status exit status: 1").
+// mutation: `too_many_ranks` returns None (no probe) -> fails: exit code 1, "failed with exit status".
+#[test]
+fn ranks_above_the_available_slots_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene(dir.path(), "quad", "quad", "paper", "crank-nicolson", "mod3");
+    let out = dir.path().join("out");
+    let (code, err) = run_status(&s, &out, Some(64));
+    assert_eq!(code, Some(2), "{err}");
+    let last = err.lines().last().unwrap_or("");
+    assert!(last.contains("--ranks 64") && last.contains("processor(s)") && last.contains("slots"), "{last}");
+    assert!(!out.exists(), "nothing is written");
 }

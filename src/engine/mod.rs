@@ -60,13 +60,21 @@ pub enum EngineError {
     /// The engine's stream broke the protocol ([`stream`]).
     #[error("the fenicsx engine's stream: {0}")]
     Protocol(String),
+    /// The engine ended before its first record (the launcher, or the engine's set-up, failed).
+    #[error("the fenicsx engine ended before its first record")]
+    Ended,
+    /// The launcher cannot start that many processes here.
+    #[error(
+        "--ranks {ranks}: `{launcher} -n {ranks}` cannot start {ranks} processes here (not enough slots; this machine has {processors} processor(s), and Open MPI gives one slot per core unless a hostfile or the scheduler grants more); choose --ranks {processors} or fewer"
+    )]
+    Ranks { ranks: usize, launcher: String, processors: usize },
 }
 
 impl EngineError {
     /// True when nothing was computed: an invalid scene or a missing dependency (exit code 2 of
     /// `massredist run`), as opposed to a failure while computing or writing (exit code 1).
     pub fn is_invalid(&self) -> bool {
-        matches!(self, EngineError::Scene(_) | EngineError::Missing { .. })
+        matches!(self, EngineError::Scene(_) | EngineError::Missing { .. } | EngineError::Ranks { .. })
     }
 }
 
@@ -230,6 +238,9 @@ pub fn run<G: EngineGeometry>(scene: &Scene<G>, out: OutputDir, ranks: usize) ->
     let mut child = Engine::start(ranks, &scene_file, &staging)?;
     let consumed = consume(scene, exact.as_ref(), &staging, &mut child);
     let status = child.finish()?;
+    if let (Err(EngineError::Ended), false) = (&consumed, status.success()) {
+        return Err(too_many_ranks(ranks).unwrap_or(EngineError::Failed { ranks, status: status.to_string() }));
+    }
     let (head, summary) = consumed?;
     let diverged = summary.divergence.is_some();
     match (status.code(), diverged) {
@@ -254,7 +265,7 @@ fn consume<G: EngineGeometry>(
         Some(Message::Head(h)) => h,
         Some(other) => return Err(broken(format!("the engine's first record is {other:?}, not its head"))),
         // The engine ended before its problem was set up (its message is on stderr).
-        None => return Err(EngineError::Protocol("the engine ended before its first record".into())),
+        None => return Err(EngineError::Ended),
     };
     let geometry = scene.geometry.streamed(&head);
     let o = &scene.output;
@@ -269,11 +280,17 @@ fn consume<G: EngineGeometry>(
         all.push(s);
     }
     let mut observed = stream::Observed::new(&mut all, watch, &geometry, exact);
+    let mut stopped = None;
     loop {
         match child.next()? {
+            Some(Message::Sample(r)) if stopped.is_some() => {
+                let at = stopped.unwrap_or(0);
+                return Err(broken(format!("the engine sent state {} after it was told to stop at state {at}", r.n)));
+            }
             Some(Message::Sample(r)) => {
                 let reply = observed.show(&r);
                 child.reply(reply);
+                stopped = (reply != stream::Reply::Go).then_some(r.n);
             }
             Some(Message::NonFinite { n, t }) => observed.non_finite(n, t),
             Some(Message::Head(_)) => return Err(broken("a second head record".into())),
@@ -287,6 +304,34 @@ fn consume<G: EngineGeometry>(
     Ok((head, summary.finish()))
 }
 
+/// `mpirun -n RANKS` with the environment every engine launch gets.
+fn launcher(ranks: usize) -> Command {
+    let mut cmd = Command::new(program("MASSREDIST_MPIRUN", "mpirun"));
+    cmd.arg("-n").arg(ranks.to_string());
+    // Ranks that wait in a collective yield the core (this machine, and any oversubscribed
+    // one, has fewer cores than busy processes); a cluster sets its own MCA parameters.
+    if std::env::var_os("OMPI_MCA_mpi_yield_when_idle").is_none() {
+        cmd.env("OMPI_MCA_mpi_yield_when_idle", "1");
+    }
+    if running_as_root() {
+        cmd.env("OMPI_ALLOW_RUN_AS_ROOT", "1").env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
+    }
+    cmd
+}
+
+/// After an engine that ended before its first record: whether the launcher refuses `ranks`
+/// processes for want of slots (probed with `true` in their place; Open MPI says "not enough
+/// slots"). Costs nothing on a run that starts.
+fn too_many_ranks(ranks: usize) -> Option<EngineError> {
+    let probe = launcher(ranks).arg("true").stdin(std::process::Stdio::null()).output().ok()?;
+    let said = String::from_utf8_lossy(&probe.stderr).to_lowercase() + &String::from_utf8_lossy(&probe.stdout);
+    (!probe.status.success() && said.contains("slots")).then(|| EngineError::Ranks {
+        ranks,
+        launcher: program("MASSREDIST_MPIRUN", "mpirun"),
+        processors: std::thread::available_parallelism().map_or(1, |n| n.get()),
+    })
+}
+
 /// The engine's process: `mpirun -n N python fenicsx_engine.py SCENE DIR` with its standard
 /// output read line by line ([`stream::parse`]) and its standard input for the replies.
 struct Engine {
@@ -298,17 +343,9 @@ struct Engine {
 impl Engine {
     fn start(ranks: usize, scene_file: &Path, dir: &Path) -> Result<Engine, EngineError> {
         use std::io::BufRead;
-        let mut cmd = Command::new(program("MASSREDIST_MPIRUN", "mpirun"));
-        cmd.arg("-n").arg(ranks.to_string()).arg(program("MASSREDIST_PYTHON", "/usr/bin/python3"));
+        let mut cmd = launcher(ranks);
+        cmd.arg(program("MASSREDIST_PYTHON", "/usr/bin/python3"));
         cmd.arg(entry_point()).arg(scene_file).arg(dir);
-        // Ranks that wait in a collective yield the core (this machine, and any oversubscribed
-        // one, has fewer cores than busy processes); a cluster sets its own MCA parameters.
-        if std::env::var_os("OMPI_MCA_mpi_yield_when_idle").is_none() {
-            cmd.env("OMPI_MCA_mpi_yield_when_idle", "1");
-        }
-        if running_as_root() {
-            cmd.env("OMPI_ALLOW_RUN_AS_ROOT", "1").env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
-        }
         cmd.stdin(std::process::Stdio::piped()).stdout(std::process::Stdio::piped());
         let mut child = cmd.spawn().map_err(EngineError::Output)?;
         let stdout = child.stdout.take().expect("stdout is piped");
