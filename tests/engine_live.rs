@@ -312,3 +312,65 @@ fn ranks_above_the_available_slots_are_refused_by_name() {
     assert!(last.contains("--ranks 64") && last.contains("processor(s)") && last.contains("slots"), "{last}");
     assert!(!out.exists(), "nothing is written");
 }
+
+/// The processes whose command line mentions `needle` (Linux `/proc`), but this one.
+fn processes_mentioning(needle: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for e in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(pid) = e.file_name().to_string_lossy().parse::<u32>() else { continue };
+        let Ok(cmd) = std::fs::read(e.path().join("cmdline")) else { continue };
+        let cmd = String::from_utf8_lossy(&cmd).replace('\0', " ");
+        if pid != std::process::id() && cmd.contains(needle) {
+            found.push(format!("{pid}: {cmd}"));
+        }
+    }
+    found
+}
+
+/// Issue 22, D2: SIGTERM to `massredist run --engine fenicsx` no longer orphans the engine. The
+/// engine's stdout and stdin are pipes to massredist (the stream): once it is gone, mpirun's
+/// forwarding of rank 0's records hits a closed pipe and mpirun ends the job, and rank 0 reads
+/// the end of its input as "hide" and stops at its next state; so mpirun and its ranks end
+/// within seconds, and the next run into the same --out removes the partial folder and writes.
+// Before: the same steps with the starting commit's binary (/work/baseline/massredist and the
+// python/ of /work/main) left mpirun and both python ranks running 20 s after SIGTERM (checked by
+// hand, 2026-11-25). mutation: EOF read as "go" and write errors ignored in stream.py -> still
+// passes (mpirun's broken pipe alone ends the job: two mechanisms, either suffices).
+#[test]
+fn sigterm_to_an_engine_run_stops_the_engine() {
+    let dir = tempfile::tempdir().unwrap();
+    let long = plate_scene("quad", "paper", "crank-nicolson", "mod3").replace("end = 3.0", "end = 1000.0");
+    let s = scene_file(dir.path(), "long", long);
+    let out = dir.path().join("out");
+    let _one = ENGINE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let mut child = Command::new(bin())
+        .arg("run")
+        .arg(&s)
+        .args(["--engine", "fenicsx", "--ranks", "2", "--out"])
+        .arg(&out)
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let staging = dir.path().join(format!(".out.tmp-{}", child.id()));
+    let streaming = || std::fs::read_to_string(staging.join("series.csv")).is_ok_and(|t| t.lines().count() > 5);
+    let started = std::time::Instant::now();
+    while !streaming() {
+        assert!(started.elapsed().as_secs() < 120, "the engine did not start streaming in 120 s");
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let needle = dir.path().to_string_lossy().into_owned();
+    assert!(!processes_mentioning(&needle).is_empty(), "the engine runs");
+    Command::new("kill").arg("-TERM").arg(child.id().to_string()).status().unwrap();
+    child.wait().unwrap();
+    let killed = std::time::Instant::now();
+    while !processes_mentioning(&needle).is_empty() && killed.elapsed().as_secs() < 20 {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let left = processes_mentioning(&needle);
+    assert!(left.is_empty(), "still running 20 s after SIGTERM: {left:#?}");
+    drop(_one);
+    let short = scene_file(dir.path(), "short", plate_scene("quad", "paper", "crank-nicolson", "mod3"));
+    run(&short, &out, Some(1), None);
+    assert!(!staging.exists(), "the next run removed the partial folder {}", staging.display());
+    assert!(out.join("summary.json").is_file());
+}

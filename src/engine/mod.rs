@@ -253,7 +253,8 @@ pub fn run<G: EngineGeometry>(scene: &Scene<G>, out: OutputDir, ranks: usize) ->
 }
 
 /// Reads the engine's records until it ends, shows them to the summary and the series writer,
-/// replies `go`/`stop` after each state; returns the head and the summary.
+/// replies to each state ([`stream::Reply`]); returns the head and the summary. A state after
+/// a reply other than `go` breaks the protocol.
 fn consume<G: EngineGeometry>(
     scene: &Scene<G>,
     exact: Option<&Exact>,
@@ -280,21 +281,20 @@ fn consume<G: EngineGeometry>(
         all.push(s);
     }
     let mut observed = stream::Observed::new(&mut all, watch, &geometry, exact);
-    let mut stopped = None;
+    let mut stopped: Option<usize> = None;
     loop {
-        match child.next()? {
-            Some(Message::Sample(r)) if stopped.is_some() => {
-                let at = stopped.unwrap_or(0);
+        match (child.next()?, stopped) {
+            (Some(Message::Sample(r)), Some(at)) => {
                 return Err(broken(format!("the engine sent state {} after it was told to stop at state {at}", r.n)));
             }
-            Some(Message::Sample(r)) => {
+            (Some(Message::Sample(r)), None) => {
                 let reply = observed.show(&r);
                 child.reply(reply);
                 stopped = (reply != stream::Reply::Go).then_some(r.n);
             }
-            Some(Message::NonFinite { n, t }) => observed.non_finite(n, t),
-            Some(Message::Head(_)) => return Err(broken("a second head record".into())),
-            None => break,
+            (Some(Message::NonFinite { n, t }), _) => observed.non_finite(n, t),
+            (Some(Message::Head(_)), _) => return Err(broken("a second head record".into())),
+            (None, _) => break,
         }
     }
     observed.finish();
