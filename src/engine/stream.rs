@@ -21,7 +21,7 @@
 //! `"nan"`, `"inf"` or `"-inf"`. Standard output and input are what every MPI launcher forwards
 //! from rank 0 to the launching process (mpirun, srun), also across the nodes of a cluster.
 
-use crate::driver::{Divergence, DivergenceReason, DivergenceWatch, Needs, Observer, Sample, Verdict};
+use crate::driver::{Divergence, DivergenceReason, DivergenceWatch, Observer, Sample, Verdict};
 use crate::exact::Exact;
 use crate::observe::ContactStats;
 use crate::problem::GeometryView;
@@ -279,12 +279,6 @@ impl<'a> Observed<'a> {
     ) -> Self {
         let cadence = observers.iter().map(|o| o.every().max(1)).collect();
         Self { observers, cadence, watch, geometry, exact, divergence: None }
-    }
-
-    /// What the observers need (the engine computes it all at every step anyway; kept for
-    /// symmetry with the driver and asserted by the tests).
-    pub fn needs(&self) -> Needs {
-        self.observers.iter().fold(Needs::default(), |n, o| n.or(o.needs()))
     }
 
     /// Shows a record to the observers due at its step, as the driver shows a state; returns
