@@ -1,21 +1,26 @@
-"""The FEniCSx engine: a plate scene stepped by dolfinx and PETSc under MPI (issue 12).
+"""The FEniCSx engine: a plate or solid scene stepped by dolfinx and PETSc under MPI (issue 12),
+streaming every state to ``massredist``, which observes it (src/engine/).
 
-    mpirun -n N /usr/bin/python3 python/fenicsx_engine.py RESOLVED_SCENE OUT_DIR [--staged]
+    mpirun -n N /usr/bin/python3 python/fenicsx_engine.py RESOLVED_SCENE DIR
 
-RESOLVED_SCENE is a ``scene.resolved.toml`` written by ``massredist`` (``check`` or ``run``).
-OUT_DIR receives series.csv, summary.json, scene.resolved.toml (the columns and keys of the
-Rust run), engine.json (ranks, solver, tolerances, timings, complementarity record) and
-fields.xdmf/.h5 (ParaView). The folder is written under a temporary sibling and renamed into
-place; with ``--staged`` OUT_DIR is already such a folder (``massredist run --engine fenicsx``
-prepared it and renames it). Exit codes as a Rust run: 0, 1 failure, 2 invalid input,
-3 diverged (folder written).
+started by ``massredist run SCENE --engine fenicsx --ranks N --out OUT`` (not by hand: the series,
+the summary and the divergence rule are massredist's). RESOLVED_SCENE is the
+``scene.resolved.toml`` it wrote into DIR, the temporary folder of OUT; the engine adds
+engine.json (ranks, solver, tolerances, timings, complementarity record) and fields.xdmf/.h5
+(ParaView) there. Rank 0's standard output carries the records (python/engine/stream.py), its
+standard input massredist's replies; everything else goes to standard error. Exit codes: 0,
+1 failure, 2 invalid input, 3 stopped (massredist's divergence rule, or a non-finite state).
 """
 import os
-import shutil
 import sys
 
 os.environ.setdefault("OMPI_MCA_ess_singleton_isolated", "1")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from engine import stream  # noqa: E402  (pure: no dolfinx)
+
+# Before dolfinx, PETSc or MPI can print anything: file descriptor 1 becomes stderr.
+PROTOCOL_OUT = stream.isolate_stdout()
 
 import logging  # noqa: E402
 
@@ -23,46 +28,32 @@ logging.getLogger().setLevel(logging.WARNING)
 
 from mpi4py import MPI  # noqa: E402
 
-from engine import output, scene as scene_mod  # noqa: E402
+from engine import scene as scene_mod  # noqa: E402
 from engine.run import run  # noqa: E402
 
 
 def main(argv):
     comm = MPI.COMM_WORLD
-    args = [a for a in argv if a != "--staged"]
-    staged = "--staged" in argv
-    if len(args) != 2:
+    if len(argv) != 2:
         if comm.rank == 0:
             print(__doc__, file=sys.stderr)
         return 2
-    path, out = args
-    # Every rank reads the scene; rank 0 alone prepares the folder and tells the others.
+    path, folder = argv
+    # Every rank reads the scene; an error is rank 0's to tell.
     try:
         with open(path) as f:
-            text = f.read()
-        scene = scene_mod.parse(text)
-        folder = None
-        if comm.rank == 0:
-            folder = out if staged else output.prepare(out)
+            scene = scene_mod.parse(f.read())
         error = None
-    except (OSError, scene_mod.SceneError, output.OutputError, KeyError, ValueError) as e:
+    except (OSError, scene_mod.SceneError, KeyError, ValueError) as e:
         error = f"error: {path}: {e}"
     error = comm.bcast(error if comm.rank == 0 else None, root=0) or error
     if error:
         if comm.rank == 0:
             print(error, file=sys.stderr)
         return 2
-    folder = comm.bcast(folder, root=0)
     logging.getLogger().setLevel(logging.WARNING)  # the form compiler logs every gcc call
-    try:
-        code = run(scene, folder, text, comm)
-    except Exception:
-        if comm.rank == 0 and not staged:
-            shutil.rmtree(folder, ignore_errors=True)
-        raise
+    code = run(scene, folder, stream.Channel(comm, PROTOCOL_OUT), comm)
     comm.Barrier()
-    if comm.rank == 0 and not staged:
-        output.commit(folder, out)
     return code
 
 

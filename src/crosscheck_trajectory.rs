@@ -136,13 +136,25 @@ pub fn difference(a: &Path, b: &Path) -> Result<f64, String> {
         return Err(format!("summary.json keys differ: {only:?}"));
     }
     for (k, va) in ja.iter().filter(|(k, _)| !NOT_COMPARED.contains(&k.as_str())) {
-        match (va.as_f64(), jb[k].as_f64()) {
-            (Some(x), Some(y)) => worst = worst.max((x - y).abs()),
-            _ if va == &jb[k] => {}
-            _ => return Err(format!("summary.json {k}: {va} vs {}", jb[k])),
-        }
+        worst = worst.max(value_difference(k, va, &jb[k])?);
     }
     Ok(worst)
+}
+
+/// The largest difference of the numbers in two summary values (a number, or an object of them
+/// such as `divergence`); an error naming `key` if anything else differs.
+fn value_difference(key: &str, a: &serde_json::Value, b: &serde_json::Value) -> Result<f64, String> {
+    use serde_json::Value;
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => {
+            Ok((x.as_f64().unwrap_or(f64::NAN) - y.as_f64().unwrap_or(f64::NAN)).abs())
+        }
+        (Value::Object(x), Value::Object(y)) if x.keys().eq(y.keys()) => {
+            x.iter().try_fold(0.0_f64, |w, (k, v)| Ok(w.max(value_difference(&format!("{key}.{k}"), v, &y[k])?)))
+        }
+        _ if a == b => Ok(0.0),
+        _ => Err(format!("summary.json {key}: {a} vs {b}")),
+    }
 }
 
 /// One trajectory case of `massredist crosscheck`.

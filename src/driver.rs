@@ -12,6 +12,7 @@
 
 use crate::exact::Exact;
 use crate::linalg::SymMatrix;
+use crate::observe::ContactStats;
 use crate::problem::{Geometry, GeometryView, Problem};
 use crate::schemes::{Scheme, SchemeError, StateView};
 use crate::system::ContactSystem;
@@ -53,6 +54,53 @@ impl DivergenceCriterion {
 impl Default for DivergenceCriterion {
     fn default() -> Self {
         Self { energy_factor: Self::DEFAULT_ENERGY_FACTOR }
+    }
+}
+
+/// The divergence rule of [`DivergenceCriterion`], state by state: the one piece that decides,
+/// for a run stepped here ([`integrate_watched`]) and for a run streamed from another process
+/// (`crate::engine`, whose states never exist on this side).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DivergenceWatch {
+    factor: f64,
+    /// `E_F` of [`DivergenceCriterion`].
+    load_energy: f64,
+    /// `E_ref`, set by the first state shown (t_0).
+    reference: Option<f64>,
+}
+
+/// What [`DivergenceWatch::judge`] says of a state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Verdict {
+    /// Show it and go on.
+    Go,
+    /// Show it; it is the last one (`|E| > factor · E_ref`).
+    Last(Divergence),
+    /// Do not show it: its energy is not finite.
+    Hidden(Divergence),
+}
+
+impl DivergenceWatch {
+    /// `load_energy`: `E_F = ½ F_rᵀ S_rr⁻¹ F_r` (0 without load).
+    pub fn new(criterion: &DivergenceCriterion, load_energy: f64) -> Self {
+        Self { factor: criterion.energy_factor, load_energy, reference: None }
+    }
+
+    /// Judges state `step` at `time` by its energy (the first finite one sets `E_ref`).
+    pub fn judge(&mut self, step: usize, time: f64, energy: f64) -> Verdict {
+        let diverged = |reason| Divergence { step, time, reason };
+        if !energy.is_finite() {
+            return Verdict::Hidden(diverged(DivergenceReason::NonFiniteEnergy));
+        }
+        let factor = self.factor;
+        match self.reference {
+            None => self.reference = Some(energy.abs().max(self.load_energy)),
+            Some(reference) if energy.abs() > factor * reference => {
+                return Verdict::Last(diverged(DivergenceReason::EnergyFactor { energy, reference, factor }));
+            }
+            Some(_) => {}
+        }
+        Verdict::Go
     }
 }
 
@@ -146,6 +194,8 @@ pub struct Sample<'a> {
     pub y_variation: f64,
     /// Principal pivots of the step's contact solves.
     pub pivots: usize,
+    /// The contact values' extremes and complementarity (node by node).
+    pub contact: ContactStats,
 }
 
 pub trait Observer {
@@ -226,9 +276,8 @@ fn drive<G: Geometry>(
     let cadence: Vec<usize> = observers.iter().map(|o| o.every().max(1)).collect();
     let needs: Vec<Needs> = observers.iter().map(|o| o.needs()).collect();
     let geometry: &dyn GeometryView = &problem.system;
-    let e_load = criterion.map_or(0.0, |_| load_energy(problem.system.system()));
-    // E_ref, set by the first state shown (t_0).
-    let mut reference: Option<f64> = None;
+    let mut watch = criterion.map(|c| DivergenceWatch::new(c, load_energy(problem.system.system())));
+    let lower = &problem.system.system().lower;
     let mut diagnostics = problem.system.diagnostics();
     let mut show = |scheme: &dyn Scheme, observers: &mut [&mut dyn Observer]| -> Option<Divergence> {
         let state = scheme.state();
@@ -236,9 +285,9 @@ fn drive<G: Geometry>(
         let mut need = (0..observers.len()).filter(|&k| due(k)).fold(Needs::default(), |n, k| n.or(needs[k]));
         need.energy |= criterion.is_some();
         let energy = if need.energy { diagnostics.energy(state.u, state.v, state.t) } else { f64::NAN };
-        let diverged = |reason| Some(Divergence { step: state.n, time: state.t, reason });
-        if criterion.is_some() && !energy.is_finite() {
-            return diverged(DivergenceReason::NonFiniteEnergy);
+        let verdict = watch.as_mut().map_or(Verdict::Go, |w| w.judge(state.n, state.t, energy));
+        if let Verdict::Hidden(d) = verdict {
+            return Some(d);
         }
         let (l2_error, exact_interp_norm) = match (need.l2, &problem.exact) {
             (true, Some(ex)) => diagnostics.l2(state.u, ex, state.t),
@@ -258,21 +307,17 @@ fn drive<G: Geometry>(
             pressure: contact_force / geometry.contact_measure(),
             y_variation: if need.y_variation { geometry.y_variation(state.u) } else { f64::NAN },
             pivots: scheme.pivots(),
+            contact: ContactStats::of(state.u, state.lambda, geometry.contact(), lower),
         };
         for (k, o) in observers.iter_mut().enumerate() {
             if due(k) {
                 o.observe(&sample);
             }
         }
-        let factor = criterion?.energy_factor;
-        match reference {
-            None => reference = Some(energy.abs().max(e_load)),
-            Some(reference) if energy.abs() > factor * reference => {
-                return diverged(DivergenceReason::EnergyFactor { energy, reference, factor });
-            }
-            Some(_) => {}
+        match verdict {
+            Verdict::Last(d) => Some(d),
+            _ => None,
         }
-        None
     };
     let mut outcome = show(scheme, observers);
     for _ in 0..steps {

@@ -4,7 +4,7 @@
 
 use crate::driver::{Divergence, Needs, Observer, Sample};
 use crate::exact::Exact;
-use crate::problem::{Geometry, Problem};
+use crate::problem::{Geometry, GeometryView, Problem};
 use serde::Serialize;
 
 /// Records the requested columns every `every` steps (t_0 included), in memory: for library
@@ -162,6 +162,37 @@ pub struct Summary {
     pub wall_seconds: f64,
 }
 
+/// The contact values of one state, node by node: what the summary keeps of them
+/// (`min_u0`, `max_lambda`, `max_complementarity_product`, impact and release). Computed where
+/// the state lives: by the driver ([`ContactStats::of`]) or by the engine that streams it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactStats {
+    /// `min_c u_c` (+∞ without contact unknowns).
+    pub min_u: f64,
+    /// `max_c λ_c` (−∞ without contact unknowns).
+    pub max_lambda: f64,
+    /// `max_c |(u_c − lb_c) λ_c|` (0 without contact unknowns).
+    pub max_product: f64,
+    /// Some contact node is at (or below) its obstacle, `u_c ≤ lb_c` (a mean can stay above
+    /// −gap by rounding while a node touches).
+    pub touching: bool,
+}
+
+impl ContactStats {
+    /// The statistics of `u` (unknowns) and `lambda` (contact order) over the contact unknowns
+    /// `contact` with bounds `lower` (contact order).
+    pub fn of(u: &[f64], lambda: &[f64], contact: &[usize], lower: &[f64]) -> Self {
+        let mut s = Self { min_u: f64::INFINITY, max_lambda: f64::NEG_INFINITY, max_product: 0.0, touching: false };
+        for (c, &i) in contact.iter().enumerate() {
+            s.touching |= u[i] <= lower[c];
+            s.min_u = s.min_u.min(u[i]);
+            s.max_lambda = s.max_lambda.max(lambda[c]);
+            s.max_product = s.max_product.max(((u[i] - lower[c]) * lambda[c]).abs());
+        }
+        s
+    }
+}
+
 /// Accumulates a [`Summary`] in the step loop (O(1) memory).
 #[derive(Debug, Clone)]
 pub struct SummaryObserver {
@@ -174,8 +205,6 @@ pub struct SummaryObserver {
     has_exact: bool,
     with_l2: bool,
     with_y: bool,
-    /// Obstacle bound lb = −gap of every contact node.
-    lower: Vec<f64>,
     linf_l2: f64,
     linf_interp: f64,
     max_contact: f64,
@@ -204,22 +233,25 @@ pub struct SummaryObserver {
 impl SummaryObserver {
     /// `with_l2 = false` skips the per-step L² error (the L² fields are then null).
     pub fn new<G: Geometry>(problem: &Problem<G>, steps: usize, dt: f64, with_l2: bool) -> Self {
-        let g = &problem.system;
-        let lower = g.system().lower.clone();
+        Self::of_view(&problem.system, problem.exact.as_ref(), steps, dt, with_l2)
+    }
+
+    /// [`SummaryObserver::new`] from what it reads of a problem: the geometry's measures and
+    /// the exact solution (a run whose state lives elsewhere: `crate::engine`).
+    pub fn of_view(g: &dyn GeometryView, exact: Option<&Exact>, steps: usize, dt: f64, with_l2: bool) -> Self {
         Self {
             steps,
             h: g.h(),
             dt,
-            exact_energy: match &problem.exact {
+            exact_energy: match exact {
                 Some(Exact::Paper(_)) => g.length() * g.section() / 8.0,
                 Some(e) => e.energy() * g.section(),
                 None => f64::NAN,
             },
-            first_contact: problem.exact.as_ref().and_then(|e| e.first_contact()),
-            has_exact: problem.exact.is_some(),
-            with_l2: with_l2 && problem.exact.as_ref().is_some_and(|e| g.integrates(e)),
+            first_contact: exact.and_then(|e| e.first_contact()),
+            has_exact: exact.is_some(),
+            with_l2: with_l2 && exact.is_some_and(|e| g.integrates(e)),
             with_y: g.dim() > 1,
-            lower,
             linf_l2: 0.0,
             linf_interp: 0.0,
             max_contact: 0.0,
@@ -312,15 +344,11 @@ impl Observer for SummaryObserver {
         self.energy(st.n, s.energy);
         let u0 = s.u0;
         self.final_u0 = u0;
-        // Impact and release are decided node by node: some contact node at its obstacle
-        // (a mean can stay above −gap by rounding while a node touches).
-        let mut touching = false;
-        for (c, &i) in s.geometry.contact().iter().enumerate() {
-            touching |= st.u[i] <= self.lower[c];
-            self.min_u0 = self.min_u0.min(st.u[i]);
-            self.max_lambda = self.max_lambda.max(st.lambda[c]);
-            self.max_product = self.max_product.max(((st.u[i] - self.lower[c]) * st.lambda[c]).abs());
-        }
+        // Impact and release are decided node by node ([`ContactStats::touching`]).
+        let touching = s.contact.touching;
+        self.min_u0 = self.min_u0.min(s.contact.min_u);
+        self.max_lambda = self.max_lambda.max(s.contact.max_lambda);
+        self.max_product = self.max_product.max(s.contact.max_product);
         if self.with_y {
             self.max_y_variation = self.max_y_variation.max(s.y_variation);
         }

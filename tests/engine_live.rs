@@ -212,3 +212,165 @@ fn a_missing_engine_names_the_install_command() {
     assert!(err.contains("mpirun") && err.contains("bash python/install-deps.sh"), "{err}");
     assert!(!out.exists(), "nothing is written");
 }
+
+/// Runs `massredist run SCENE --engine fenicsx --ranks N --out OUT` and returns its exit code and
+/// stderr (for runs that are meant to stop).
+fn run_status(scene: &Path, out: &Path, ranks: Option<usize>) -> (Option<i32>, String) {
+    let _one = ENGINE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let mut cmd = Command::new(bin());
+    cmd.arg("run").arg(scene).arg("--out").arg(out);
+    if let Some(n) = ranks {
+        cmd.args(["--engine", "fenicsx", "--ranks", &n.to_string()]);
+    }
+    let o = cmd.output().unwrap();
+    (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+}
+
+/// The standard mass with Crank–Nicolson chatters at the impact and gains energy (up to about
+/// 4 E⁰ by T = 3, src/driver.rs `DEFAULT_ENERGY_FACTOR`): with `divergence_factor = 1.01` the
+/// Rust divergence rule stops the engine at the first state above 1.01 E⁰, as it stops the Rust
+/// run, at the same step: exit 3, status "diverged", the series ending at that state, the
+/// folders agreeing within [`TOL`] (same keys and rows), and the engine told to stop there
+/// (engine.json's `steps_taken`).
+// mutation: `Some(_) if energy.abs() > factor * reference` -> `... > 1e3 * factor * reference` in
+//   DivergenceWatch::judge (src/driver.rs) -> fails: "the Rust run diverges" (it completes, exit 0).
+// mutation: the engine ignores the reply (`if reply != "go":` -> `if False:` in run.py) -> fails:
+//   "the engine sent state 23 after it was told to stop at state 22" (exit 1, not 3).
+#[test]
+fn the_rust_divergence_rule_stops_an_engine_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = plate_scene("quad", "paper", "crank-nicolson", "standard") + "divergence_factor = 1.01\n";
+    let s = scene_file(dir.path(), "chatter", text);
+    let (rust, eng) = (dir.path().join("rust"), dir.path().join("eng"));
+    let (code, err) = run_status(&s, &rust, None);
+    assert_eq!(code, Some(3), "the Rust run diverges: {err}");
+    for ranks in [1, 2] {
+        let (code, err) = run_status(&s, &eng, Some(ranks));
+        assert_eq!(code, Some(3), "the engine run on {ranks} rank(s) is stopped: {err}");
+        let (a, b) = (json(&rust.join("summary.json")), json(&eng.join("summary.json")));
+        assert_eq!(b["status"], "diverged");
+        assert_eq!(a["divergence"]["step"], b["divergence"]["step"], "{:?} vs {:?}", a["divergence"], b["divergence"]);
+        assert_eq!(b["divergence"]["reason"], "energy-factor");
+        let step = b["divergence"]["step"].as_u64().unwrap();
+        assert!(step > 20 && step < 60, "diverged after the impact at t = 1, before the end: step {step}");
+        assert_eq!(json(&eng.join("engine.json"))["steps_taken"].as_u64(), Some(step), "the engine stopped there");
+        assert_eq!(series(&eng).len() as u64, step + 1, "series.csv ends at the last state shown");
+        let d = difference(&rust, &eng);
+        assert!(d <= TOL, "{ranks} rank(s) vs Rust: {d:e} > {TOL:e}");
+    }
+}
+
+/// `fields.xdmf` is a time series at `output.vtu_every`: meshio's `TimeSeriesReader` (Debian's
+/// python3) reads every frame back, t = 0, 0.5, …, 3 (every 10th of the 60 steps), each with
+/// both fields, and the first displacement is the paper's initial data u = (L − x)/2 at the nodes
+/// (interpolated exactly: P1/Q1 hold linear functions; 1e-15 for the round-off of x).
+// mutation: `if self.every and s.n % self.every == 0` -> `if self.every and s.n == 0` in run.py
+//   -> fails: 1 step read instead of 7.
+// mutation: no merge (`if len(cols) < 2:` -> `if True:` in run.py) -> fails: KeyError
+//   'displacement' (meshio reads the last collection only, velocity).
+#[test]
+fn the_engine_writes_an_xdmf_time_series_at_vtu_every() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = plate_scene("quad", "paper", "crank-nicolson", "mod3") + "vtu = true\nvtu_every = 10\n";
+    let s = scene_file(dir.path(), "frames", text);
+    let eng = run(&s, &dir.path().join("eng"), Some(2), None);
+    let script = "import sys, meshio, numpy as np\n\
+        with meshio.xdmf.TimeSeriesReader(sys.argv[1]) as r:\n\
+        \x20   x, cells = r.read_points_cells()\n\
+        \x20   for k in range(r.num_steps):\n\
+        \x20       t, pd, cd = r.read_data(k)\n\
+        \x20       d = pd['displacement'].ravel()\n\
+        \x20       err = np.abs(d - (1 - x[:, 0]) / 2).max() if k == 0 else 0.0\n\
+        \x20       print(repr(t), ','.join(sorted(pd)), len(d), repr(err))\n";
+    let o = Command::new("/usr/bin/python3").arg("-c").arg(script).arg(eng.join("fields.xdmf")).output().unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}\n{}", String::from_utf8_lossy(&o.stderr));
+    let rows: Vec<Vec<&str>> = out.lines().map(|l| l.split(' ').collect()).collect();
+    assert_eq!(rows.len(), 7, "frames at steps 0, 10, …, 60: {out}");
+    for (k, r) in rows.iter().enumerate() {
+        let t: f64 = r[0].parse().unwrap();
+        assert!((t - 0.5 * k as f64).abs() <= 1e-12, "frame {k} at t = {t}");
+        assert_eq!(r[1], "displacement,velocity", "{out}");
+        assert_eq!(r[2], "45", "the 9 × 5 nodes of the 8 × 4 plate");
+    }
+    let err: f64 = rows[0][3].parse().unwrap();
+    assert!(err <= 1e-15, "the first frame is the initial data: {err:e}");
+}
+
+/// Issue 22, D15: `--ranks` above the launcher's slots is invalid input (exit 2) with a message
+/// naming `--ranks` and the processors here, and nothing is written (it used to exit 1 with
+/// "exit status exit status: 1").
+// mutation: `too_many_ranks` returns None (no probe) -> fails: exit code 1, "failed with exit status".
+#[test]
+fn ranks_above_the_available_slots_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene(dir.path(), "quad", "quad", "paper", "crank-nicolson", "mod3");
+    let out = dir.path().join("out");
+    let (code, err) = run_status(&s, &out, Some(64));
+    assert_eq!(code, Some(2), "{err}");
+    let last = err.lines().last().unwrap_or("");
+    assert!(last.contains("--ranks 64") && last.contains("processor(s)") && last.contains("slots"), "{last}");
+    assert!(!out.exists(), "nothing is written");
+}
+
+/// The processes whose command line mentions `needle` (Linux `/proc`), but this one.
+fn processes_mentioning(needle: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for e in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(pid) = e.file_name().to_string_lossy().parse::<u32>() else { continue };
+        let Ok(cmd) = std::fs::read(e.path().join("cmdline")) else { continue };
+        let cmd = String::from_utf8_lossy(&cmd).replace('\0', " ");
+        if pid != std::process::id() && cmd.contains(needle) {
+            found.push(format!("{pid}: {cmd}"));
+        }
+    }
+    found
+}
+
+/// Issue 22, D2: SIGTERM to `massredist run --engine fenicsx` no longer orphans the engine. The
+/// engine's stdout and stdin are pipes to massredist (the stream): once it is gone, mpirun's
+/// forwarding of rank 0's records hits a closed pipe and mpirun ends the job, and rank 0 reads
+/// the end of its input as "hide" and stops at its next state; so mpirun and its ranks end
+/// within seconds, and the next run into the same --out removes the partial folder and writes.
+// Before: the same steps with the starting commit's binary (/work/baseline/massredist and the
+// python/ of /work/main) left mpirun and both python ranks running 20 s after SIGTERM (checked by
+// hand, 2026-11-25). mutation: EOF read as "go" and write errors ignored in stream.py -> still
+// passes (mpirun's broken pipe alone ends the job: two mechanisms, either suffices).
+#[test]
+fn sigterm_to_an_engine_run_stops_the_engine() {
+    let dir = tempfile::tempdir().unwrap();
+    let long = plate_scene("quad", "paper", "crank-nicolson", "mod3").replace("end = 3.0", "end = 1000.0");
+    let s = scene_file(dir.path(), "long", long);
+    let out = dir.path().join("out");
+    let _one = ENGINE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let mut child = Command::new(bin())
+        .arg("run")
+        .arg(&s)
+        .args(["--engine", "fenicsx", "--ranks", "2", "--out"])
+        .arg(&out)
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let staging = dir.path().join(format!(".out.tmp-{}", child.id()));
+    let streaming = || std::fs::read_to_string(staging.join("series.csv")).is_ok_and(|t| t.lines().count() > 5);
+    let started = std::time::Instant::now();
+    while !streaming() {
+        assert!(started.elapsed().as_secs() < 120, "the engine did not start streaming in 120 s");
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let needle = dir.path().to_string_lossy().into_owned();
+    assert!(!processes_mentioning(&needle).is_empty(), "the engine runs");
+    Command::new("kill").arg("-TERM").arg(child.id().to_string()).status().unwrap();
+    child.wait().unwrap();
+    let killed = std::time::Instant::now();
+    while !processes_mentioning(&needle).is_empty() && killed.elapsed().as_secs() < 20 {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let left = processes_mentioning(&needle);
+    assert!(left.is_empty(), "still running 20 s after SIGTERM: {left:#?}");
+    drop(_one);
+    let short = scene_file(dir.path(), "short", plate_scene("quad", "paper", "crank-nicolson", "mod3"));
+    run(&short, &out, Some(1), None);
+    assert!(!staging.exists(), "the next run removed the partial folder {}", staging.display());
+    assert!(out.join("summary.json").is_file());
+}

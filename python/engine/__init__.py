@@ -8,16 +8,18 @@ Modules (pure ones first; only ``problem``, ``qp``, ``schemes`` and ``run`` touc
 - ``layers``: the structured 2D/3D mesh arrays and the cell weights (src/fem/{mesh,layers}.rs).
 - ``exact``: the paper's impacting bar (scaled to any wave speed for solids) and exact L² errors
   (chord integration on 2D cells, Gauss lines on boxes).
-- ``observe``: series rows and the summary, with the Rust columns and keys.
-- ``output``: number format, summary.json, the atomic run folder with its marker.
+- ``stream``: the channel to massredist (records out on rank 0's stdout, replies in on its
+  stdin); massredist's observers write series.csv and summary.json, its divergence rule stops
+  the run (src/engine/).
 - ``problem``: the distributed mesh, DG0 weights, M, S, F, held and contact dofs.
 - ``qp``: one step's contact problem as a bound-constrained QP (SNES ``vinewtonrsls``).
 - ``schemes``: Newmark / Crank–Nicolson, backward Euler, hybrid.
-- ``run``: the loop, the samples of src/driver.rs, rank 0's files.
+- ``run``: the loop, each state's diagnostics (reduced over the ranks), engine.json and the
+  XDMF time series.
 
 A solid is a vector field (``Scene.field = "vector"``): a ``VectorFunctionSpace`` with the elastic
 ``λ div u div v + 2μ ε(u):ε(v)``; the contact dofs are the x-components of the nodes on x = 0
 (block index × d), the held dofs every component on x = L and, with roller faces, the normal
-component on the lateral faces. ``qp``, ``schemes``, ``observe`` and ``output`` work on dof
-vectors and index lists alike for both fields.
+component on the lateral faces. ``qp`` and ``schemes`` work on dof vectors and index lists alike
+for both fields.
 """

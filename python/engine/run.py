@@ -1,6 +1,8 @@
-"""One engine run: the problem, the scheme, the loop over the steps with the samples the Rust
-driver shows its observers (src/driver.rs: energy, u0, u_mean, λ, contact force, L² error,
-y-variation, divergence criterion), and rank 0's output. Collective: every rank calls it."""
+"""One engine run: the problem, the scheme, and the loop over the steps, each state's diagnostics
+(its own: energy, u0, u_mean, contact force and pressure, L² error, y-variation, contact extremes,
+solver iterations; reduced over the ranks) streamed to massredist, whose observers and divergence
+rule decide the rest (python/engine/stream.py, src/engine/stream.rs). The engine's own files:
+engine.json and the fields (XDMF). Collective: every rank calls it."""
 import json
 import math
 import time
@@ -11,7 +13,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from . import exact as exact_mod
-from . import observe, output, qp, schemes
+from . import qp, schemes
 from .problem import Problem, _quad
 
 
@@ -75,6 +77,7 @@ class Sampler:
         return math.sqrt(e2), math.sqrt(max(_quad(p.M1, ih), 0.0))
 
     def sample(self, s):
+        """The fields of a ``sample`` record (src/engine/stream.rs) of the state of scheme ``s``."""
         p, comm = self.p, self.p.comm
         u, lam = s.u, s.lam
         uc = u.getArray()[p.contact]
@@ -82,15 +85,18 @@ class Sampler:
         force = comm.allreduce(float(lam.sum()))
         # u0: the reference node (plates), the plain mean over the face nodes (solids).
         u0 = p.contact_node_mean(u) if p.scene.solid else p.at_ref(u)
-        out = {"n": s.n, "t": s.n * p.scene.dt, "energy": p.energy(u, s.v), "u0": u0,
-               "u_mean": p.contact_mean(u), "contact_force": force, "lambda": force / p.contact_measure,
-               "min_uc": comm.allreduce(float(uc.min(initial=np.inf)), op=MPI.MIN),
+        t = s.n * p.scene.dt
+        out = {"n": int(s.n), "t": t, "energy": p.energy(u, s.v), "u0": u0,
+               "u_mean": p.contact_mean(u), "contact_force": force, "pressure": force / p.contact_measure,
+               "y_variation": self.y_variation(u), "l2_error": math.nan, "exact_interp_norm": math.nan,
+               "iterations": int(s.iterations),
+               "min_u": comm.allreduce(float(uc.min(initial=np.inf)), op=MPI.MIN),
                "max_lambda": comm.allreduce(float(lam.max(initial=-np.inf)), op=MPI.MAX),
                "max_product": comm.allreduce(float(np.abs(gap * lam).max(initial=0.0)), op=MPI.MAX),
-               "y_variation": self.y_variation(u), "pivots": s.iterations,
-               "l2_error": math.nan, "exact_interp_norm": math.nan}
+               # node by node, as src/observe.rs ContactStats: some u_c on its bound
+               "touching": comm.allreduce(bool((gap <= 0.0).any()), op=MPI.LOR)}
         if self.with_l2:
-            out["l2_error"], out["exact_interp_norm"] = self.l2(u, out["t"])
+            out["l2_error"], out["exact_interp_norm"] = self.l2(u, t)
         return out
 
 
@@ -107,9 +113,73 @@ def load_energy(p):
     return 0.5 * qp.direct_solve(s, f, p.comm).dot(f)
 
 
-def run(scene, folder, resolved_text, comm=MPI.COMM_WORLD):
-    """Steps ``scene`` and writes its files into ``folder`` (an existing, private folder: the
-    caller handles the atomic layout). Returns the exit code of a Rust run (0, or 3 if diverged)."""
+class Fields:
+    """``fields.xdmf``/``.h5``: displacement and velocity, one temporal collection each, at the
+    states shown every ``output.vtu_every`` steps (a time series), or the last state shown
+    without ``output.vtu``; then merged into one collection for readers that take one
+    (:func:`merge_collections`)."""
+
+    def __init__(self, p, folder, scene):
+        self.p, self.scene, self.path = p, scene, f"{folder}/fields.xdmf"
+        self.every = scene.vtu_every
+        self.file = io.XDMFFile(p.comm, self.path, "w")
+        self.file.write_mesh(p.msh)
+        self.fields = [(fem.Function(p.V, name="displacement"), lambda s: s.u),
+                       (fem.Function(p.V, name="velocity"), lambda s: s.v)]
+        self.last = None
+
+    def shown(self, s):
+        """State ``s`` was shown to massredist's observers (due at the cadence: written)."""
+        self.last = s.n
+        if self.every and s.n % self.every == 0:
+            self.write(s)
+
+    def write(self, s):
+        for fn, vec in self.fields:
+            fn.x.array[: self.p.n_owned] = vec(s).getArray()
+            fn.x.scatter_forward()
+            self.file.write_function(fn, s.n * self.scene.dt)
+
+    def close(self, s):
+        """Writes the last state shown if no cadence was asked for (``s`` is still it)."""
+        if not self.every and self.last is not None and self.last == s.n:
+            self.write(s)
+        self.file.close()
+        self.p.comm.Barrier()
+        if self.p.comm.rank == 0:
+            with open(self.path) as f:
+                text = f.read()
+            with open(self.path, "w") as f:
+                f.write(merge_collections(text))
+
+
+def merge_collections(text):
+    """dolfinx 0.5 writes one temporal collection per function; ParaView reads that, but meshio's
+    ``TimeSeriesReader`` (and other readers) take one collection: this moves the attributes of
+    every later collection into the first one's grid of the same time. Pure: XML in, XML out."""
+    import xml.etree.ElementTree as ET
+    ET.register_namespace("xi", "http://www.w3.org/2001/XInclude")
+    root = ET.fromstring(text)
+    domain = root.find("Domain")
+    cols = [g for g in domain.findall("Grid") if g.get("CollectionType") == "Temporal"]
+    if len(cols) < 2:
+        return text
+    first = cols[0]
+    at = {g.find("Time").get("Value"): g for g in first.findall("Grid")}
+    for col in cols[1:]:
+        for g in col.findall("Grid"):
+            target = at[g.find("Time").get("Value")]
+            for a in g.findall("Attribute"):
+                target.append(a)
+        domain.remove(col)
+    first.set("Name", "fields")
+    return '<?xml version="1.0"?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n' + ET.tostring(root, encoding="unicode") + "\n"
+
+
+def run(scene, folder, channel, comm=MPI.COMM_WORLD):
+    """Steps ``scene``, streaming every state to massredist through ``channel`` and writing
+    engine.json and the fields into ``folder`` (massredist's temporary run folder). Returns the
+    exit code: 0, or 3 if massredist stopped the run or a state was not finite."""
     started = time.perf_counter()
     p = Problem(scene, comm)
     bar = exact_mod.plane_wave(scene)
@@ -119,91 +189,44 @@ def run(scene, folder, resolved_text, comm=MPI.COMM_WORLD):
     sampler = Sampler(p, bar, want_l2)
     s = schemes.make(p)
     setup = time.perf_counter() - started
-    summ = observe.SummaryObserver(scene.steps, p.h, scene.dt, 0.0 - scene.gap, bar,
-                                   bar.energy() * scene.face_area if bar else math.nan,
-                                   bar.first_contact() if bar else None,
-                                   with_l2=scene.summary_l2 and integrates)
-    rows, e_load, reference, divergence = [], load_energy(p), None, None
-    frames = scene.vtu_every
-    xdmf = io.XDMFFile(comm, f"{folder}/fields.xdmf", "w")
-    xdmf.write_mesh(p.msh)
-    fields = [(fem.Function(p.V, name="displacement"), lambda: s.u),
-              (fem.Function(p.V, name="velocity"), lambda: s.v)]
+    channel.send("head", h=p.h, total_mass=p.total_mass, unknowns=int(p.n_free), load_energy=load_energy(p))
+    fields = Fields(p, folder, scene)
     worst = [np.inf, -np.inf, 0.0, 0.0]
-
-    def write_frame():
-        for fn, vec in fields:
-            fn.x.array[: p.n_owned] = vec().getArray()
-            fn.x.scatter_forward()
-            xdmf.write_function(fn, s.n * scene.dt)
-
+    code = 0
     stepping = time.perf_counter()
     for n in range(scene.steps + 1):
         if n > 0:
             try:
                 s.step()
+                finite = np.isfinite(s.u.getArray()).all() and np.isfinite(s.lam).all()
             except qp.NonFinite:
-                divergence = {"step": n, "time": n * scene.dt, "reason": "non-finite-state"}
+                finite = False
+            if not comm.allreduce(bool(finite), op=MPI.LAND):
+                channel.send("non-finite", n=n, t=n * scene.dt)
+                fields.last = None   # the state in the vectors is not one shown
+                code = 3
                 break
             c = [comm.allreduce(v, op=o) for v, o in zip(s.check, (MPI.MIN, MPI.MAX, MPI.MAX, MPI.MAX))]
             worst = [min(worst[0], c[0]), max(worst[1], c[1]), max(worst[2], c[2]), max(worst[3], c[3])]
-            finite = np.isfinite(s.u.getArray()).all() and np.isfinite(s.lam).all()
-            if not comm.allreduce(bool(finite), op=MPI.LAND):
-                divergence = {"step": n, "time": n * scene.dt, "reason": "non-finite-state"}
-                break
-        smp = sampler.sample(s)
-        e = smp["energy"]
-        if not math.isfinite(e):
-            divergence = {"step": n, "time": n * scene.dt, "reason": "non-finite-energy"}
+        reply = channel.state(sampler.sample(s))
+        if reply != "hide":
+            fields.shown(s)
+        if reply != "go":
+            code = 3
             break
-        if comm.rank == 0:
-            summ.observe(smp)
-            if scene.series and n % scene.every == 0:
-                rows.append(observe.series_row(scene.series, smp, bar))
-        if frames and n % frames == 0:
-            write_frame()
-        if reference is None:
-            reference = max(abs(e), e_load)
-        elif abs(e) > scene.divergence_factor * reference:
-            divergence = {"step": n, "time": n * scene.dt, "reason": "energy-factor", "energy": e,
-                          "reference": reference, "factor": scene.divergence_factor}
-            break
-    if not frames:
-        write_frame()
-    xdmf.close()
+    fields.close(s)
     step_seconds = time.perf_counter() - stepping
     if comm.rank == 0:
-        if divergence:
-            summ.diverged(divergence)
-        timing = {"setup_seconds": setup, "step_seconds": step_seconds, "steps_taken": s.n}
-        _write(folder, scene, p, s, summ, rows, worst, timing, resolved_text)
-    return 3 if divergence else 0
+        engine = {"ranks": p.comm.size, "unknowns": p.V.dofmap.index_map.size_global,
+                  "contact_dofs": p.n_contact, "solver": s.qp.describe(), "atol_factor": qp.ATOL_FACTOR,
+                  "vi_bound_tol": qp.VI_BOUND_TOL, "setup_seconds": setup, "step_seconds": step_seconds,
+                  "steps_taken": s.n, "min_gap": worst[0], "max_lambda": worst[1],
+                  "max_complementarity_product": worst[2], "max_inactive_multiplier": worst[3]}
+        with open(f"{folder}/engine.json", "w") as f:
+            f.write(json.dumps({k: _json_number(v) for k, v in engine.items()}, indent=2) + "\n")
+    return code
 
 
-def _write(folder, scene, p, s, summ, rows, worst, timing, resolved_text):
-    """Rank 0's files: summary.json and series.csv as the Rust run, engine.json, the scene."""
-    head = {"scheme": scene.scheme, "mass": scene.mass, "elements": scene.nx, "length": scene.length,
-            "end": scene.end, "height": scene.height, "nx": scene.nx, "ny": scene.ny,
-            "cells": scene.cells,
-            "initial": scene.initial if isinstance(scene.initial, str) else "expressions",
-            "total_mass": p.total_mass}
-    if scene.solid:
-        three = scene.dim == 3
-        head = {"scheme": scene.scheme, "mass": scene.mass, "elements": scene.nx, "length": scene.length,
-                "end": scene.end, "dim": scene.dim, "height": scene.height,
-                **({"depth": scene.depth} if three else {}), "nx": scene.nx, "ny": scene.ny,
-                **({"nz": scene.nz} if three else {}), "cells": scene.cells, "lateral": scene.lateral,
-                "lame_lambda": scene.lame_lambda, "lame_mu": scene.lame_mu, "density": scene.density,
-                "gap": scene.gap, "initial": "paper" if scene.initial == "paper" else "fields",
-                "total_mass": p.total_mass,
-                "unknowns": p.n_free}
-    engine = {"ranks": p.comm.size, "unknowns": p.V.dofmap.index_map.size_global,
-              "contact_dofs": p.n_contact, "solver": s.qp.describe(), "atol_factor": qp.ATOL_FACTOR,
-              "vi_bound_tol": qp.VI_BOUND_TOL, **timing, "min_gap": worst[0], "max_lambda": worst[1],
-              "max_complementarity_product": worst[2], "max_inactive_multiplier": worst[3]}
-    files = {"summary.json": output.summary_json(head, summ.finish(timing["step_seconds"])),
-             "scene.resolved.toml": resolved_text,
-             "engine.json": json.dumps(output._json_ready(engine), indent=2) + "\n"}
-    if scene.series:
-        files["series.csv"] = output.series_csv(["t"] + scene.series, rows)
-    output.write_files(folder, files)
+def _json_number(v):
+    """JSON has no non-finite numbers: null (as serde_json writes them)."""
+    return None if isinstance(v, float) and not math.isfinite(v) else v

@@ -8,7 +8,7 @@ use crate::body::Force;
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::problem::Problem;
-use crate::run::GeometrySpec;
+use crate::run::{GeometrySpec, Totals};
 use crate::scene::Scene;
 use serde::Serialize;
 use thiserror::Error;
@@ -111,7 +111,11 @@ impl GeometrySpec for BarSpec {
         BarProblem::from_scene(scene)
     }
 
-    fn summary_head(_: &Scene<Self>, _: &BarProblem) -> BarHead {
+    fn summary_head(_: &Scene<Self>, _: &Totals) -> BarHead {
         BarHead {}
+    }
+
+    fn totals(system: &BarSystem) -> Totals {
+        Totals { total_mass: system.total_mass(), unknowns: system.n() }
     }
 }

@@ -11,7 +11,7 @@ use crate::characteristics::{Characteristics, CharacteristicsError, InitialData}
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::fem::frames::VtuFrames;
 use crate::mass::MassKind;
-use crate::run::GeometrySpec;
+use crate::run::{GeometrySpec, Totals};
 use crate::scene::Scene;
 use serde::Serialize;
 use thiserror::Error;
@@ -108,7 +108,7 @@ fn transient_load(
 
 /// The plane-wave solution of a plate with y-independent data and no force: the bar's solution
 /// by characteristics, extended in y (None otherwise).
-fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, PlateError> {
+pub(crate) fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, PlateError> {
     let b = &spec.body;
     if !spec.initial.y_independent() || b.force.constant() != Some(0.0) {
         return Ok(None);
@@ -151,7 +151,7 @@ impl GeometrySpec for PlateSpec {
         PlateProblem::with_plane_wave(&scene.geometry, &scene.mass, scene.time.end)
     }
 
-    fn summary_head(scene: &Scene<Self>, problem: &PlateProblem) -> PlateHead {
+    fn summary_head(scene: &Scene<Self>, totals: &Totals) -> PlateHead {
         let p = &scene.geometry;
         PlateHead {
             height: p.height,
@@ -159,8 +159,12 @@ impl GeometrySpec for PlateSpec {
             ny: p.ny,
             cells: p.cells.name(),
             initial: p.initial.name(),
-            total_mass: problem.system.total_mass(),
+            total_mass: totals.total_mass,
         }
+    }
+
+    fn totals(system: &PlateSystem) -> Totals {
+        Totals { total_mass: system.total_mass(), unknowns: system.system.n() }
     }
 
     fn frames(system: &PlateSystem) -> Option<&dyn VtuFrames> {

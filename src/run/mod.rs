@@ -34,13 +34,24 @@ pub trait GeometrySpec: SceneGeometry {
     /// The problem of a scene: the assembled system, the interpolated initial data and the
     /// exact solution up to `time.end` where one is known.
     fn problem(scene: &Scene<Self>) -> Result<Problem<Self::System>, Self::Error>;
-    /// The geometry keys of `summary.json` ([`GeometrySpec::Head`]).
-    fn summary_head(scene: &Scene<Self>, problem: &Problem<Self::System>) -> Self::Head;
+    /// The geometry keys of `summary.json` ([`GeometrySpec::Head`]), with the totals of the
+    /// system that ran (a Rust run's, or the FEniCSx engine's own).
+    fn summary_head(scene: &Scene<Self>, totals: &Totals) -> Self::Head;
+    /// The totals of an assembled system, for [`GeometrySpec::summary_head`].
+    fn totals(system: &Self::System) -> Totals;
     /// The VTU frames of this geometry's states (None: it writes none, and its scenes refuse
     /// `output.vtu`: [`SceneGeometry::VTU`]).
     fn frames(_system: &Self::System) -> Option<&dyn VtuFrames> {
         None
     }
+}
+
+/// What `summary.json` reports of the system that ran, besides the scene: `∫ ρ w_h` (per
+/// component) and the number of unknowns.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Totals {
+    pub total_mass: f64,
+    pub unknowns: usize,
 }
 
 /// A scene's problem with its scheme built (matrices assembled and factored), not yet stepped:
@@ -209,15 +220,20 @@ struct SummaryFile<'a, H: Serialize> {
     summary: &'a Summary,
 }
 
-/// `summary.json` text.
+/// `summary.json` text of a run of `problem`.
 pub fn summary_json<G: GeometrySpec>(scene: &Scene<G>, problem: &Problem<G::System>, summary: &Summary) -> String {
+    summary_json_of(scene, &G::totals(&problem.system), summary)
+}
+
+/// `summary.json` text from the totals of the system that ran (the engine's own).
+pub fn summary_json_of<G: GeometrySpec>(scene: &Scene<G>, totals: &Totals, summary: &Summary) -> String {
     let file = SummaryFile {
         scheme: scene.scheme.name(),
         mass: scene.mass.name(),
         elements: scene.geometry.elements(),
         length: scene.geometry.length(),
         end: scene.time.end,
-        head: G::summary_head(scene, problem),
+        head: G::summary_head(scene, totals),
         summary,
     };
     serde_json::to_string_pretty(&file).expect("summary serialises") + "\n"

@@ -13,7 +13,7 @@ use crate::mass::MassKind;
 use crate::material::{FarEnd, Material};
 use crate::plate::mesh::MeshError;
 use crate::problem::Problem;
-use crate::run::GeometrySpec;
+use crate::run::{GeometrySpec, Totals};
 use crate::scene::Scene;
 use serde::Serialize;
 use thiserror::Error;
@@ -40,7 +40,15 @@ impl SolidSpec {
                 (eval(displacement), eval(velocity))
             }
         };
-        let exact = if !self.is_plane_wave() {
+        Ok(Problem { system: solid, u0, v0, exact: self.exact(t_end)? })
+    }
+
+    /// The plane wave up to `t_end` where it applies (module docs of [`crate::solid`]): the
+    /// paper's closed form for λ + 2μ = ρ = 1 without gap, else the solution by characteristics
+    /// of the bar with density ρ and modulus λ + 2μ; None for other data.
+    pub fn exact(&self, t_end: f64) -> Result<Option<Exact>, SolidError> {
+        let l = self.extent[0];
+        Ok(if !self.is_plane_wave() {
             None
         } else if self.initial == SolidInitial::Paper
             && self.lame.p_modulus() == 1.0
@@ -65,8 +73,7 @@ impl SolidSpec {
             }
             .map_err(SolidError::Exact)?;
             Some(Exact::General(std::sync::Arc::new(c)))
-        };
-        Ok(Problem { system: solid, u0, v0, exact })
+        })
     }
 }
 
@@ -118,7 +125,7 @@ impl GeometrySpec for SolidSpec {
         scene.geometry.problem(&scene.mass, scene.time.end)
     }
 
-    fn summary_head(scene: &Scene<Self>, problem: &SolidProblem) -> SolidHead {
+    fn summary_head(scene: &Scene<Self>, totals: &Totals) -> SolidHead {
         let s = &scene.geometry;
         let three = s.dim == 3;
         SolidHead {
@@ -135,9 +142,13 @@ impl GeometrySpec for SolidSpec {
             density: s.lame.density,
             gap: s.gap,
             initial: s.initial.name(),
-            total_mass: problem.system.total_mass(),
-            unknowns: problem.system.dofs.len(),
+            total_mass: totals.total_mass,
+            unknowns: totals.unknowns,
         }
+    }
+
+    fn totals(system: &SolidSystem) -> Totals {
+        Totals { total_mass: system.total_mass(), unknowns: system.dofs.len() }
     }
 
     fn frames(system: &SolidSystem) -> Option<&dyn VtuFrames> {
