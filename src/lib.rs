@@ -18,6 +18,7 @@ pub mod exact;
 pub mod expr;
 pub mod fem;
 pub mod linalg;
+pub mod machine;
 pub mod mass;
 pub mod material;
 pub mod numfmt;

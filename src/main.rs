@@ -107,6 +107,11 @@ fn progress(len: u64) -> Progress {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // One factor may take three quarters of what the machine allows (the rest: the matrices,
+    // the mesh and the workspaces, whose sizes are a fraction of the factor's for these fills).
+    if let Some(m) = massredist::machine::memory_limit() {
+        massredist::linalg::set_memory_limit(m.bytes / 4 * 3);
+    }
     match cli.command {
         Command::Bench { scaling_figure: Some(csv), .. } => match massredist::bench::scaling::scaling_figure(&csv) {
             Ok(paths) => {

@@ -11,6 +11,22 @@ pub mod sparse;
 pub mod tridiag;
 
 use sparse::{SpMat, SparseError, SparseLlt};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The memory, in bytes, that one factor may take ([`memory_limit`]); `u64::MAX`: no limit.
+static MEMORY_LIMIT: AtomicU64 = AtomicU64::new(u64::MAX);
+
+/// Sets the memory one factor may take: the command line sets it once, from the machine
+/// (`crate::machine::memory_limit`: the available memory and `ulimit -v`), before any scene is
+/// validated; a library user may set their own. The kernels never read the environment.
+pub fn set_memory_limit(bytes: u64) {
+    MEMORY_LIMIT.store(bytes, Ordering::Relaxed);
+}
+
+/// The memory one factor may take, in bytes (`u64::MAX` unless [`set_memory_limit`] was called).
+pub fn memory_limit() -> u64 {
+    MEMORY_LIMIT.load(Ordering::Relaxed)
+}
 use std::fmt::Debug;
 use thiserror::Error;
 use tridiag::{FactorError, SymTridiag};

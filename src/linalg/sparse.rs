@@ -36,6 +36,12 @@ pub enum SparseError {
     NotPositiveDefinite { matrix: &'static str, index: usize },
     #[error("the {matrix} matrix cannot be built or analysed: {detail}")]
     Structure { matrix: &'static str, detail: String },
+    /// The factor's size is known from the symbolic analysis, before it is allocated.
+    #[error(
+        "the Cholesky factor of the {matrix} matrix ({n} unknowns) would take {values} values ({gb:.2} GB), over the memory limit of {limit_gb:.2} GB (the available memory, or `ulimit -v`)",
+        gb = *bytes as f64 / 1e9, limit_gb = *limit as f64 / 1e9
+    )]
+    TooLarge { matrix: &'static str, n: usize, values: usize, bytes: u64, limit: u64 },
 }
 
 /// Builds an `n × n` matrix from triplets, summing duplicates (finite-element assembly) in
@@ -314,6 +320,12 @@ impl SparseLlt {
         let perm = PermRef::new_checked(&fwd, &inv, n);
         let symbolic = factorize_symbolic_cholesky(a.symbolic(), Side::Lower, SymmetricOrdering::Custom(perm), params)
             .map_err(structure)?;
+        // The factor's size is exact here: refuse what cannot fit before allocating it.
+        let bytes = (symbolic.len_val() as u64).saturating_mul(8);
+        let limit = super::memory_limit();
+        if bytes > limit {
+            return Err(SparseError::TooLarge { matrix, n, values: symbolic.len_val(), bytes, limit });
+        }
         let mut values = vec![0.0; symbolic.len_val()];
         let mut work = MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()));
         symbolic

@@ -128,6 +128,11 @@ pub enum SceneError {
         "{contact} contact nodes: their dense Schur complement would take {values:.3e} values ({megabytes:.0} MB), over the limit of {limit:.1e}: reduce the nodes of the contact face (plate.ny, solid.ny and solid.nz, or the contact edge of plate.mesh)"
     )]
     TooManyContactNodes { contact: usize, values: f64, limit: f64, megabytes: f64 },
+    #[error(
+        "{keys}: assembling this mesh takes at least {gb:.2} GB, over the memory limit of {limit_gb:.2} GB (the available memory, or `ulimit -v`): reduce {keys}",
+        gb = bytes / 1e9, limit_gb = *limit as f64 / 1e9
+    )]
+    TooMuchMemory { keys: &'static str, bytes: f64, limit: u64 },
     #[error(transparent)]
     Expr(#[from] crate::expr::ExprError),
     /// The problem a valid-looking scene poses cannot be set up (a matrix that cannot be
@@ -286,6 +291,12 @@ pub trait SceneGeometry: Sized {
     fn header(&self, time: &TimeSpec) -> String;
     /// The scene of this geometry in `any`, or an error saying which geometry `any` has.
     fn from_any(any: AnyScene) -> Result<Scene<Self>, SceneError>;
+    /// A lower bound of the memory, in bytes, that assembling this geometry's matrices takes
+    /// (its element-matrix buffers), checked against [`crate::linalg::memory_limit`] before any
+    /// mesh is assembled; the factor is checked, exactly, after its symbolic analysis.
+    fn assembly_bytes(&self) -> f64 {
+        0.0
+    }
 }
 
 impl AnyScene {
@@ -314,8 +325,8 @@ impl AnyScene {
                     tables.join(" and ")
                 )))
             }
-            (None, Some(p), None) => Ok(AnyScene::Plate(validate_sections(PlateSpec::validate(p, base)?, raw)?)),
-            (None, None, Some(s)) => Ok(AnyScene::Solid(validate_sections(validate_solid(s, base)?, raw)?)),
+            (None, Some(p), None) => Ok(AnyScene::Plate(validate_sections(fits(PlateSpec::validate(p, base)?)?, raw)?)),
+            (None, None, Some(s)) => Ok(AnyScene::Solid(validate_sections(fits(validate_solid(s, base)?)?, raw)?)),
             (b, _, _) => Ok(AnyScene::Bar(validate_sections(BarSpec::validate(b.unwrap_or_default())?, raw)?)),
         }
     }
@@ -357,6 +368,16 @@ impl<G: SceneGeometry> Scene<G> {
         text.push_str(&toml::to_string(&raw).expect("a resolved scene always serialises"));
         text
     }
+}
+
+/// The geometry, if its assembly fits in memory ([`SceneGeometry::assembly_bytes`] against
+/// [`crate::linalg::memory_limit`]).
+fn fits<G: SceneGeometry>(geometry: G) -> Result<G, SceneError> {
+    let (bytes, limit) = (geometry.assembly_bytes(), crate::linalg::memory_limit());
+    if bytes > limit as f64 {
+        return Err(SceneError::TooMuchMemory { keys: G::SIZE_KEYS, bytes, limit });
+    }
+    Ok(geometry)
 }
 
 /// The error of a scene found in another geometry's place.

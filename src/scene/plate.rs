@@ -203,6 +203,15 @@ impl SceneGeometry for PlateSpec {
         }
     }
 
+    /// The element buffers of `crate::plate::assembly`: per cell k² positions (two indices),
+    /// k² mass and k² stiffness values, and the pattern's row index and slot of each: 48
+    /// bytes per entry.
+    fn assembly_bytes(&self) -> f64 {
+        let mesh = self.mesh.as_ref().expect("a validated plate has its mesh");
+        let k = self.cells.verts() as f64;
+        mesh.n_cells() as f64 * k * k * 48.0
+    }
+
     fn from_any(any: AnyScene) -> Result<Scene<Self>, SceneError> {
         match any {
             AnyScene::Plate(s) => Ok(s),
