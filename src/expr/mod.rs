@@ -56,6 +56,10 @@ pub enum ExprError {
     /// coordinates `at` (one per variable in `vars`), is infinite or NaN.
     #[error("{key} = {text:?}: evaluates to {} at node {node} ({}), which is not finite", sci(*value), coordinates(vars, at))]
     NotFinite { key: String, text: String, node: usize, vars: Vec<String>, at: Vec<f64>, value: f64 },
+    /// The value at quadrature point number `point` of the load integral (0-based, three per
+    /// element for a bar), with coordinates `at`, is infinite or NaN.
+    #[error("{key} = {text:?}: evaluates to {} at quadrature point {point} of the load integral ({}), which is not finite", sci(*value), coordinates(vars, at))]
+    NotFiniteAtLoadPoint { key: String, text: String, point: usize, vars: Vec<String>, at: Vec<f64>, value: f64 },
 }
 
 /// A number in short scientific form: at most 5 significant digits, trailing zeros dropped
@@ -185,6 +189,23 @@ impl Expr {
                 if value.is_finite() { Ok(value) } else { Err(self.not_finite(node, point, value)) }
             })
             .collect()
+    }
+
+    /// Rejects the first value at the quadrature points of a load integral that is not finite,
+    /// naming the point's number and coordinates (a force finite at every node may still be
+    /// infinite between them, where the load is integrated).
+    pub fn check_at_load_points<const N: usize>(
+        &self,
+        points: impl IntoIterator<Item = [f64; N]>,
+    ) -> Result<(), ExprError> {
+        for (point, at) in points.into_iter().enumerate() {
+            let value = self.eval(&at);
+            if !value.is_finite() {
+                let (key, text, vars) = (self.key.clone(), self.text.clone(), self.vars.clone());
+                return Err(ExprError::NotFiniteAtLoadPoint { key, text, point, vars, at: at.to_vec(), value });
+            }
+        }
+        Ok(())
     }
 
     fn not_finite(&self, node: usize, point: &[f64], value: f64) -> ExprError {
