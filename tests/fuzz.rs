@@ -207,12 +207,14 @@ fn apply(scene: &mut Table, m: &Mutation) {
             }
         }
         Mutation::Force { text } => {
-            if let Some(Value::Table(t)) = ["bar", "plate", "solid"].iter().find_map(|g| scene.get_mut(*g)) {
+            let geometry = ["bar", "plate", "solid"].into_iter().find(|g| scene.contains_key(*g)).unwrap_or("bar");
+            if let Some(Value::Table(t)) = scene.get_mut(geometry) {
                 t.insert("force".into(), Value::String(text.clone()));
             }
         }
         Mutation::Stiff => {
-            if let Some(Value::Table(t)) = ["bar", "plate", "solid"].iter().find_map(|g| scene.get_mut(*g)) {
+            let geometry = ["bar", "plate", "solid"].into_iter().find(|g| scene.contains_key(*g)).unwrap_or("bar");
+            if let Some(Value::Table(t)) = scene.get_mut(geometry) {
                 let modulus = match t.get("modulus") {
                     Some(Value::Float(e)) => *e,
                     Some(Value::Integer(e)) => *e as f64,
