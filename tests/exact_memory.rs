@@ -97,8 +97,10 @@ fn assert_same(a: &Characteristics, b: &Characteristics, times: &[f64], what: &s
 /// many times) gives every value of the resident one, bit for bit, at times visited forwards,
 /// backwards and at random, including every contact switch and the ends.
 ///
-/// Mutation that made it fail: one piece fewer kept behind a window (`self.a[1].lo > a_bound`
-/// → `self.a[0].lo > a_bound` in `Marcher::trim`) → "u(… , …)" differs near the window's start.
+/// Mutation that made it fail: a window trimmed past its own start (`m.trim(s, margin)` →
+/// `m.trim(s + margin, 0.0)` in `Store::cut`) → "Clamped forwards: u(0, 6.656…)". (Keeping one
+/// piece fewer in `Marcher::trim`, `self.a[1].lo` → `self.a[0].lo`, did not fail it: the margin
+/// of one bar length covers that piece.)
 #[test]
 fn windows_give_the_whole_marchs_numbers_bit_for_bit() {
     let tiny = StoreLimits { resident: 0, window: 3, checkpoints: 4 };
