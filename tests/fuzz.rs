@@ -105,7 +105,7 @@ enum Mutation {
 }
 
 /// Expressions that break assumptions: 10⁵ terms (parsed in super-quadratic time before issue
-/// 22), nesting at and beyond the limit, values infinite at a Gauss point of the load integral
+/// 22; now refused, over `expr::MAX_TOKENS`), nesting at and beyond the limit, values infinite at a Gauss point of the load integral
 /// but at no node (x = 1/24: the midpoint of the first of 12 elements), at a node, everywhere,
 /// and syntax errors.
 fn hostile_expression() -> impl Strategy<Value = String> {

@@ -15,16 +15,33 @@
 //! exponent may carry its own sign (`2^-x^2` is `2^(-(x^2))`). `*`, `/`, `+`, `-` are
 //! left-associative. There is no implicit multiplication (`2x` is an error at the `x`).
 //!
-//! # Compilation
-//! A small front end (lexer and recursive-descent parser, `parse.rs`) validates the text, locates
-//! every error by its 1-based character column, checks names against the caller's lists
-//! ([`ExprError::UnknownName`] lists what is allowed) and compiles the expression into a postfix
-//! program, folding operations on numbers into their values; [`Expr::eval`] runs it on a stack
-//! buffer. Parsing is linear in the text (one token and at most one instruction per step; no
-//! token list, no intermediate strings): 100 000 terms parse in milliseconds. Until issue 22 the
-//! front end wrote a fully parenthesised text for the exmex crate to parse again, which took
-//! super-quadratic time (45 s for 100 000 terms); the evaluation order and the f64 operations are
-//! the ones exmex performed, so every value is unchanged.
+//! # The crate behind it
+//! [exmex] 0.21 compiles and evaluates the expression. Chosen among the candidates because it is
+//! actively developed, MIT/Apache-2.0 like this crate, brings only `regex` (already in our tree)
+//! and `smallvec`, and parses once into a flat representation, folding constant sub-expressions,
+//! whose evaluation `eval(&[f64])` works on a stack buffer (no allocation up to 32 operands).
+//! The others: evalexpr 13 is AGPL-3.0 (incompatible with our licence), meval 0.2 (2017, on nom 1)
+//! and fasteval 0.2 (2020) are unmaintained.
+//!
+//! exmex lacks four things this module supplies with a small front end (tokenizer and
+//! recursive-descent parser, below) that validates the text and hands exmex a canonical, fully
+//! parenthesised form of it:
+//! - exmex's unary operators bind tighter than `^` (`-1^2 == 1` in its docs, so `-x^2` would be 9):
+//!   the canonical form puts every operation in its own parentheses, so exmex evaluates exactly
+//!   the tree parsed here, with the convention above;
+//! - its errors are messages without a position: here every error carries the 1-based character
+//!   column of the offending token in the scene's text;
+//! - its numbers have no exponent (`1e-3` reads as `1` next to Euler's `e`) and its constants are
+//!   fixed at compile time (`π`, `E`, ...): numbers and the caller's constants reach exmex as
+//!   literals in Rust's round-trip scientific form (`{:e}`), read back exactly by a literal matcher
+//!   of our own; exmex's own constants and functions are not offered (only the list above is);
+//! - it orders variables alphabetically and accepts any name: here names are checked against the
+//!   caller's lists ([`ExprError::UnknownName`] lists what is allowed), and [`Expr::eval`] takes the
+//!   caller's order.
+//!
+//! exmex has `^` only; `**` is accepted by the front end as the same operator.
+
+use exmex::{BinOp, Express, FlatEx, MakeOperators, MatchLiteral, Operator};
 
 /// Most variables an expression may take (x, y, z, t with room to spare); [`Expr::eval`] gathers
 /// them on the stack.
@@ -60,7 +77,25 @@ pub enum ExprError {
     /// element for a bar), with coordinates `at`, is infinite or NaN.
     #[error("{key} = {text:?}: evaluates to {} at quadrature point {point} of the load integral ({}), which is not finite", sci(*value), coordinates(vars, at))]
     NotFiniteAtLoadPoint { key: String, text: String, point: usize, vars: Vec<String>, at: Vec<f64>, value: f64 },
+    /// More tokens than [`MAX_TOKENS`] (the text is not repeated: it may be megabytes).
+    #[error(
+        "{key}: the expression has {tokens} tokens (numbers, names, operators, parentheses); at most {limit} are allowed"
+    )]
+    TooLong { key: String, tokens: usize, limit: usize },
+    /// More bytes than [`MAX_BYTES`] (checked before tokenizing, which holds the characters).
+    #[error("{key}: the expression is {bytes} bytes long; at most {limit} are allowed")]
+    TooManyBytes { key: String, bytes: usize, limit: usize },
 }
+
+/// Most tokens an expression may have. exmex parses its input in a time that grows faster than
+/// the length (issue 22, D4: 30 000 terms took 1.5 s, 100 000 terms 45 s), and no scene needs
+/// more than a few hundred; at this bound a worst-case expression parses in a fraction of a
+/// second (see tests/expr.rs).
+pub const MAX_TOKENS: usize = 20_000;
+
+/// Most bytes an expression may have: [`MAX_TOKENS`] tokens of the longest numbers
+/// (`-1.2345678901234567e-300` is 24 bytes) and their spaces fit in 1 MiB.
+pub const MAX_BYTES: usize = 1 << 20;
 
 /// A number in short scientific form: at most 5 significant digits, trailing zeros dropped
 /// (`1.5e0`, `0e0`, `-3.3333e-1`, `inf`, `NaN`).
@@ -94,16 +129,15 @@ pub struct Expr {
     vars: Vec<String>,
     /// `used[i]`: variable `vars[i]` occurs in the text.
     used: Vec<bool>,
+    /// exmex's variable slot `j` takes the caller's variable `slots[j]`.
+    slots: Vec<usize>,
     /// The value when no variable occurs.
     constant: Option<f64>,
-    /// The postfix program (`parse.rs`), and the stack height it reaches.
-    program: Vec<Op>,
-    height: usize,
+    /// Boxed: exmex keeps its nodes inline (a few kB), and scenes, errors and their `Result`s
+    /// carry expressions by value; unboxed, validation frames overflowed a 2 MB thread stack in
+    /// debug builds (`reproduce` runs scenes on rayon's threads).
+    compiled: Box<FlatEx<f64, Ops, CanonicalLiteral>>,
 }
-
-/// Stack buffer of [`Expr::eval`]: a program that needs more (nesting is at most
-/// [`MAX_DEPTH`] deep, and each level holds at most four pending operands) runs on the heap.
-const STACK: usize = 512;
 
 impl Expr {
     /// Parses `text`. `key` is the scene key (e.g. `"bar.initial.velocity"`) repeated in errors,
@@ -116,14 +150,26 @@ impl Expr {
     /// of the scene.
     pub fn parse(key: &str, text: &str, vars: &[&str], consts: &[(&str, f64)]) -> Result<Expr, ExprError> {
         check_names(vars, consts);
-        let fail = |f: parse::Failure| f.into_error(key, text, vars, consts);
-        check_tokens(text).map_err(fail)?;
-        let mut parser = Parser::new(text, vars, consts).map_err(fail)?;
-        parser.parse().map_err(fail)?;
-        let Parser { used, mut program, max_height: height, .. } = parser;
-        program.shrink_to_fit();
-        let constant = if !used.contains(&true) {
-            let value = run(&program, height, &[]);
+        if text.len() > MAX_BYTES {
+            return Err(ExprError::TooManyBytes { key: key.into(), bytes: text.len(), limit: MAX_BYTES });
+        }
+        let tokens = tokenize(text).map_err(|f| f.into_error(key, text, vars, consts))?;
+        if tokens.len() > MAX_TOKENS {
+            return Err(ExprError::TooLong { key: key.into(), tokens: tokens.len(), limit: MAX_TOKENS });
+        }
+        let mut parser = Parser { text, tokens, next: 0, vars, consts, used: vec![false; vars.len()], depth: 0 };
+        let canonical = parser.parse().map_err(|f| f.into_error(key, text, vars, consts))?;
+        let used = parser.used;
+        let compiled = FlatEx::<f64, Ops, CanonicalLiteral>::parse(&canonical)
+            .unwrap_or_else(|e| panic!("exmex rejected the canonical form {canonical:?} of {text:?}: {e}"));
+        let slots: Vec<usize> = compiled
+            .var_names()
+            .iter()
+            .map(|name| name.strip_prefix('v').and_then(|i| i.parse().ok()).expect("canonical variables are v<index>"))
+            .collect();
+        debug_assert_eq!(slots.len(), used.iter().filter(|u| **u).count());
+        let constant = if slots.is_empty() {
+            let value = compiled.eval(&[]).expect("no variable, no value needed");
             if !value.is_finite() {
                 return Err(ExprError::ConstantNotFinite { key: key.into(), text: text.into(), value });
             }
@@ -132,11 +178,11 @@ impl Expr {
             None
         };
         let vars = vars.iter().map(|v| v.to_string()).collect();
-        Ok(Expr { key: key.into(), text: text.into(), vars, used, constant, program, height })
+        Ok(Expr { key: key.into(), text: text.into(), vars, used, slots, constant, compiled: Box::new(compiled) })
     }
 
     /// The value at `args`, one value per variable in the order given to [`Expr::parse`]. Does not
-    /// allocate (unless nested beyond the stack buffer, see [`STACK`]). May be infinite or NaN: [`Expr::eval_into`] and
+    /// allocate for up to 32 operands. May be infinite or NaN: [`Expr::eval_into`] and
     /// [`Expr::eval_at_nodes`] check.
     ///
     /// # Panics
@@ -147,7 +193,11 @@ impl Expr {
         if let Some(value) = self.constant {
             return value;
         }
-        run(&self.program, self.height, args)
+        let mut values = [0.0; MAX_VARS];
+        for (value, &i) in values.iter_mut().zip(&self.slots) {
+            *value = args[i];
+        }
+        self.compiled.eval(&values[..self.slots.len()]).expect("one value per exmex variable")
     }
 
     /// Writes the value at each point into `out` (one point per entry), rejecting the first value
@@ -191,9 +241,8 @@ impl Expr {
             .collect()
     }
 
-    /// Rejects the first value at the quadrature points of a load integral that is not finite,
-    /// naming the point's number and coordinates (a force finite at every node may still be
-    /// infinite between them, where the load is integrated).
+    /// Refuses a value that is not finite at a quadrature point of a load integral (points in
+    /// the order the assembly visits them), naming the point and its coordinates.
     pub fn check_at_load_points<const N: usize>(
         &self,
         points: impl IntoIterator<Item = [f64; N]>,
@@ -270,39 +319,63 @@ fn is_name_continue(c: char) -> bool {
     c.is_alphanumeric() || c == '_'
 }
 
-/// Runs a postfix program that reaches stack height `height` with the variables `args`.
-#[inline]
-fn run(program: &[Op], height: usize, args: &[f64]) -> f64 {
-    if height <= STACK {
-        run_on(program, args, &mut [0.0; STACK])
-    } else {
-        run_on(program, args, &mut vec![0.0; height])
+// ---------------------------------------------------------------------------------------------
+// The exmex side: operators and the literal form of the canonical text.
+
+/// The operators of the canonical form. Priorities follow exmex's defaults but do not matter: the
+/// canonical form parenthesises every operation.
+#[derive(Clone, Debug)]
+struct Ops;
+
+impl MakeOperators<f64> for Ops {
+    fn make<'a>() -> Vec<Operator<'a, f64>> {
+        let bin = |apply: fn(f64, f64) -> f64, prio, is_commutative| BinOp { apply, prio, is_commutative };
+        vec![
+            Operator::make_bin("^", bin(f64::powf, 4, false)),
+            Operator::make_bin("*", bin(|a, b| a * b, 2, true)),
+            Operator::make_bin("/", bin(|a, b| a / b, 3, false)),
+            Operator::make_bin_unary("+", bin(|a, b| a + b, 0, true), |a| a),
+            Operator::make_bin_unary("-", bin(|a, b| a - b, 1, false), |a| -a),
+            Operator::make_bin("min", bin(f64::min, 0, true)),
+            Operator::make_bin("max", bin(f64::max, 0, true)),
+            Operator::make_unary("sin", f64::sin),
+            Operator::make_unary("cos", f64::cos),
+            Operator::make_unary("tan", f64::tan),
+            Operator::make_unary("exp", f64::exp),
+            Operator::make_unary("log", f64::ln),
+            Operator::make_unary("sqrt", f64::sqrt),
+            Operator::make_unary("abs", f64::abs),
+        ]
     }
 }
 
-/// The stack machine: leaves push, unary operations replace the top, binary ones pop the right
-/// operand into the left. A program from the parser is well formed, so `stack` (at least its
-/// height long) never under- or overflows.
-fn run_on(program: &[Op], args: &[f64], stack: &mut [f64]) -> f64 {
-    let mut top = 0;
-    for &op in program {
-        match op {
-            Op::Num(v) => {
-                stack[top] = v;
-                top += 1;
-            }
-            Op::Var(i) => {
-                stack[top] = args[i];
-                top += 1;
-            }
-            Op::Neg | Op::Call(_) => stack[top - 1] = op.unary(stack[top - 1]),
-            _ => {
-                top -= 1;
-                stack[top - 1] = op.binary(stack[top - 1], stack[top]);
-            }
+/// Literals of the canonical form: Rust's `{:e}` of a finite non-negative f64 (`2.5e0`,
+/// `1e-3`), which `f64::from_str` reads back exactly.
+#[derive(Clone, Debug)]
+struct CanonicalLiteral;
+
+impl MatchLiteral for CanonicalLiteral {
+    fn is_literal(text: &str) -> Option<&str> {
+        let bytes = text.as_bytes();
+        let digits = |from: usize| bytes[from..].iter().take_while(|b| b.is_ascii_digit()).count();
+        let mut end = digits(0);
+        if end == 0 {
+            return None;
         }
+        if bytes.get(end) == Some(&b'.') {
+            end += 1 + digits(end + 1);
+        }
+        if bytes.get(end) == Some(&b'e') {
+            let sign = usize::from(bytes.get(end + 1) == Some(&b'-'));
+            end += 1 + sign + digits(end + 1 + sign);
+        }
+        Some(&text[..end])
     }
-    stack[0]
+}
+
+/// `value` as a canonical literal, negative values as `(-literal)`.
+fn literal(value: f64) -> String {
+    if value.is_sign_negative() { format!("(-{:e})", -value) } else { format!("{value:e}") }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -311,7 +384,7 @@ fn run_on(program: &[Op], args: &[f64], stack: &mut [f64]) -> f64 {
 
 mod parse;
 
-use parse::{Op, Parser, check_tokens};
+use parse::{Parser, tokenize};
 
 #[cfg(test)]
 mod tests {
@@ -328,17 +401,19 @@ mod tests {
     }
 
     #[test]
-    fn programs_are_postfix_with_numbers_folded() {
-        let compile = |text| {
-            let mut parser = Parser::new(text, &["x"], &[("pi", std::f64::consts::PI)]).unwrap();
-            parser.parse().unwrap();
-            format!("{:?}", parser.program)
+    fn canonical_form_is_fully_parenthesised() {
+        let mut parser = Parser {
+            text: "-x^2 + min(1e-3, pi)",
+            tokens: tokenize("-x^2 + min(1e-3, pi)").unwrap(),
+            next: 0,
+            vars: &["x"],
+            consts: &[("pi", std::f64::consts::PI)],
+            used: vec![false],
+            depth: 0,
         };
-        // -(x^2) + min(1e-3, pi): the min of two numbers is folded.
-        assert_eq!(compile("-x^2 + min(1e-3, pi)"), "[Var(0), Num(2.0), Pow, Neg, Num(0.001), Add]");
-        // (x - 1) - 2, left to right: nothing to fold (x - (1 + 2) would round differently).
-        assert_eq!(compile("x - 1 - 2"), "[Var(0), Num(1.0), Sub, Num(2.0), Sub]");
-        assert_eq!(compile("2^3^2"), "[Num(512.0)]");
+        let canonical = parser.parse().unwrap();
+        assert_eq!(canonical, "((-({v0}^2e0))+(1e-3 min 3.141592653589793e0))");
+        assert_eq!(literal(-2.5), "(-2.5e0)");
     }
 }
 
