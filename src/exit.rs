@@ -18,3 +18,10 @@ pub const INVALID: u8 = 2;
 /// (step, time, reason) and describes the last finite state, `series.csv` ends at it. `reproduce`
 /// and `bench` report diverged runs in their tables and exit 0.
 pub const DIVERGED: u8 = 3;
+
+/// `run`, `reproduce`, `bench` stopped by SIGTERM, SIGINT or SIGHUP: 128 + the signal number
+/// (143, 130, 129), as a shell reports a process killed by that signal, after the temporary
+/// output folder was removed (`massredist::output::install_signal_cleanup`). SIGXFSZ (a file
+/// size limit) is not an exit of its own: the write fails and the run exits with [`FAILURE`].
+#[allow(dead_code)]
+pub const SIGNALLED_BASE: u8 = 128;

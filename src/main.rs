@@ -112,6 +112,10 @@ fn main() -> ExitCode {
     if let Some(m) = massredist::machine::memory_limit() {
         massredist::linalg::set_memory_limit(m.bytes / 4 * 3);
     }
+    // SIGTERM, SIGINT, SIGHUP: the staging folder is removed, exit 128 + signal (src/output/staging.rs).
+    if let Err(e) = massredist::output::install_signal_cleanup() {
+        eprintln!("warning: no signal handler ({e}); an interrupted run leaves its temporary folder");
+    }
     match cli.command {
         Command::Bench { scaling_figure: Some(csv), .. } => match massredist::bench::scaling::scaling_figure(&csv) {
             Ok(paths) => {

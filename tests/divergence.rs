@@ -288,3 +288,29 @@ fn the_watched_driver_stops_where_the_strict_one_runs_on() {
     assert_eq!(summary.divergence, Some(d));
     assert_eq!(summary.energy_final, energy);
 }
+
+/// Issue 22, D12: a force finite at every node but infinite at a Gauss point of the load
+/// integral (x = 1/12, the midpoint of the first of 6 elements, where assembly evaluates it) is
+/// invalid input: `check` and `run` refuse it with exit 2 naming the key and the point, before
+/// computing. Unfixed (a8ddfb4): `check` passed and `run` "diverged at step 0" with null
+/// energies and `"steps": 10` for no step taken.
+#[test]
+fn a_force_infinite_between_the_nodes_is_refused_by_check() {
+    for force in ["1/(x-1/12)", "1/(x-1/12) + t"] {
+        let text = format!("[bar]\nelements = 6\nforce = \"{force}\"\n[time]\ndt = 0.01\nend = 0.1\n");
+        let tmp = tempfile::tempdir().unwrap();
+        let scene = tmp.path().join("s.toml");
+        std::fs::write(&scene, &text).unwrap();
+        let check = bin().arg("check").arg(&scene).output().unwrap();
+        let err = String::from_utf8_lossy(&check.stderr);
+        assert_eq!(check.status.code(), Some(2), "{force}: {err}");
+        assert!(
+            err.contains("bar.force") && err.contains("quadrature point 1") && err.contains("x = 8.3333e-2"),
+            "{err}"
+        );
+        let out = tmp.path().join("out");
+        let run = bin().arg("run").arg(&scene).arg("--out").arg(&out).output().unwrap();
+        assert_eq!(run.status.code(), Some(2), "{force}: {}", String::from_utf8_lossy(&run.stderr));
+        assert!(!out.exists());
+    }
+}

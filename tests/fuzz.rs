@@ -14,6 +14,11 @@
 //! `MASSREDIST_FUZZ_LIST_SETUP_FAILURES=1` such cases are listed on stderr at the end instead of
 //! failing the test (the other properties stay asserted).
 //!
+//! Issue 22 added hostile expressions as forces (10⁵ terms, nesting, values infinite at a
+//! quadrature point only) and a 10¹²-times stiffer body (an exact solution marched over 10⁶
+//! times more crossings); the properties above cover them (a force infinite at a Gauss point
+//! must fail `check`, not diverge in `run`: see `tests/divergence.rs`).
+//!
 //! mutation: `Scene::validate` checks `bar.length` with `assert!(length > 0.0)` instead of
 //! returning the range error -> fails with "check panicked: … panicked at src/scene/bar.rs";
 //! mutation: `OutputDir`'s `Drop` keeps its staging folder (no `remove_dir_all`) -> fails with
@@ -90,6 +95,34 @@ enum Mutation {
     Unknown { pick: usize },
     /// Add the other geometry's table (`[plate]` to a bar, `[bar]` to a plate).
     SecondGeometry,
+    /// Set the geometry's `force` to a hostile expression (issue 22, D4 and D12).
+    Force { text: String },
+    /// Multiply the geometry's modulus by 10¹² (default 1): a wave speed 10⁶ times larger, so the
+    /// exact solution marches 10⁶ times as many crossings (issue 22, D1). Applied at most once
+    /// per case: twice (c = 10¹², 5·10¹⁰ crossings in T = 0.05) makes `check` march for more
+    /// than the 120 s patience; memory is bounded, time grows as c·T/L (open in issue 22).
+    Stiff,
+}
+
+/// Expressions that break assumptions: 10⁵ terms (parsed in super-quadratic time before issue
+/// 22; now refused, over `expr::MAX_TOKENS`), nesting at and beyond the limit, values infinite at a Gauss point of the load integral
+/// but at no node (x = 1/24: the midpoint of the first of 12 elements), at a node, everywhere,
+/// and syntax errors.
+fn hostile_expression() -> impl Strategy<Value = String> {
+    prop::sample::select(vec![
+        vec!["x"; 100_000].join("+"),
+        format!("{}x{}", "(".repeat(100), ")".repeat(100)),
+        format!("{}x{}", "(".repeat(101), ")".repeat(101)),
+        "1/(x-1/24)".to_string(),
+        "1/(x-0.5)".to_string(),
+        "sqrt(-1)".to_string(),
+        "exp(1000*x)".to_string(),
+        "x^1e300".to_string(),
+        "min(x)".to_string(),
+        "sin(x".to_string(),
+        "2x".to_string(),
+        format!("{}1", "-".repeat(200)),
+    ])
 }
 
 /// Values that break assumptions: zero, negative, subnormal, huge, infinite, NaN, wrong types,
@@ -124,6 +157,8 @@ fn mutation() -> impl Strategy<Value = Mutation> {
             .prop_map(|(pick, factor)| Mutation::Scale { pick, factor }),
         1 => any::<usize>().prop_map(|pick| Mutation::Unknown { pick }),
         1 => Just(Mutation::SecondGeometry),
+        2 => hostile_expression().prop_map(|text| Mutation::Force { text }),
+        1 => Just(Mutation::Stiff),
     ]
 }
 
@@ -171,6 +206,26 @@ fn apply(scene: &mut Table, m: &Mutation) {
             let name = &names[pick % names.len()];
             if let Some(Value::Table(t)) = scene.get_mut(name) {
                 t.insert("no_such_key".into(), Value::Float(1.0));
+            }
+        }
+        Mutation::Force { text } => {
+            let geometry = ["bar", "plate", "solid"].into_iter().find(|g| scene.contains_key(*g)).unwrap_or("bar");
+            if let Some(Value::Table(t)) = scene.get_mut(geometry) {
+                t.insert("force".into(), Value::String(text.clone()));
+            }
+        }
+        Mutation::Stiff => {
+            let geometry = ["bar", "plate", "solid"].into_iter().find(|g| scene.contains_key(*g)).unwrap_or("bar");
+            if let Some(Value::Table(t)) = scene.get_mut(geometry) {
+                let modulus = match t.get("modulus") {
+                    Some(Value::Float(e)) => *e,
+                    Some(Value::Integer(e)) => *e as f64,
+                    _ => 1.0,
+                };
+                // Once: the shipped moduli are O(1), so a modulus ≥ 10¹¹ was stiffened already.
+                if modulus < 1e11 {
+                    t.insert("modulus".into(), Value::Float(modulus * 1e12));
+                }
             }
         }
         Mutation::SecondGeometry => {

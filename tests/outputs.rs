@@ -197,25 +197,28 @@ fn dead_pid() -> u32 {
     pid
 }
 
-/// A partial folder `.out.tmp-<pid>` left by a killed run is removed by the next run into
-/// `out`; one of a live process, and look-alike names, are left alone.
+/// A partial folder `.out.tmp-<pid>` left by a killed run (it carries the marker) is removed by
+/// the next run into `out`; one of a live process, and look-alike names, are left alone (an
+/// unmarked one too, even under a dead pid: `tests/outputs_hostile.rs`).
 #[test]
 fn a_partial_folder_of_a_killed_run_is_removed() {
     let (tmp, scene) = with_scene();
     let stale = tmp.path().join(format!(".out.tmp-{}", dead_pid()));
     std::fs::create_dir(&stale).unwrap();
     std::fs::write(stale.join("series.csv"), vec![b'0'; 1 << 20]).unwrap();
+    std::fs::write(stale.join(MARKER), "massredist 0.1.0 wrote this folder\n").unwrap();
     // The test process is alive and is not a massredist run: without the marker, its folder
     // could be anything, so it stays.
     let live = format!(".out.tmp-{}", std::process::id());
     std::fs::create_dir(tmp.path().join(&live)).unwrap();
     std::fs::create_dir(tmp.path().join(".out.tmp-notapid")).unwrap();
-    // A live process that is not massredist, and a folder carrying the marker under its pid:
-    // the pid was reused after the run that wrote the folder was killed.
+    // A live process, and a folder carrying the marker and an owner file under its pid with
+    // another start time: the pid was reused after the run that wrote the folder was killed.
     let mut sleeper = Command::new("sleep").arg("60").spawn().unwrap();
     let reused = tmp.path().join(format!(".out.tmp-{}", sleeper.id()));
     std::fs::create_dir(&reused).unwrap();
     std::fs::write(reused.join(MARKER), "massredist (killed)\n").unwrap();
+    std::fs::write(reused.join(".massredist-staging"), format!("pid {} start 1\n", sleeper.id())).unwrap();
     let o = run(&scene, &tmp.path().join("out"), &[]);
     sleeper.kill().unwrap();
     sleeper.wait().unwrap();

@@ -70,6 +70,13 @@ pub enum Load<'a> {
 const GAUSS3: [(f64, f64); 3] =
     [(0.5 - 0.387_298_334_620_741_7, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + 0.387_298_334_620_741_7, 5.0 / 18.0)];
 
+/// The points where [`load_into`] evaluates a force field f(x): the 3 Gauss points of each
+/// element, computed as there (scenes check f at them: issue 22, D12).
+pub fn load_points(bar: Bar) -> impl Iterator<Item = f64> {
+    let h = bar.h();
+    (0..bar.elements).flat_map(move |j| GAUSS3.map(|(g, _)| bar.x(j) + g * h))
+}
+
 /// The load `F_i = ∫ f w_h φ_i` into `load` (one entry per unknown: m clamped, m + 1 free): a
 /// constant f in closed form `f h/2 (w_{j} + w_{j+1})`, f(x) by 3-point Gauss–Legendre on each
 /// element (exact for f of degree ≤ 4). No allocation (a time-dependent load calls it per step).

@@ -79,9 +79,14 @@ mod base;
 mod cheb;
 mod march;
 mod search;
+mod store;
 mod wave;
 
 use base::{Base, Which};
+pub use store::MAX_LISTED_CONTACTS;
+#[doc(hidden)]
+pub use store::StoreLimits;
+use store::{Store, Window};
 use wave::{Segment, Wave};
 
 /// Boundary condition at x = L.
@@ -160,10 +165,8 @@ pub struct Characteristics {
     t_end: f64,
     smooth: bool,
     base: Base,
-    a: Wave,
-    b: Wave,
-    contacts: Vec<(f64, f64)>,
-    open_at_end: bool,
+    /// The marched waves, whole or in windows (`store.rs`).
+    store: Store,
     /// Gauss–Legendre rule for the cell integrals: 3 points (exact for the quartic e² of
     /// piecewise-linear data), 8 points (degree 15) for smooth data.
     gauss: Vec<(f64, f64)>,
@@ -223,6 +226,17 @@ struct Cell {
 impl Characteristics {
     /// The solution for `data` and `initial` on [0, t_end].
     pub fn new(data: &BarData, initial: InitialData<'_>, t_end: f64) -> Result<Self, CharacteristicsError> {
+        Self::with_limits(data, initial, t_end, StoreLimits::DEFAULT)
+    }
+
+    /// [`Self::new`] with the store's sizes chosen (tests force the windowed store with them).
+    #[doc(hidden)]
+    pub fn with_limits(
+        data: &BarData,
+        initial: InitialData<'_>,
+        t_end: f64,
+        limits: StoreLimits,
+    ) -> Result<Self, CharacteristicsError> {
         let length = positive("length", data.length)?;
         let density = positive("density", data.density)?;
         let modulus = positive("modulus", data.modulus)?;
@@ -247,8 +261,7 @@ impl Characteristics {
             return Err(CharacteristicsError::ClampedEndDisplaced { value: u0l, tol: DATA_ULPS * scale });
         }
         let params = march::Params { length, gap, wave_speed: c, far_end: data.far_end, s_end: c * t_end };
-        let marched = march::march(&base, &params)?;
-        let contacts = marched.contacts.iter().map(|&(a, b)| (a / c, (b / c).min(t_end))).collect();
+        let store = Store::march(&base, params, t_end, limits)?;
         let kink_tol = if smooth { SMOOTH_KINK_REL } else { DATA_ULPS } * base.scale(1);
         Ok(Characteristics {
             length,
@@ -257,10 +270,7 @@ impl Characteristics {
             t_end,
             smooth,
             base,
-            a: marched.a,
-            b: marched.b,
-            contacts,
-            open_at_end: marched.open,
+            store,
             gauss: cheb::gauss_legendre(if smooth { 8 } else { 3 }),
             kink_tol,
         })
@@ -297,13 +307,27 @@ impl Characteristics {
             return f64::NAN;
         }
         let s = self.wave_speed * t;
-        self.a.eval(&self.base, 0, x - s, true) + self.b.eval(&self.base, 0, x + s, true)
+        let Some(w) = self.window(s) else { return f64::NAN };
+        w.a.eval(&self.base, 0, x - s, true) + w.b.eval(&self.base, 0, x + s, true)
+    }
+
+    /// The waves' pieces for evaluations at s = ct (`store.rs`).
+    fn window(&self, s: f64) -> Option<store::WindowRef<'_>> {
+        self.store.window(&self.base, s)
+    }
+
+    /// Whether only windows of the waves are kept (the march made more than
+    /// `StoreLimits::resident` pieces; `store.rs`).
+    #[doc(hidden)]
+    pub fn is_windowed(&self) -> bool {
+        self.store.windowed()
     }
 
     /// (A'(x − ct), B'(x + ct)), right limits in x (left limits at x = L).
     fn slopes(&self, x: f64, t: f64) -> (f64, f64) {
         let (s, right) = (self.wave_speed * t, x < self.length);
-        (self.a.eval(&self.base, 1, x - s, right), self.b.eval(&self.base, 1, x + s, right))
+        let Some(w) = self.window(s) else { return (f64::NAN, f64::NAN) };
+        (w.a.eval(&self.base, 1, x - s, right), w.b.eval(&self.base, 1, x + s, right))
     }
 
     /// Velocity u_t = c(−A' + B').
@@ -331,11 +355,8 @@ impl Characteristics {
 
     /// Whether t lies in a contact phase `[start, end)` (or `[start, t_end]` if still on).
     pub fn in_contact(&self, t: f64) -> bool {
-        let i = self.contacts.partition_point(|c| c.0 <= t);
-        i > 0 && {
-            let end = self.contacts[i - 1].1;
-            t < end || (self.open_at_end && i == self.contacts.len() && t <= end)
-        }
+        // Outside [0, t_end] (or NaN) no phase holds t: they lie in [0, t_end].
+        (0.0..=self.t_end).contains(&t) && self.window(self.wave_speed * t).is_some_and(|w| w.in_contact(t))
     }
 
     /// Contact force λ(t) = E u_x(0+, t) = 2E B'(ct+) in contact, 0 otherwise (≤ 0).
@@ -343,15 +364,24 @@ impl Characteristics {
         if self.check_time(t).is_err() {
             return f64::NAN;
         }
-        if !self.in_contact(t) {
+        let s = self.wave_speed * t;
+        let Some(w) = self.window(s) else { return f64::NAN };
+        if !w.in_contact(t) {
             return 0.0;
         }
-        2.0 * self.modulus * self.b.eval(&self.base, 1, self.wave_speed * t, true)
+        2.0 * self.modulus * w.b.eval(&self.base, 1, s, true)
     }
 
     /// The contact phases `[start, end)` up to t_end, in increasing time.
+    /// Only the first [`MAX_LISTED_CONTACTS`] are listed (memory stays bounded however long
+    /// t_end is); [`Self::contact_count`] counts them all.
     pub fn contact_intervals(&self) -> &[(f64, f64)] {
-        &self.contacts
+        &self.store.listed
+    }
+
+    /// The number of contact phases up to t_end.
+    pub fn contact_count(&self) -> usize {
+        self.store.count
     }
 
     fn at(&self, wave: &Wave, seg: &Segment, k: usize, arg: f64) -> f64 {
@@ -366,10 +396,10 @@ impl Characteristics {
 
     /// Calls `visit` on the cells that split [0, L] at the mesh nodes and at every breakpoint
     /// of A(· − ct) and B(· + ct), in increasing x; u(·, t) is one polynomial on each.
-    fn cells(&self, nodes: &[f64], s: f64, mut visit: impl FnMut(&Cell)) {
+    fn cells(&self, w: &Window, nodes: &[f64], s: f64, mut visit: impl FnMut(&Cell)) {
         let l = self.length;
-        let mut wa = self.a.walk(&self.base, -s, l - s);
-        let mut wb = self.b.walk(&self.base, s, l + s);
+        let mut wa = w.a.walk(&self.base, -s, l - s);
+        let mut wb = w.b.walk(&self.base, s, l + s);
         let (Some(mut sa), Some(mut sb)) = (wa.next(), wb.next()) else { return };
         for (element, x) in nodes.windows(2).enumerate() {
             let mut p = x[0];
@@ -401,10 +431,11 @@ impl Characteristics {
             return f64::NAN;
         }
         let s = self.wave_speed * t;
+        let Some(w) = self.window(s) else { return f64::NAN };
         let mut sum = 0.0;
-        self.cells(&[0.0, self.length], s, |c| {
+        self.cells(&w, &[0.0, self.length], s, |c| {
             sum += self.quad(c.p, c.q, |x| {
-                let (da, db) = (self.at(&self.a, &c.a, 1, x - s), self.at(&self.b, &c.b, 1, x + s));
+                let (da, db) = (self.at(&w.a, &c.a, 1, x - s), self.at(&w.b, &c.b, 1, x + s));
                 da * da + db * db
             });
         });
@@ -421,7 +452,8 @@ impl Characteristics {
             return;
         }
         let (l, s) = (self.length, self.wave_speed * t);
-        for (wave, lo, to_x) in [(&self.a, -s, s), (&self.b, s, -s)] {
+        let Some(w) = self.window(s) else { return };
+        for (wave, lo, to_x) in [(&w.a, -s, s), (&w.b, s, -s)] {
             let mut prev: Option<Segment> = None;
             for seg in wave.walk(&self.base, lo, lo + l) {
                 if let Some(p) = prev
@@ -476,10 +508,11 @@ impl Characteristics {
             return f64::NAN;
         }
         let s = self.wave_speed * t;
+        let Some(w) = self.window(s) else { return f64::NAN };
         let mut sum = 0.0;
-        self.cells(nodes, s, |c| {
+        self.cells(&w, nodes, s, |c| {
             sum += self.quad(c.p, c.q, |x| {
-                let u = self.at(&self.a, &c.a, 0, x - s) + self.at(&self.b, &c.b, 0, x + s);
+                let u = self.at(&w.a, &c.a, 0, x - s) + self.at(&w.b, &c.b, 0, x + s);
                 g(c.element, x, u)
             });
         });

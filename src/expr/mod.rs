@@ -73,7 +73,29 @@ pub enum ExprError {
     /// coordinates `at` (one per variable in `vars`), is infinite or NaN.
     #[error("{key} = {text:?}: evaluates to {} at node {node} ({}), which is not finite", sci(*value), coordinates(vars, at))]
     NotFinite { key: String, text: String, node: usize, vars: Vec<String>, at: Vec<f64>, value: f64 },
+    /// The value at quadrature point number `point` of the load integral (0-based, three per
+    /// element for a bar), with coordinates `at`, is infinite or NaN.
+    #[error("{key} = {text:?}: evaluates to {} at quadrature point {point} of the load integral ({}), which is not finite", sci(*value), coordinates(vars, at))]
+    NotFiniteAtLoadPoint { key: String, text: String, point: usize, vars: Vec<String>, at: Vec<f64>, value: f64 },
+    /// More tokens than [`MAX_TOKENS`] (the text is not repeated: it may be megabytes).
+    #[error(
+        "{key}: the expression has {tokens} tokens (numbers, names, operators, parentheses); at most {limit} are allowed"
+    )]
+    TooLong { key: String, tokens: usize, limit: usize },
+    /// More bytes than [`MAX_BYTES`] (checked before tokenizing, which holds the characters).
+    #[error("{key}: the expression is {bytes} bytes long; at most {limit} are allowed")]
+    TooManyBytes { key: String, bytes: usize, limit: usize },
 }
+
+/// Most tokens an expression may have. exmex parses its input in a time that grows faster than
+/// the length (issue 22, D4: 30 000 terms took 1.5 s, 100 000 terms 45 s), and no scene needs
+/// more than a few hundred; at this bound a worst-case expression parses in a fraction of a
+/// second (see tests/expr.rs).
+pub const MAX_TOKENS: usize = 20_000;
+
+/// Most bytes an expression may have: [`MAX_TOKENS`] tokens of the longest numbers
+/// (`-1.2345678901234567e-300` is 24 bytes) and their spaces fit in 1 MiB.
+pub const MAX_BYTES: usize = 1 << 20;
 
 /// A number in short scientific form: at most 5 significant digits, trailing zeros dropped
 /// (`1.5e0`, `0e0`, `-3.3333e-1`, `inf`, `NaN`).
@@ -128,7 +150,13 @@ impl Expr {
     /// of the scene.
     pub fn parse(key: &str, text: &str, vars: &[&str], consts: &[(&str, f64)]) -> Result<Expr, ExprError> {
         check_names(vars, consts);
+        if text.len() > MAX_BYTES {
+            return Err(ExprError::TooManyBytes { key: key.into(), bytes: text.len(), limit: MAX_BYTES });
+        }
         let tokens = tokenize(text).map_err(|f| f.into_error(key, text, vars, consts))?;
+        if tokens.len() > MAX_TOKENS {
+            return Err(ExprError::TooLong { key: key.into(), tokens: tokens.len(), limit: MAX_TOKENS });
+        }
         let mut parser = Parser { text, tokens, next: 0, vars, consts, used: vec![false; vars.len()], depth: 0 };
         let canonical = parser.parse().map_err(|f| f.into_error(key, text, vars, consts))?;
         let used = parser.used;
@@ -211,6 +239,22 @@ impl Expr {
                 if value.is_finite() { Ok(value) } else { Err(self.not_finite(node, point, value)) }
             })
             .collect()
+    }
+
+    /// Refuses a value that is not finite at a quadrature point of a load integral (points in
+    /// the order the assembly visits them), naming the point and its coordinates.
+    pub fn check_at_load_points<const N: usize>(
+        &self,
+        points: impl IntoIterator<Item = [f64; N]>,
+    ) -> Result<(), ExprError> {
+        for (point, at) in points.into_iter().enumerate() {
+            let value = self.eval(&at);
+            if !value.is_finite() {
+                let (key, text, vars) = (self.key.clone(), self.text.clone(), self.vars.clone());
+                return Err(ExprError::NotFiniteAtLoadPoint { key, text, point, vars, at: at.to_vec(), value });
+            }
+        }
+        Ok(())
     }
 
     fn not_finite(&self, node: usize, point: &[f64], value: f64) -> ExprError {

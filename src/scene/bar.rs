@@ -59,8 +59,15 @@ impl BarSpec {
             displacement.eval_at_nodes(nodes())?;
             velocity.eval_at_nodes(nodes())?;
         }
-        // The load is integrated at Gauss points inside the elements (assembly.rs).
+        // The load is integrated at Gauss points inside the elements (assembly.rs): checked
+        // there too (a force infinite there alone used to pass check and diverge at step 0).
         force.check_at_nodes(nodes())?;
+        let gauss = || crate::bar::assembly::load_points(crate::bar::assembly::Bar { length, elements });
+        match &force {
+            Force::Field(f) => f.check_at_load_points(gauss().map(|x| [x]))?,
+            Force::Transient(f) => f.check_at_load_points(gauss().map(|x| [x, 0.0]))?,
+            Force::Constant(_) => {}
+        }
         Ok(BarSpec { length, elements, material, far_end, gap, initial, force })
     }
 }

@@ -1,0 +1,226 @@
+//! Output folders under the hostile-input audit of issue 22 (D6, D10, D11, D13, D14): a file a
+//! user adds inside a listed subfolder is not deleted without `--force`; an unmarked folder
+//! named like a partial one is never removed; a live run's temporary folder survives a
+//! concurrent run whatever the binary is called; SIGTERM, SIGINT, SIGHUP remove the temporary
+//! folder and exit with 128 + signal, SIGXFSZ fails the write (exit 1) and leaves nothing;
+//! `--out LINK/`, `NEW/.`, `MARKED/.` are refused before computing.
+//!
+//! Each test was run against the unfixed binary (commit a8ddfb4) and failed there, as its
+//! comment says.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const MARKER: &str = ".massredist-output";
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_massredist"))
+}
+
+fn shipped(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name)
+}
+
+fn run(scene: &Path, out: &Path, extra: &[&str]) -> Output {
+    bin().arg("run").arg(scene).arg("--out").arg(out).args(extra).output().unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> =
+        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    v.sort();
+    v
+}
+
+/// Exit code 2, every needle in the message, and nothing computed.
+fn assert_refused(o: &Output, needles: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "message lacks {n:?}: {err}");
+    }
+    assert!(!err.contains(" steps in "), "the run was computed before the refusal: {err}");
+}
+
+/// A small plate scene writing VTU frames into `vtu/`.
+const PLATE_VTU: &str = "[plate]\nlength = 1.0\nheight = 1.0\nnx = 4\nny = 4\ncells = \"quad\"\ninitial = \"bump\"\n\
+                         [mass]\nkind = \"mod3\"\n[scheme]\nkind = \"crank-nicolson\"\n[time]\ndt = 0.01\nend = 0.05\n\
+                         [output]\nseries = [\"u0\"]\nvtu = true\nvtu_every = 1\n";
+
+/// D6. Unfixed: the rerun succeeded and deleted `vtu/my-state.pvsm` (the marker listed `vtu`).
+#[test]
+fn a_users_file_inside_a_listed_subfolder_needs_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = tmp.path().join("p.toml");
+    std::fs::write(&scene, PLATE_VTU).unwrap();
+    let out = tmp.path().join("out");
+    let o = run(&scene, &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let marker = std::fs::read_to_string(out.join(MARKER)).unwrap();
+    assert!(marker.lines().any(|l| l == "vtu/") && marker.lines().any(|l| l.starts_with("vtu/frame")), "{marker}");
+    // Rerun into the untouched folder: replaced.
+    assert!(run(&scene, &out, &[]).status.success());
+    std::fs::write(out.join("vtu/my-state.pvsm"), "mine\n").unwrap();
+    let o = run(&scene, &out, &[]);
+    assert_refused(&o, &["vtu/my-state.pvsm", "--force"]);
+    assert_eq!(std::fs::read_to_string(out.join("vtu/my-state.pvsm")).unwrap(), "mine\n");
+    // An empty folder of the user's inside is as much the user's.
+    std::fs::remove_file(out.join("vtu/my-state.pvsm")).unwrap();
+    std::fs::create_dir(out.join("vtu/keep")).unwrap();
+    assert_refused(&run(&scene, &out, &[]), &["vtu/keep/"]);
+    assert!(out.join("vtu/keep").is_dir());
+    let o = run(&scene, &out, &["--force"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!out.join("vtu/keep").exists());
+    assert_eq!(names(tmp.path()), ["out", "p.toml"]);
+}
+
+/// A pid that is certainly not running: a child that has exited and been reaped.
+fn dead_pid() -> u32 {
+    let mut child = Command::new("true").spawn().unwrap();
+    let pid = child.id();
+    child.wait().unwrap();
+    pid
+}
+
+/// D10. Unfixed: `.res.tmp-<dead pid>` (no marker) was removed with the user's file in it.
+#[test]
+fn an_unmarked_folder_named_like_a_partial_one_is_never_removed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let users = tmp.path().join(format!(".res.tmp-{}", dead_pid()));
+    std::fs::create_dir(&users).unwrap();
+    std::fs::write(users.join("thesis.tex"), "mine\n").unwrap();
+    // A marker written by someone else is not massredist's either.
+    let other = tmp.path().join(format!(".res.tmp-{}-old", dead_pid()));
+    std::fs::create_dir(&other).unwrap();
+    std::fs::write(other.join(MARKER), "not a massredist marker\n").unwrap();
+    let o = run(&shipped("fig11-mod3.toml"), &tmp.path().join("res"), &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(users.join("thesis.tex")).unwrap(), "mine\n");
+    assert!(other.join(MARKER).is_file());
+}
+
+/// A bar scene of 10⁸ steps whose series grows from the first steps (it never ends in a test).
+const LONG: &str = "[bar]\nlength = 1.0\nelements = 20\ninitial = \"paper\"\n[mass]\nkind = \"mod3\"\n\
+                    [scheme]\nkind = \"crank-nicolson\"\n[time]\ndt = 1e-5\nend = 1000.0\n\
+                    [output]\nseries = [\"u0\", \"lambda\"]\nevery = 10\n";
+
+/// Polls `done` every 20 ms for at most a minute (a guard against a hang, not a timing).
+fn wait_for(mut done: impl FnMut() -> bool) -> bool {
+    for _ in 0..3000 {
+        if done() {
+            return true;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    false
+}
+
+/// Starts `exe run LONG --out out` and returns it once its temporary folder holds a series.
+fn start_long(exe: &Path, scene: &Path, out: &Path) -> (std::process::Child, PathBuf) {
+    let child =
+        Command::new(exe).arg("run").arg(scene).arg("--out").arg(out).stderr(std::process::Stdio::null()).spawn();
+    let child = child.unwrap();
+    let staging = out.with_file_name(format!(".{}.tmp-{}", out.file_name().unwrap().to_string_lossy(), child.id()));
+    assert!(wait_for(|| staging.join("series.csv").is_file()), "the long run started writing");
+    (child, staging)
+}
+
+fn kill(pid: u32, signal: &str) {
+    assert!(Command::new("kill").args(["-s", signal, &pid.to_string()]).status().unwrap().success());
+}
+
+/// D11 and D13. Unfixed: the short run deleted the live folder of the copy (its name is not
+/// `massredist`), and SIGTERM left the folder (the process died by the signal, no exit code).
+#[cfg(unix)]
+#[test]
+fn a_live_run_keeps_its_folder_whatever_the_binary_is_called_and_a_signal_removes_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let copy = tmp.path().join("mr-copy");
+    std::fs::copy(env!("CARGO_BIN_EXE_massredist"), &copy).unwrap();
+    let long = tmp.path().join("long.toml");
+    std::fs::write(&long, LONG).unwrap();
+    let out = tmp.path().join("out");
+    let (mut child, staging) = start_long(&copy, &long, &out);
+    let o = run(&shipped("fig11-mod3.toml"), &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(staging.join("series.csv").is_file(), "the live run's folder is kept: {}", stderr(&o));
+    assert!(child.try_wait().unwrap().is_none(), "the long run still runs");
+    kill(child.id(), "TERM");
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(128 + 15), "{status}");
+    assert!(!staging.exists(), "SIGTERM removes the temporary folder");
+    assert_eq!(names(tmp.path()), ["long.toml", "mr-copy", "out"]);
+}
+
+/// D13. Unfixed: each signal killed the process (no exit code) and left `.out.tmp-<pid>`.
+#[cfg(unix)]
+#[test]
+fn sigint_and_sighup_remove_the_temporary_folder_and_exit_128_plus_the_signal() {
+    let tmp = tempfile::tempdir().unwrap();
+    let long = tmp.path().join("long.toml");
+    std::fs::write(&long, LONG).unwrap();
+    // Missing parents created for the run go with it.
+    let out = tmp.path().join("new/deeper/out");
+    for (signal, number) in [("INT", 2), ("HUP", 1)] {
+        let (mut child, staging) = start_long(Path::new(env!("CARGO_BIN_EXE_massredist")), &long, &out);
+        kill(child.id(), signal);
+        let status = child.wait().unwrap();
+        assert_eq!(status.code(), Some(128 + number), "SIG{signal}: {status}");
+        assert!(!staging.exists(), "SIG{signal}");
+        assert_eq!(names(tmp.path()), ["long.toml"], "SIG{signal}: the created parents are removed too");
+    }
+}
+
+/// D13, SIGXFSZ: a file-size limit reached while streaming (no `trap` this time). Unfixed: the
+/// process was killed by SIGXFSZ and left its folder.
+#[cfg(unix)]
+#[test]
+fn a_file_size_limit_fails_the_write_and_leaves_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = tmp.path().join("mid.toml");
+    std::fs::write(&scene, LONG.replace("end = 1000.0", "end = 3.0").replace("every = 10", "every = 1")).unwrap();
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -f 100; exec \"$0\" run \"$1\" --out \"$2\"")
+        .arg(env!("CARGO_BIN_EXE_massredist"))
+        .arg(&scene)
+        .arg(tmp.path().join("out"))
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{:?}: {err}", o.status);
+    assert!(err.contains("File too large"), "{err}");
+    assert_eq!(names(tmp.path()), ["mid.toml"]);
+}
+
+/// D14. Unfixed: each computed the whole run, then failed at the rename with exit 1.
+#[cfg(unix)]
+#[test]
+fn out_ending_in_a_slash_or_a_dot_is_checked_before_computing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = shipped("fig11-mod3.toml");
+    let target = tmp.path().join("target");
+    std::fs::create_dir(&target).unwrap();
+    std::os::unix::fs::symlink(&target, tmp.path().join("link")).unwrap();
+    let marked = tmp.path().join("marked");
+    assert!(run(&scene, &marked, &[]).status.success());
+    let before = names(&marked);
+    let with = |p: &str| PathBuf::from(format!("{}/{p}", tmp.path().display()));
+    assert_refused(&run(&scene, &with("link/"), &[]), &["link", "symbolic link"]);
+    assert_refused(&run(&scene, &with("link/"), &["--force"]), &["symbolic link"]);
+    assert_refused(&run(&scene, &with("new/."), &[]), &["new/.", "ends in '.'"]);
+    assert_refused(&run(&scene, &with("marked/."), &[]), &["marked/.", "ends in '.'"]);
+    assert_refused(&run(&scene, &with("marked/.."), &["--force"]), &["ends in '..'"]);
+    assert!(names(&target).is_empty());
+    assert_eq!(names(&marked), before);
+    assert_eq!(names(tmp.path()), ["link", "marked", "target"]);
+    // A trailing slash on a real folder is only a spelling.
+    let o = run(&scene, &with("marked/"), &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(names(tmp.path()), ["link", "marked", "target"]);
+}
