@@ -1,4 +1,4 @@
-"""The FEniCSx engine: a plate scene stepped by dolfinx and PETSc under MPI (issue 12).
+"""The FEniCSx engine: a plate or solid scene stepped by dolfinx and PETSc under MPI (issue 12).
 
     mpirun -n N /usr/bin/python3 python/fenicsx_engine.py RESOLVED_SCENE OUT_DIR [--staged]
 

@@ -514,32 +514,6 @@ fn stepping_does_not_allocate() {
     }
 }
 
-/// The full sweep of `table_2d(false)`, printed (for the report; run with
-/// `cargo test --release --test plate -- --ignored --nocapture print_table_2d`).
-#[test]
-#[ignore]
-fn print_table_2d() {
-    let rows = massredist::paper::plate_table::table_2d(false);
-    for r in &rows {
-        println!(
-            "{:5} {:8} {:14} {} dt={:<5} T={:<2} linf_l2={:.5} paper={:?}",
-            r.judged,
-            r.cells,
-            r.scheme,
-            r.mass,
-            r.dt,
-            r.end,
-            r.linf_l2_error.unwrap_or(f64::NAN),
-            r.paper
-        );
-    }
-    for r in massredist::paper::plate_table::closest_to_paper(&rows) {
-        println!("closest to the paper: {r:?}");
-    }
-    let (group, factor) = massredist::paper::plate_table::best_single_configuration(&rows).unwrap();
-    println!("best single configuration (within a factor {factor:.3}): {group:?}");
-}
-
 #[test]
 fn a_failed_contact_step_names_the_step_and_the_residual() {
     use massredist::contact::lcp::LcpError;

@@ -177,11 +177,6 @@ impl<A: Backend> Hybrid<A> {
         }
         [t1, t2, -0.5 * t3]
     }
-
-    /// The mid-step multipliers λ̄ of the last step.
-    pub fn mid_step_lambda(&self) -> &[f64] {
-        &self.lam_bar
-    }
 }
 
 impl<A: Backend> super::Scheme for Hybrid<A> {
