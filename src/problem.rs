@@ -13,7 +13,8 @@ use crate::bar::assembly::BarSystem;
 use crate::contact::Backend;
 use crate::exact::Exact;
 use crate::schemes::{
-    BackwardEuler, Formulation, Hybrid, Newmark, NewmarkReduced, PaoliSchatzman, Scheme, SchemeError, SchemeSpec,
+    BackwardEuler, Beta, Formulation, Gamma, Hybrid, Newmark, NewmarkReduced, PaoliSchatzman, Scheme, SchemeError,
+    SchemeSpec,
 };
 use crate::system::ContactSystem;
 
@@ -114,7 +115,7 @@ impl<G: Geometry> Problem<G> {
                     SchemeSpec::Newmark { beta, gamma, .. } => {
                         Box::new(NewmarkReduced::new(bar, beta, gamma, dt, u, v)?)
                     }
-                    _ => Box::new(NewmarkReduced::new(bar, 0.25, 0.5, dt, u, v)?),
+                    _ => Box::new(NewmarkReduced::new(bar, Beta::DEFAULT, Gamma::DEFAULT, dt, u, v)?),
                 }
             }
         })

@@ -16,7 +16,7 @@ use massredist::run::Problem;
 use massredist::run::plate::PlateProblem;
 use massredist::scene::{Formulation, SchemeSpec};
 use massredist::scene::{PlateInitial, PlateSpec};
-use massredist::schemes::{BackwardEuler, Hybrid, Newmark, Scheme};
+use massredist::schemes::{BackwardEuler, Beta, Gamma, Hybrid, Newmark, Scheme};
 use massredist::system::ContactSystem;
 
 #[global_allocator]
@@ -363,8 +363,8 @@ fn the_sparse_back_end_on_the_bar_gives_the_tridiagonal_steps() {
             if mass != MassKind::Standard {
                 // (CN with the standard mass chatters and amplifies round-off; see the Q1 test.)
                 pairs.push((
-                    Box::new(Newmark::new(&sp, 0.3, 0.6, dt, u(), v()).unwrap()),
-                    Box::new(Newmark::new(tri, 0.3, 0.6, dt, u(), v()).unwrap()),
+                    Box::new(Newmark::new(&sp, Beta::new(0.3), Gamma::new(0.6), dt, u(), v()).unwrap()),
+                    Box::new(Newmark::new(tri, Beta::new(0.3), Gamma::new(0.6), dt, u(), v()).unwrap()),
                 ));
                 pairs.push((
                     Box::new(Hybrid::new(&sp, dt, u(), v()).unwrap()),

@@ -14,6 +14,7 @@ use massredist::run::{Observer, Problem, Sample, integrate};
 use massredist::scene::Body;
 use massredist::scene::{Formulation, SchemeSpec};
 use massredist::scene::{PlateInitial, PlateSpec};
+use massredist::schemes::{Beta, Gamma, Restitution};
 
 fn paper(m: usize, mass: &MassKind) -> Problem {
     Problem::benchmark(1.0, m, mass).unwrap()
@@ -110,7 +111,11 @@ fn complementarity_holds_bit_for_bit_at_every_step() {
                 let mut specs = vec![
                     CN,
                     SchemeSpec::BackwardEuler,
-                    SchemeSpec::Newmark { beta: 0.3, gamma: 0.6, formulation: Formulation::Full },
+                    SchemeSpec::Newmark {
+                        beta: Beta::new(0.3),
+                        gamma: Gamma::new(0.6),
+                        formulation: Formulation::Full,
+                    },
                 ];
                 if mass != MassKind::Standard {
                     specs.push(SchemeSpec::Hybrid);
@@ -131,7 +136,7 @@ fn complementarity_holds_bit_for_bit_at_every_step() {
 fn paoli_schatzman_contact_condition_holds_at_the_intermediate_time() {
     for e in [0.0, 0.5, 1.0] {
         for mass in [MassKind::Standard, MassKind::Mod3] {
-            let spec = SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: e };
+            let spec = SchemeSpec::PaoliSchatzman { beta: Beta::new(0.25), restitution: Restitution::new(e) };
             let tr = trajectory(&paper(6, &mass), &spec, 0.01, 600);
             for n in 1..tr.len() - 1 {
                 let y = (tr[n + 1].u[0] + e * tr[n - 1].u[0]) / (1.0 + e);
@@ -175,7 +180,7 @@ fn full_and_reduced_newmark_agree_to_round_off() {
     let mut worst: f64 = 0.0;
     for m in [2, 6, 37] {
         for mass in all_masses(m).into_iter().skip(1) {
-            for (beta, gamma) in [(0.25, 0.5), (0.3, 0.6)] {
+            for (beta, gamma) in [(0.25, 0.5), (0.3, 0.6)].map(|(b, g)| (Beta::new(b), Gamma::new(g))) {
                 let full = SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Full };
                 let red = SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Reduced };
                 let p = paper(m, &mass);
