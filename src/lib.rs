@@ -19,6 +19,7 @@ pub mod fem;
 pub mod linalg;
 pub mod mass;
 pub mod material;
+pub mod models;
 pub mod numfmt;
 pub mod observe;
 pub mod output;

@@ -7,17 +7,18 @@ mod common;
 use common::*;
 use massredist::bar::assembly::{Bar, BarSystem};
 use massredist::mass::MassKind;
+use massredist::models::{PaperBar, PlateBump};
 use massredist::plate::CellKind;
 use massredist::problem::{Geometry, Problem as GenericProblem};
 use massredist::run::plate::PlateProblem;
 use massredist::run::{Observer, Problem, Sample, integrate};
 use massredist::scene::Body;
 use massredist::scene::{Formulation, SchemeSpec};
-use massredist::scene::{PlateInitial, PlateSpec};
+use massredist::scene::PlateSpec;
 use massredist::schemes::{Beta, Gamma, Restitution};
 
 fn paper(m: usize, mass: &MassKind) -> Problem {
-    Problem::benchmark(1.0, m, mass).unwrap()
+    PaperBar::unit(m).problem(mass).unwrap()
 }
 
 /// Node-wise Signorini conditions `0 ≤ u_c + gap ⊥ λ_c ≤ 0` over a run: the worst violation of
@@ -106,7 +107,7 @@ fn complementarity_holds_bit_for_bit_at_every_step() {
         for cells in [CellKind::Triangle, CellKind::Quad] {
             for mass in [MassKind::Standard, MassKind::Mod3] {
                 let body = Body { gap, ..Body::default() };
-                let spec = PlateSpec { body, ..PlateSpec::structured(1.0, 1.0, 8, 6, cells, PlateInitial::Bump) };
+                let spec = PlateSpec { body, ..PlateBump::unit(8, 6, cells).spec() };
                 let p = PlateProblem::new(&spec, &mass).unwrap();
                 let mut specs = vec![
                     CN,

@@ -9,9 +9,10 @@
 
 use super::timing::best_timed;
 use crate::mass::MassKind;
+use crate::models::PaperBar;
 use crate::paper::Experiment;
 pub use crate::paper::masses;
-use crate::run::{DivergenceCriterion, Outcome, Problem, SummaryObserver, integrate, integrate_watched};
+use crate::run::{DivergenceCriterion, Outcome, SummaryObserver, integrate, integrate_watched};
 use crate::scene::{Formulation, SchemeSpec};
 use serde::Serialize;
 use std::time::Instant;
@@ -162,7 +163,7 @@ pub fn run_case(case: &Case, cfg: &SweepConfig) -> CaseResult {
         status: "failed",
         failure: None,
     };
-    let problem = match Problem::benchmark(1.0, case.elements, &case.mass) {
+    let problem = match PaperBar::unit(case.elements).problem(&case.mass) {
         Ok(p) => p,
         Err(e) => {
             r.failure = Some(e.to_string());

@@ -6,6 +6,7 @@
 use super::periods::PeriodEnergy;
 use super::{Case, Config, Purpose, ReproduceError, band, cases};
 use crate::exact::ImpactingBar;
+use crate::models::PaperBar;
 use crate::run::{
     Divergence, DivergenceCriterion, Problem, RunError, SeriesRecorder, Summary, SummaryObserver, integrate_watched,
 };
@@ -65,7 +66,8 @@ pub fn run_case(config: &Config, case: &Case) -> Result<CaseResult, ReproduceErr
     let wrap = |source: RunError| ReproduceError::Run { case: case.name(), source };
     let long = case.purpose == Purpose::LongEnergy;
     let steps = config.steps(if long { "long_ends" } else { "horizons" }, case.end)?;
-    let mut problem = Problem::benchmark(config.length, config.elements, &case.mass).map_err(wrap)?;
+    let mut problem =
+        PaperBar { length: config.length, elements: config.elements }.problem(&case.mass).map_err(wrap)?;
     let every = if long { config.long_every(steps) } else { 1 };
     let (summary, series, periods) = run_one(config, case, &problem, steps, case.columns(), every).map_err(wrap)?;
     let mut copies = Vec::new();
