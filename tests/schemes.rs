@@ -13,8 +13,8 @@ use massredist::problem::{Geometry, Problem as GenericProblem};
 use massredist::run::plate::PlateProblem;
 use massredist::run::{Observer, Problem, Sample, integrate};
 use massredist::scene::Body;
-use massredist::scene::{Formulation, SchemeSpec};
 use massredist::scene::PlateSpec;
+use massredist::scene::{Formulation, SchemeSpec};
 use massredist::schemes::{Beta, Gamma, Restitution};
 
 fn paper(m: usize, mass: &MassKind) -> Problem {

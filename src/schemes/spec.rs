@@ -68,7 +68,7 @@ macro_rules! bounded {
         impl TryFrom<f64> for $name {
             type Error = ParamError;
             fn try_from(x: f64) -> Result<Self, ParamError> {
-                if Self::contains(x) { Ok(Self(x)) } else { Err(ParamError { key: $key, value: x, range: $range }) }
+                if Self::contains(x) { Ok(Self(x)) } else { Err(ParamError { key: Self::KEY, value: x, range: Self::RANGE }) }
             }
         }
 
@@ -225,14 +225,6 @@ impl SchemeSpec {
             SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
             | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. } => Some("scheme.formulation = \"reduced\""),
             _ => None,
-        }
-    }
-
-    /// The formulation (full for the schemes that have none).
-    pub fn formulation(&self) -> Formulation {
-        match self {
-            SchemeSpec::CrankNicolson { formulation } | SchemeSpec::Newmark { formulation, .. } => *formulation,
-            _ => Formulation::Full,
         }
     }
 }
