@@ -10,15 +10,13 @@
 //! The work–precision sweep and the ratio tables are `massredist bench` (src/bench/).
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use massredist::bar::BarProblem;
 use massredist::bench::perf::floor_matrix;
 use massredist::bench::sweep::scheme_cases;
 use massredist::mass::MassKind;
+use massredist::models::{PaperBar, PaperPlate, PlaneWaveSolid};
 use massredist::plate::CellKind;
-use massredist::plate::PlateProblem;
-use massredist::scene::{Formulation, PlateInitial, PlateSpec, SchemeSpec};
+use massredist::scene::SchemeSpec;
 use massredist::schemes::Scheme;
-use massredist::solid::SolidSpec;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -57,7 +55,7 @@ fn steps(c: &mut Criterion) {
         // The reduced formulation and the hybrid scheme need a massless contact node.
         let mass = if case.needs_massless { MassKind::Mod3 } else { MassKind::Standard };
         for m in SIZES {
-            let problem = BarProblem::benchmark(1.0, m, &mass).unwrap();
+            let problem = PaperBar::unit(m).problem(&mass).unwrap();
             let dt = problem.system.h();
             g.throughput(Throughput::Elements(STEPS * m as u64));
             g.bench_with_input(BenchmarkId::new(format!("{}/{}", case.label, mass.name()), m), &m, |bch, _| {
@@ -81,13 +79,14 @@ fn steps(c: &mut Criterion) {
 type Build = Box<dyn Fn() -> Box<dyn Scheme>>;
 
 fn multid_cases() -> Vec<(&'static str, Build)> {
-    let cn = || SchemeSpec::CrankNicolson { formulation: Formulation::Full };
-    let plate = move || {
-        let spec = PlateSpec::structured(1.0, 1.0, 40, 40, CellKind::Quad, PlateInitial::Paper);
-        PlateProblem::new(&spec, &MassKind::Mod3).unwrap().scheme(&cn(), DT).unwrap()
-    };
+    let cn = SchemeSpec::CRANK_NICOLSON;
+    let plate =
+        move || PaperPlate::square(40, CellKind::Quad).problem(&MassKind::Mod3).unwrap().scheme(&cn, DT).unwrap();
     let solid = move |dim: usize, n: usize| {
-        move || SolidSpec::paper(dim, [n; 3]).problem(&MassKind::Mod3, 2.0).unwrap().scheme(&cn(), DT).unwrap()
+        move || {
+            let solid = PlaneWaveSolid { dim, cells: [n; 3] };
+            solid.problem(&MassKind::Mod3, 2.0).unwrap().scheme(&cn, DT).unwrap()
+        }
     };
     vec![
         ("plate-q1-40x40", Box::new(plate)),

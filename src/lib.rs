@@ -21,6 +21,7 @@ pub mod linalg;
 pub mod machine;
 pub mod mass;
 pub mod material;
+pub mod models;
 pub mod numfmt;
 pub mod observe;
 pub mod output;

@@ -11,9 +11,10 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-/// Which redistribution of the contact node's mass to use.
+/// Which redistribution of the contact node's mass to use: the `[mass]` table of a scene, tagged
+/// by `kind` (`weights` only for `custom`), through [`MassTable`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(into = "MassTable", from = "MassTable")]
 pub enum MassKind {
     Standard,
     Mod1,
@@ -21,6 +22,43 @@ pub enum MassKind {
     Mod3,
     /// One weight per element, element 0 first.
     Custom(Vec<f64>),
+}
+
+/// The serde form of [`MassKind`]: an internally tagged enum (`Custom` as a struct variant, which
+/// internal tagging needs; its weights are checked on the mesh, [`MassKind::weights`]). serde
+/// spells the variants as [`MassKind::name`] does (lowercase; checked by a test).
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+enum MassTable {
+    Standard,
+    Mod1,
+    Mod2,
+    Mod3,
+    Custom { weights: Vec<f64> },
+}
+
+impl From<MassTable> for MassKind {
+    fn from(t: MassTable) -> Self {
+        match t {
+            MassTable::Standard => MassKind::Standard,
+            MassTable::Mod1 => MassKind::Mod1,
+            MassTable::Mod2 => MassKind::Mod2,
+            MassTable::Mod3 => MassKind::Mod3,
+            MassTable::Custom { weights } => MassKind::Custom(weights),
+        }
+    }
+}
+
+impl From<MassKind> for MassTable {
+    fn from(m: MassKind) -> Self {
+        match m {
+            MassKind::Standard => MassTable::Standard,
+            MassKind::Mod1 => MassTable::Mod1,
+            MassKind::Mod2 => MassTable::Mod2,
+            MassKind::Mod3 => MassTable::Mod3,
+            MassKind::Custom(weights) => MassTable::Custom { weights },
+        }
+    }
 }
 
 /// Invalid element weights.
@@ -41,6 +79,12 @@ pub enum MassError {
 }
 
 impl MassKind {
+    /// One mass of every kind (custom without weights), in the order messages list them.
+    pub fn all() -> [MassKind; 5] {
+        [MassKind::Standard, MassKind::Mod1, MassKind::Mod2, MassKind::Mod3, MassKind::Custom(Vec::new())]
+    }
+
+    /// The scene name (`mass.kind`): the one list of mass names.
     pub fn name(&self) -> &'static str {
         match self {
             MassKind::Standard => "standard",
@@ -100,6 +144,20 @@ mod tests {
         let w2 = MassKind::Mod2.weights(m).unwrap();
         assert_eq!(w2[0], 0.0);
         assert!(w2[1..].iter().all(|&w| w == 6.0 / 5.0));
+    }
+
+    /// serde's spelling of every kind is [`MassKind::name`]; the table round-trips. (Mutation:
+    /// `#[serde(rename = "mod02")]` on `MassTable::Mod2` -> fails at its kind.)
+    #[test]
+    fn serde_names_are_the_written_names() {
+        for kind in MassKind::all() {
+            let table = toml::Table::try_from(&kind).unwrap();
+            assert_eq!(table["kind"].as_str(), Some(kind.name()));
+            assert_eq!(table.contains_key("weights"), matches!(kind, MassKind::Custom(_)), "{}", kind.name());
+            assert_eq!(table.clone().try_into::<MassKind>().unwrap(), kind);
+        }
+        let m: MassKind = toml::from_str("kind = \"custom\"\nweights = [0, 2.5]").unwrap();
+        assert_eq!(m, MassKind::Custom(vec![0.0, 2.5]));
     }
 
     #[test]

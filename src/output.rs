@@ -1,10 +1,12 @@
-//! Files: the only module that writes. A run directory appears complete or not at all: it is
-//! written under a temporary sibling name and renamed into place. `massredist run` streams its
-//! series into that temporary folder while computing ([`SeriesWriter`]; a plate's VTU frames:
-//! `plate::vtu::FrameWriter`), so its memory does not depend on the number of steps. Output folders are checked
-//! before computing and carry a marker listing every file written; only a marked folder holding
-//! nothing else is replaced without `--force` ([`OutputDir`], `output/folder.rs`). A signal removes
-//! the temporary folder (`output/staging.rs`).
+//! Output folders and the run's files: the series CSV, the summary JSON and the atomic folder
+//! ([`OutputDir`]) that every writer fills (`run`, `reproduce` and `bench` commit their files into
+//! one; VTU frames are written into it by `fem::frames`). A run directory appears complete or not
+//! at all: it is written under a temporary sibling name and renamed into place. `massredist run`
+//! streams its series into that temporary folder while computing ([`SeriesWriter`]), so its
+//! memory does not depend on the number of steps. Output folders are checked before computing and
+//! carry a marker listing every file written; only a marked folder holding nothing else is
+//! replaced without `--force` ([`OutputDir`], `output/folder.rs`). A signal removes the temporary
+//! folder (`output/staging.rs`).
 
 use crate::driver::{Needs, Observer, Sample};
 use crate::observe::{SeriesRecorder, push_series_row, series_needs};

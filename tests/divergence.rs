@@ -269,7 +269,7 @@ fn watching_changes_nothing_in_a_run_that_does_not_diverge() {
 fn the_watched_driver_stops_where_the_strict_one_runs_on() {
     let p = BarProblem::benchmark(1.0, 6, &MassKind::Mod1).unwrap();
     let (dt, steps) = (p.system.h(), 18_000);
-    let spec = massredist::scene::SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: 1.0 };
+    let spec = massredist::scene::SchemeSpec::PAOLI_SCHATZMAN; // β = ¼, e = 1
     let mut strict = p.scheme(&spec, dt).unwrap();
     integrate(&p, strict.as_mut(), steps, &mut []).expect("finite states all along");
     let mut s = p.scheme(&spec, dt).unwrap();

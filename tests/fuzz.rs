@@ -340,7 +340,7 @@ fn mutated_shipped_scenes_never_panic_and_fail_cleanly() {
     let scenes: Vec<Table> = shipped().into_iter().map(|(_, t)| shorten(t)).collect();
     assert!(scenes.len() >= 4, "the shipped scenes");
     let allow_setup = std::env::var_os("MASSREDIST_FUZZ_LIST_SETUP_FAILURES").is_some();
-    // 64 cases (each two processes on a 5-step run), seeded: the same cases on every run.
+    // 256 cases (each two processes on a 5-step run), seeded: the same cases on every run.
     let config = Config { cases: 256, failure_persistence: None, ..Config::default() };
     let rng = proptest::test_runner::TestRng::deterministic_rng(RngAlgorithm::ChaCha);
     let mut runner = TestRunner::new_with_rng(config, rng);

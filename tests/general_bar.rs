@@ -5,6 +5,7 @@
 
 use massredist::bar::BarProblem;
 use massredist::driver::{Observer, Sample, integrate};
+use massredist::models::ReboundBar;
 use massredist::scene::{BarScene, Column};
 
 mod common;
@@ -94,8 +95,11 @@ impl Observer for Track {
 }
 
 fn track(text: &str) -> (BarProblem, Track) {
-    let scene = BarScene::from_toml(text).unwrap();
-    let p = BarProblem::from_scene(&scene).unwrap();
+    track_scene(&BarScene::from_toml(text).unwrap())
+}
+
+fn track_scene(scene: &BarScene) -> (BarProblem, Track) {
+    let p = BarProblem::from_scene(scene).unwrap();
     let mut s = p.scheme(&scene.scheme, scene.time.dt).unwrap();
     let mut tr = Track::default();
     integrate(&p, s.as_mut(), scene.time.steps, &mut [&mut tr]).unwrap();
@@ -104,18 +108,13 @@ fn track(text: &str) -> (BarProblem, Track) {
 
 #[test]
 fn the_rebounding_bar_hits_at_t_gap_stays_2l_over_c_and_leaves_with_velocity_one() {
-    // u⁰ = 0, v⁰ = −1, free far end, gap g: exact impact at t = g, contact force −sqrt(Eρ)·1
-    // (the incoming strain wave −v/c times E), contact for 2L/c, then rigid departure at +1.
+    // The model (models::ReboundBar): u⁰ = 0, v⁰ = −1, free far end, gap g; its exact events and
+    // tolerances, each with its reason, are the model's.
     for (density, modulus) in [(1.0, 1.0), (4.0, 1.0), (1.0, 2.25)] {
-        let c = f64::sqrt(modulus / density);
-        let (l, m, gap, dt) = (1.0, 200, 0.1, 0.0025);
-        let end = (gap + 2.0 * l / c + 1.0).ceil();
+        let model = ReboundBar { length: 1.0, elements: 200, density, modulus, gap: 0.1 };
+        let (exact, gap, dt) = (model.exact(), model.gap, 0.0025);
         for scheme in SCHEMES {
-            let bar = format!(
-                "length = {l}\nelements = {m}\ndensity = {density}\nmodulus = {modulus}\nfar_end = \"free\"\n\
-                 gap = {gap}\ninitial = {{ displacement = \"0\", velocity = \"-1\" }}"
-            );
-            let (_, tr) = track(&bar_scene(&bar, scheme, dt, end));
+            let (_, tr) = track_scene(&model.scene(scheme, dt));
             let label = format!("{scheme} rho {density} E {modulus}");
             // Complementarity with the gap at every step, bit for bit.
             for n in 0..tr.t.len() {
@@ -123,23 +122,23 @@ fn the_rebounding_bar_hits_at_t_gap_stays_2l_over_c_and_leaves_with_velocity_one
                 assert_eq!((tr.u0[n] + gap) * tr.lambda[n], 0.0, "{label} n={n}");
             }
             let impact = tr.u0.iter().position(|&u| u <= -gap).unwrap();
-            // The free flight is exact for every scheme here (uniform velocity, S·1 = 0 on a
-            // free bar, F = 0): impact at the step containing t = g.
-            assert!((tr.t[impact] - gap).abs() <= dt * (1.0 + 1e-9), "{label}: impact at {}", tr.t[impact]);
+            let tol = ReboundBar::impact_tolerance(dt);
+            assert!((tr.t[impact] - exact.impact).abs() <= tol, "{label}: impact at {}", tr.t[impact]);
             let release = (impact..tr.t.len()).find(|&n| tr.u0[n] > -gap).unwrap();
             let duration = tr.t[release] - tr.t[impact];
-            // Discrete contact ends within a few steps of 2L/c (P1 dispersion at the front).
-            assert!((duration - 2.0 * l / c).abs() <= 4.0 * dt + 2.0 * l / m as f64, "{label}: contact {duration}");
-            // Mean contact force over the middle half of the contact: −sqrt(Eρ) within 2 %.
+            let tol = model.duration_tolerance(dt);
+            assert!((duration - exact.contact_duration).abs() <= tol, "{label}: contact {duration}");
+            // Mean contact force over the middle half of the contact: −sqrt(Eρ).
             let (a, b) = (impact + (release - impact) / 4, impact + 3 * (release - impact) / 4);
             let mean = tr.lambda[a..b].iter().sum::<f64>() / (b - a) as f64;
-            let expect = -(modulus * density).sqrt();
-            assert!((mean - expect).abs() <= 0.02 * expect.abs(), "{label}: λ {mean} vs {expect}");
+            let expect = exact.contact_force;
+            assert!((mean - expect).abs() <= ReboundBar::RELATIVE * expect.abs(), "{label}: λ {mean} vs {expect}");
             // Departure: the mean velocity after release is +1 (momentum ρL·1 is restored);
             // backward Euler loses energy at the impact, so only the conservative schemes.
             let v_end = *tr.v_mean.last().unwrap();
             if scheme != "backward-euler" {
-                assert!((v_end - 1.0).abs() <= 0.02, "{label}: departure velocity {v_end}");
+                let tol = ReboundBar::RELATIVE * exact.departure_velocity;
+                assert!((v_end - exact.departure_velocity).abs() <= tol, "{label}: departure velocity {v_end}");
             } else {
                 assert!(v_end > 0.0 && v_end < 1.0 + 1e-12, "{label}: departure velocity {v_end}");
             }

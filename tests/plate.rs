@@ -10,13 +10,14 @@ use massredist::driver::{Observer, Sample, integrate};
 use massredist::linalg::sparse::{self, SpMat};
 use massredist::linalg::tridiag::SymTridiag;
 use massredist::mass::MassKind;
+use massredist::models::{PaperPlate, PlateBump, RoundOffGrowth};
 use massredist::observe::{EnergyRecorder, SummaryObserver};
 use massredist::plate::PlateProblem;
 use massredist::plate::layers::{cell_weights, layers, total_mass};
 use massredist::plate::{CellKind, Mesh2d};
 use massredist::scene::{Formulation, SchemeSpec};
 use massredist::scene::{PlateInitial, PlateSpec};
-use massredist::schemes::{BackwardEuler, Hybrid, Newmark, Scheme};
+use massredist::schemes::{BackwardEuler, Beta, Gamma, Hybrid, Newmark, Scheme};
 use massredist::system::ContactSystem;
 
 #[global_allocator]
@@ -29,10 +30,12 @@ fn spec(nx: usize, ny: usize, height: f64, cells: CellKind, initial: PlateInitia
 }
 
 /// Max over steps 0..=steps and all nodes of |u_2D(x_i, y_j) − u_1D(x_i)| and the same for v,
-/// for Q1 on (0,1) × (0,H) with the paper's data.
+/// for Q1 on (0,1) × (0,H) with the paper's data (the model [`PaperPlate`]) against its
+/// reference bar.
 fn q1_vs_1d(nx: usize, ny: usize, mass: &MassKind, scheme: &SchemeSpec, dt: f64, steps: usize) -> (f64, f64) {
-    let p2 = PlateProblem::new(&spec(nx, ny, 0.5, CellKind::Quad, PlateInitial::Paper), mass).unwrap();
-    let p1 = BarProblem::benchmark(1.0, nx, mass).unwrap();
+    let plate = PaperPlate { height: 0.5, nx, ny, cells: CellKind::Quad };
+    let p2 = plate.problem(mass).unwrap();
+    let p1 = plate.reference().problem(mass).unwrap();
     let mut s2 = p2.scheme(scheme, dt).unwrap();
     let mut s1 = p1.scheme(scheme, dt).unwrap();
     let (mut du, mut dv) = (0.0f64, 0.0f64);
@@ -53,15 +56,10 @@ fn q1_vs_1d(nx: usize, ny: usize, mass: &MassKind, scheme: &SchemeSpec, dt: f64,
 
 #[test]
 fn q1_with_paper_data_is_the_1d_solution_extended_in_y() {
-    // Q1 on a structured mesh with x-only weights: M = Mx^w ⊗ My, S = Kx ⊗ My + Mx ⊗ Ky, the
-    // contact LCP has the y-constant solution λ_c = λ_1D ∫φ_c, so each 2D step is the 1D step.
+    // The model's reduction (models::PaperPlate): each 2D step is the 1D step, to round-off
+    // growing at most linearly (its tolerance, models::RoundOffGrowth, says why).
     let (nx, ny, dt, steps) = (20, 4, 0.01, 300);
-    // Each step adds a few ulps per operation of a solve with condition number ≈ 1.1
-    // (Δt²/4 · 12/h² ≈ 0.12 beyond M), u and v are O(1): the difference grows at most linearly,
-    // steps · 64 ε ≈ 4e-12 for u; v = 2(u_new − u)/Δt − v (hybrid) or a/σ-based (Newmark)
-    // amplifies it by up to 2/Δt = 200.
-    let tol_u = steps as f64 * 64.0 * f64::EPSILON;
-    let tol_v = tol_u * 2.0 / dt;
+    let RoundOffGrowth { u: tol_u, v: tol_v } = PaperPlate::tolerance(steps, dt);
     let masses = [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3];
     for scheme in [CN, SchemeSpec::BackwardEuler, SchemeSpec::Hybrid] {
         for mass in &masses {
@@ -76,16 +74,17 @@ fn q1_with_paper_data_is_the_1d_solution_extended_in_y() {
     // bounces each step) and amplifies round-off by ~10 every few steps in 1D as in 2D, so the
     // comparison stops at the first impact (t = 1).
     let (du, dv) = q1_vs_1d(nx, ny, &MassKind::Standard, &CN, dt, 100);
-    let tol_u = 100.0 * 64.0 * f64::EPSILON;
-    assert!(du <= tol_u && dv <= tol_u * 2.0 / dt, "crank-nicolson standard: du {du:e} dv {dv:e}");
+    let tol = PaperPlate::tolerance(100, dt);
+    assert!(du <= tol.u && dv <= tol.v, "crank-nicolson standard: du {du:e} dv {dv:e}");
 }
 
 #[test]
 fn q1_l2_error_equals_the_1d_error_times_sqrt_height() {
     // ‖e‖_{L²((0,1)×(0,H))}² = H ‖e_1D‖²_{L²(0,1)} for a y-independent error.
     let h = 0.5;
-    let p2 = PlateProblem::new(&spec(20, 3, h, CellKind::Quad, PlateInitial::Paper), &MassKind::Mod3).unwrap();
-    let p1 = BarProblem::benchmark(1.0, 20, &MassKind::Mod3).unwrap();
+    let plate = PaperPlate { height: h, nx: 20, ny: 3, cells: CellKind::Quad };
+    let p2 = plate.problem(&MassKind::Mod3).unwrap();
+    let p1 = plate.reference().problem(&MassKind::Mod3).unwrap();
     let steps = 300;
     let mut sum2 = SummaryObserver::new(&p2, steps, 0.01, true);
     let mut s2 = p2.scheme(&CN, 0.01).unwrap();
@@ -296,7 +295,7 @@ fn contact_is_solved_exactly_node_by_node() {
     // y-dependent data on triangles: the contact state varies along Γ_C.
     for scheme in [CN, SchemeSpec::BackwardEuler, SchemeSpec::Hybrid] {
         for cells in [CellKind::Triangle, CellKind::Quad] {
-            let p = PlateProblem::new(&spec(16, 12, 1.0, cells, PlateInitial::Bump), &MassKind::Mod3).unwrap();
+            let p = PlateBump::unit(16, 12, cells).problem(&MassKind::Mod3).unwrap();
             let mut s = p.scheme(&scheme, 0.01).unwrap();
             let mut c = Complementarity { worst: 0.0, min_u: f64::INFINITY, max_lambda: f64::NEG_INFINITY };
             let mut pressure_seen = PressureSpread::default();
@@ -363,8 +362,8 @@ fn the_sparse_back_end_on_the_bar_gives_the_tridiagonal_steps() {
             if mass != MassKind::Standard {
                 // (CN with the standard mass chatters and amplifies round-off; see the Q1 test.)
                 pairs.push((
-                    Box::new(Newmark::new(&sp, 0.3, 0.6, dt, u(), v()).unwrap()),
-                    Box::new(Newmark::new(tri, 0.3, 0.6, dt, u(), v()).unwrap()),
+                    Box::new(Newmark::new(&sp, Beta::new(0.3), Gamma::new(0.6), dt, u(), v()).unwrap()),
+                    Box::new(Newmark::new(tri, Beta::new(0.3), Gamma::new(0.6), dt, u(), v()).unwrap()),
                 ));
                 pairs.push((
                     Box::new(Hybrid::new(&sp, dt, u(), v()).unwrap()),
@@ -440,8 +439,7 @@ fn hybrid_energy_never_increases_in_2d() {
         for mass in [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3] {
             let p = PlateProblem::new(&spec(nx, ny, 1.0, cells, init.clone()), &mass).unwrap();
             let steps = hybrid_energy(&p, dt, (3.0 / dt).round() as usize);
-            // E = O(0.1) is a sum of O(n) products: its evaluation error is ~ n ε · 0.1.
-            let tol = 1e4 * f64::EPSILON;
+            let tol = PlateBump::ENERGY_ROUND_OFF; // (its reason there)
             let label = format!("{cells:?} {nx}x{ny} {init:?} dt {dt} {}", mass.name());
             let worst = steps.iter().map(|s| s.0).fold(f64::NEG_INFINITY, f64::max);
             assert!(worst <= tol, "{label}: largest increase {worst:e}");
@@ -512,32 +510,6 @@ fn stepping_does_not_allocate() {
         let n = common::alloc::allocations() - before;
         assert_eq!(n, 0, "{}: {n} allocations in 300 steps", scheme.name());
     }
-}
-
-/// The full sweep of `table_2d(false)`, printed (for the report; run with
-/// `cargo test --release --test plate -- --ignored --nocapture print_table_2d`).
-#[test]
-#[ignore]
-fn print_table_2d() {
-    let rows = massredist::paper::plate_table::table_2d(false);
-    for r in &rows {
-        println!(
-            "{:5} {:8} {:14} {} dt={:<5} T={:<2} linf_l2={:.5} paper={:?}",
-            r.judged,
-            r.cells,
-            r.scheme,
-            r.mass,
-            r.dt,
-            r.end,
-            r.linf_l2_error.unwrap_or(f64::NAN),
-            r.paper
-        );
-    }
-    for r in massredist::paper::plate_table::closest_to_paper(&rows) {
-        println!("closest to the paper: {r:?}");
-    }
-    let (group, factor) = massredist::paper::plate_table::best_single_configuration(&rows).unwrap();
-    println!("best single configuration (within a factor {factor:.3}): {group:?}");
 }
 
 #[test]

@@ -9,6 +9,7 @@ use indicatif::ProgressBar;
 use massredist::bar::BarProblem;
 use massredist::driver::integrate;
 use massredist::mass::MassKind;
+use massredist::models::PaperBar;
 use massredist::observe::{SeriesRecorder, SummaryObserver};
 use massredist::paper::{
     self, Config, EVENT_COLUMNS, Experiment, Outcome, REBOUND_COLUMNS, REBOUND_FIGURE, REBOUND_TABLE, TABLE_COLUMNS,
@@ -248,7 +249,7 @@ fn report_cells_carry_the_numbers_of_a_second_run_of_the_same_case() {
     // Paoli–Schatzman, mod2, long run T = 30, directly through integrate.
     let end = config.long_ends[0];
     let steps = (end / config.dt).round() as usize;
-    let problem = BarProblem::benchmark(config.length, config.elements, &MassKind::Mod2).unwrap();
+    let problem = PaperBar { length: config.length, elements: config.elements }.problem(&MassKind::Mod2).unwrap();
     let mut scheme = problem.scheme(&Experiment::PaoliSchatzman.spec(), config.dt).unwrap();
     let mut obs = SummaryObserver::new(&problem, steps, config.dt, true);
     let mut energy = SeriesRecorder::new(vec![Column::Energy], 1, steps + 1);

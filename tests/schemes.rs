@@ -9,15 +9,17 @@ use massredist::bar::BarProblem;
 use massredist::bar::assembly::{Bar, BarSystem};
 use massredist::driver::{Observer, Sample, integrate};
 use massredist::mass::MassKind;
+use massredist::models::{PaperBar, PlateBump};
 use massredist::plate::CellKind;
 use massredist::plate::PlateProblem;
 use massredist::problem::{Geometry, Problem as GenericProblem};
 use massredist::scene::Body;
+use massredist::scene::PlateSpec;
 use massredist::scene::{Formulation, SchemeSpec};
-use massredist::scene::{PlateInitial, PlateSpec};
+use massredist::schemes::{Beta, Gamma, Restitution};
 
-fn paper(m: usize, mass: &MassKind) -> BarProblem {
-    BarProblem::benchmark(1.0, m, mass).unwrap()
+fn paper(m: usize, mass: &MassKind) -> massredist::bar::BarProblem {
+    PaperBar::unit(m).problem(mass).unwrap()
 }
 
 /// Node-wise Signorini conditions `0 ≤ u_c + gap ⊥ λ_c ≤ 0` over a run: the worst violation of
@@ -106,12 +108,16 @@ fn complementarity_holds_bit_for_bit_at_every_step() {
         for cells in [CellKind::Triangle, CellKind::Quad] {
             for mass in [MassKind::Standard, MassKind::Mod3] {
                 let body = Body { gap, ..Body::default() };
-                let spec = PlateSpec { body, ..PlateSpec::structured(1.0, 1.0, 8, 6, cells, PlateInitial::Bump) };
+                let spec = PlateSpec { body, ..PlateBump::unit(8, 6, cells).spec() };
                 let p = PlateProblem::new(&spec, &mass).unwrap();
                 let mut specs = vec![
                     CN,
                     SchemeSpec::BackwardEuler,
-                    SchemeSpec::Newmark { beta: 0.3, gamma: 0.6, formulation: Formulation::Full },
+                    SchemeSpec::Newmark {
+                        beta: Beta::new(0.3),
+                        gamma: Gamma::new(0.6),
+                        formulation: Formulation::Full,
+                    },
                 ];
                 if mass != MassKind::Standard {
                     specs.push(SchemeSpec::Hybrid);
@@ -132,7 +138,7 @@ fn complementarity_holds_bit_for_bit_at_every_step() {
 fn paoli_schatzman_contact_condition_holds_at_the_intermediate_time() {
     for e in [0.0, 0.5, 1.0] {
         for mass in [MassKind::Standard, MassKind::Mod3] {
-            let spec = SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: e };
+            let spec = SchemeSpec::PaoliSchatzman { beta: Beta::new(0.25), restitution: Restitution::new(e) };
             let tr = trajectory(&paper(6, &mass), &spec, 0.01, 600);
             for n in 1..tr.len() - 1 {
                 let y = (tr[n + 1].u[0] + e * tr[n - 1].u[0]) / (1.0 + e);
@@ -176,7 +182,7 @@ fn full_and_reduced_newmark_agree_to_round_off() {
     let mut worst: f64 = 0.0;
     for m in [2, 6, 37] {
         for mass in all_masses(m).into_iter().skip(1) {
-            for (beta, gamma) in [(0.25, 0.5), (0.3, 0.6)] {
+            for (beta, gamma) in [(0.25, 0.5), (0.3, 0.6)].map(|(b, g)| (Beta::new(b), Gamma::new(g))) {
                 let full = SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Full };
                 let red = SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Reduced };
                 let p = paper(m, &mass);

@@ -8,6 +8,7 @@ use massredist::fem::layers::{cell_weights, layers};
 use massredist::fem::{Cell, CellMesh};
 use massredist::linalg::sparse;
 use massredist::mass::MassKind;
+use massredist::models::{PaperBar, PlaneWaveSolid, RoundOffGrowth};
 use massredist::observe::{EnergyRecorder, SummaryObserver};
 use massredist::problem::Problem;
 use massredist::scene::parse_solid;
@@ -59,21 +60,18 @@ fn solid_vs_bar(
 
 #[test]
 fn q1_with_the_paper_data_is_the_1d_solution_extended_in_y_and_z() {
-    // λ = 0, μ = ½, ρ = 1: the x-rows are Kx ⊗ My (⊗ Mz) + … with modulus 2μ = 1 and the
-    // transverse rows vanish on (u_x(x), 0, 0) (module docs of massredist::solid); the contact
-    // LCP has the y-constant solution. So each step is the 1D step, to round-off.
-    // As tests/plate.rs: per-step round-off of a few ulps per operation in a well-conditioned
-    // solve, growing at most linearly: steps · 64 ε for u, and v amplifies it by 2/Δt.
+    // The model's reduction (models::PlaneWaveSolid: λ = 0, μ = ½, ρ = 1, the contact LCP has
+    // the y-constant solution): each step is the 1D step, to round-off growing at most linearly
+    // (its tolerance, models::RoundOffGrowth, says why).
     // Mutation: the cell weight dropped from the vector mass (w_c → 1 in solid::assembly) ->
     // fails at "2D crank-nicolson mod1".
     let (dt, steps) = (0.01, 300);
-    let tol_u = steps as f64 * 64.0 * f64::EPSILON;
-    let tol_v = tol_u * 2.0 / dt;
-    for (dim, n) in [(2, [20, 3, 0]), (3, [10, 2, 2])] {
-        let s = SolidSpec::paper(dim, n);
+    let RoundOffGrowth { u: tol_u, v: tol_v } = PlaneWaveSolid::tolerance(steps, dt);
+    for (dim, cells) in [(2, [20, 3, 0]), (3, [10, 2, 2])] {
+        let solid = PlaneWaveSolid { dim, cells };
         for mass in [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3] {
-            let p = s.problem(&mass, 3.0).unwrap();
-            let bar = Problem::benchmark(1.0, n[0], &mass).unwrap();
+            let p = solid.problem(&mass, 3.0).unwrap();
+            let bar = solid.reference().problem(&mass).unwrap();
             for scheme in &SCHEMES {
                 let [du, dv, dt_] = solid_vs_bar(&p, &bar, scheme, dt, steps);
                 eprintln!("{dim}D Q1 vs 1D {} {}: |du| {du:e} |dv| {dv:e} |u_t| {dt_:e}", scheme.name(), mass.name());
@@ -90,7 +88,7 @@ fn roller_faces_with_lambda_give_the_bar_of_modulus_lambda_plus_2mu() {
     // with a gap and expression data. Mutation: the λ term dropped from the stiffness
     // (λ ∂_i φa ∂_j φb → 0) -> fails at "2D crank-nicolson".
     let (dt, steps) = (0.01, 200);
-    let tol_u = steps as f64 * 64.0 * f64::EPSILON;
+    let RoundOffGrowth { u: tol_u, v: tol_v } = RoundOffGrowth::new(steps, dt); // as the plane wave's
     let tail = "[mass]\nkind = \"mod3\"\n[time]\ndt = 0.01\nend = 2.0\n";
     let bar_text = format!(
         "[bar]\nelements = 12\ndensity = 2.5\nmodulus = 2.5\ngap = 0.05\n\
@@ -110,7 +108,7 @@ fn roller_faces_with_lambda_give_the_bar_of_modulus_lambda_plus_2mu() {
         for scheme in &SCHEMES {
             let [du, dv, dt_] = solid_vs_bar(&p, &bar, scheme, dt, steps);
             eprintln!("{dim}D roller vs bar {}: |du| {du:e} |dv| {dv:e} |u_t| {dt_:e}", scheme.name());
-            assert!(du <= tol_u && dv <= tol_u * 2.0 / dt && dt_ <= tol_u, "{dim}D {}", scheme.name());
+            assert!(du <= tol_u && dv <= tol_v && dt_ <= tol_u, "{dim}D {}", scheme.name());
         }
     }
 }
@@ -121,7 +119,7 @@ fn q1_l2_error_is_the_1d_error_times_the_root_of_the_section() {
     // the kinks, and the states agree to ~1e-12 (test above). Mutation: the Gauss weight ½ → 1
     // in SolidSystem::x_error_squared -> fails by a factor sqrt(2) (sqrt(4) in 3D).
     let steps = 300;
-    let bar = Problem::benchmark(1.0, 10, &MassKind::Mod3).unwrap();
+    let bar = PaperBar::unit(10).problem(&MassKind::Mod3).unwrap();
     let mut s1 = bar.scheme(&CN, 0.01).unwrap();
     let mut sum1 = SummaryObserver::new(&bar, steps, 0.01, true);
     integrate(&bar, s1.as_mut(), steps, &mut [&mut sum1]).unwrap();

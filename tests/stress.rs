@@ -17,7 +17,7 @@ use massredist::bench::sweep::scheme_cases;
 use massredist::linalg::tridiag::SymTridiag;
 use massredist::mass::MassKind;
 use massredist::scene::{BarScene, Formulation, SceneError, SchemeSpec};
-use massredist::schemes::{PaoliSchatzman, Scheme, SchemeError};
+use massredist::schemes::{Beta, PaoliSchatzman, Restitution, Scheme, SchemeError};
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 
@@ -51,7 +51,7 @@ fn the_step_loop_allocates_nothing() {
 
 const NAMED: [MassKind; 4] = [MassKind::Standard, MassKind::Mod1, MassKind::Mod2, MassKind::Mod3];
 const CN: SchemeSpec = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
-const PS: SchemeSpec = SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: 1.0 };
+const PS: SchemeSpec = SchemeSpec::PaoliSchatzman { beta: Beta::new(0.25), restitution: Restitution::new(1.0) };
 
 /// `Σ |a_ij x_i x_j|`: the size of the terms summed in `xᵀ A x` (its rounding scale).
 fn abs_quad(a: &SymTridiag, x: &[f64]) -> f64 {
@@ -362,7 +362,9 @@ proptest! {
 /// the scheme's look-ahead iterate at every step (exactly: on contact u_0^{n+1} = −e u_0^{n−1}).
 fn paoli_schatzman_contact_condition(p: &BarProblem, dt: f64, steps: usize, label: &str) {
     let e = 1.0;
-    let mut s = PaoliSchatzman::new(p.system.one_node(), 0.25, e, dt, p.u0.clone(), p.v0.clone()).unwrap();
+    let mut s =
+        PaoliSchatzman::new(p.system.one_node(), Beta::new(0.25), Restitution::new(e), dt, p.u0.clone(), p.v0.clone())
+            .unwrap();
     for n in 0..steps {
         let older = s.state().u[0];
         s.step().unwrap_or_else(|err| panic!("{label}: {err}"));

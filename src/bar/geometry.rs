@@ -6,7 +6,7 @@ use super::assembly::BarSystem;
 use super::norms::Energy;
 use crate::exact::Exact;
 use crate::problem::{Diagnostics, Geometry, GeometryView};
-use crate::schemes::{NewmarkReduced, OneNodeContact, PaoliSchatzman, Scheme, SchemeError, SchemeSpec};
+use crate::schemes::{Beta, Gamma, NewmarkReduced, OneNodeContact, PaoliSchatzman, Scheme, SchemeError, SchemeSpec};
 use crate::system::ContactSystem;
 
 impl BarSystem {
@@ -102,7 +102,7 @@ impl Geometry for BarSystem {
                 Box::new(PaoliSchatzman::new(bar, beta, restitution, dt, u, v)?)
             }
             SchemeSpec::Newmark { beta, gamma, .. } => Box::new(NewmarkReduced::new(bar, beta, gamma, dt, u, v)?),
-            _ => Box::new(NewmarkReduced::new(bar, 0.25, 0.5, dt, u, v)?),
+            _ => Box::new(NewmarkReduced::new(bar, Beta::DEFAULT, Gamma::DEFAULT, dt, u, v)?),
         })
     }
 

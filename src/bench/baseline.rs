@@ -12,6 +12,7 @@
 //! Timing is at the edge by nature: nothing here is used by a test.
 
 use crate::mass::MassKind;
+use crate::models::{PaperPlate, PlaneWaveSolid};
 use crate::problem::{Geometry, Problem};
 use crate::scene::{Formulation, SchemeSpec};
 use serde::{Deserialize, Serialize};
@@ -157,18 +158,15 @@ pub fn time_rust(case: Case, dt: f64, steps: usize) -> Result<(Timing, Option<f6
     let t = Instant::now();
     let mass = MassKind::Mod3;
     let (timing, l2) = if case.kind == "plate" {
-        use crate::plate::CellKind;
-        use crate::plate::PlateProblem;
-        use crate::scene::{PlateInitial, PlateSpec};
-        let spec = PlateSpec::structured(1.0, 1.0, case.n, case.n, CellKind::Quad, PlateInitial::Paper);
-        let problem = PlateProblem::new(&spec, &mass).map_err(|e| e.to_string())?;
+        let plate = PaperPlate::square(case.n, crate::plate::CellKind::Quad);
+        let problem = plate.problem(&mass).map_err(|e| e.to_string())?;
         let build = t.elapsed().as_secs_f64();
         let (mut tm, l2) = step_timings(&problem, dt, steps)?;
         tm.setup_s += build;
         (tm, l2)
     } else {
-        let spec = crate::solid::SolidSpec::paper(case.dim, [case.n; 3]);
-        let problem = spec.problem(&mass, steps as f64 * dt).map_err(|e| e.to_string())?;
+        let solid = PlaneWaveSolid { dim: case.dim, cells: [case.n; 3] };
+        let problem = solid.problem(&mass, steps as f64 * dt).map_err(|e| e.to_string())?;
         let build = t.elapsed().as_secs_f64();
         let (mut tm, l2) = step_timings(&problem, dt, steps)?;
         tm.setup_s += build;

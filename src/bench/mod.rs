@@ -21,7 +21,7 @@ pub mod timing;
 pub mod whole;
 
 use crate::mass::MassKind;
-use crate::scene::{Formulation, SchemeSpec};
+use crate::scene::SchemeSpec;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -88,9 +88,10 @@ fn python_ratios(quick: bool) -> (Vec<PythonRatio>, Option<String>) {
     };
     let mut out = Vec::new();
     for run in &py.runs {
-        let (spec, mass) = match run.scheme.as_str() {
-            "hybrid" => (SchemeSpec::Hybrid, MassKind::Mod3),
-            "crank-nicolson" => (SchemeSpec::CrankNicolson { formulation: Formulation::Full }, MassKind::Standard),
+        // The Python stepper runs the hybrid scheme on mod3 and Crank–Nicolson on the standard mass.
+        let (spec, mass) = match SchemeSpec::from_name(&run.scheme) {
+            Some(spec @ SchemeSpec::Hybrid) => (spec, MassKind::Mod3),
+            Some(spec @ SchemeSpec::CrankNicolson { .. }) => (spec, MassKind::Standard),
             _ => continue,
         };
         // A loop time that is not positive is timer noise, not a measurement: leave it out.

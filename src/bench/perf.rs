@@ -10,10 +10,10 @@
 //! Timing is at the edge by nature: nothing here is used by a test.
 
 use super::timing::{best_ns_per_unit, best_timed};
-use crate::bar::BarProblem;
 use crate::driver::integrate;
 use crate::linalg::tridiag::SymTridiag;
 use crate::mass::MassKind;
+use crate::models::{PaperBar, PaperPlate};
 use crate::scene::SchemeSpec;
 use serde::Serialize;
 use std::hint::black_box;
@@ -22,7 +22,7 @@ use std::time::Instant;
 /// The Crank–Nicolson iteration matrix `M + Δt²/4 S` of the standard mass with Δt = h: an SPD
 /// tridiagonal matrix of the size of a step, used for the bare-solve floor.
 pub fn floor_matrix(elements: usize) -> SymTridiag {
-    let problem = BarProblem::benchmark(1.0, elements, &MassKind::Standard).expect("standard mass assembles");
+    let problem = PaperBar::unit(elements).problem(&MassKind::Standard).expect("standard mass assembles");
     let h = problem.system.h();
     let s = &problem.system.system;
     s.mass.combine(1.0, &s.stiffness, h * h / 4.0)
@@ -84,7 +84,7 @@ pub fn time_solve(solver: Solver, elements: usize, min_total: f64) -> f64 {
 /// through the public driver with no observer (the scheme is built once, outside the clock;
 /// each timed run restarts from a fresh clone so that every run steps the same states).
 pub fn time_scheme(spec: &SchemeSpec, mass: &MassKind, elements: usize, divisor: usize, min_total: f64) -> Option<f64> {
-    let problem = BarProblem::benchmark(1.0, elements, mass).ok()?;
+    let problem = PaperBar::unit(elements).problem(mass).ok()?;
     let dt = problem.system.h() / divisor as f64;
     // About 2·10⁶ node-steps per timed run, at least 64 steps; never past one period (3L).
     let steps = (2_000_000 / elements).clamp(64, 3 * elements * divisor);
@@ -151,7 +151,7 @@ pub fn time_steps(
     steps: usize,
     min_total: f64,
 ) -> Option<(f64, Vec<f64>)> {
-    let problem = BarProblem::benchmark(1.0, elements, mass).ok()?;
+    let problem = PaperBar::unit(elements).problem(mass).ok()?;
     let dt = problem.system.h();
     let mut last = Vec::new();
     let mut failed = false;
@@ -183,11 +183,8 @@ pub struct PlateTimings {
 pub fn time_plate(nx: usize, ny: usize, min_total: f64) -> Option<PlateTimings> {
     use crate::linalg::sparse;
     use crate::plate::CellKind;
-    use crate::plate::PlateProblem;
-    use crate::scene::{PlateInitial, PlateSpec};
-    let spec = PlateSpec::structured(1.0, ny as f64 / nx as f64, nx, ny, CellKind::Quad, PlateInitial::Paper);
-    let mass = MassKind::Mod3;
-    let problem = PlateProblem::new(&spec, &mass).ok()?;
+    let plate = PaperPlate { height: ny as f64 / nx as f64, nx, ny, cells: CellKind::Quad };
+    let problem = plate.problem(&MassKind::Mod3).ok()?;
     let dt = 1.0 / nx as f64;
     let sys = &problem.system.system;
     let k = sparse::combine(&sys.mass, 1.0, &sys.stiffness, dt * dt / 4.0, "M + Δt²/4 S").ok()?;

@@ -8,9 +8,9 @@
 //! diagnostics) and the ns per node-step.
 
 use super::timing::best_timed;
-use crate::bar::BarProblem;
 use crate::driver::{DivergenceCriterion, Outcome, integrate, integrate_watched};
 use crate::mass::MassKind;
+use crate::models::PaperBar;
 use crate::observe::SummaryObserver;
 use crate::paper::Experiment;
 pub use crate::paper::masses;
@@ -164,7 +164,7 @@ pub fn run_case(case: &Case, cfg: &SweepConfig) -> CaseResult {
         status: "failed",
         failure: None,
     };
-    let problem = match BarProblem::benchmark(1.0, case.elements, &case.mass) {
+    let problem = match PaperBar::unit(case.elements).problem(&case.mass) {
         Ok(p) => p,
         Err(e) => {
             r.failure = Some(e.to_string());

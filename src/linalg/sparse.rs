@@ -212,11 +212,6 @@ pub fn to_dense(a: &SpMat) -> Vec<Vec<f64>> {
     d
 }
 
-/// Compressed sparse row arrays `(indptr, indices, data)` of a symmetric matrix (its CSC arrays).
-pub fn csr_arrays(a: &SpMat) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
-    (a.symbolic().col_ptr().to_vec(), a.symbolic().row_idx().to_vec(), a.val().to_vec())
-}
-
 /// `y = A x` for symmetric A (row j of A is column j).
 pub fn sym_mul_into(a: &SpMat, x: &[f64], y: &mut [f64]) {
     let (ptr, idx, val) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());

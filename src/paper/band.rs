@@ -8,7 +8,7 @@
 //! shows only what all runs agree on: the digits they share ([`stable_digits`]), else the band
 //! min–max over the runs, and a verdict (bounded, grows, diverged) per run.
 
-use super::runs::{DRIFT_FACTOR, PeriodEnergy};
+use super::periods::{DRIFT_FACTOR, PeriodEnergy};
 use super::{Case, Experiment, Purpose};
 use crate::mass::MassKind;
 use crate::observe::Summary;

@@ -41,6 +41,7 @@ use crate::fem::mesh2d::{Columns, Mesh2d};
 use crate::linalg::sparse;
 use crate::mass::MassKind;
 use crate::material::FarEnd;
+use crate::models::PlaneWaveSolid;
 use crate::observe::SummaryObserver;
 use crate::plate::CellKind;
 use crate::problem::GeometryView;
@@ -135,7 +136,12 @@ pub enum ElasticError {
 
 /// The 2D solid of a candidate.
 pub fn spec(cells: Cell, material: Material) -> SolidSpec {
-    SolidSpec { cells, lame: material.lame(), lateral: material.lateral(), ..SolidSpec::paper(2, [N, N, 1]) }
+    SolidSpec {
+        cells,
+        lame: material.lame(),
+        lateral: material.lateral(),
+        ..PlaneWaveSolid { dim: 2, cells: [N, N, 1] }.spec()
+    }
 }
 
 /// `‖u_h − (u(·, t), 0)‖_{L²(Ω)²}` for a 2D solid on P1 triangles, exactly (module docs).

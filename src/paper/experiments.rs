@@ -3,7 +3,8 @@
 
 use super::Config;
 use crate::mass::MassKind;
-use crate::scene::{Column, Formulation, SchemeSpec};
+use crate::scene::{Column, SchemeSpec};
+use crate::schemes::{Beta, Restitution};
 use serde::Serialize;
 
 /// The standard mass and the paper's three redistributions (§3).
@@ -29,9 +30,11 @@ impl Experiment {
     /// system (§4.2.1); Paoli–Schatzman has (β, e) = (¼, 1) (§4.2.3).
     pub fn spec(self) -> SchemeSpec {
         match self {
-            Experiment::CrankNicolson => SchemeSpec::CrankNicolson { formulation: Formulation::Full },
+            Experiment::CrankNicolson => SchemeSpec::CRANK_NICOLSON,
             Experiment::BackwardEuler => SchemeSpec::BackwardEuler,
-            Experiment::PaoliSchatzman => SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: 1.0 },
+            Experiment::PaoliSchatzman => {
+                SchemeSpec::PaoliSchatzman { beta: Beta::new(0.25), restitution: Restitution::new(1.0) }
+            }
             Experiment::Hybrid => SchemeSpec::Hybrid,
         }
     }
@@ -98,9 +101,15 @@ pub enum Purpose {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Case {
     pub experiment: Experiment,
+    /// Written by its name in `summaries.json` (`"mass": "mod3"`).
+    #[serde(serialize_with = "mass_name")]
     pub mass: MassKind,
     pub end: f64,
     pub purpose: Purpose,
+}
+
+fn mass_name<S: serde::Serializer>(mass: &MassKind, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(mass.name())
 }
 
 impl Case {

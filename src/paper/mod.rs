@@ -32,6 +32,7 @@ mod config;
 pub mod elastic_table;
 mod experiments;
 mod figures;
+mod periods;
 pub mod plate_table;
 mod rebound;
 mod rebound_report;
@@ -43,16 +44,14 @@ mod tables;
 pub use config::Config;
 pub use experiments::{Case, Experiment, Purpose, cases, masses};
 pub use figures::{exact_lambda_polyline, exact_u0_polyline};
+pub use periods::{DRIFT_FACTOR, PeriodEnergy};
 pub use rebound::{
     BarMotion, ExactRebound, REBOUND_BAR, REBOUND_END, REBOUND_WINDOW, Rebound, ReboundResult, compute_rebound,
     exact_rebound, rebound_cases, rebound_scene_text, run_rebound,
 };
 pub use rebound_report::{REBOUND_COLUMNS, REBOUND_FIGURE, REBOUND_TABLE};
 pub use report::report_markdown;
-pub use runs::{
-    CaseResult, DRIFT_FACTOR, EnergyVariation, PeriodEnergy, PeriodEvents, compute, energy_variation, events,
-    period_events, run_case,
-};
+pub use runs::{CaseResult, EnergyVariation, PeriodEvents, compute, energy_variation, events, period_events, run_case};
 pub use table2d::{PAPER_TABLE_2D, Table2d, plate_2d_errors, table_2d};
 pub use tables::{EVENT_COLUMNS, TABLE_COLUMNS, horizon_tag, sig};
 

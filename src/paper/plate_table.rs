@@ -14,11 +14,12 @@
 
 use crate::driver::{Observer, Sample, integrate};
 use crate::mass::MassKind;
+use crate::models::PaperPlate;
 use crate::observe::SummaryObserver;
 use crate::plate::mesh::CellKind;
 use crate::plate::{PlateError, PlateProblem};
+use crate::scene::PlateSpec;
 use crate::scene::{Formulation, SchemeSpec};
-use crate::scene::{PlateInitial, PlateSpec};
 use crate::schemes::SchemeError;
 use serde::Serialize;
 
@@ -61,7 +62,7 @@ pub struct Row {
 
 /// The paper's initial data on an n × n mesh of the unit square.
 fn unit_square(cells: CellKind, n: usize) -> PlateSpec {
-    PlateSpec::structured(1.0, 1.0, n, n, cells, PlateInitial::Paper)
+    PaperPlate::square(n, cells).spec()
 }
 
 /// `max_n ‖u_h(t_n) − u(t_n)‖_{L²(Ω)}` for the paper's initial data on the unit square.
@@ -168,11 +169,10 @@ pub fn compare_with_1d(
     end: f64,
 ) -> Result<Comparison, TableError> {
     use crate::plate::assembly::PlateSystem;
-    use crate::problem::Problem;
-    let spec = unit_square(cells, n);
-    let p2 = PlateProblem::new(&spec, mass)?;
+    let plate = PaperPlate::square(n, cells);
+    let p2 = plate.problem(mass)?;
     let reference = |e: &dyn std::fmt::Display| TableError::Reference(e.to_string());
-    let p1 = Problem::benchmark(1.0, n, mass).map_err(|e| reference(&e))?;
+    let p1 = plate.reference().problem(mass).map_err(|e| reference(&e))?;
     let steps = (end / dt).round() as usize;
     let mut s1 = p1.scheme(scheme, dt).map_err(|e| reference(&e))?;
     // The 1D trajectory (m values per step), then the 2D run compares against it.

@@ -26,7 +26,7 @@ use crate::exact::Exact;
 use crate::mass::MassKind;
 use crate::observe::{Summary, SummaryObserver};
 use crate::run::RunError;
-use crate::scene::{Formulation, Scene, SchemeSpec};
+use crate::scene::{Scene, SchemeSpec};
 use crate::schemes::SchemeError;
 use rayon::prelude::*;
 
@@ -48,24 +48,9 @@ pub fn rebound_cases() -> Vec<(Experiment, MassKind)> {
     Experiment::ALL.iter().flat_map(|&e| e.masses().into_iter().map(move |m| (e, m))).collect()
 }
 
-/// The `[scheme]` table of a scheme specification.
+/// The `[scheme]` table of a scheme specification (its serde form, every key written).
 fn scheme_toml(spec: &SchemeSpec) -> String {
-    let form = |f: &Formulation| match f {
-        Formulation::Full => "full",
-        Formulation::Reduced => "reduced",
-    };
-    match spec {
-        SchemeSpec::CrankNicolson { formulation } => {
-            format!("kind = \"crank-nicolson\"\nformulation = \"{}\"", form(formulation))
-        }
-        SchemeSpec::Newmark { beta, gamma, formulation } => {
-            format!("kind = \"newmark\"\nbeta = {beta:?}\ngamma = {gamma:?}\nformulation = \"{}\"", form(formulation))
-        }
-        SchemeSpec::PaoliSchatzman { beta, restitution } => {
-            format!("kind = \"paoli-schatzman\"\nbeta = {beta:?}\nrestitution = {restitution:?}")
-        }
-        SchemeSpec::BackwardEuler | SchemeSpec::Hybrid => format!("kind = \"{}\"", spec.name()),
-    }
+    toml::to_string(spec).expect("a scheme always serialises").trim_end().to_string()
 }
 
 /// The scene of one run, as TOML text: [`REBOUND_BAR`] on the configuration's mesh, the

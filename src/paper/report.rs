@@ -6,11 +6,10 @@ use super::claims::growth_band;
 use super::elastic_table::{ElasticRow, elastic_section};
 use super::experiments::massless_contact;
 use super::figures::{energy_stem, solution_stem};
+use super::periods::DRIFT_FACTOR;
 use super::rebound::Rebound;
 use super::rebound_report::rebound_section;
-use super::runs::{
-    CaseResult, DRIFT_FACTOR, energy_floor, events, groups, period_growth, runs_of, variation_after_impact,
-};
+use super::runs::{CaseResult, energy_floor, events, groups, period_growth, runs_of, variation_after_impact};
 use super::table2d::{Table2d, table_2d};
 use super::tables::{agreed, horizon_tag, shift, sig, table_markdown, time};
 use super::{Config, Experiment, Purpose};

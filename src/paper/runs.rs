@@ -3,10 +3,12 @@
 //! figures, tables and claims read off the recorded series (period events, energy variation,
 //! per-period growth).
 
+use super::periods::PeriodEnergy;
 use super::{Case, Config, Purpose, ReproduceError, band, cases};
 use crate::bar::BarProblem;
-use crate::driver::{Divergence, DivergenceCriterion, Needs, Observer, Sample, integrate_watched};
+use crate::driver::{Divergence, DivergenceCriterion, integrate_watched};
 use crate::exact::ImpactingBar;
+use crate::models::PaperBar;
 use crate::observe::{SeriesRecorder, Summary, SummaryObserver};
 use crate::run::RunError;
 use crate::scene::Column;
@@ -51,7 +53,7 @@ impl CaseResult {
         let runs =
             std::iter::once((&self.summary, &self.periods)).chain(self.copies.iter().map(|c| (&c.summary, &c.periods)));
         runs.map(|(s, p)| {
-            let g = period_growth_of(p, self.case.end).map(|(a, b, _)| b / a);
+            let g = p.growth(self.case.end).map(|(a, b, _)| b / a);
             (band::Verdict::of(s, g), g)
         })
         .collect()
@@ -65,8 +67,9 @@ pub fn run_case(config: &Config, case: &Case) -> Result<CaseResult, ReproduceErr
     let wrap = |source: RunError| ReproduceError::Run { case: case.name(), source };
     let long = case.purpose == Purpose::LongEnergy;
     let steps = config.steps(if long { "long_ends" } else { "horizons" }, case.end)?;
-    let mut problem =
-        BarProblem::benchmark(config.length, config.elements, &case.mass).map_err(|e| wrap(RunError::problem(e)))?;
+    let mut problem = PaperBar { length: config.length, elements: config.elements }
+        .problem(&case.mass)
+        .map_err(|e| wrap(RunError::problem(e)))?;
     let every = if long { config.long_every(steps) } else { 1 };
     let (summary, series, periods) = run_one(config, case, &problem, steps, case.columns(), every).map_err(wrap)?;
     let mut copies = Vec::new();
@@ -116,48 +119,6 @@ pub fn compute(config: &Config, done: &(dyn Fn() + Sync)) -> Result<Vec<CaseResu
             r
         })
         .collect()
-}
-
-/// Energy extremes per period 3L of the exact solution, from every step after the first
-/// (t_0 is left out: with w_0 = 0 the first step drops the energy by about h/8, see the report).
-/// Period j holds the steps with t_n in [3jL, 3(j+1)L); the last one may be partial.
-#[derive(Debug, Clone, Default)]
-pub struct PeriodEnergy {
-    period: f64,
-    dt: f64,
-    pub max: Vec<f64>,
-    pub min: Vec<f64>,
-}
-
-impl PeriodEnergy {
-    pub fn new(period: f64, dt: f64) -> Self {
-        Self { period, dt, max: Vec::new(), min: Vec::new() }
-    }
-
-    /// The end time of period j.
-    pub fn end_of(&self, j: usize) -> f64 {
-        (j + 1) as f64 * self.period
-    }
-}
-
-impl Observer for PeriodEnergy {
-    fn needs(&self) -> Needs {
-        Needs { energy: true, ..Needs::default() }
-    }
-
-    fn observe(&mut self, s: &Sample) {
-        if s.state.n == 0 {
-            return;
-        }
-        // Half a step of slack: t_n = n·Δt may round just below a period boundary.
-        let j = ((s.state.t + 0.5 * self.dt) / self.period).floor() as usize;
-        if self.max.len() <= j {
-            self.max.resize(j + 1, f64::NEG_INFINITY);
-            self.min.resize(j + 1, f64::INFINITY);
-        }
-        self.max[j] = self.max[j].max(s.energy);
-        self.min[j] = self.min[j].min(s.energy);
-    }
 }
 
 /// The results of `purpose` at horizon `end`, in the order of [`cases`].
@@ -289,23 +250,8 @@ pub fn events(config: &Config, r: &CaseResult) -> Vec<PeriodEvents> {
 
 /// (max energy over the first k full periods, over the last k, k) with k = min(10, full/2).
 pub(super) fn period_growth(r: &CaseResult) -> Option<(f64, f64, usize)> {
-    period_growth_of(&r.periods, r.case.end)
+    r.periods.growth(r.case.end)
 }
-
-/// [`period_growth`] of per-period extremes `p` of a run to `end`.
-fn period_growth_of(p: &PeriodEnergy, end: f64) -> Option<(f64, f64, usize)> {
-    // Full periods: those ending by the final time (the sample at t = end may open a new one).
-    let full = (0..p.max.len()).take_while(|&j| p.end_of(j) <= end + 1e-9 * end).count();
-    let k = (full / 2).min(10);
-    if k == 0 {
-        return None;
-    }
-    let max = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    Some((max(&p.max[..k]), max(&p.max[full - k..full]), k))
-}
-
-/// Growth factor of the per-period maximum energy above which a long run counts as drifting.
-pub const DRIFT_FACTOR: f64 = 1.05;
 
 #[cfg(test)]
 mod tests {

@@ -4,30 +4,200 @@
 use super::*;
 use crate::mass::MassKind;
 
-/// The `[mass]` table (every scene has one).
-#[derive(Debug, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawMass {
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) kind: Option<String>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) weights: Option<Vec<Number>>,
+/// The `[mass]` table: read as a TOML table ([`read_tagged`]), written as the resolved
+/// [`MassKind`].
+pub(crate) type RawMass = RawSection<MassKind>;
+
+/// The `[scheme]` table: read as a TOML table ([`read_tagged`]), written as the resolved
+/// [`SchemeSpec`].
+pub(crate) type RawScheme = RawSection<SchemeSpec>;
+
+/// A section that is a serde internally tagged enum (`kind = "…"`): as read, the TOML table
+/// (validated by [`read_tagged`], whose messages name the key); as resolved, the value itself
+/// (serde writes every key of its kind).
+#[derive(Debug)]
+pub(crate) enum RawSection<T> {
+    Read(toml::Table),
+    Resolved(T),
 }
 
-/// The `[scheme]` table (shared with the plate scenes).
-#[derive(Debug, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawScheme {
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) kind: Option<String>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) beta: Option<Number>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) gamma: Option<Number>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) restitution: Option<Number>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) formulation: Option<String>,
+impl<'de, T> Deserialize<'de> for RawSection<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        toml::Table::deserialize(d).map(RawSection::Read)
+    }
+}
+
+impl<T: Serialize> Serialize for RawSection<T> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            RawSection::Read(t) => t.serialize(s),
+            RawSection::Resolved(v) => v.serialize(s),
+        }
+    }
+}
+
+/// A section read by [`read_tagged`]: a serde internally tagged enum with one value of each kind
+/// (its defaults) and a name per kind.
+pub(crate) trait Tagged: Serialize + serde::de::DeserializeOwned + Sized {
+    /// The section (`scheme`), and its tag key (`scheme.kind`).
+    const SECTION: &'static str;
+    const KIND_KEY: &'static str;
+    /// One value of every kind, in the order messages list them.
+    fn kinds() -> Vec<Self>;
+    /// The kind of a section without `kind`.
+    fn default_kind() -> Self;
+    fn kind_name(&self) -> &'static str;
+    /// The kinds as messages list them (`standard | mod1 | …`).
+    fn kind_list() -> &'static str;
+}
+
+impl Tagged for SchemeSpec {
+    const SECTION: &'static str = "scheme";
+    const KIND_KEY: &'static str = "scheme.kind";
+    fn kinds() -> Vec<Self> {
+        SchemeSpec::ALL.to_vec()
+    }
+    fn default_kind() -> Self {
+        SchemeSpec::CRANK_NICOLSON
+    }
+    fn kind_name(&self) -> &'static str {
+        self.name()
+    }
+    fn kind_list() -> &'static str {
+        static LIST: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| list_of::<SchemeSpec>());
+        &LIST
+    }
+}
+
+impl Tagged for MassKind {
+    const SECTION: &'static str = "mass";
+    const KIND_KEY: &'static str = "mass.kind";
+    fn kinds() -> Vec<Self> {
+        MassKind::all().to_vec()
+    }
+    fn default_kind() -> Self {
+        MassKind::Mod3
+    }
+    fn kind_name(&self) -> &'static str {
+        self.name()
+    }
+    fn kind_list() -> &'static str {
+        static LIST: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| list_of::<MassKind>());
+        &LIST
+    }
+}
+
+fn list_of<T: Tagged>() -> String {
+    T::kinds().iter().map(T::kind_name).collect::<Vec<_>>().join(" | ")
+}
+
+/// The keys a value writes (its kind's keys: the resolved scene writes every key).
+fn keys_of<T: Tagged>(value: &T) -> Vec<String> {
+    toml::Table::try_from(value).map(|t| t.keys().cloned().collect()).unwrap_or_default()
+}
+
+/// Reads a tagged section: its kind (default [`Tagged::default_kind`]), then its keys (those of
+/// another kind refused as not applying to this one, unknown ones as unknown), then the value by
+/// serde (parameter ranges checked by their types). Every message names the key and its allowed
+/// range or values.
+pub(crate) fn read_tagged<T: Tagged>(raw: Option<RawSection<T>>) -> Result<T, SceneError> {
+    let mut table = match raw {
+        None => toml::Table::new(),
+        Some(RawSection::Read(t)) => t,
+        Some(RawSection::Resolved(v)) => return Ok(v),
+    };
+    let section = T::SECTION;
+    let kind = match table.get("kind") {
+        None => T::default_kind(),
+        Some(v) => T::kinds()
+            .into_iter()
+            .find(|k| v.as_str() == Some(k.kind_name()))
+            .ok_or_else(|| SceneError::Range { key: T::KIND_KEY, value: v.to_string(), range: T::kind_list() })?,
+    };
+    let name = kind.kind_name();
+    let own = keys_of(&kind);
+    let kinds = T::kinds();
+    let mut all: Vec<String> = vec!["kind".into()];
+    for k in kinds.iter().flat_map(keys_of) {
+        if !all.contains(&k) {
+            all.push(k);
+        }
+    }
+    for key in table.keys().filter(|k| !own.contains(k)) {
+        if !all.contains(key) {
+            return Err(SceneError::Parse(format!(
+                "unknown field `{key}` in [{section}], expected one of {}",
+                all.join(", ")
+            )));
+        }
+        let takers: Vec<String> =
+            kinds.iter().filter(|k| keys_of(*k).contains(key)).map(|k| format!("\"{}\"", k.kind_name())).collect();
+        return Err(SceneError::Parse(format!(
+            "{section}.{key} does not apply to {} = \"{name}\" (only to {})",
+            T::KIND_KEY,
+            takers.join(" | ")
+        )));
+    }
+    table.insert("kind".into(), toml::Value::String(name.into()));
+    toml::Value::Table(table.clone()).try_into::<T>().map_err(|e| {
+        // The key at fault: the first whose value alone, on the kind's defaults, fails.
+        let defaults = toml::Table::try_from(&kind).unwrap_or_default();
+        let culprit = table.iter().filter(|(k, _)| *k != "kind").find(|(k, v)| {
+            let mut one = defaults.clone();
+            one.insert((*k).clone(), (*v).clone());
+            toml::Value::Table(one).try_into::<T>().is_err()
+        });
+        let message = e.message().trim_end().to_string();
+        match culprit {
+            Some((k, _)) if !message.starts_with(&format!("{section}.{k}")) => {
+                SceneError::Parse(format!("{section}.{k}: {message}"))
+            }
+            _ => SceneError::Parse(message),
+        }
+    })
+}
+
+/// The `[mass]` table as a [`MassKind`] (its weights are validated by the caller, who knows the
+/// mesh).
+pub(crate) fn parse_mass(raw: Option<RawMass>) -> Result<MassKind, SceneError> {
+    if let Some(RawSection::Read(t)) = &raw {
+        let custom = MassKind::Custom(Vec::new());
+        if t.get("kind").and_then(|k| k.as_str()) == Some(custom.name()) && !t.contains_key("weights") {
+            return Err(SceneError::Missing {
+                key: "mass.weights",
+                hint: " for mass.kind = \"custom\" (one weight >= 0 per element, element 0 at the contact node)",
+            });
+        }
+    }
+    read_tagged(raw)
+}
+
+/// The `[scheme]` table; `w0` is the weight of the cells at the contact node (0 iff it is
+/// massless), which the reduced formulation and the hybrid scheme need.
+pub(crate) fn parse_scheme(raw: Option<RawScheme>, w0: f64, mass: &MassKind) -> Result<SchemeSpec, SceneError> {
+    let scheme: SchemeSpec = read_tagged(raw)?;
+    let reduced = matches!(
+        scheme,
+        SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
+            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. }
+    );
+    if reduced && w0 != 0.0 {
+        return Err(SceneError::Inapplicable {
+            key: "scheme.formulation = \"reduced\"",
+            context: format!("a mass with w_0 = {} (it needs a massless contact node: mod1, mod2, mod3)", w0),
+        });
+    }
+    if scheme == SchemeSpec::Hybrid && w0 != 0.0 {
+        return Err(SceneError::Inapplicable {
+            key: "scheme.kind = \"hybrid\"",
+            context: format!(
+                "mass.kind = \"{}\" (w_0 = {}): the hybrid scheme works on the reduced system and needs w_0 = 0 (mod1, mod2, mod3 or custom with weights[0] = 0)",
+                mass.name(),
+                w0
+            ),
+        });
+    }
+    Ok(scheme)
 }
 
 /// The `[time]` table (shared with the plate scenes).
@@ -45,117 +215,6 @@ pub struct TimeSpec {
     pub dt: f64,
     pub end: f64,
     pub steps: usize,
-}
-
-/// The `[mass]` table as a [`MassKind`] (its weights are validated by the caller, who knows the
-/// mesh).
-pub(crate) fn parse_mass(raw: Option<RawMass>) -> Result<MassKind, SceneError> {
-    let mass = raw.unwrap_or_default();
-    let kind = mass.kind.as_deref().unwrap_or("mod3");
-    let mass = match kind {
-        "custom" => {
-            let w = mass.weights.ok_or(SceneError::Missing {
-                key: "mass.weights",
-                hint: " for mass.kind = \"custom\" (one weight >= 0 per element, element 0 at the contact node)",
-            })?;
-            MassKind::Custom(w.into_iter().map(Number::get).collect())
-        }
-        "standard" | "mod1" | "mod2" | "mod3" => {
-            forbid("mass.weights", &mass.weights, &format!("mass.kind = \"{kind}\" (only to \"custom\")"))?;
-            match kind {
-                "standard" => MassKind::Standard,
-                "mod1" => MassKind::Mod1,
-                "mod2" => MassKind::Mod2,
-                _ => MassKind::Mod3,
-            }
-        }
-        other => {
-            return Err(SceneError::Range {
-                key: "mass.kind",
-                value: format!("\"{other}\""),
-                range: "standard | mod1 | mod2 | mod3 | custom",
-            });
-        }
-    };
-    Ok(mass)
-}
-
-/// The `[scheme]` table; `w0` is the weight of the cells at the contact node (0 iff it is
-/// massless), which the reduced formulation and the hybrid scheme need.
-pub(crate) fn parse_scheme(raw: Option<RawScheme>, w0: f64, mass: &MassKind) -> Result<SchemeSpec, SceneError> {
-    let s = raw.unwrap_or_default();
-    let kind = s.kind.clone().unwrap_or_else(|| "crank-nicolson".into());
-    let ctx = format!("scheme.kind = \"{kind}\"");
-    let formulation = |s: &RawScheme| -> Result<Formulation, SceneError> {
-        match s.formulation.as_deref().unwrap_or("full") {
-            "full" => Ok(Formulation::Full),
-            "reduced" if w0 == 0.0 => Ok(Formulation::Reduced),
-            "reduced" => Err(SceneError::Inapplicable {
-                key: "scheme.formulation = \"reduced\"",
-                context: format!("a mass with w_0 = {} (it needs a massless contact node: mod1, mod2, mod3)", w0),
-            }),
-            other => Err(SceneError::Range {
-                key: "scheme.formulation",
-                value: format!("\"{other}\""),
-                range: "full | reduced",
-            }),
-        }
-    };
-    let beta_range = "(0, 1]";
-    let scheme = match kind.as_str() {
-        "crank-nicolson" => {
-            forbid("scheme.beta", &s.beta, &ctx)?;
-            forbid("scheme.gamma", &s.gamma, &ctx)?;
-            forbid("scheme.restitution", &s.restitution, &ctx)?;
-            SchemeSpec::CrankNicolson { formulation: formulation(&s)? }
-        }
-        "newmark" => {
-            forbid("scheme.restitution", &s.restitution, &ctx)?;
-            let beta = s.beta.map_or(0.25, Number::get);
-            let gamma = s.gamma.map_or(0.5, Number::get);
-            finite_in("scheme.beta", beta, beta > 0.0 && beta <= 1.0, beta_range)?;
-            finite_in("scheme.gamma", gamma, (0.0..=1.0).contains(&gamma), "[0, 1]")?;
-            SchemeSpec::Newmark { beta, gamma, formulation: formulation(&s)? }
-        }
-        "backward-euler" | "hybrid" => {
-            forbid("scheme.beta", &s.beta, &ctx)?;
-            forbid("scheme.gamma", &s.gamma, &ctx)?;
-            forbid("scheme.restitution", &s.restitution, &ctx)?;
-            forbid("scheme.formulation", &s.formulation, &ctx)?;
-            if kind == "hybrid" {
-                if w0 != 0.0 {
-                    return Err(SceneError::Inapplicable {
-                        key: "scheme.kind = \"hybrid\"",
-                        context: format!(
-                            "mass.kind = \"{}\" (w_0 = {}): the hybrid scheme works on the reduced system and needs w_0 = 0 (mod1, mod2, mod3 or custom with weights[0] = 0)",
-                            mass.name(),
-                            w0
-                        ),
-                    });
-                }
-                SchemeSpec::Hybrid
-            } else {
-                SchemeSpec::BackwardEuler
-            }
-        }
-        "paoli-schatzman" => {
-            forbid("scheme.gamma", &s.gamma, &ctx)?;
-            forbid("scheme.formulation", &s.formulation, &ctx)?;
-            let beta = s.beta.map_or(0.25, Number::get);
-            let restitution = s.restitution.map_or(1.0, Number::get);
-            finite_in("scheme.beta", beta, beta > 0.0 && beta <= 1.0, beta_range)?;
-            finite_in("scheme.restitution", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
-            SchemeSpec::PaoliSchatzman { beta, restitution }
-        }
-        other => {
-            return Err(SceneError::Range {
-                key: "scheme.kind",
-                value: format!("\"{other}\""),
-                range: "crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid",
-            });
-        }
-    };
-    Ok(scheme)
 }
 
 /// The `[time]` table; `default_end` is used without `time.end`, `elements` (the unknowns per
@@ -194,7 +253,6 @@ pub(crate) fn parse_divergence_factor(raw: Option<Number>) -> Result<f64, SceneE
     finite_in("output.divergence_factor", factor, factor > 1.0, "(1, ∞)")
 }
 
-/// The resolved `[mass]` table of a mass redistribution.
 /// The resolved `[mass]`, `[scheme]`, `[time]` and `[output]` tables of any scene (`plate`:
 /// write the VTU keys).
 pub(crate) fn raw_sections(
@@ -209,40 +267,14 @@ pub(crate) fn raw_sections(
     (Some(raw_mass(mass)), Some(raw_scheme(scheme)), Some(raw_time(time)), Some(out))
 }
 
+/// The resolved `[mass]` table of a mass redistribution.
 pub(crate) fn raw_mass(mass: &MassKind) -> RawMass {
-    RawMass {
-        kind: Some(mass.name().into()),
-        weights: match mass {
-            MassKind::Custom(w) => Some(w.iter().copied().map(Number::Float).collect()),
-            _ => None,
-        },
-    }
+    RawSection::Resolved(mass.clone())
 }
 
 /// The resolved `[scheme]` table of a scheme.
 pub(crate) fn raw_scheme(scheme: &SchemeSpec) -> RawScheme {
-    let f = Number::Float;
-    let (kind, beta, gamma, restitution, formulation) = match scheme {
-        SchemeSpec::CrankNicolson { formulation } => ("crank-nicolson", None, None, None, Some(*formulation)),
-        SchemeSpec::Newmark { beta, gamma, formulation } => {
-            ("newmark", Some(*beta), Some(*gamma), None, Some(*formulation))
-        }
-        SchemeSpec::BackwardEuler => ("backward-euler", None, None, None, None),
-        SchemeSpec::PaoliSchatzman { beta, restitution } => {
-            ("paoli-schatzman", Some(*beta), None, Some(*restitution), None)
-        }
-        SchemeSpec::Hybrid => ("hybrid", None, None, None, None),
-    };
-    RawScheme {
-        kind: Some(kind.into()),
-        beta: beta.map(f),
-        gamma: gamma.map(f),
-        restitution: restitution.map(f),
-        formulation: formulation.map(|x| match x {
-            Formulation::Full => "full".into(),
-            Formulation::Reduced => "reduced".into(),
-        }),
-    }
+    RawSection::Resolved(*scheme)
 }
 
 /// The resolved `[time]` table.
@@ -381,4 +413,56 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
     let divergence_factor = parse_divergence_factor(o.divergence_factor)?;
     let output = OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true), divergence_factor, vtu_every };
     Ok(Scene { geometry, mass, scheme, time, output })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scheme(text: &str) -> Result<SchemeSpec, String> {
+        let raw = toml::from_str::<RawScheme>(text).unwrap();
+        parse_scheme(Some(raw), 0.0, &MassKind::Mod3).map_err(|e| e.to_string())
+    }
+
+    /// serde ignores unknown keys of a unit variant (`BackwardEuler`, `Hybrid`) even with
+    /// `deny_unknown_fields`; [`read_tagged`] refuses them from the keys each kind writes.
+    /// Mutation: the key loop of `read_tagged` removed -> `backward-euler` with `beta` parses.
+    #[test]
+    fn keys_of_other_kinds_are_refused_by_name() {
+        let e = scheme("kind = \"backward-euler\"\nbeta = 0.5").unwrap_err();
+        assert_eq!(
+            e,
+            "scheme.beta does not apply to scheme.kind = \"backward-euler\" (only to \"newmark\" | \"paoli-schatzman\")"
+        );
+        let e = scheme("kind = \"hybrid\"\nrestitution = 0.5").unwrap_err();
+        assert!(e.starts_with("scheme.restitution does not apply"), "{e}");
+        let e = scheme("kind = \"newmark\"\nbeat = 0.5").unwrap_err();
+        assert!(e.starts_with("unknown field `beat` in [scheme], expected one of kind, "), "{e}");
+    }
+
+    #[test]
+    fn kinds_default_and_keys_name_themselves_in_errors() {
+        assert_eq!(scheme(""), Ok(SchemeSpec::CRANK_NICOLSON));
+        assert_eq!(
+            scheme("formulation = \"reduced\""),
+            Ok(SchemeSpec::CrankNicolson { formulation: Formulation::Reduced })
+        );
+        assert_eq!(
+            scheme("kind = \"euler\"").unwrap_err(),
+            "scheme.kind = \"euler\": allowed range is crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid"
+        );
+        // A wrong type names the key (serde's message alone does not).
+        assert_eq!(
+            scheme("kind = \"newmark\"\ngamma = \"x\"").unwrap_err(),
+            "scheme.gamma: invalid type: string \"x\", expected f64"
+        );
+        let mass = |text: &str| parse_mass(Some(toml::from_str::<RawMass>(text).unwrap())).map_err(|e| e.to_string());
+        assert_eq!(mass(""), Ok(MassKind::Mod3));
+        assert_eq!(mass("kind = \"custom\"\nweights = [0, 1.5]"), Ok(MassKind::Custom(vec![0.0, 1.5])));
+        assert!(mass("kind = \"custom\"").unwrap_err().starts_with("mass.weights is required"));
+        assert_eq!(
+            mass("kind = \"mod1\"\nweights = [1]").unwrap_err(),
+            "mass.weights does not apply to mass.kind = \"mod1\" (only to \"custom\")"
+        );
+    }
 }

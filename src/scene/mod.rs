@@ -147,13 +147,6 @@ pub fn short(x: f64) -> String {
     crate::numfmt::fmt_f64(x)
 }
 
-impl SceneError {
-    /// Exit code for the CLI: 2 for anything wrong with the input.
-    pub fn exit_code(&self) -> i32 {
-        2
-    }
-}
-
 /// A number written as a TOML integer or float (`end = 3` and `end = 3.0` both work).
 #[derive(Debug, Clone, Copy, Deserialize, Serialize)]
 #[serde(untagged)]

@@ -39,7 +39,7 @@ pub struct BackwardEuler<A: Backend> {
 }
 
 impl<A: Backend> BackwardEuler<A> {
-    pub const NAME: &'static str = "backward-euler";
+    pub const NAME: &'static str = super::SchemeSpec::BackwardEuler.name();
 
     pub fn new(system: &ContactSystem<A>, dt: f64, u0: Vec<f64>, v0: Vec<f64>) -> Result<Self, SchemeError> {
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;

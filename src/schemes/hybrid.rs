@@ -109,7 +109,7 @@ pub struct Hybrid<A: Backend> {
 }
 
 impl<A: Backend> Hybrid<A> {
-    pub const NAME: &'static str = "hybrid";
+    pub const NAME: &'static str = super::SchemeSpec::Hybrid.name();
 
     /// Needs every contact unknown massless (quasi-static contact rows). The contact entries of
     /// `u0` are replaced by the quasi-static values Φ(U⁰) (module docs).
@@ -176,11 +176,6 @@ impl<A: Backend> Hybrid<A> {
             }
         }
         [t1, t2, -0.5 * t3]
-    }
-
-    /// The mid-step multipliers λ̄ of the last step.
-    pub fn mid_step_lambda(&self) -> &[f64] {
-        &self.lam_bar
     }
 }
 

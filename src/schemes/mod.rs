@@ -52,7 +52,7 @@ pub use hybrid::Hybrid;
 pub use newmark::Newmark;
 pub use newmark_reduced::NewmarkReduced;
 pub use paoli_schatzman::PaoliSchatzman;
-pub use spec::{Formulation, SchemeSpec};
+pub use spec::{Beta, Formulation, Gamma, ParamError, Restitution, SchemeSpec};
 
 /// The discrete state at `t_n = n Δt`, borrowed from the scheme (no copy).
 #[derive(Debug, Clone, Copy)]

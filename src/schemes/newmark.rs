@@ -17,7 +17,7 @@
 //! A step is three passes over the unknowns: the right-hand side `M Ũ + σ F`, the solve with
 //! contact, and one update pass that forms A^{n+1}, V^{n+1} and the next predictor Ũ.
 
-use super::{SchemeError, StateView, check_finite, check_range, contact_err};
+use super::{Beta, Gamma, SchemeError, SchemeSpec, StateView, check_finite, check_range, contact_err};
 use crate::contact::{Backend, ContactSolver};
 use crate::system::ContactSystem;
 
@@ -47,20 +47,19 @@ pub struct Newmark<A: Backend> {
 }
 
 impl<A: Backend> Newmark<A> {
-    pub const NAME: &'static str = "newmark";
+    pub const NAME: &'static str = SchemeSpec::NEWMARK.name();
 
-    /// Newmark(β, γ) with 0 < β ≤ 1 and 0 ≤ γ ≤ 1 (unconditionally stable without contact for
-    /// γ ≥ ½ and β ≥ (½ + γ)²/4).
+    /// Newmark(β, γ) ([`Beta`], [`Gamma`]: in range by their type; unconditionally stable without
+    /// contact for γ ≥ ½ and β ≥ (½ + γ)²/4).
     pub fn new(
         system: &ContactSystem<A>,
-        beta: f64,
-        gamma: f64,
+        beta: Beta,
+        gamma: Gamma,
         dt: f64,
         u0: Vec<f64>,
         v0: Vec<f64>,
     ) -> Result<Self, SchemeError> {
-        check_range(Self::NAME, "beta", beta, beta > 0.0 && beta <= 1.0, "(0, 1]")?;
-        check_range(Self::NAME, "gamma", gamma, (0.0..=1.0).contains(&gamma), "[0, 1]")?;
+        let (beta, gamma) = (beta.get(), gamma.get());
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
         let name = "M + β Δt² S";
         let k = system.mass.combine(1.0, &system.stiffness, beta * dt * dt, name)?;
@@ -93,7 +92,7 @@ impl<A: Backend> Newmark<A> {
 
     /// Crank–Nicolson, Newmark(1/4, 1/2).
     pub fn crank_nicolson(system: &ContactSystem<A>, dt: f64, u0: Vec<f64>, v0: Vec<f64>) -> Result<Self, SchemeError> {
-        Self::new(system, 0.25, 0.5, dt, u0, v0)
+        Self::new(system, Beta::DEFAULT, Gamma::DEFAULT, dt, u0, v0)
     }
 
     /// The acceleration Aⁿ.

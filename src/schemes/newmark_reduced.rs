@@ -17,7 +17,7 @@
 //! A step is three passes over the nodes, as in [`super::Newmark`]: right-hand side, two-sided
 //! solve ([`TwistedFactor`]), then one update pass.
 
-use super::{SchemeError, StateView, check_finite, check_range, factor_err};
+use super::{Beta, Gamma, SchemeError, StateView, check_finite, check_range, factor_err};
 use crate::linalg::tridiag::{SymTridiag, TwistedFactor};
 
 #[derive(Debug, Clone)]
@@ -48,8 +48,8 @@ impl NewmarkReduced {
 
     pub fn new(
         bar: super::OneNodeContact<'_>,
-        beta: f64,
-        gamma: f64,
+        beta: Beta,
+        gamma: Gamma,
         dt: f64,
         u0: Vec<f64>,
         v0: Vec<f64>,
@@ -62,8 +62,7 @@ impl NewmarkReduced {
             // Its closed form u_0 = u_1⁺ is written for the obstacle at 0 (bar-only scheme).
             return Err(SchemeError::Parameter { scheme: Self::NAME, key: "gap", value: bar.gap(), range: "0" });
         }
-        check_range(Self::NAME, "beta", beta, beta > 0.0 && beta <= 1.0, "(0, 1]")?;
-        check_range(Self::NAME, "gamma", gamma, (0.0..=1.0).contains(&gamma), "[0, 1]")?;
+        let (beta, gamma) = (beta.get(), gamma.get());
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
         let mass = system.mass.trailing(1);
         let k = mass.combine(1.0, &system.stiffness.trailing(1), beta * dt * dt);

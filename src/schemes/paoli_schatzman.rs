@@ -25,7 +25,9 @@
 //! right-hand side, the two-sided solve ([`TwistedFactor`]), and one pass for the contact
 //! correction and the velocity.
 
-use super::{Newmark, Scheme, SchemeError, StateView, check_finite, check_range, factor_err};
+use super::{
+    Beta, Newmark, Restitution, Scheme, SchemeError, SchemeSpec, StateView, check_finite, check_range, factor_err,
+};
 use crate::contact::contact_multiplier;
 use crate::linalg::tridiag::{SymTridiag, TwistedFactor};
 
@@ -60,18 +62,17 @@ pub struct PaoliSchatzman {
 }
 
 impl PaoliSchatzman {
-    pub const NAME: &'static str = "paoli-schatzman";
+    pub const NAME: &'static str = SchemeSpec::PAOLI_SCHATZMAN.name();
 
     pub fn new(
         bar: super::OneNodeContact<'_>,
-        beta: f64,
-        restitution: f64,
+        beta: Beta,
+        restitution: Restitution,
         dt: f64,
         u0: Vec<f64>,
         v0: Vec<f64>,
     ) -> Result<Self, SchemeError> {
-        check_range(Self::NAME, "beta", beta, beta > 0.0 && beta <= 1.0, "(0, 1]")?;
-        check_range(Self::NAME, "restitution", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
+        let (beta, restitution) = (beta.get(), restitution.get());
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
         let system = bar.system;
         let k = system.mass.combine(1.0, &system.stiffness, beta * dt * dt);

@@ -7,6 +7,7 @@ use massredist::bar::BarProblem;
 use massredist::driver::{Observer, Sample, integrate};
 use massredist::mass::MassKind;
 use massredist::scene::{Formulation, SchemeSpec};
+use massredist::schemes::{Beta, Gamma, Restitution};
 
 /// One recorded state.
 #[derive(Debug, Clone)]
@@ -40,7 +41,7 @@ pub fn trajectory(problem: &BarProblem, spec: &SchemeSpec, dt: f64, steps: usize
 
 pub const CN: SchemeSpec = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
 pub const CN_REDUCED: SchemeSpec = SchemeSpec::CrankNicolson { formulation: Formulation::Reduced };
-pub const PS: SchemeSpec = SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: 1.0 };
+pub const PS: SchemeSpec = SchemeSpec::PaoliSchatzman { beta: Beta::new(0.25), restitution: Restitution::new(1.0) };
 
 pub fn all_masses(m: usize) -> Vec<MassKind> {
     let custom: Vec<f64> = (0..m).map(|j| if j == 0 { 0.0 } else { 0.5 + ((j * 7919) % 13) as f64 / 8.0 }).collect();
@@ -51,10 +52,10 @@ pub fn all_masses(m: usize) -> Vec<MassKind> {
 pub fn schemes_for(mass: &MassKind) -> Vec<SchemeSpec> {
     let mut v = vec![
         CN,
-        SchemeSpec::Newmark { beta: 0.3, gamma: 0.6, formulation: Formulation::Full },
+        SchemeSpec::Newmark { beta: Beta::new(0.3), gamma: Gamma::new(0.6), formulation: Formulation::Full },
         SchemeSpec::BackwardEuler,
         PS,
-        SchemeSpec::PaoliSchatzman { beta: 0.25, restitution: 0.0 },
+        SchemeSpec::PaoliSchatzman { beta: Beta::new(0.25), restitution: Restitution::new(0.0) },
     ];
     if !matches!(mass, MassKind::Standard) {
         v.push(CN_REDUCED);
