@@ -162,37 +162,6 @@ pub struct Summary {
     pub wall_seconds: f64,
 }
 
-/// The contact values of one state, node by node: what the summary keeps of them
-/// (`min_u0`, `max_lambda`, `max_complementarity_product`, impact and release). Computed where
-/// the state lives: by the driver ([`ContactStats::of`]) or by the engine that streams it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ContactStats {
-    /// `min_c u_c` (+∞ without contact unknowns).
-    pub min_u: f64,
-    /// `max_c λ_c` (−∞ without contact unknowns).
-    pub max_lambda: f64,
-    /// `max_c |(u_c − lb_c) λ_c|` (0 without contact unknowns).
-    pub max_product: f64,
-    /// Some contact node is at (or below) its obstacle, `u_c ≤ lb_c` (a mean can stay above
-    /// −gap by rounding while a node touches).
-    pub touching: bool,
-}
-
-impl ContactStats {
-    /// The statistics of `u` (unknowns) and `lambda` (contact order) over the contact unknowns
-    /// `contact` with bounds `lower` (contact order).
-    pub fn of(u: &[f64], lambda: &[f64], contact: &[usize], lower: &[f64]) -> Self {
-        let mut s = Self { min_u: f64::INFINITY, max_lambda: f64::NEG_INFINITY, max_product: 0.0, touching: false };
-        for (c, &i) in contact.iter().enumerate() {
-            s.touching |= u[i] <= lower[c];
-            s.min_u = s.min_u.min(u[i]);
-            s.max_lambda = s.max_lambda.max(lambda[c]);
-            s.max_product = s.max_product.max(((u[i] - lower[c]) * lambda[c]).abs());
-        }
-        s
-    }
-}
-
 /// Accumulates a [`Summary`] in the step loop (O(1) memory).
 #[derive(Debug, Clone)]
 pub struct SummaryObserver {

@@ -145,5 +145,11 @@ pub fn commit_run(out: OutputDir, summary_json: &str, resolved_scene: &str) -> R
 mod folder;
 mod staging;
 
-pub use folder::{MARKER, OutputDir, OutputError};
+pub use folder::{OutputDir, OutputError};
+
+/// The marker file in every folder massredist writes. Its first line says what wrote the folder
+/// (tool, version, command line); each further line names one file (`vtu/frame-0001.vtu`) or
+/// folder (`vtu/`, with the slash) written with it, relative to the folder, at any depth.
+pub const MARKER: &str = ".massredist-output";
+
 pub use staging::install_signal_cleanup;

@@ -21,9 +21,9 @@
 //! `"nan"`, `"inf"` or `"-inf"`. Standard output and input are what every MPI launcher forwards
 //! from rank 0 to the launching process (mpirun, srun), also across the nodes of a cluster.
 
+use crate::driver::ContactStats;
 use crate::driver::{Divergence, DivergenceReason, DivergenceWatch, Observer, Sample, Verdict};
 use crate::exact::Exact;
-use crate::observe::ContactStats;
 use crate::problem::GeometryView;
 use crate::schemes::StateView;
 use serde::Deserialize;

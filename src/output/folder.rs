@@ -8,10 +8,7 @@ use super::staging::{self, Live};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-/// The marker file in every folder massredist writes. Its first line says what wrote the folder
-/// (tool, version, command line); each further line names one file (`vtu/frame-0001.vtu`) or
-/// folder (`vtu/`, with the slash) written with it, relative to the folder, at any depth.
-pub const MARKER: &str = ".massredist-output";
+use super::MARKER;
 
 /// Why an output folder cannot be used or written. Each message names the path and says how to
 /// go on.

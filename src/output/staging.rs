@@ -16,7 +16,7 @@
 //!   ordinary write-error path (exit 1, a message naming the folder, the staging folder
 //!   removed) instead of dying by the signal.
 
-use super::folder::MARKER;
+use super::MARKER;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
