@@ -12,8 +12,8 @@
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use massredist::bench::perf::floor_matrix;
 use massredist::bench::sweep::scheme_cases;
+use massredist::fem::Cell;
 use massredist::mass::MassKind;
-use massredist::plate::CellKind;
 use massredist::run::Problem;
 use massredist::run::plate::PlateProblem;
 use massredist::scene::{Formulation, PlateInitial, PlateSpec, SchemeSpec};
@@ -83,7 +83,7 @@ type Build = Box<dyn Fn() -> Box<dyn Scheme>>;
 fn multid_cases() -> Vec<(&'static str, Build)> {
     let cn = || SchemeSpec::CrankNicolson { formulation: Formulation::Full };
     let plate = move || {
-        let spec = PlateSpec::structured(1.0, 1.0, 40, 40, CellKind::Quad, PlateInitial::Paper);
+        let spec = PlateSpec::structured(1.0, 1.0, 40, 40, Cell::Quad, PlateInitial::Paper);
         PlateProblem::new(&spec, &MassKind::Mod3).unwrap().scheme(&cn(), DT).unwrap()
     };
     let solid = move |dim: usize, n: usize| {

@@ -18,7 +18,8 @@ def _read(path):
 
 
 def _cells_of(mesh, path, cell_types):
-    """``(points (n, dim), cells (k, nv), cell_type)`` of the first of ``cell_types`` present.
+    """``(points (n, dim), cells (k, nv), cell_type)`` of the first of ``cell_types`` present
+    (the cross-check peers' own reader; the scenes read through ``read_cell_blocks``).
 
     Points that belong to no such cell (gmsh geometry points, the vertices of boundary facets
     only) are dropped and the cells renumbered, keeping the file's vertex order otherwise.
@@ -35,14 +36,6 @@ def _cells_of(mesh, path, cell_types):
     used, cells = np.unique(cells, return_inverse=True)
     points = np.ascontiguousarray(mesh.points[used, :dim], dtype=np.float64)
     return points, cells.reshape(-1, blocks[0].shape[1]).astype(np.int64), cell_type
-
-
-def read_mesh(path):
-    """Return ``(points (n, 2) float64, cells (k, nv) int64, cell_type)`` of a 2D mesh file.
-
-    Triangles are taken if present, else quadrilaterals.
-    """
-    return _cells_of(_read(path), path, ("triangle", "quad"))
 
 
 def read_cells(path):
@@ -83,7 +76,8 @@ def read_point_data(path, name):
 
 def read_cell_blocks(path):
     """Return ``(points (n, 3) float64, [(cell_type, cells (k, nv) int64), ...])`` of a file, as
-    meshio reads it (no points dropped): for checking written files."""
-    mesh = meshio.read(Path(path))
+    meshio reads it (no points dropped, nothing checked): the Rust side picks and checks the
+    cells (``src/scene/mesh_file.rs``), and checks the files it writes."""
+    mesh = _read(path)
     blocks = [(block.type, np.ascontiguousarray(block.data, dtype=np.int64)) for block in mesh.cells]
     return np.ascontiguousarray(mesh.points, dtype=np.float64), blocks

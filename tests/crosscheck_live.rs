@@ -4,7 +4,6 @@
 
 use massredist::crosscheck::{Physics, Tamper, cases_2d, matrix_cases, run, solid_cases};
 use massredist::fem::{Cell, Mesh};
-use massredist::plate::CellKind;
 
 #[test]
 fn every_case_agrees_with_both_backends() {
@@ -60,7 +59,7 @@ fn the_elastic_cases_test_both_lame_terms_and_catch_a_perturbed_weight() {
     }
     let meshio: Vec<_> = cases.iter().filter(|c| c.file.is_some()).collect();
     let grids = [
-        Mesh::structured_2d(1.0, 0.8, 5, 4, CellKind::Triangle).unwrap(),
+        Mesh::structured_2d(1.0, 0.8, 5, 4, Cell::Triangle).unwrap(),
         Mesh::structured_3d([1.0, 1.0, 1.0], [3, 2, 2], Cell::Tet).unwrap(),
         Mesh::structured_3d([1.0, 0.5, 0.75], [3, 2, 2], Cell::Hex).unwrap(),
     ];

@@ -6,8 +6,8 @@ mod common;
 
 use common::*;
 use massredist::bar::assembly::{Bar, BarSystem};
+use massredist::fem::Cell;
 use massredist::mass::MassKind;
-use massredist::plate::CellKind;
 use massredist::problem::{Geometry, Problem as GenericProblem};
 use massredist::run::plate::PlateProblem;
 use massredist::run::{Observer, Problem, Sample, integrate};
@@ -102,7 +102,7 @@ fn complementarity_holds_bit_for_bit_at_every_step() {
         }
     }
     for gap in [0.0, 0.05] {
-        for cells in [CellKind::Triangle, CellKind::Quad] {
+        for cells in [Cell::Triangle, Cell::Quad] {
             for mass in [MassKind::Standard, MassKind::Mod3] {
                 let body = Body { gap, ..Body::default() };
                 let spec = PlateSpec { body, ..PlateSpec::structured(1.0, 1.0, 8, 6, cells, PlateInitial::Bump) };

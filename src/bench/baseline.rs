@@ -157,10 +157,10 @@ pub fn time_rust(case: Case, dt: f64, steps: usize) -> Result<(Timing, Option<f6
     let t = Instant::now();
     let mass = MassKind::Mod3;
     let (timing, l2) = if case.kind == "plate" {
-        use crate::plate::CellKind;
+        use crate::fem::Cell;
         use crate::run::plate::PlateProblem;
         use crate::scene::{PlateInitial, PlateSpec};
-        let spec = PlateSpec::structured(1.0, 1.0, case.n, case.n, CellKind::Quad, PlateInitial::Paper);
+        let spec = PlateSpec::structured(1.0, 1.0, case.n, case.n, Cell::Quad, PlateInitial::Paper);
         let problem = PlateProblem::new(&spec, &mass).map_err(|e| e.to_string())?;
         let build = t.elapsed().as_secs_f64();
         let (mut tm, l2) = step_timings(&problem, dt, steps)?;

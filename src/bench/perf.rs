@@ -180,11 +180,11 @@ pub struct PlateTimings {
 /// Times the plate schemes (Crank–Nicolson, backward Euler, hybrid; Mod 3, quad mesh nx × ny of
 /// (0,1) × (0, ny/nx), Δt = 1/nx, the paper's initial data) and the bare sparse solve pair.
 pub fn time_plate(nx: usize, ny: usize, min_total: f64) -> Option<PlateTimings> {
+    use crate::fem::Cell;
     use crate::linalg::sparse;
-    use crate::plate::CellKind;
     use crate::run::plate::PlateProblem;
     use crate::scene::{PlateInitial, PlateSpec};
-    let spec = PlateSpec::structured(1.0, ny as f64 / nx as f64, nx, ny, CellKind::Quad, PlateInitial::Paper);
+    let spec = PlateSpec::structured(1.0, ny as f64 / nx as f64, nx, ny, Cell::Quad, PlateInitial::Paper);
     let mass = MassKind::Mod3;
     let problem = PlateProblem::new(&spec, &mass).ok()?;
     let dt = 1.0 / nx as f64;

@@ -23,12 +23,7 @@ use thiserror::Error;
 
 /// VTK cell type codes.
 pub fn vtk_type(kind: Cell) -> u8 {
-    match kind {
-        Cell::Triangle => 5,
-        Cell::Quad => 9,
-        Cell::Tet => 10,
-        Cell::Hex => 12,
-    }
+    kind.vtk()
 }
 
 /// A named data array: `components` values per point (or cell).

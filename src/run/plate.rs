@@ -6,12 +6,12 @@ use super::RunFolderError;
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::driver::Observer;
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
+use crate::fem::layers::cell_weights;
+use crate::fem::{Mesh, MeshError};
 use crate::mass::MassKind;
 use crate::observe::Summary;
 use crate::output::OutputDir;
 use crate::plate::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
-use crate::plate::layers::cell_weights;
-use crate::plate::mesh::{Mesh2d, MeshError};
 use crate::run::{Setup, setup_error};
 use crate::scene::{Body, Force, PlateInitial, PlateScene, PlateSpec, SceneError};
 use crate::schemes::SchemeError;
@@ -43,7 +43,7 @@ impl PlateProblem {
     /// where one is known: the paper's closed form, or a plane wave (`t_end`: how long the
     /// characteristics are traced).
     pub fn new(spec: &PlateSpec, mass: &MassKind) -> Result<Self, PlateRunError> {
-        let mesh = Mesh2d::clone(spec.mesh()?.as_ref());
+        let mesh = Mesh::clone(spec.mesh()?.as_ref());
         Self::from_mesh(mesh, mass, &spec.initial, &spec.body)
     }
 
@@ -58,14 +58,9 @@ impl PlateProblem {
     }
 
     /// Any mesh of (0, L) × (y_min, y_min + H) (e.g. a triangle mesh read from a file with
-    /// [`Mesh2d::from_arrays`]); the initial data use `y − y_min`.
-    pub fn from_mesh(
-        mesh: Mesh2d,
-        mass: &MassKind,
-        initial: &PlateInitial,
-        body: &Body,
-    ) -> Result<Self, PlateRunError> {
-        let (l, h) = (mesh.length, mesh.height);
+    /// [`Mesh::from_arrays`]); the initial data use `y − y_min`.
+    pub fn from_mesh(mesh: Mesh, mass: &MassKind, initial: &PlateInitial, body: &Body) -> Result<Self, PlateRunError> {
+        let [l, h, _] = mesh.extent;
         let ymin = mesh.points.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
         let weights = cell_weights(&mesh, mass).map_err(PlateAssemblyError::from)?;
         let field;

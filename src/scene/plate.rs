@@ -30,9 +30,9 @@
 
 use super::*;
 use crate::expr::Expr;
+use crate::fem::layers::{cell_weights, layers};
+use crate::fem::{Cell, Mesh};
 use crate::mass::MassKind;
-use crate::plate::layers::{cell_weights, layers};
-use crate::plate::mesh::{CellKind, Mesh2d};
 use std::sync::Arc;
 
 /// Upper bound on `contact nodes²`: the contact solver ([`crate::contact::Schur`]) keeps the dense
@@ -125,7 +125,7 @@ pub struct PlateSpec {
     /// Cells along x and y of a structured mesh (0 for a mesh file).
     pub nx: usize,
     pub ny: usize,
-    pub cells: CellKind,
+    pub cells: Cell,
     pub initial: PlateInitial,
     /// Material, far end (x = L), gap and force.
     pub body: Body,
@@ -134,20 +134,20 @@ pub struct PlateSpec {
     pub mesh_file: Option<std::path::PathBuf>,
     /// The mesh, built or read once when the scene is validated (None: the structured mesh of
     /// `nx`, `ny`, `cells`, built with the problem).
-    pub mesh: Option<Arc<Mesh2d>>,
+    pub mesh: Option<Arc<Mesh>>,
 }
 
 impl PlateSpec {
     /// The structured plate (0, L) × (0, H) with nx × ny cells (its mesh built with the problem).
-    pub fn structured(length: f64, height: f64, nx: usize, ny: usize, cells: CellKind, initial: PlateInitial) -> Self {
+    pub fn structured(length: f64, height: f64, nx: usize, ny: usize, cells: Cell, initial: PlateInitial) -> Self {
         PlateSpec { length, height, nx, ny, cells, initial, body: Body::default(), mesh_file: None, mesh: None }
     }
 
     /// The mesh: the one validated with the scene, or the structured one of the spec.
-    pub fn mesh(&self) -> Result<Arc<Mesh2d>, crate::plate::mesh::MeshError> {
+    pub fn mesh(&self) -> Result<Arc<Mesh>, crate::fem::MeshError> {
         match &self.mesh {
             Some(m) => Ok(m.clone()),
-            None => Ok(Arc::new(Mesh2d::structured(self.length, self.height, self.nx, self.ny, self.cells)?)),
+            None => Ok(Arc::new(Mesh::structured_2d(self.length, self.height, self.nx, self.ny, self.cells)?)),
         }
     }
 
@@ -173,21 +173,21 @@ impl PlateSpec {
                 forbid("plate.ny", &p.ny, context)?;
                 forbid("plate.cells", &p.cells, context)?;
                 let path = base.join(file);
-                (read_mesh_file(&path)?, Some(path))
+                (plate_file_mesh(&path)?, Some(path))
             }
             None => (structured_mesh(&p)?, None),
         };
-        let (nx, ny) = mesh.grid.unwrap_or((0, 0));
+        let [nx, ny, _] = mesh.grid.unwrap_or([0; 3]);
         let contact = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count();
         check_contact_memory(contact)?;
         let (initial, body) = parse_plate_body(p.body, &p.unknown, &mesh)?;
-        let (length, height, cells) = (mesh.length, mesh.height, mesh.kind);
+        let ([length, height, _], cells) = (mesh.extent, mesh.kind);
         Ok(PlateSpec { length, height, nx, ny, cells, initial, body, mesh_file, mesh: Some(Arc::new(mesh)) })
     }
 }
 
 /// The structured mesh of a `[plate]` table without `mesh`.
-fn structured_mesh(p: &RawPlate) -> Result<Mesh2d, SceneError> {
+fn structured_mesh(p: &RawPlate) -> Result<Mesh, SceneError> {
     let length = length_in("plate.length", p.length.map_or(1.0, Number::get))?;
     let height = length_in("plate.height", p.height.map_or(1.0, Number::get))?;
     let nx = p.nx.unwrap_or(20);
@@ -210,8 +210,8 @@ fn structured_mesh(p: &RawPlate) -> Result<Mesh2d, SceneError> {
         });
     }
     let cells = match p.cells.as_deref().unwrap_or("quad") {
-        "quad" => CellKind::Quad,
-        "triangle" => CellKind::Triangle,
+        "quad" => Cell::Quad,
+        "triangle" => Cell::Triangle,
         other => {
             return Err(SceneError::Range {
                 key: "plate.cells",
@@ -222,7 +222,7 @@ fn structured_mesh(p: &RawPlate) -> Result<Mesh2d, SceneError> {
     };
     // Checked before the mesh is built: a hostile nx, ny must fail fast.
     check_contact_memory(ny + 1)?;
-    Ok(Mesh2d::structured(length, height, nx, ny, cells)?)
+    Ok(Mesh::structured_2d(length, height, nx, ny, cells)?)
 }
 
 pub(crate) const SERIES_NAMES: &str =
@@ -321,9 +321,9 @@ impl Scene<PlateSpec> {
 fn parse_plate_body(
     b: RawBody,
     unknown: &std::collections::BTreeMap<String, toml::Value>,
-    mesh: &Mesh2d,
+    mesh: &Mesh,
 ) -> Result<(PlateInitial, Body), SceneError> {
-    let (length, height) = (mesh.length, mesh.height);
+    let [length, height, _] = mesh.extent;
     let keys =
         BodyKeys { density: "plate.density", modulus: "plate.modulus", far_end: "plate.far_end", gap: "plate.gap" };
     let expected = "length, height, nx, ny, cells, mesh, density, modulus, far_end, gap, initial, force";
@@ -332,7 +332,7 @@ fn parse_plate_body(
     let consts = [("L", length), ("H", height), ("pi", std::f64::consts::PI)];
     let initial = parse_initial(b.initial, &consts)?;
     let force = parse_force("plate.force", b.force, &["x", "y"], &consts)?;
-    let points = || mesh.points.iter().copied();
+    let points = || mesh.points.iter().map(|p| [p[0], p[1]]);
     if let PlateInitial::Fields { displacement, velocity } = &initial {
         displacement.eval_at_nodes(points()).map_err(SceneError::from)?;
         velocity.eval_at_nodes(points()).map_err(SceneError::from)?;
@@ -371,19 +371,15 @@ pub(crate) fn check_contact_memory(contact: usize) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// A mesh file through meshio (feature `python`).
-#[cfg(feature = "python")]
-fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, SceneError> {
-    Ok(Mesh2d::read_file(path)?)
-}
-
-#[cfg(not(feature = "python"))]
-fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, SceneError> {
-    Err(SceneError::Inapplicable {
-        key: "plate.mesh",
-        context: format!(
-            "this build ({}): mesh files are read by meshio through the `python` feature; run `cargo run --features python -- run SCENE --out DIR` after `bash python/install-deps.sh`",
-            path.display()
-        ),
-    })
+/// The mesh of `plate.mesh` ([`super::mesh_file`]): a triangle or quad mesh.
+fn plate_file_mesh(path: &std::path::Path) -> Result<Mesh, SceneError> {
+    let mesh = super::mesh_file::read("plate.mesh", path)?;
+    if mesh.dim != 2 {
+        return Err(SceneError::Range {
+            key: "plate.mesh",
+            value: format!("\"{}\" (a {} mesh)", path.display(), mesh.kind.data().meshio),
+            range: "a triangle or quad mesh file",
+        });
+    }
+    Ok(mesh)
 }

@@ -29,10 +29,9 @@ use crate::characteristics::{CharacteristicsError, InitialData};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::expr::Expr;
 use crate::fem::layers::cell_weights;
-use crate::fem::mesh::{Cell, Mesh};
+use crate::fem::mesh::{Cell, Mesh, MeshError};
 use crate::mass::MassKind;
 use crate::material::{FarEnd, Material};
-use crate::plate::mesh::{CellKind, MeshError};
 use crate::problem::Problem;
 use thiserror::Error;
 
@@ -112,8 +111,7 @@ impl SolidSpec {
         }
         let ([l, h, d], [nx, ny, nz]) = (self.extent, self.cells_per_axis);
         match self.cells {
-            Cell::Quad => Mesh::structured_2d(l, h, nx, ny, CellKind::Quad),
-            Cell::Triangle => Mesh::structured_2d(l, h, nx, ny, CellKind::Triangle),
+            Cell::Quad | Cell::Triangle => Mesh::structured_2d(l, h, nx, ny, self.cells),
             Cell::Hex | Cell::Tet => Mesh::structured_3d([l, h, d], [nx, ny, nz], self.cells),
         }
     }
