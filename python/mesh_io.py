@@ -12,9 +12,51 @@ _CELLS = {"triangle": (2, 3), "quad": (2, 4), "tetra": (3, 4), "hexahedron": (3,
 
 def _read(path):
     """meshio's mesh of ``path``; gmsh files with ``file_format="gmsh"`` (meshio's
-    auto-detection tries another reader first and prints)."""
+    auto-detection tries another reader first and prints), their node tags checked first."""
     path = Path(path)
+    if path.suffix == ".msh":
+        _check_gmsh_node_tags(path)
     return meshio.read(path, file_format="gmsh" if path.suffix == ".msh" else None)
+
+
+def _check_gmsh_node_tags(path):
+    """Refuse an element of an ASCII gmsh file (format 2.2 or 4.x) that refers to a node tag
+    below 1. gmsh numbers nodes from 1; meshio subtracts 1 and indexes its tag map with the
+    result, so a tag 0 becomes index -1, which numpy reads as the last point: silently another
+    mesh. Binary files are left to meshio."""
+    with open(path, "rb") as f:
+        lines = iter(f)
+        for line in lines:
+            if line.strip() == b"$MeshFormat":
+                version, file_type = next(lines).split()[:2]
+                break
+        else:
+            return
+        if file_type != b"0":
+            return
+        for line in lines:
+            if line.strip() == b"$Elements":
+                break
+        else:
+            return
+        header = next(lines).split()
+        if version.startswith(b"2"):
+            for _ in range(int(header[0])):
+                row = [int(x) for x in next(lines).split()]
+                _refuse_low_tags(path, row[0], row[3 + row[2]:])
+        else:
+            for _ in range(int(header[0])):
+                count = int(next(lines).split()[3])
+                for _ in range(count):
+                    row = [int(x) for x in next(lines).split()]
+                    _refuse_low_tags(path, row[0], row[1:])
+
+
+def _refuse_low_tags(path, element, nodes):
+    low = [tag for tag in nodes if tag < 1]
+    if low:
+        raise ValueError(f"{path}: gmsh element {element} refers to node tag {low[0]}: gmsh node "
+                         f"tags start at 1 (meshio would read tag {low[0]} as another node)")
 
 
 def _cells_of(mesh, path, cell_types):

@@ -178,3 +178,26 @@ fn solid_vtu_frames_read_back_through_meshio() {
         assert!(frames.frames[2].v.chunks(dim).any(|c| c[1] != 0.0), "{cells}: transverse velocity");
     }
 }
+
+/// Issue 22, D8: meshio reads a gmsh node tag 0 as index −1 and then as the last point (its tag
+/// map indexed with −1), so the file below read as the unit square [0,1,2], [0,2,3]: a
+/// different mesh, silently. The scene's reader refuses it, naming the key, the element and the
+/// tag. mutation, as run: python/mesh_io.py::_read without `_check_gmsh_node_tags` -> the file
+/// reads as the square and this test fails.
+#[test]
+fn a_gmsh_node_tag_zero_is_refused_naming_the_element() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("tag0.msh");
+    let elements = "$Elements\n2\n1 2 2 0 1 1 2 3\n2 2 2 0 1 1 3 0\n$EndElements\n";
+    let nodes = "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n";
+    std::fs::write(&path, format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n{nodes}{elements}")).unwrap();
+    let err = read("plate.mesh", &path).unwrap_err().to_string();
+    assert!(err.starts_with("plate.mesh = "), "{err}");
+    assert!(err.contains("gmsh element 2 refers to node tag 0: gmsh node tags start at 1"), "{err}");
+    std::fs::write(
+        &path,
+        format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n{nodes}{}", elements.replace(" 3 0\n", " 3 4\n")),
+    )
+    .unwrap();
+    assert_eq!(read("plate.mesh", &path).unwrap().cells, [0, 1, 2, 0, 2, 3]);
+}

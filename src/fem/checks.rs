@@ -267,9 +267,10 @@ mod tests {
     /// removed (the hole) and a copy of cell 0 (its vertices permuted) appended: refused as a
     /// duplicate, naming both cells; the hole alone: refused by `check_fills_box`, naming a
     /// cell beside it; three triangles on one edge: refused, naming the facet.
-    /// mutation: `seen.get(&key)` never found -> the duplicate passes from_arrays and
-    /// check_fills_box (the measure is the box's) -> fails; `on_face` always true -> the hole
-    /// is refused as NotFilling, not Hole -> fails.
+    /// mutations, as run: `seen.get(&key)` never found -> the duplicate is still refused, but as
+    /// a facet in 3 cells (the facet count is a second line of defence), so the Duplicate
+    /// assertion fails; `on_face` always true -> the hole is refused as NotFilling, not Hole ->
+    /// fails.
     #[test]
     fn holes_duplicates_and_overfull_facets_are_refused() {
         for m in structured() {

@@ -223,9 +223,9 @@ mod tests {
     /// Issue 22, D8: meshio turns a gmsh node tag 0 into index −1, which numpy read as the last
     /// point; and quadrilaterals beside triangles were dropped silently. Both are refused, naming
     /// the cell and node, or both kinds with their counts.
-    /// mutation: `usize::try_from(node)` replaced by `node.rem_euclid(points as i64) as usize`
-    /// (numpy's wrap) -> the first assertion fails (a mesh is built); `kinds.retain` keeping the
-    /// first kind only -> the second fails.
+    /// mutations, as run: `usize::try_from(node)` replaced by `node.rem_euclid(points as i64)`
+    /// (numpy's wrap) -> the first assertion fails (the square is built); the Mixed check
+    /// skipped -> the quadrilateral is dropped, a mesh is built and the second fails.
     #[test]
     fn a_node_tag_zero_and_mixed_cells_are_refused() {
         let (points, mut blocks) = square();
@@ -261,8 +261,8 @@ mod tests {
     /// Issue 22, D5: a `.msh` symlinked to /dev/zero was read (5.8 GB), a FIFO blocked. Both are
     /// refused before anything opens them, naming the key; so is a file over the cap (a sparse
     /// file: no disk used).
-    /// mutation: `!meta.is_file()` -> `false` -> the /dev/zero assertion fails (NotRegular
-    /// expected, the size check passes a device of length 0); the size comparison removed -> the
+    /// mutations, as run: `!meta.is_file()` -> `false` -> the /dev/zero assertion fails (the
+    /// size check passes a device of length 0); the size comparison -> `false` -> the
     /// sparse-file assertion fails.
     #[cfg(unix)]
     #[test]
