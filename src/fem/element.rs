@@ -19,8 +19,7 @@
 //! (degree 2 per direction) and the gradient products (degree ≤ 2) are integrated exactly;
 //! on general quadrilaterals it is the standard 2 × 2 rule.
 
-pub use super::cell::Cell;
-use super::cell::Reference;
+use super::cell::{Cell, Reference};
 
 /// Largest number of vertices (hexahedron) and of quadrature points.
 pub const MAX_VERTS: usize = 8;

@@ -15,7 +15,7 @@
 //! `warp`, `weight` in `crate::plate::vtu`; solids: the displacement and velocity vectors and
 //! the contact pressure in `crate::solid::vtu`).
 
-use super::mesh::Cell;
+use super::cell::Cell;
 use crate::numfmt::fmt_f64;
 use std::fmt::Write as _;
 use std::io::Write;
