@@ -34,7 +34,7 @@ impl Mesh {
         if lo(0).abs() > 1e-12 * (hi(0) - lo(0)).abs().max(f64::MIN_POSITIVE) {
             return Err(MeshError::NotAtOrigin { xmin: lo(0) });
         }
-        if !(extent[0] > 0.0) {
+        if extent[0] <= 0.0 {
             return Err(MeshError::Extent { axis: "x", value: extent[0] });
         }
         let mut mesh = Self { dim, points: pts, cells: cells.to_vec(), kind, extent, grid: None };

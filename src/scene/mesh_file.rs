@@ -61,12 +61,15 @@ pub enum MeshFileError {
     Mesh { key: &'static str, path: String, source: MeshError },
 }
 
-/// The meshio view of a file: points (`columns` coordinates each) and cell blocks (meshio type,
-/// flat vertex indices as the file gives them, vertices per cell).
+/// One cell block of a file: meshio type, flat vertex indices as the file gives them, vertices
+/// per cell.
+pub type Block = (String, Vec<i64>, usize);
+
+/// The meshio view of a file: points (`columns` coordinates each) and cell blocks.
 pub struct Blocks<'a> {
     pub points: &'a [f64],
     pub columns: usize,
-    pub blocks: &'a [(String, Vec<i64>, usize)],
+    pub blocks: &'a [Block],
 }
 
 /// The mesh of `path`, the value of `key` (module docs for what is checked).
@@ -139,7 +142,7 @@ fn read_blocks(key: &'static str, path: &Path) -> Result<NoBlocks, MeshFileError
 struct NoBlocks {
     points: Vec<f64>,
     columns: usize,
-    blocks: Vec<(String, Vec<i64>, usize)>,
+    blocks: Vec<Block>,
 }
 
 /// The one mesh of a file's blocks (module docs); `path` for messages.
@@ -205,7 +208,7 @@ mod tests {
 
     /// A unit square as two triangles, with a gmsh-style extra point (index 4) and boundary
     /// lines; points with 3 columns.
-    fn square() -> (Vec<f64>, Vec<(String, Vec<i64>, usize)>) {
+    fn square() -> (Vec<f64>, Vec<Block>) {
         let points = vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0, 9.0, 9.0, 0.0];
         let blocks =
             vec![("line".to_string(), vec![0, 1, 1, 2], 2), ("triangle".to_string(), vec![0, 1, 2, 0, 2, 3], 3)];
