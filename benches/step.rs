@@ -12,9 +12,9 @@
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use massredist::bench::perf::floor_matrix;
 use massredist::bench::sweep::scheme_cases;
+use massredist::fem::Cell;
 use massredist::mass::MassKind;
 use massredist::models::{PaperBar, PaperPlate, PlaneWaveSolid};
-use massredist::plate::CellKind;
 use massredist::scene::SchemeSpec;
 use massredist::schemes::Scheme;
 use std::hint::black_box;
@@ -80,8 +80,7 @@ type Build = Box<dyn Fn() -> Box<dyn Scheme>>;
 
 fn multid_cases() -> Vec<(&'static str, Build)> {
     let cn = SchemeSpec::CRANK_NICOLSON;
-    let plate =
-        move || PaperPlate::square(40, CellKind::Quad).problem(&MassKind::Mod3).unwrap().scheme(&cn, DT).unwrap();
+    let plate = move || PaperPlate::square(40, Cell::Quad).problem(&MassKind::Mod3).unwrap().scheme(&cn, DT).unwrap();
     let solid = move |dim: usize, n: usize| {
         move || {
             let solid = PlaneWaveSolid { dim, cells: [n; 3] };

@@ -12,13 +12,56 @@ _CELLS = {"triangle": (2, 3), "quad": (2, 4), "tetra": (3, 4), "hexahedron": (3,
 
 def _read(path):
     """meshio's mesh of ``path``; gmsh files with ``file_format="gmsh"`` (meshio's
-    auto-detection tries another reader first and prints)."""
+    auto-detection tries another reader first and prints), their node tags checked first."""
     path = Path(path)
+    if path.suffix == ".msh":
+        _check_gmsh_node_tags(path)
     return meshio.read(path, file_format="gmsh" if path.suffix == ".msh" else None)
 
 
+def _check_gmsh_node_tags(path):
+    """Refuse an element of an ASCII gmsh file (format 2.2 or 4.x) that refers to a node tag
+    below 1. gmsh numbers nodes from 1; meshio subtracts 1 and indexes its tag map with the
+    result, so a tag 0 becomes index -1, which numpy reads as the last point: silently another
+    mesh. Binary files are left to meshio."""
+    with open(path, "rb") as f:
+        lines = iter(f)
+        for line in lines:
+            if line.strip() == b"$MeshFormat":
+                version, file_type = next(lines).split()[:2]
+                break
+        else:
+            return
+        if file_type != b"0":
+            return
+        for line in lines:
+            if line.strip() == b"$Elements":
+                break
+        else:
+            return
+        header = next(lines).split()
+        if version.startswith(b"2"):
+            for _ in range(int(header[0])):
+                row = [int(x) for x in next(lines).split()]
+                _refuse_low_tags(path, row[0], row[3 + row[2]:])
+        else:
+            for _ in range(int(header[0])):
+                count = int(next(lines).split()[3])
+                for _ in range(count):
+                    row = [int(x) for x in next(lines).split()]
+                    _refuse_low_tags(path, row[0], row[1:])
+
+
+def _refuse_low_tags(path, element, nodes):
+    low = [tag for tag in nodes if tag < 1]
+    if low:
+        raise ValueError(f"{path}: gmsh element {element} refers to node tag {low[0]}: gmsh node "
+                         f"tags start at 1 (meshio would read tag {low[0]} as another node)")
+
+
 def _cells_of(mesh, path, cell_types):
-    """``(points (n, dim), cells (k, nv), cell_type)`` of the first of ``cell_types`` present.
+    """``(points (n, dim), cells (k, nv), cell_type)`` of the first of ``cell_types`` present
+    (the cross-check peers' own reader; the scenes read through ``read_cell_blocks``).
 
     Points that belong to no such cell (gmsh geometry points, the vertices of boundary facets
     only) are dropped and the cells renumbered, keeping the file's vertex order otherwise.
@@ -35,14 +78,6 @@ def _cells_of(mesh, path, cell_types):
     used, cells = np.unique(cells, return_inverse=True)
     points = np.ascontiguousarray(mesh.points[used, :dim], dtype=np.float64)
     return points, cells.reshape(-1, blocks[0].shape[1]).astype(np.int64), cell_type
-
-
-def read_mesh(path):
-    """Return ``(points (n, 2) float64, cells (k, nv) int64, cell_type)`` of a 2D mesh file.
-
-    Triangles are taken if present, else quadrilaterals.
-    """
-    return _cells_of(_read(path), path, ("triangle", "quad"))
 
 
 def read_cells(path):
@@ -83,7 +118,8 @@ def read_point_data(path, name):
 
 def read_cell_blocks(path):
     """Return ``(points (n, 3) float64, [(cell_type, cells (k, nv) int64), ...])`` of a file, as
-    meshio reads it (no points dropped): for checking written files."""
-    mesh = meshio.read(Path(path))
+    meshio reads it (no points dropped, nothing checked): the Rust side picks and checks the
+    cells (``src/scene/mesh_file.rs``), and checks the files it writes."""
+    mesh = _read(path)
     blocks = [(block.type, np.ascontiguousarray(block.data, dtype=np.int64)) for block in mesh.cells]
     return np.ascontiguousarray(mesh.points, dtype=np.float64), blocks

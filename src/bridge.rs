@@ -197,7 +197,7 @@ pub fn assemble_elastic(
 }
 
 /// [`assemble_elastic`] on the mesh of a file, which the Python side reads itself through meshio
-/// (`python/crosscheck.py::assemble_elastic_file`, [`read_cells`]'s reader): `weights` one per
+/// (`python/crosscheck.py::assemble_elastic_file`, through `python/mesh_io.py::read_cells`): `weights` one per
 /// cell in the file's order. The matrices have `vertices·dim` rows in the file's vertex order.
 pub fn assemble_elastic_file(
     backend: Backend,
@@ -225,6 +225,18 @@ pub struct MeshArrays {
     pub dim: usize,
     pub cells: Vec<usize>,
     pub verts_per_cell: usize,
+}
+
+impl MeshArrays {
+    /// The arrays of a mesh (`dim` coordinates per vertex).
+    pub fn of(mesh: &crate::fem::Mesh) -> Self {
+        MeshArrays {
+            points: mesh.flat_points(),
+            dim: mesh.dim,
+            cells: mesh.cells.clone(),
+            verts_per_cell: mesh.kind.verts(),
+        }
+    }
 }
 
 /// Validates a mesh given as arrays; returns `(vertices, cells)`. `allowed` lists the
@@ -316,37 +328,6 @@ pub fn trajectory_1d(
     })
 }
 
-/// A 2D triangle (or quadrilateral) mesh file read by meshio (`python/mesh_io.py`; gmsh `.msh`
-/// files with `file_format="gmsh"`). Returns `(points, cells, verts_per_cell)`: two coordinates
-/// per vertex and `verts_per_cell` vertex indices per cell, points outside every cell dropped.
-pub fn read_mesh(path: &Path) -> Result<(Vec<f64>, Vec<usize>, usize), BridgeError> {
-    let m = read_with(path, "read_mesh")?;
-    Ok((m.points, m.cells, m.verts_per_cell))
-}
-
-/// A 2D or 3D mesh file read by meshio (`python/mesh_io.py::read_cells`): tetrahedra or
-/// hexahedra (dim 3, VTK order) if the file has any, else triangles or quadrilaterals (dim 2,
-/// counter-clockwise). Points outside every such cell are dropped, the file's order kept
-/// otherwise.
-pub fn read_cells(path: &Path) -> Result<MeshArrays, BridgeError> {
-    read_with(path, "read_cells")
-}
-
-fn read_with(path: &Path, function: &str) -> Result<MeshArrays, BridgeError> {
-    startup()?;
-    attach(|py| {
-        let path = path.to_string_lossy().into_owned();
-        let out = py.import("mesh_io")?.call_method1(function, (path,))?;
-        let (points, cells, _cell_type): (PyReadonlyArray2<f64>, PyReadonlyArray2<i64>, String) = out.extract()?;
-        Ok(MeshArrays {
-            dim: points.as_array().ncols(),
-            verts_per_cell: cells.as_array().ncols(),
-            points: points.as_array().iter().copied().collect(),
-            cells: cells.as_array().iter().map(|&v| v as usize).collect(),
-        })
-    })
-}
-
 /// Writes a mesh with meshio (`python/mesh_io.py::write_mesh`; `.msh` as gmsh 2.2 ASCII, else
 /// by the extension, e.g. `.vtu`): triangles, quadrilaterals, tetrahedra or hexahedra by `dim`
 /// and `verts_per_cell`.
@@ -382,18 +363,48 @@ pub fn read_point_data(path: &Path, name: &str) -> Result<(Vec<f64>, Vec<f64>, u
     })
 }
 
-/// The points (x, y, z per point) and the cell blocks `(meshio cell type, flat vertex indices)`
-/// of a file as meshio reads it, nothing dropped (`python/mesh_io.py::read_cell_blocks`).
-#[allow(clippy::type_complexity)] // points and a list of blocks, named in the doc line
-pub fn read_cell_blocks(path: &Path) -> Result<(Vec<f64>, Vec<(String, Vec<usize>)>), BridgeError> {
+/// A mesh file as meshio reads it (`python/mesh_io.py::read_cell_blocks`; gmsh `.msh` with
+/// `file_format="gmsh"`), nothing dropped or checked: the scene's edge
+/// ([`crate::scene::mesh_file`]) picks and checks the cells.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshBlocks {
+    /// `columns` coordinates per point (meshio pads 2D files to 3 for most formats).
+    pub points: Vec<f64>,
+    pub columns: usize,
+    /// `(meshio cell type, vertex indices as the file gives them, vertices per cell)`.
+    pub blocks: Vec<(String, Vec<i64>, usize)>,
+}
+
+/// The points and cell blocks of a file as meshio reads it ([`MeshBlocks`]).
+pub fn read_mesh_blocks(path: &Path) -> Result<MeshBlocks, BridgeError> {
     startup()?;
     attach(|py| {
         let path = path.to_string_lossy().into_owned();
         let out = py.import("mesh_io")?.call_method1("read_cell_blocks", (path,))?;
         let (points, blocks): (PyReadonlyArray2<f64>, Vec<(String, PyReadonlyArray2<i64>)>) = out.extract()?;
-        let blocks = blocks.into_iter().map(|(t, c)| (t, c.as_array().iter().map(|&v| v as usize).collect())).collect();
-        Ok((points.as_array().iter().copied().collect(), blocks))
+        let blocks = blocks
+            .into_iter()
+            .map(|(t, c)| (t, c.as_array().iter().copied().collect(), c.as_array().ncols()))
+            .collect();
+        let columns = points.as_array().ncols();
+        Ok(MeshBlocks { points: points.as_array().iter().copied().collect(), columns, blocks })
     })
+}
+
+/// The points (x, y, z per point) and the cell blocks `(meshio cell type, flat vertex indices)`
+/// of a file as meshio reads it, nothing dropped: for checking the files we write (a negative
+/// index is an error).
+#[allow(clippy::type_complexity)] // points and a list of blocks, named in the doc line
+pub fn read_cell_blocks(path: &Path) -> Result<(Vec<f64>, Vec<(String, Vec<usize>)>), BridgeError> {
+    let m = read_mesh_blocks(path)?;
+    let mut blocks = Vec::with_capacity(m.blocks.len());
+    for (t, c, _) in m.blocks {
+        let c = c.into_iter().map(usize::try_from).collect::<Result<Vec<usize>, _>>();
+        let c =
+            c.map_err(|_| BridgeError::InvalidInput { reason: format!("a negative vertex index in the {t} cells") })?;
+        blocks.push((t, c));
+    }
+    Ok((m.points, blocks))
 }
 
 /// Imports `module` in the embedded interpreter and returns its `__version__` (empty if it has

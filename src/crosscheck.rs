@@ -323,24 +323,25 @@ pub fn table(report: &Report) -> String {
 }
 
 /// The 2D cases: structured triangle (P1) and quadrilateral (Q1) meshes with the 2D mass
-/// redistributions of `plate::layers` and seeded random per-cell weights, plus the gmsh fixture
+/// redistributions of `fem::layers` and seeded random per-cell weights, plus the gmsh fixture
 /// mesh read through meshio. Panics only on a bug in these fixed, valid cases.
 pub fn cases_2d() -> Vec<MatrixCase> {
+    use crate::fem::{Cell, Mesh, layers::cell_weights};
     use crate::linalg::sparse::to_dense;
-    use crate::plate::{CellKind, Mesh2d, assemble, layers::cell_weights};
-    let structured = |l: f64, h: f64, nx: usize, ny: usize, kind: CellKind| {
-        Mesh2d::structured(l, h, nx, ny, kind).expect("valid structured mesh")
+    use crate::plate::assemble;
+    let structured = |l: f64, h: f64, nx: usize, ny: usize, kind: Cell| {
+        Mesh::structured_2d(l, h, nx, ny, kind).expect("valid structured mesh")
     };
-    let mut meshes: Vec<(String, Mesh2d, MassKind)> = vec![
-        ("tri_4x3_mod3".into(), structured(1.0, 1.0, 4, 3, CellKind::Triangle), MassKind::Mod3),
-        ("quad_3x3_L2_mod2".into(), structured(2.0, 1.0, 3, 3, CellKind::Quad), MassKind::Mod2),
-        ("quad_5x4_standard".into(), structured(1.0, 1.0, 5, 4, CellKind::Quad), MassKind::Standard),
+    let mut meshes: Vec<(String, Mesh, MassKind)> = vec![
+        ("tri_4x3_mod3".into(), structured(1.0, 1.0, 4, 3, Cell::Triangle), MassKind::Mod3),
+        ("quad_3x3_L2_mod2".into(), structured(2.0, 1.0, 3, 3, Cell::Quad), MassKind::Mod2),
+        ("quad_5x4_standard".into(), structured(1.0, 1.0, 5, 4, Cell::Quad), MassKind::Standard),
     ];
-    let tri = structured(1.0, 0.5, 6, 5, CellKind::Triangle);
+    let tri = structured(1.0, 0.5, 6, 5, Cell::Triangle);
     let random = MassKind::Custom(seeded_weights(tri.n_cells(), 0x2d).iter().map(|w| w + 0.5).collect());
     meshes.push(("tri_6x5_custom".into(), tri, random));
     let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes/square_4x3_tri.msh");
-    if let Ok(mesh) = Mesh2d::read_file(&file) {
+    if let Ok(mesh) = crate::scene::mesh_file::read("plate.mesh", &file) {
         meshes.push(("gmsh_square_4x3_tri_mod1".into(), mesh, MassKind::Mod1));
     }
     meshes
@@ -351,12 +352,7 @@ pub fn cases_2d() -> Vec<MatrixCase> {
             let flat = |a: Vec<Vec<f64>>| a.into_iter().flatten().collect::<Vec<f64>>();
             MatrixCase {
                 name,
-                mesh: MeshArrays {
-                    points: mesh.points_flat(),
-                    dim: 2,
-                    cells: mesh.cells.clone(),
-                    verts_per_cell: mesh.kind.verts(),
-                },
+                mesh: MeshArrays::of(&mesh),
                 weights,
                 physics: Physics::Scalar,
                 file: None,
@@ -424,18 +420,17 @@ pub const SOLID_LAME: Lame = Lame { lambda: 0.8, mu: 0.3, density: 1.7 };
 /// of boxes with unequal sides, cell-layer masses (mod1–3) and seeded random per-cell weights, and
 /// three meshio cases: jittered triangle (gmsh `.msh`), tetrahedron (`.vtu`) and hexahedron
 /// (non-uniform grid, gmsh `.msh`) meshes written with
-/// meshio and read back through it on both sides ([`crate::fem::Mesh::read_file`] here,
+/// meshio and read back through it on both sides ([`crate::scene::mesh_file::read`] here,
 /// `python/crosscheck.py::assemble_elastic_file` there). Fails only if the bridge does (writing
 /// the files); panics only on a bug in these fixed, valid cases.
 pub fn solid_cases() -> Result<Vec<MatrixCase>, BridgeError> {
     use crate::fem::layers::cell_weights;
     use crate::fem::{Cell, Mesh};
-    use crate::plate::CellKind;
     let random = |mesh: &Mesh, seed: u64| {
         MassKind::Custom(seeded_weights(mesh.n_cells(), seed).iter().map(|w| w + 0.5).collect())
     };
-    let tri = Mesh::structured_2d(1.0, 0.75, 4, 3, CellKind::Triangle).expect("valid mesh");
-    let quad = Mesh::structured_2d(2.0, 1.0, 3, 3, CellKind::Quad).expect("valid mesh");
+    let tri = Mesh::structured_2d(1.0, 0.75, 4, 3, Cell::Triangle).expect("valid mesh");
+    let quad = Mesh::structured_2d(2.0, 1.0, 3, 3, Cell::Quad).expect("valid mesh");
     let tet = Mesh::structured_3d([1.0, 0.75, 0.5], [3, 2, 2], Cell::Tet).expect("valid mesh");
     let hex = Mesh::structured_3d([1.5, 0.5, 0.75], [3, 2, 2], Cell::Hex).expect("valid mesh");
     let (quad_mass, hex_mass) = (random(&quad, 0x50_11d), random(&hex, 0x4e_c5));
@@ -446,7 +441,7 @@ pub fn solid_cases() -> Result<Vec<MatrixCase>, BridgeError> {
         ("elastic_hex_3x2x2_custom".into(), hex, hex_mass, None),
     ];
     for (name, mesh, extension, mass) in [
-        ("elastic_meshio_tri_5x4_mod3", Mesh::structured_2d(1.0, 0.8, 5, 4, CellKind::Triangle), "msh", MassKind::Mod3),
+        ("elastic_meshio_tri_5x4_mod3", Mesh::structured_2d(1.0, 0.8, 5, 4, Cell::Triangle), "msh", MassKind::Mod3),
         (
             "elastic_meshio_tet_3x2x2_mod1",
             Mesh::structured_3d([1.0, 1.0, 1.0], [3, 2, 2], Cell::Tet),
@@ -472,7 +467,7 @@ pub fn solid_cases() -> Result<Vec<MatrixCase>, BridgeError> {
             let flat = |a: Vec<Vec<f64>>| a.into_iter().flatten().collect::<Vec<f64>>();
             MatrixCase {
                 name,
-                mesh: mesh.arrays(),
+                mesh: MeshArrays::of(&mesh),
                 weights,
                 physics: Physics::Elastic(lame),
                 file,
@@ -518,15 +513,15 @@ fn jittered(mut mesh: crate::fem::Mesh) -> crate::fem::Mesh {
 }
 
 /// Writes `mesh` with meshio to a temporary `.{extension}` file and reads it back through meshio
-/// ([`crate::fem::Mesh::read_file`]); returns the mesh read and the file's bytes.
+/// ([`crate::scene::mesh_file::read`]); returns the mesh read and the file's bytes.
 fn written_and_read_back(
     mesh: &crate::fem::Mesh,
     name: &str,
     extension: &'static str,
 ) -> Result<(crate::fem::Mesh, MeshFile), BridgeError> {
     let path = scratch_path(name, extension);
-    let read = bridge::write_mesh(&path, &mesh.arrays()).and_then(|()| {
-        let back = crate::fem::Mesh::read_file(&path)
+    let read = bridge::write_mesh(&path, &MeshArrays::of(mesh)).and_then(|()| {
+        let back = crate::scene::mesh_file::read("solid.mesh", &path)
             .map_err(|e| BridgeError::InvalidInput { reason: format!("reading back {}: {e}", path.display()) })?;
         let bytes = std::fs::read(&path).map_err(|e| BridgeError::InvalidInput { reason: e.to_string() })?;
         Ok((back, MeshFile { extension, bytes }))

@@ -183,11 +183,14 @@ fn two_d_backends_agree_and_satisfy_identities() {
 }
 
 #[test]
-fn read_mesh_gives_the_fixture_mesh() {
+fn the_scene_reader_gives_the_fixture_mesh() {
+    // The gmsh fixture through the scene's edge reader (meshio, its boundary lines and geometry
+    // points dropped): the fixture's points and cells, already counter-clockwise.
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
-    let (points, cells, nv) = bridge::read_mesh(&root.join("meshes/square_4x3_tri.msh")).unwrap();
+    let mesh = massredist::scene::mesh_file::read("plate.mesh", &root.join("meshes/square_4x3_tri.msh")).unwrap();
+    let (points, cells) = (mesh.flat_points(), mesh.cells);
     let fixture = load(&root.join("matrices/2d_square_4x3_tri__dolfinx.json"));
-    assert_eq!(nv, 3);
+    assert_eq!(mesh.kind, massredist::fem::Cell::Triangle);
     let stored = flat_f64(&fixture["points"]);
     assert_eq!(points.len(), stored.len());
     // gmsh keeps 17 digits (exact); serde_json without `float_roundtrip` may be 1 ulp off.
@@ -351,13 +354,12 @@ fn elastic_matrices_of_both_backends_satisfy_the_identities() {
     // backends differ by 2.8e-17, 5.8e0"; fem_dolfinx.py with ε = ∇u (not sym) -> fails with
     // "dolfinx triangle: S r = 0" (the rotations are no longer in the kernel).
     use massredist::bridge::MeshArrays;
-    use massredist::fem::{Cell, CellMesh, Mesh};
-    use massredist::plate::CellKind;
+    use massredist::fem::{Cell, Mesh};
     use massredist::solid::Lame;
     let lame = Lame { lambda: 1.3, mu: 0.45, density: 2.0 };
     let meshes = [
-        Mesh::structured_2d(1.0, 0.5, 3, 2, CellKind::Triangle).unwrap(),
-        Mesh::structured_2d(1.0, 0.5, 3, 2, CellKind::Quad).unwrap(),
+        Mesh::structured_2d(1.0, 0.5, 3, 2, Cell::Triangle).unwrap(),
+        Mesh::structured_2d(1.0, 0.5, 3, 2, Cell::Quad).unwrap(),
         Mesh::structured_3d([1.0, 0.5, 0.5], [2, 2, 1], Cell::Tet).unwrap(),
         Mesh::structured_3d([1.0, 0.5, 0.5], [2, 2, 1], Cell::Hex).unwrap(),
     ];
@@ -366,7 +368,7 @@ fn elastic_matrices_of_both_backends_satisfy_the_identities() {
         let n = mesh.n_nodes() * d;
         let weights: Vec<f64> = (0..mesh.n_cells()).map(|c| 0.5 + (c % 3) as f64).collect();
         let total: f64 = (0..mesh.n_cells()).map(|c| weights[c] * mesh.measure(c)).sum::<f64>() * lame.density;
-        let arrays: MeshArrays = mesh.arrays();
+        let arrays: MeshArrays = MeshArrays::of(mesh);
         let mut dense = vec![];
         for backend in Backend::ALL {
             let (m, s) = bridge::assemble_elastic(backend, &arrays, &weights, &lame).unwrap();
@@ -413,7 +415,7 @@ fn elastic_matrices_of_both_backends_satisfy_the_identities() {
     }
     let bad = bridge::assemble_elastic(
         Backend::Skfem,
-        &MeshArrays { dim: 3, verts_per_cell: 3, ..meshes[0].arrays() },
+        &MeshArrays { dim: 3, verts_per_cell: 3, ..MeshArrays::of(&meshes[0]) },
         &[1.0],
         &lame,
     );

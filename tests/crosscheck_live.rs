@@ -4,7 +4,6 @@
 
 use massredist::crosscheck::{Physics, Tamper, cases_2d, matrix_cases, run, solid_cases};
 use massredist::fem::{Cell, Mesh};
-use massredist::plate::CellKind;
 
 #[test]
 fn every_case_agrees_with_both_backends() {
@@ -60,7 +59,7 @@ fn the_elastic_cases_test_both_lame_terms_and_catch_a_perturbed_weight() {
     }
     let meshio: Vec<_> = cases.iter().filter(|c| c.file.is_some()).collect();
     let grids = [
-        Mesh::structured_2d(1.0, 0.8, 5, 4, CellKind::Triangle).unwrap(),
+        Mesh::structured_2d(1.0, 0.8, 5, 4, Cell::Triangle).unwrap(),
         Mesh::structured_3d([1.0, 1.0, 1.0], [3, 2, 2], Cell::Tet).unwrap(),
         Mesh::structured_3d([1.0, 0.5, 0.75], [3, 2, 2], Cell::Hex).unwrap(),
     ];
@@ -68,7 +67,7 @@ fn the_elastic_cases_test_both_lame_terms_and_catch_a_perturbed_weight() {
     for (c, grid) in meshio.iter().zip(&grids) {
         // Same cells as the grid, but moved interior vertices (and the file holds them).
         assert_eq!(c.mesh.cells, grid.cells, "{}", c.name);
-        let moved = c.mesh.points.iter().zip(grid.arrays().points).filter(|(a, b)| *a != b).count();
+        let moved = c.mesh.points.iter().zip(grid.flat_points()).filter(|(a, b)| *a != b).count();
         assert!(moved >= grid.dim, "{}: {moved} coordinates moved", c.name);
         assert!(!c.file.as_ref().unwrap().bytes.is_empty());
     }

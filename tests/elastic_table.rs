@@ -4,11 +4,11 @@
 
 use massredist::exact::ImpactingBar;
 use massredist::fem::Cell;
-use massredist::fem::mesh2d::{Columns, Mesh2d};
+use massredist::fem::Mesh;
+use massredist::fem::columns::Columns;
 use massredist::mass::MassKind;
 use massredist::paper::elastic_table::{Material, linf_l2_errors, simplex_l2_error, spec};
 use massredist::paper::plate_table;
-use massredist::plate::CellKind;
 use massredist::plate::PlateProblem;
 use massredist::scene::{Formulation, PlateInitial, PlateSpec, SchemeSpec};
 
@@ -28,7 +28,7 @@ fn lambda_zero_quad_rows_are_the_scalar_plate_q1_rows() {
         for mass in [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3] {
             let solid = linf_l2_errors(Cell::Quad, Material::LambdaZeroFree, &mass, &scheme, dt, &[end]).unwrap();
             let solid = solid[0].expect("the run reaches T");
-            let plate = plate_table::linf_l2_error(CellKind::Quad, 20, &mass, &scheme, dt, end).unwrap();
+            let plate = plate_table::linf_l2_error(Cell::Quad, 20, &mass, &scheme, dt, end).unwrap();
             assert!(
                 (solid - plate).abs() <= tol,
                 "{} {}: solid {solid:e}, plate {plate:e}, tolerance {tol:e}",
@@ -57,9 +57,9 @@ fn triangle_error_agrees_with_the_plate_s_clipping_rule_on_random_fields() {
     // to round-off, 64 ε times the number of cells (800) relative.
     // mutation: the cut integral's e_lo·e_hi term dropped -> fails at t = 0 (5.441e-3 against 5.598e-3).
     let solid = spec(Cell::Triangle, Material::LambdaZeroFree).problem(&MassKind::Mod3, 10.0).unwrap().system;
-    let plate_spec = PlateSpec::structured(1.0, 1.0, 20, 20, CellKind::Triangle, PlateInitial::Paper);
+    let plate_spec = PlateSpec::structured(1.0, 1.0, 20, 20, Cell::Triangle, PlateInitial::Paper);
     let plate = PlateProblem::new(&plate_spec, &MassKind::Mod3).unwrap().system;
-    let columns = Columns::new(&Mesh2d::structured(1.0, 1.0, 20, 20, CellKind::Triangle).unwrap());
+    let columns = Columns::new(&Mesh::structured_2d(1.0, 1.0, 20, 20, Cell::Triangle).unwrap());
     let closed = ImpactingBar { length: 1.0 };
     let (x, u, v) = massredist::exact::paper_data(1.0);
     let data = massredist::characteristics::InitialData::PiecewiseLinear { x: &x, u: &u, v: &v };

@@ -7,14 +7,14 @@ mod common;
 use massredist::bar::BarProblem;
 use massredist::bar::assembly::{Bar, BarSystem};
 use massredist::driver::{Observer, Sample, integrate};
+use massredist::fem::layers::{cell_weights, layers, total_mass};
+use massredist::fem::{Cell, Mesh};
 use massredist::linalg::sparse::{self, SpMat};
 use massredist::linalg::tridiag::SymTridiag;
 use massredist::mass::MassKind;
 use massredist::models::{PaperPlate, PlateBump, RoundOffGrowth};
 use massredist::observe::{EnergyRecorder, SummaryObserver};
 use massredist::plate::PlateProblem;
-use massredist::plate::layers::{cell_weights, layers, total_mass};
-use massredist::plate::{CellKind, Mesh2d};
 use massredist::scene::{Formulation, SchemeSpec};
 use massredist::scene::{PlateInitial, PlateSpec};
 use massredist::schemes::{BackwardEuler, Beta, Gamma, Hybrid, Newmark, Scheme};
@@ -25,7 +25,7 @@ static GLOBAL: common::alloc::CountingAlloc = common::alloc::CountingAlloc;
 
 const CN: SchemeSpec = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
 
-fn spec(nx: usize, ny: usize, height: f64, cells: CellKind, initial: PlateInitial) -> PlateSpec {
+fn spec(nx: usize, ny: usize, height: f64, cells: Cell, initial: PlateInitial) -> PlateSpec {
     PlateSpec::structured(1.0, height, nx, ny, cells, initial)
 }
 
@@ -33,7 +33,7 @@ fn spec(nx: usize, ny: usize, height: f64, cells: CellKind, initial: PlateInitia
 /// for Q1 on (0,1) × (0,H) with the paper's data (the model [`PaperPlate`]) against its
 /// reference bar.
 fn q1_vs_1d(nx: usize, ny: usize, mass: &MassKind, scheme: &SchemeSpec, dt: f64, steps: usize) -> (f64, f64) {
-    let plate = PaperPlate { height: 0.5, nx, ny, cells: CellKind::Quad };
+    let plate = PaperPlate { height: 0.5, nx, ny, cells: Cell::Quad };
     let p2 = plate.problem(mass).unwrap();
     let p1 = plate.reference().problem(mass).unwrap();
     let mut s2 = p2.scheme(scheme, dt).unwrap();
@@ -82,7 +82,7 @@ fn q1_with_paper_data_is_the_1d_solution_extended_in_y() {
 fn q1_l2_error_equals_the_1d_error_times_sqrt_height() {
     // ‖e‖_{L²((0,1)×(0,H))}² = H ‖e_1D‖²_{L²(0,1)} for a y-independent error.
     let h = 0.5;
-    let plate = PaperPlate { height: h, nx: 20, ny: 3, cells: CellKind::Quad };
+    let plate = PaperPlate { height: h, nx: 20, ny: 3, cells: Cell::Quad };
     let p2 = plate.problem(&MassKind::Mod3).unwrap();
     let p1 = plate.reference().problem(&MassKind::Mod3).unwrap();
     let steps = 300;
@@ -103,7 +103,7 @@ fn exact_l2_norm_of_the_benchmark_on_triangles_and_quads() {
     // 1D norm is exact (norms::l2_error with zero values). Times with kinks inside cells.
     let exact = massredist::exact::ImpactingBar { length: 1.0 };
     let bar = Bar { length: 1.0, elements: 7 };
-    for kind in [CellKind::Triangle, CellKind::Quad] {
+    for kind in [Cell::Triangle, Cell::Quad] {
         let p = PlateProblem::new(&spec(7, 3, 0.6, kind, PlateInitial::Paper), &MassKind::Standard).unwrap();
         let zero = vec![0.0; p.system.system.n()];
         for &t in &[0.0, 0.33, 1.21, 1.5, 1.77, 2.4, 2.999] {
@@ -131,7 +131,7 @@ fn the_plane_wave_l2_error_equals_the_closed_form_one() {
     let (x, u, v) = paper_data(1.0);
     let data = InitialData::PiecewiseLinear { x: &x, u: &u, v: &v };
     let general = by_characteristics(1.0, Material::UNIT, FarEnd::Clamped, 0.0, data, 3.0).unwrap();
-    for kind in [CellKind::Triangle, CellKind::Quad] {
+    for kind in [Cell::Triangle, Cell::Quad] {
         let p = PlateProblem::new(&spec(7, 3, 0.6, kind, PlateInitial::Paper), &MassKind::Standard).unwrap();
         let zero = vec![0.0; p.system.system.n()];
         for &t in &[0.0, 0.33, 1.21, 1.5, 1.77, 2.4, 2.999] {
@@ -150,12 +150,12 @@ fn the_plane_wave_l2_error_equals_the_closed_form_one() {
 fn total_mass_is_kept_where_the_1d_redistribution_keeps_it() {
     // Structured meshes and a perturbed (unstructured) triangle mesh.
     let mut meshes = vec![
-        Mesh2d::structured(1.0, 1.0, 20, 20, CellKind::Quad).unwrap(),
-        Mesh2d::structured(1.0, 1.0, 20, 20, CellKind::Triangle).unwrap(),
-        Mesh2d::structured(2.0, 0.7, 9, 5, CellKind::Triangle).unwrap(),
+        Mesh::structured_2d(1.0, 1.0, 20, 20, Cell::Quad).unwrap(),
+        Mesh::structured_2d(1.0, 1.0, 20, 20, Cell::Triangle).unwrap(),
+        Mesh::structured_2d(2.0, 0.7, 9, 5, Cell::Triangle).unwrap(),
     ];
-    let base = Mesh2d::structured(1.0, 1.0, 8, 8, CellKind::Triangle).unwrap();
-    let mut pts = base.points_flat();
+    let base = Mesh::structured_2d(1.0, 1.0, 8, 8, Cell::Triangle).unwrap();
+    let mut pts = base.flat_points();
     for (k, p) in pts.chunks_mut(2).enumerate() {
         // Move interior nodes by up to h/4 (deterministic pattern), keep the boundary.
         if p[0] > 0.0 && p[0] < 1.0 && p[1] > 0.0 && p[1] < 1.0 {
@@ -163,10 +163,10 @@ fn total_mass_is_kept_where_the_1d_redistribution_keeps_it() {
             p[1] += 0.03 * ((k as f64) * 2.3).cos();
         }
     }
-    meshes.push(Mesh2d::from_arrays(&pts, &base.cells, 3).unwrap());
+    meshes.push(Mesh::from_arrays(Cell::Triangle, &pts, &base.cells).unwrap());
     for mesh in &meshes {
-        let area = mesh.total_area();
-        let a0: f64 = layers(mesh).iter().enumerate().filter(|(_, l)| **l == 0).map(|(c, _)| mesh.area(c)).sum();
+        let area = mesh.total_measure();
+        let a0: f64 = layers(mesh).iter().enumerate().filter(|(_, l)| **l == 0).map(|(c, _)| mesh.measure(c)).sum();
         for (kind, expected) in
             [(MassKind::Standard, area), (MassKind::Mod1, area - a0), (MassKind::Mod2, area), (MassKind::Mod3, area)]
         {
@@ -188,8 +188,8 @@ fn total_mass_is_kept_where_the_1d_redistribution_keeps_it() {
 
 #[test]
 fn symmetric_matrices_with_constants_in_the_stiffness_kernel() {
-    for kind in [CellKind::Quad, CellKind::Triangle] {
-        let mesh = Mesh2d::structured(1.3, 0.8, 6, 4, kind).unwrap();
+    for kind in [Cell::Quad, Cell::Triangle] {
+        let mesh = Mesh::structured_2d(1.3, 0.8, 6, 4, kind).unwrap();
         let w = cell_weights(&mesh, &MassKind::Mod3).unwrap();
         let (m, s) = massredist::plate::assemble(&mesh, &w).unwrap();
         let ones = vec![1.0; mesh.n_nodes()];
@@ -241,7 +241,7 @@ fn matrices_agree_with_the_dolfinx_and_scikit_fem_fixtures() {
         let k = cells[0].len();
         let flat: Vec<usize> = cells.concat();
         let weights: Vec<f64> = rec["weights"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
-        let mesh = Mesh2d::from_arrays(&points, &flat, k).unwrap();
+        let mesh = Mesh::from_arrays(if k == 3 { Cell::Triangle } else { Cell::Quad }, &points, &flat).unwrap();
         assert_eq!(mesh.cells, flat, "{name}: the fixture's cells are already counter-clockwise");
         let (m, s) = massredist::plate::assemble(&mesh, &weights).unwrap();
         for (mat, key) in [(&m, "mass"), (&s, "stiffness")] {
@@ -294,7 +294,7 @@ impl Observer for Complementarity {
 fn contact_is_solved_exactly_node_by_node() {
     // y-dependent data on triangles: the contact state varies along Γ_C.
     for scheme in [CN, SchemeSpec::BackwardEuler, SchemeSpec::Hybrid] {
-        for cells in [CellKind::Triangle, CellKind::Quad] {
+        for cells in [Cell::Triangle, Cell::Quad] {
             let p = PlateBump::unit(16, 12, cells).problem(&MassKind::Mod3).unwrap();
             let mut s = p.scheme(&scheme, 0.01).unwrap();
             let mut c = Complementarity { worst: 0.0, min_u: f64::INFINITY, max_lambda: f64::NEG_INFINITY };
@@ -393,7 +393,7 @@ fn the_sparse_back_end_on_the_bar_gives_the_tridiagonal_steps() {
 #[test]
 fn backward_euler_energy_never_increases_in_2d() {
     // ΔE = −½δᵀMδ − ½ΔUᵀSΔU + Σ_c λ_c^{n+1} u_cⁿ ≤ 0 node by node (module docs).
-    for cells in [CellKind::Triangle, CellKind::Quad] {
+    for cells in [Cell::Triangle, Cell::Quad] {
         let p = PlateProblem::new(&spec(16, 16, 1.0, cells, PlateInitial::Bump), &MassKind::Mod2).unwrap();
         let mut s = p.scheme(&SchemeSpec::BackwardEuler, 0.01).unwrap();
         let mut e = EnergyRecorder::default();
@@ -426,14 +426,14 @@ fn hybrid_energy_never_increases_in_2d() {
     // form of Lemma 5.1, on y-dependent data (contact state varying along Γ_C), Q1 and P1,
     // several Δt, square and elongated cells, and on the paper's data.
     let cases = [
-        (CellKind::Quad, 20, 20, PlateInitial::Bump, 0.01),
-        (CellKind::Triangle, 20, 20, PlateInitial::Bump, 0.01),
-        (CellKind::Triangle, 20, 20, PlateInitial::Bump, 0.05),
-        (CellKind::Triangle, 12, 30, PlateInitial::Bump, 0.002),
+        (Cell::Quad, 20, 20, PlateInitial::Bump, 0.01),
+        (Cell::Triangle, 20, 20, PlateInitial::Bump, 0.01),
+        (Cell::Triangle, 20, 20, PlateInitial::Bump, 0.05),
+        (Cell::Triangle, 12, 30, PlateInitial::Bump, 0.002),
         // hx = 0.025, hy = 0.2: S_CC has positive off-diagonal entries (not an M-matrix).
-        (CellKind::Quad, 40, 5, PlateInitial::Bump, 0.01),
-        (CellKind::Quad, 20, 6, PlateInitial::Paper, 0.01),
-        (CellKind::Triangle, 20, 20, PlateInitial::Paper, 0.01),
+        (Cell::Quad, 40, 5, PlateInitial::Bump, 0.01),
+        (Cell::Quad, 20, 6, PlateInitial::Paper, 0.01),
+        (Cell::Triangle, 20, 20, PlateInitial::Paper, 0.01),
     ];
     for (cells, nx, ny, init, dt) in cases {
         for mass in [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3] {
@@ -458,15 +458,9 @@ fn hybrid_energy_never_increases_in_2d() {
 fn triangles_on_the_paper_data_compared_with_1d() {
     // Not asserted (P1 on one-diagonal meshes is not a tensor product): reported.
     for scheme in [CN, SchemeSpec::Hybrid] {
-        let c = massredist::paper::plate_table::compare_with_1d(
-            CellKind::Triangle,
-            20,
-            &MassKind::Mod3,
-            &scheme,
-            0.01,
-            3.0,
-        )
-        .unwrap();
+        let c =
+            massredist::paper::plate_table::compare_with_1d(Cell::Triangle, 20, &MassKind::Mod3, &scheme, 0.01, 3.0)
+                .unwrap();
         eprintln!("P1 20x20 {} mod3 dt 0.01 T 3: {c:?}", scheme.name());
         assert!(c.max_y_variation.is_finite() && c.max_diff_to_1d.is_finite());
     }
@@ -499,7 +493,7 @@ fn the_judged_table_rows_are_the_1d_errors_with_h_005() {
 #[test]
 fn stepping_does_not_allocate() {
     // The schemes factor and allocate in `new`; `step` (sparse solve, LCP, updates) must not.
-    let p = PlateProblem::new(&spec(12, 12, 1.0, CellKind::Triangle, PlateInitial::Bump), &MassKind::Mod3).unwrap();
+    let p = PlateProblem::new(&spec(12, 12, 1.0, Cell::Triangle, PlateInitial::Bump), &MassKind::Mod3).unwrap();
     for scheme in [CN, SchemeSpec::BackwardEuler, SchemeSpec::Hybrid] {
         let mut s = p.scheme(&scheme, 0.01).unwrap();
         s.step().unwrap();
@@ -528,9 +522,9 @@ fn a_gmsh_triangle_mesh_runs_through_meshio() {
     // fixtures/meshes/square_4x3_tri.msh (gmsh 2.2) read by meshio: the unit square in 4 × 3
     // squares split in triangles. The hybrid scheme runs on it and keeps its energy lemma.
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes/square_4x3_tri.msh");
-    let mesh = Mesh2d::read_file(&path).unwrap();
-    assert_eq!((mesh.n_nodes(), mesh.n_cells(), mesh.kind), (20, 24, CellKind::Triangle));
-    assert!((mesh.total_area() - 1.0).abs() <= 16.0 * f64::EPSILON);
+    let mesh = massredist::scene::mesh_file::read("plate.mesh", &path).unwrap();
+    assert_eq!((mesh.n_nodes(), mesh.n_cells(), mesh.kind), (20, 24, Cell::Triangle));
+    assert!((mesh.total_measure() - 1.0).abs() <= 16.0 * f64::EPSILON);
     let p = PlateProblem::from_mesh(mesh, &MassKind::Mod3, &PlateInitial::Bump, &massredist::scene::Body::default())
         .unwrap();
     assert_eq!(p.system.system.contact.len(), 4);

@@ -97,7 +97,7 @@ fn a_y_dependent_run_writes_vtu_that_reads_back() {
         assert_eq!(data.point_array("v").unwrap().values, frame.v);
         assert_eq!(data.cell_array("weight").unwrap().values, run.problem.system.weights);
         let xy: Vec<f64> = data.points.chunks(3).flat_map(|p| [p[0], p[1]]).collect();
-        assert_eq!(xy, mesh.points_flat());
+        assert_eq!(xy, mesh.flat_points());
     }
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();

@@ -281,13 +281,13 @@ fn report_cells_carry_the_numbers_of_a_second_run_of_the_same_case() {
 
 #[test]
 fn the_2d_table_row_is_the_plate_code_s_error() {
+    use massredist::fem::Cell;
     use massredist::mass::MassKind;
-    use massredist::plate::CellKind;
     use massredist::scene::{Formulation, SchemeSpec};
     let t = massredist::paper::plate_2d_errors(&Config::quick()).expect("judged runs succeed");
     let cn = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
     for (mass, value) in [(MassKind::Mod1, t.mod1), (MassKind::Mod2, t.mod2), (MassKind::Mod3, t.mod3)] {
-        let direct = massredist::paper::plate_table::linf_l2_error(CellKind::Quad, 20, &mass, &cn, 0.01, 3.0).unwrap();
+        let direct = massredist::paper::plate_table::linf_l2_error(Cell::Quad, 20, &mass, &cn, 0.01, 3.0).unwrap();
         assert_eq!(value, direct, "{}", mass.name());
     }
     let section = massredist::paper::table_2d(Some(&t));

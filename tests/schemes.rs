@@ -8,9 +8,9 @@ use common::*;
 use massredist::bar::BarProblem;
 use massredist::bar::assembly::{Bar, BarSystem};
 use massredist::driver::{Observer, Sample, integrate};
+use massredist::fem::Cell;
 use massredist::mass::MassKind;
 use massredist::models::{PaperBar, PlateBump};
-use massredist::plate::CellKind;
 use massredist::plate::PlateProblem;
 use massredist::problem::{Geometry, Problem as GenericProblem};
 use massredist::scene::Body;
@@ -105,7 +105,7 @@ fn complementarity_holds_bit_for_bit_at_every_step() {
         }
     }
     for gap in [0.0, 0.05] {
-        for cells in [CellKind::Triangle, CellKind::Quad] {
+        for cells in [Cell::Triangle, Cell::Quad] {
             for mass in [MassKind::Standard, MassKind::Mod3] {
                 let body = Body { gap, ..Body::default() };
                 let spec = PlateSpec { body, ..PlateBump::unit(8, 6, cells).spec() };

@@ -4,8 +4,8 @@
 //! `[solid]` keys.
 
 use massredist::driver::{Observer, Sample, integrate};
+use massredist::fem::Cell;
 use massredist::fem::layers::{cell_weights, layers};
-use massredist::fem::{Cell, CellMesh};
 use massredist::linalg::sparse;
 use massredist::mass::MassKind;
 use massredist::models::{PaperBar, PlaneWaveSolid, RoundOffGrowth};

@@ -1,13 +1,13 @@
 //! VTU output and mesh files through meshio (feature `python`): the plate's frames (points and
 //! displacement read back through meshio equal what the Rust reader finds), the solid's frames
 //! in 2D and 3D (points, cells, displacement, velocity and contact pressure equal the Rust
-//! values), and `Mesh::read_file` on meshes written by meshio.
+//! values), and the scene's mesh-file reader on meshes written by meshio.
 #![cfg(feature = "python")]
 
 use massredist::bridge::{self, MeshArrays};
 use massredist::fem::{Cell, Mesh};
-use massredist::plate::CellKind;
 use massredist::plate::vtu::read_vtu;
+use massredist::scene::mesh_file::read;
 use std::process::Command;
 
 #[test]
@@ -89,36 +89,36 @@ fn a_plate_scene_runs_on_a_gmsh_mesh_read_by_meshio() {
 /// The structured meshes of every cell type, on boxes with unequal sides.
 fn structured_meshes() -> Vec<Mesh> {
     vec![
-        Mesh::structured_2d(2.0, 0.5, 4, 3, CellKind::Triangle).unwrap(),
-        Mesh::structured_2d(1.0, 0.75, 3, 2, CellKind::Quad).unwrap(),
+        Mesh::structured_2d(2.0, 0.5, 4, 3, Cell::Triangle).unwrap(),
+        Mesh::structured_2d(1.0, 0.75, 3, 2, Cell::Quad).unwrap(),
         Mesh::structured_3d([1.0, 0.5, 0.75], [3, 2, 2], Cell::Tet).unwrap(),
         Mesh::structured_3d([1.5, 1.0, 0.5], [3, 2, 2], Cell::Hex).unwrap(),
     ]
 }
 
 #[test]
-fn meshes_written_by_meshio_read_back_through_mesh_read_file() {
+fn meshes_written_by_meshio_read_back_through_the_scene_reader() {
     // gmsh 2.2 (ASCII) and VTU files of the four structured meshes read back to the same points
     // (bit for bit: meshio writes shortest round-trip / binary floats), cells and extent; only
     // the structured `grid` is lost. A hexahedron with two vertices swapped is refused, naming it.
-    // mutation: python/mesh_io.py::_cells_of without `[:, :dim]` (3 coordinates in 2D) -> fails
-    // with Arrays("3 vertices per cell in 3D: allowed are 4 (tetrahedra) and 8 (hexahedra)").
+    // mutation: src/scene/mesh_file.rs taking `dim = 3` coordinates for every mesh -> fails
+    // (the 2D meshes come back with a z coordinate as y).
     let tmp = tempfile::tempdir().unwrap();
     for mesh in structured_meshes() {
         for ext in ["msh", "vtu"] {
             let path = tmp.path().join(format!("{}.{ext}", mesh.kind.name()));
-            bridge::write_mesh(&path, &mesh.arrays()).unwrap();
-            let back = Mesh::read_file(&path).unwrap();
+            bridge::write_mesh(&path, &MeshArrays::of(&mesh)).unwrap();
+            let back = read("solid.mesh", &path).unwrap();
             assert_eq!(back, Mesh { grid: None, ..mesh.clone() }, "{}", path.display());
         }
     }
     let hex = &structured_meshes()[3];
     let mut cells = hex.cells.clone();
     cells.swap(8 + 1, 8 + 2);
-    let twisted = MeshArrays { cells, ..hex.arrays() };
+    let twisted = MeshArrays { cells, ..MeshArrays::of(hex) };
     let path = tmp.path().join("twisted.vtu");
     bridge::write_mesh(&path, &twisted).unwrap();
-    let err = Mesh::read_file(&path).unwrap_err().to_string();
+    let err = read("solid.mesh", &path).unwrap_err().to_string();
     assert!(err.contains("hexahedron 1 is not an axis-aligned box"), "{err}");
 }
 
@@ -177,4 +177,27 @@ fn solid_vtu_frames_read_back_through_meshio() {
         assert!(pressed > 0, "{cells}: no frame in contact");
         assert!(frames.frames[2].v.chunks(dim).any(|c| c[1] != 0.0), "{cells}: transverse velocity");
     }
+}
+
+/// Issue 22, D8: meshio reads a gmsh node tag 0 as index −1 and then as the last point (its tag
+/// map indexed with −1), so the file below read as the unit square [0,1,2], [0,2,3]: a
+/// different mesh, silently. The scene's reader refuses it, naming the key, the element and the
+/// tag. mutation, as run: python/mesh_io.py::_read without `_check_gmsh_node_tags` -> the file
+/// reads as the square and this test fails.
+#[test]
+fn a_gmsh_node_tag_zero_is_refused_naming_the_element() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("tag0.msh");
+    let elements = "$Elements\n2\n1 2 2 0 1 1 2 3\n2 2 2 0 1 1 3 0\n$EndElements\n";
+    let nodes = "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n";
+    std::fs::write(&path, format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n{nodes}{elements}")).unwrap();
+    let err = read("plate.mesh", &path).unwrap_err().to_string();
+    assert!(err.starts_with("plate.mesh = "), "{err}");
+    assert!(err.contains("gmsh element 2 refers to node tag 0: gmsh node tags start at 1"), "{err}");
+    std::fs::write(
+        &path,
+        format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n{nodes}{}", elements.replace(" 3 0\n", " 3 4\n")),
+    )
+    .unwrap();
+    assert_eq!(read("plate.mesh", &path).unwrap().cells, [0, 1, 2, 0, 2, 3]);
 }

@@ -158,7 +158,7 @@ pub fn time_rust(case: Case, dt: f64, steps: usize) -> Result<(Timing, Option<f6
     let t = Instant::now();
     let mass = MassKind::Mod3;
     let (timing, l2) = if case.kind == "plate" {
-        let plate = PaperPlate::square(case.n, crate::plate::CellKind::Quad);
+        let plate = PaperPlate::square(case.n, crate::fem::Cell::Quad);
         let problem = plate.problem(&mass).map_err(|e| e.to_string())?;
         let build = t.elapsed().as_secs_f64();
         let (mut tm, l2) = step_timings(&problem, dt, steps)?;

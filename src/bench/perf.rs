@@ -181,9 +181,9 @@ pub struct PlateTimings {
 /// Times the plate schemes (Crank–Nicolson, backward Euler, hybrid; Mod 3, quad mesh nx × ny of
 /// (0,1) × (0, ny/nx), Δt = 1/nx, the paper's initial data) and the bare sparse solve pair.
 pub fn time_plate(nx: usize, ny: usize, min_total: f64) -> Option<PlateTimings> {
+    use crate::fem::Cell;
     use crate::linalg::sparse;
-    use crate::plate::CellKind;
-    let plate = PaperPlate { height: ny as f64 / nx as f64, nx, ny, cells: CellKind::Quad };
+    let plate = PaperPlate { height: ny as f64 / nx as f64, nx, ny, cells: Cell::Quad };
     let problem = plate.problem(&MassKind::Mod3).ok()?;
     let dt = 1.0 / nx as f64;
     let sys = &problem.system.system;

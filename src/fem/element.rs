@@ -18,50 +18,8 @@
 //! ½ per direction; degree 3 per direction). On parallelograms and boxes (J constant) the mass
 //! (degree 2 per direction) and the gradient products (degree ≤ 2) are integrated exactly;
 //! on general quadrilaterals it is the standard 2 × 2 rule.
-/// The cell type of a mesh ([`super::mesh::Mesh`]): its reference element.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Cell {
-    /// P1 triangles (2D).
-    Triangle,
-    /// Q1 quadrilaterals (2D).
-    Quad,
-    /// P1 tetrahedra (3D).
-    Tet,
-    /// Q1 hexahedra (3D).
-    Hex,
-}
 
-impl Cell {
-    pub fn verts(self) -> usize {
-        match self {
-            Cell::Triangle => 3,
-            Cell::Quad | Cell::Tet => 4,
-            Cell::Hex => 8,
-        }
-    }
-
-    pub fn dim(self) -> usize {
-        match self {
-            Cell::Triangle | Cell::Quad => 2,
-            Cell::Tet | Cell::Hex => 3,
-        }
-    }
-
-    /// Whether the cell is a tensor-product (Q1) cell.
-    pub fn is_tensor(self) -> bool {
-        matches!(self, Cell::Quad | Cell::Hex)
-    }
-
-    /// The scene name: quad | triangle | hex | tet.
-    pub fn name(self) -> &'static str {
-        match self {
-            Cell::Triangle => "triangle",
-            Cell::Quad => "quad",
-            Cell::Tet => "tet",
-            Cell::Hex => "hex",
-        }
-    }
-}
+use super::cell::{Cell, Reference};
 
 /// Largest number of vertices (hexahedron) and of quadrature points.
 pub const MAX_VERTS: usize = 8;
@@ -127,10 +85,9 @@ impl CellIntegrals {
             weights: [0.0; MAX_VERTS],
             grads: [[[0.0; 3]; MAX_VERTS]; MAX_VERTS],
         };
-        if kind.is_tensor() {
-            out.q1(kind, p);
-        } else {
-            out.p1(d, p);
+        match kind.data().reference {
+            Reference::Q1Tensor => out.q1(kind, p),
+            Reference::P1Simplex => out.p1(d, p),
         }
         out
     }
@@ -196,11 +153,34 @@ impl CellIntegrals {
                 for k in 0..d {
                     self.grads[q][a][k] = (0..d).map(|l| inv_t[k][l] * dphi[a][l]).sum();
                 }
-                for b in 0..self.nv {
+                // The upper triangle, mirrored below: `w φ_a φ_b` rounds differently from
+                // `w φ_b φ_a`, and the matrices must be exactly symmetric.
+                for b in a..self.nv {
                     self.mass[a][b] += w * phi[a] * phi[b];
                 }
             }
         }
+        for a in 0..self.nv {
+            for b in 0..a {
+                self.mass[a][b] = self.mass[b][a];
+            }
+        }
+    }
+
+    /// `∫_c ∇φ_a · ∇φ_b = Σ_q w_q ∇φ_a(x_q) · ∇φ_b(x_q)`: the scalar stiffness (Laplacian) of
+    /// the cell, the form plates assemble (the solid's elasticity combines the same gradients).
+    pub fn stiffness(&self, a: usize, b: usize) -> f64 {
+        let mut s = 0.0;
+        for q in 0..self.nq {
+            s += self.weights[q] * self.grad_dot(q, a, b);
+        }
+        s
+    }
+
+    /// `∇φ_a(x_q) · ∇φ_b(x_q)`.
+    pub fn grad_dot(&self, q: usize, a: usize, b: usize) -> f64 {
+        let (ga, gb) = (&self.grads[q][a], &self.grads[q][b]);
+        ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2]
     }
 
     /// `|c|`, the area or volume of the cell.
@@ -258,5 +238,25 @@ mod tests {
         // Known measures: the box 0.5 × 0.25 × 2 and the rectangle 0.5 × 0.25.
         assert!((CellIntegrals::new(cases[3].0, &cases[3].1).measure() - 0.25).abs() <= 4.0 * f64::EPSILON);
         assert!((CellIntegrals::new(cases[1].0, &cases[1].1).measure() - 0.125).abs() <= 4.0 * f64::EPSILON);
+    }
+
+    #[test]
+    fn element_masses_are_exactly_symmetric() {
+        // The assembled matrices must be (tests/plate.rs compares M[i,j] with M[j,i] bit for
+        // bit). mutation, as run: the Q1 mass summed over all (a, b) without the mirror -> fails
+        // (on the 6 × 4 quadrilaterals of 1.3 × 0.8, entries one ulp apart).
+        use crate::fem::Mesh;
+        let meshes = [
+            Mesh::structured_2d(1.3, 0.8, 6, 4, Cell::Quad).unwrap(),
+            Mesh::structured_2d(1.3, 0.8, 6, 4, Cell::Triangle).unwrap(),
+            Mesh::structured_3d([1.3, 0.8, 0.7], [3, 2, 2], Cell::Hex).unwrap(),
+            Mesh::structured_3d([1.3, 0.8, 0.7], [3, 2, 2], Cell::Tet).unwrap(),
+        ];
+        for m in &meshes {
+            for c in 0..m.n_cells() {
+                let e = m.integrals(c);
+                assert!((0..e.nv).all(|a| (0..e.nv).all(|b| e.mass[a][b] == e.mass[b][a])), "{:?} {c}", m.kind);
+            }
+        }
     }
 }

@@ -1,5 +1,5 @@
 //! Mass redistribution in 2D and 3D: one weight per cell, generalising the paper's §3
-//! definitions, for any mesh that implements [`CellMesh`] (plates and solids).
+//! definitions, for the one [`Mesh`] of plates and solids.
 //!
 //! In 1D the contact node x = 0 belongs to element 0 only, so `w_0 = 0` makes it massless.
 //! In 2D and 3D a contact node belongs to every cell that has it as a vertex, so:
@@ -19,12 +19,9 @@
 //! weights of [`crate::mass::MassKind`] column by column. The weights then depend on x only,
 //! which the reduction of Q1 to the 1D problem needs.
 
-use super::CellMesh;
+use super::mesh::Mesh;
 use crate::mass::MassKind;
 use thiserror::Error;
-
-/// The plate's name for [`LayerMassError`].
-pub type PlateMassError = LayerMassError;
 
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum LayerMassError {
@@ -33,17 +30,23 @@ pub enum LayerMassError {
     #[error("mass.weights[{cell}] = {value}: weights must be finite and >= 0")]
     InvalidWeight { cell: usize, value: f64 },
     #[error(
-        "node {node} at {at} is not on the contact boundary and all its cells have weight 0: the mass matrix is singular there (only contact nodes may be massless)"
+        "node {node} at ({}) is not on the contact boundary and all its cells have weight 0: the mass matrix is singular there (only contact nodes may be massless)",
+        point(at)
     )]
-    MasslessNode { node: usize, at: String },
+    MasslessNode { node: usize, at: Vec<f64> },
     #[error(
         "mass.kind = \"{kind}\" needs cells beyond the layer touching x = 0 (the mesh has {layer0} of {cells} cells in it)"
     )]
     NoSecondLayer { kind: &'static str, layer0: usize, cells: usize },
 }
 
+/// "x, y" or "x, y, z".
+fn point(at: &[f64]) -> String {
+    at.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", ")
+}
+
 /// Layer index of every cell: 0 touches Γ_C, 1 shares a vertex with layer 0, 2 for the rest.
-pub fn layers<M: CellMesh + ?Sized>(mesh: &M) -> Vec<u8> {
+pub fn layers(mesh: &Mesh) -> Vec<u8> {
     let n = mesh.n_cells();
     let mut layer = vec![2u8; n];
     let mut near = vec![false; mesh.n_nodes()];
@@ -64,7 +67,7 @@ pub fn layers<M: CellMesh + ?Sized>(mesh: &M) -> Vec<u8> {
 }
 
 /// The cell weights of a mass redistribution, validated (see [`validate_weights`]).
-pub fn cell_weights<M: CellMesh + ?Sized>(mesh: &M, kind: &MassKind) -> Result<Vec<f64>, LayerMassError> {
+pub fn cell_weights(mesh: &Mesh, kind: &MassKind) -> Result<Vec<f64>, LayerMassError> {
     let n = mesh.n_cells();
     let layer = layers(mesh);
     let area = |l: u8| -> f64 { (0..n).filter(|&c| layer[c] == l).map(|c| mesh.measure(c)).sum() };
@@ -100,7 +103,7 @@ pub fn cell_weights<M: CellMesh + ?Sized>(mesh: &M, kind: &MassKind) -> Result<V
 
 /// Checks count, finiteness and sign, and that every node off Γ_C and Γ_D has a cell of
 /// positive weight (its mass-matrix diagonal `Σ_c w_c ∫_c φ_i²` is then positive).
-pub fn validate_weights<M: CellMesh + ?Sized>(mesh: &M, w: &[f64]) -> Result<(), LayerMassError> {
+pub fn validate_weights(mesh: &Mesh, w: &[f64]) -> Result<(), LayerMassError> {
     if w.len() != mesh.n_cells() {
         return Err(LayerMassError::WrongCount { given: w.len(), cells: mesh.n_cells() });
     }
@@ -116,26 +119,26 @@ pub fn validate_weights<M: CellMesh + ?Sized>(mesh: &M, w: &[f64]) -> Result<(),
         }
     }
     if let Some(node) = (0..mesh.n_nodes()).find(|&v| !massive[v] && !mesh.on_contact(v) && !mesh.on_dirichlet(v)) {
-        return Err(LayerMassError::MasslessNode { node, at: mesh.describe_point(node) });
+        return Err(LayerMassError::MasslessNode { node, at: mesh.points[node][..mesh.dim].to_vec() });
     }
     Ok(())
 }
 
 /// Total mass `Σ_c w_c |c| = ∫_Ω w_h`.
-pub fn total_mass<M: CellMesh + ?Sized>(mesh: &M, w: &[f64]) -> f64 {
+pub fn total_mass(mesh: &Mesh, w: &[f64]) -> f64 {
     w.iter().enumerate().map(|(c, wc)| wc * mesh.measure(c)).sum()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plate::mesh::{CellKind, Mesh2d};
+    use crate::fem::Cell;
 
     #[test]
     fn structured_weights_follow_the_1d_ones_column_by_column() {
-        for kind in [CellKind::Quad, CellKind::Triangle] {
-            let mesh = Mesh2d::structured(1.0, 1.0, 5, 3, kind).unwrap();
-            let per_square = if kind == CellKind::Quad { 1 } else { 2 };
+        for kind in [Cell::Quad, Cell::Triangle] {
+            let mesh = Mesh::structured_2d(1.0, 1.0, 5, 3, kind).unwrap();
+            let per_square = if kind == Cell::Quad { 1 } else { 2 };
             for mass in [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3] {
                 let w2 = cell_weights(&mesh, &mass).unwrap();
                 let w1 = mass.weights(5).unwrap();

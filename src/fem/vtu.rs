@@ -15,7 +15,7 @@
 //! `warp`, `weight` in `crate::plate::vtu`; solids: the displacement and velocity vectors and
 //! the contact pressure in `crate::solid::vtu`).
 
-use super::mesh::Cell;
+use super::cell::Cell;
 use crate::numfmt::fmt_f64;
 use std::fmt::Write as _;
 use std::io::Write;
@@ -23,12 +23,7 @@ use thiserror::Error;
 
 /// VTK cell type codes.
 pub fn vtk_type(kind: Cell) -> u8 {
-    match kind {
-        Cell::Triangle => 5,
-        Cell::Quad => 9,
-        Cell::Tet => 10,
-        Cell::Hex => 12,
-    }
+    kind.vtk()
 }
 
 /// A named data array: `components` values per point (or cell).

@@ -4,8 +4,8 @@
 
 use crate::bar::{BarError, BarProblem};
 use crate::exact::ImpactingBar;
+use crate::fem::Cell;
 use crate::mass::MassKind;
-use crate::plate::CellKind;
 use crate::plate::{PlateError, PlateProblem};
 use crate::scene::{PlateInitial, PlateSpec};
 
@@ -65,12 +65,12 @@ pub struct PaperPlate {
     pub height: f64,
     pub nx: usize,
     pub ny: usize,
-    pub cells: CellKind,
+    pub cells: Cell,
 }
 
 impl PaperPlate {
     /// The unit square with n × n cells.
-    pub const fn square(n: usize, cells: CellKind) -> Self {
+    pub const fn square(n: usize, cells: Cell) -> Self {
         PaperPlate { height: 1.0, nx: n, ny: n, cells }
     }
 

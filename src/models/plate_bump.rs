@@ -3,8 +3,8 @@
 //! reference is what every run must satisfy: complementarity node by node (exactly) and the
 //! energy identities of the schemes (to [`PlateBump::ENERGY_ROUND_OFF`]).
 
+use crate::fem::Cell;
 use crate::mass::MassKind;
-use crate::plate::CellKind;
 use crate::plate::{PlateError, PlateProblem};
 use crate::scene::{PlateInitial, PlateSpec};
 
@@ -14,7 +14,7 @@ pub struct PlateBump {
     pub height: f64,
     pub nx: usize,
     pub ny: usize,
-    pub cells: CellKind,
+    pub cells: Cell,
 }
 
 impl PlateBump {
@@ -23,7 +23,7 @@ impl PlateBump {
     pub const ENERGY_ROUND_OFF: f64 = 1e4 * f64::EPSILON;
 
     /// The bump on the unit square's width with nx × ny cells (H = 1).
-    pub const fn unit(nx: usize, ny: usize, cells: CellKind) -> Self {
+    pub const fn unit(nx: usize, ny: usize, cells: Cell) -> Self {
         PlateBump { height: 1.0, nx, ny, cells }
     }
 

@@ -37,13 +37,13 @@ use crate::characteristics::{Characteristics, CharacteristicsError, InitialData}
 use crate::driver::{DivergenceCriterion, Needs, Observer, Sample, integrate_watched};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::fem::Cell;
-use crate::fem::mesh2d::{Columns, Mesh2d};
+use crate::fem::Mesh;
+use crate::fem::columns::Columns;
 use crate::linalg::sparse;
 use crate::mass::MassKind;
 use crate::material::FarEnd;
 use crate::models::PlaneWaveSolid;
 use crate::observe::SummaryObserver;
-use crate::plate::CellKind;
 use crate::problem::GeometryView;
 use crate::scene::{Formulation, SchemeSpec};
 use crate::schemes::SchemeError;
@@ -237,7 +237,7 @@ pub fn linf_l2_errors(
     let exact = Exact::Paper(ImpactingBar { length: 1.0 });
     let (columns, wave);
     let simplex = if cells == Cell::Triangle {
-        columns = Columns::new(&Mesh2d::structured(1.0, 1.0, N, N, CellKind::Triangle).map_err(SolidError::from)?);
+        columns = Columns::new(&Mesh::structured_2d(1.0, 1.0, N, N, Cell::Triangle).map_err(SolidError::from)?);
         let (x, u, v) = paper_data(1.0);
         let data = InitialData::PiecewiseLinear { x: &x, u: &u, v: &v };
         let unit = crate::material::Material { density: 1.0, modulus: 1.0 };

@@ -13,10 +13,10 @@
 //! over the steps; nothing is tuned to match the paper.
 
 use crate::driver::{Observer, Sample, integrate};
+use crate::fem::Cell;
 use crate::mass::MassKind;
 use crate::models::PaperPlate;
 use crate::observe::SummaryObserver;
-use crate::plate::mesh::CellKind;
 use crate::plate::{PlateError, PlateProblem};
 use crate::scene::PlateSpec;
 use crate::scene::{Formulation, SchemeSpec};
@@ -61,13 +61,13 @@ pub struct Row {
 }
 
 /// The paper's initial data on an n × n mesh of the unit square.
-fn unit_square(cells: CellKind, n: usize) -> PlateSpec {
+fn unit_square(cells: Cell, n: usize) -> PlateSpec {
     PaperPlate::square(n, cells).spec()
 }
 
 /// `max_n ‖u_h(t_n) − u(t_n)‖_{L²(Ω)}` for the paper's initial data on the unit square.
 pub fn linf_l2_error(
-    cells: CellKind,
+    cells: Cell,
     n: usize,
     mass: &MassKind,
     scheme: &SchemeSpec,
@@ -83,7 +83,7 @@ pub fn linf_l2_error(
     Ok(summary.finish().linf_l2_error.expect("the paper's data has an exact solution"))
 }
 
-fn row(judged: bool, cells: CellKind, scheme: &SchemeSpec, mass: &MassKind, dt: f64, end: f64) -> Row {
+fn row(judged: bool, cells: Cell, scheme: &SchemeSpec, mass: &MassKind, dt: f64, end: f64) -> Row {
     let n = 20;
     let result = linf_l2_error(cells, n, mass, scheme, dt, end);
     Row {
@@ -109,13 +109,13 @@ fn row(judged: bool, cells: CellKind, scheme: &SchemeSpec, mass: &MassKind, dt: 
 pub fn table_2d(quick: bool) -> Vec<Row> {
     let cn = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
     let masses = [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3];
-    let mut rows: Vec<Row> = masses.iter().map(|m| row(true, CellKind::Quad, &cn, m, 0.01, 3.0)).collect();
+    let mut rows: Vec<Row> = masses.iter().map(|m| row(true, Cell::Quad, &cn, m, 0.01, 3.0)).collect();
     let (schemes, dts, ends): (Vec<SchemeSpec>, &[f64], &[f64]) = if quick {
         (vec![cn.clone(), SchemeSpec::Hybrid], &[0.01], &[3.0])
     } else {
         (vec![cn.clone(), SchemeSpec::BackwardEuler, SchemeSpec::Hybrid], &[0.05, 0.02, 0.01, 0.005], &[1.0, 3.0, 10.0])
     };
-    for cells in [CellKind::Quad, CellKind::Triangle] {
+    for cells in [Cell::Quad, Cell::Triangle] {
         for scheme in &schemes {
             for &dt in dts {
                 for &end in ends {
@@ -161,7 +161,7 @@ pub struct Comparison {
 /// Runs the paper's data on an n × n mesh of the unit square and on the 1D bar with n elements
 /// and compares them node by node (2D node (x_i, y_j) against 1D node x_i).
 pub fn compare_with_1d(
-    cells: CellKind,
+    cells: Cell,
     n: usize,
     mass: &MassKind,
     scheme: &SchemeSpec,

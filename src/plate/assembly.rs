@@ -5,19 +5,19 @@
 //! M_ij = Σ_c w_c ∫_c φ_i φ_j,     S_ij = ∫_Ω ∇φ_i · ∇φ_j,     F_i = f ∫_Ω w_h φ_i = f (M 1)_i.
 //! ```
 //!
-//! - P1 triangle of area A: `∫ φ_i φ_j = A(1 + δ_ij)/12`, `∇φ_i = (b_i, c_i)/(2A)` with
-//!   `b_i = y_j − y_k`, `c_i = x_k − x_j` (i, j, k cyclic): exact closed forms.
-//! - Q1 rectangle `[x_a, x_a + a] × [y_a, y_a + b]`: the tensor products
-//!   `M = w (a/6)[[2,1],[1,2]] ⊗ (b/6)[[2,1],[1,2]]` and `S = K_x ⊗ M_y + M_x ⊗ K_y` with
-//!   `K = (1/len)[[1,−1],[−1,1]]`: exact. On a structured mesh the global matrices are the same
-//!   tensor products, so with x-only weights the y-independent fields reduce to the 1D problem.
+//! The element integrals are the ones of every mesh ([`crate::fem::element::CellIntegrals`], as
+//! for solids): `∫_c φ_a φ_b` and `∫_c ∇φ_a·∇φ_b`, exact for P1 triangles and for Q1 on the
+//! axis-aligned rectangles every plate mesh has. On a rectangle they are the tensor products
+//! `M = (a/6)[[2,1],[1,2]] ⊗ (b/6)[[2,1],[1,2]]` and `S = K_x ⊗ M_y + M_x ⊗ K_y` with
+//! `K = (1/len)[[1,−1],[−1,1]]`; on a structured mesh the global matrices are the same tensor
+//! products, so with x-only weights the y-independent fields reduce to the 1D problem.
 //!
 //! The matrices cover all vertices in mesh order without boundary condition ([`assemble`],
 //! for cross-checks against dolfinx and scikit-fem); [`PlateSystem`] removes the Dirichlet
 //! nodes x = L and keeps the contact nodes x = 0 as unknowns (Signorini rows).
 
-use super::layers::{PlateMassError, cell_weights};
-use super::mesh::{CellKind, Mesh2d};
+use crate::fem::Mesh;
+use crate::fem::layers::{LayerMassError, cell_weights};
 use crate::linalg::sparse::{self, SpMat, SparseError};
 use crate::mass::MassKind;
 use crate::material::{FarEnd, Material};
@@ -34,69 +34,29 @@ use thiserror::Error;
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum PlateAssemblyError {
     #[error(transparent)]
-    Mass(#[from] PlateMassError),
+    Mass(#[from] LayerMassError),
     #[error(transparent)]
     Sparse(#[from] SparseError),
     #[error("plate.force = {0}: must be finite")]
     Force(f64),
 }
 
-/// Element mass (with weight 1) and stiffness matrices of cell c, row-major k × k.
-fn element(mesh: &Mesh2d, c: usize) -> ([f64; 16], [f64; 16]) {
-    let v = mesh.cell(c);
-    let mut m = [0.0; 16];
-    let mut s = [0.0; 16];
-    match mesh.kind {
-        CellKind::Triangle => {
-            let p: Vec<[f64; 2]> = v.iter().map(|&i| mesh.points[i]).collect();
-            let area = mesh.signed_area(c);
-            let b = [p[1][1] - p[2][1], p[2][1] - p[0][1], p[0][1] - p[1][1]];
-            let cc = [p[2][0] - p[1][0], p[0][0] - p[2][0], p[1][0] - p[0][0]];
-            for i in 0..3 {
-                for j in 0..3 {
-                    m[i * 4 + j] = area * if i == j { 2.0 } else { 1.0 } / 12.0;
-                    s[i * 4 + j] = (b[i] * b[j] + cc[i] * cc[j]) / (4.0 * area);
-                }
-            }
-        }
-        CellKind::Quad => {
-            // Reference corners (0,0), (1,0), (1,1), (0,1) of the rectangle's local frame; the
-            // cell's counter-clockwise order may start at any corner, so place each vertex.
-            let [x0, x1, y0, y1] = mesh.cell_box(c);
-            let (a, bb) = (x1 - x0, y1 - y0);
-            let (mx, kx) = ([a / 3.0, a / 6.0], [1.0 / a, -1.0 / a]);
-            let (my, ky) = ([bb / 3.0, bb / 6.0], [1.0 / bb, -1.0 / bb]);
-            let side = |t: f64, lo: f64, hi: f64| usize::from((t - lo).abs() > (t - hi).abs());
-            let ij: Vec<(usize, usize)> =
-                v.iter().map(|&i| (side(mesh.points[i][0], x0, x1), side(mesh.points[i][1], y0, y1))).collect();
-            for p in 0..4 {
-                for q in 0..4 {
-                    let (dx, dy) = (usize::from(ij[p].0 != ij[q].0), usize::from(ij[p].1 != ij[q].1));
-                    m[p * 4 + q] = mx[dx] * my[dy];
-                    s[p * 4 + q] = kx[dx] * my[dy] + mx[dx] * ky[dy];
-                }
-            }
-        }
-    }
-    (m, s)
-}
-
 /// Weighted mass and stiffness matrices over all vertices, in mesh order, no boundary
 /// condition (the matrices dolfinx and scikit-fem assemble). `weights` has one entry per cell.
-pub fn assemble(mesh: &Mesh2d, weights: &[f64]) -> Result<(SpMat, SpMat), SparseError> {
+pub fn assemble(mesh: &Mesh, weights: &[f64]) -> Result<(SpMat, SpMat), SparseError> {
     assert_eq!(weights.len(), mesh.n_cells(), "one weight per cell");
     let k = mesh.kind.verts();
     let mut pos = Vec::with_capacity(mesh.n_cells() * k * k);
     let mut vm = Vec::with_capacity(mesh.n_cells() * k * k);
     let mut vs = Vec::with_capacity(mesh.n_cells() * k * k);
     for (c, &w) in weights.iter().enumerate() {
-        let (m, s) = element(mesh, c);
+        let e = mesh.integrals(c);
         let v = mesh.cell(c);
         for p in 0..k {
             for q in 0..k {
                 pos.push((v[p], v[q]));
-                vm.push(w * m[p * 4 + q]);
-                vs.push(s[p * 4 + q]);
+                vm.push(w * e.mass[p][q]);
+                vs.push(e.stiffness(p, q));
             }
         }
     }
@@ -109,7 +69,7 @@ pub fn assemble(mesh: &Mesh2d, weights: &[f64]) -> Result<(SpMat, SpMat), Sparse
 /// system, and what is needed to report on Γ_C.
 #[derive(Debug, Clone)]
 pub struct PlateSystem {
-    pub mesh: Mesh2d,
+    pub mesh: Mesh,
     pub weights: Vec<f64>,
     /// Free unknown → mesh node.
     pub dofs: Vec<usize>,
@@ -126,7 +86,7 @@ pub struct PlateSystem {
     pub contact_lengths: Vec<f64>,
     /// The cells over each interval of the distinct vertex abscissae, built by the first L²
     /// error against a plane wave ([`crate::plate::norms::l2_error_plane_wave`]).
-    pub columns: std::sync::OnceLock<super::mesh::Columns>,
+    pub columns: std::sync::OnceLock<crate::fem::columns::Columns>,
     /// The Q1 cells as the exact L² pass reads them, built by its first call
     /// ([`crate::plate::cells::QuadCells`]).
     pub quad_cells: std::sync::OnceLock<super::cells::QuadCells>,
@@ -136,13 +96,13 @@ impl PlateSystem {
     /// Assembles M, S, F on the free nodes for a mass redistribution and a constant body force.
     /// Contact unknowns are ordered by increasing y (the first one is the node at y = 0 on a
     /// structured mesh).
-    pub fn new(mesh: Mesh2d, mass: &MassKind, force: f64) -> Result<Self, PlateAssemblyError> {
+    pub fn new(mesh: Mesh, mass: &MassKind, force: f64) -> Result<Self, PlateAssemblyError> {
         let weights = cell_weights(&mesh, mass)?;
         Self::from_weights(mesh, weights, force)
     }
 
     /// Assembly from validated cell weights (ρ = E = 1, clamped at x = L, constant force).
-    pub fn from_weights(mesh: Mesh2d, weights: Vec<f64>, force: f64) -> Result<Self, PlateAssemblyError> {
+    pub fn from_weights(mesh: Mesh, weights: Vec<f64>, force: f64) -> Result<Self, PlateAssemblyError> {
         Self::assemble(mesh, weights, Material::UNIT, FarEnd::Clamped, &PlateLoad::Constant(force))
     }
 
@@ -151,7 +111,7 @@ impl PlateSystem {
     /// `F_i = ∫ f w_h φ_i`: for a constant f exactly `f (M 1)_i`, for f(x, y) with f
     /// interpolated at the nodes, `F = M I_h f` (exact for f in the finite element space).
     pub fn assemble(
-        mesh: Mesh2d,
+        mesh: Mesh,
         weights: Vec<f64>,
         material: Material,
         far_end: FarEnd,
@@ -256,7 +216,7 @@ impl PlateSystem {
 
     /// Total mass `1ᵀ M_full 1 = ∫ w_h`.
     pub fn total_mass(&self) -> f64 {
-        super::layers::total_mass(&self.mesh, &self.weights)
+        crate::fem::layers::total_mass(&self.mesh, &self.weights)
     }
 }
 
@@ -268,7 +228,7 @@ mod tests {
     fn q1_matrices_are_tensor_products_of_the_1d_ones() {
         // On a structured mesh, M = Mx^w ⊗ My and S = Kx ⊗ My + Mx ⊗ Ky (x-only weights).
         let (nx, ny, l, h) = (4, 3, 1.0, 0.6);
-        let mesh = Mesh2d::structured(l, h, nx, ny, CellKind::Quad).unwrap();
+        let mesh = Mesh::structured_2d(l, h, nx, ny, crate::fem::Cell::Quad).unwrap();
         let w = cell_weights(&mesh, &MassKind::Mod3).unwrap();
         let (m, s) = assemble(&mesh, &w).unwrap();
         let w1 = MassKind::Mod3.weights(nx).unwrap();

@@ -1,7 +1,7 @@
 //! The Q1 cell table of the plate's exact L² pass ([`crate::plate::norms`]), built once per
 //! plate from its mesh (it depends on nothing else, so the plate can cache it).
 
-use super::mesh::Mesh2d;
+use crate::fem::Mesh;
 
 /// What the exact L² pass needs of each Q1 cell, computed once per plate
 /// ([`super::PlateSystem::quad_cells`]): its box, its corner unknowns and the positions of its x-ends
@@ -26,7 +26,7 @@ pub(crate) struct QuadCell {
 
 impl QuadCells {
     /// The table of `mesh`'s Q1 cells, `node_dof` the free unknown of each node (None on Γ_D).
-    pub fn new(mesh: &Mesh2d, node_dof: &[Option<usize>]) -> Self {
+    pub fn new(mesh: &Mesh, node_dof: &[Option<usize>]) -> Self {
         let mut xs: Vec<f64> = mesh.points.iter().map(|p| p[0]).collect();
         xs.sort_by(f64::total_cmp);
         xs.dedup();

@@ -20,11 +20,11 @@ impl GeometryView for PlateSystem {
     }
 
     fn length(&self) -> f64 {
-        self.mesh.length
+        self.mesh.extent[0]
     }
 
     fn section(&self) -> f64 {
-        self.mesh.height
+        self.mesh.extent[1]
     }
 
     fn contact_measure(&self) -> f64 {

@@ -7,13 +7,13 @@
 //! 0 ≤ u ⊥ ∂_x u ≤ 0 on Γ_C   (Signorini; the contact pressure is λ = ∂_x u, as in 1D).
 //! ```
 //!
-//! What is plate-specific lives here: Q1 quadrilaterals or P1 triangles ([`mesh`]), one mass
-//! weight per cell by layers of cells touching Γ_C ([`layers`]: standard, mod1, mod2, mod3,
-//! custom), the sparse weighted mass and stiffness with the material, far end, gap and load
-//! ([`assembly`]), the plate as a [`crate::problem::Geometry`] ([`geometry`]: contact means, exact
-//! L² norms against x-only solutions ([`norms`]), nodal values), its specification ([`spec`], parsed from the
-//! `[plate]` table in [`crate::scene`]), the problem a scene poses ([`problem`]) and VTU/PVD
-//! output ([`vtu`]). Everything else is the one core shared with bars: the contact system
+//! What is plate-specific lives here: the sparse weighted mass and stiffness with the material,
+//! far end, gap and load ([`assembly`], through the element integrals of every mesh), the plate as a [`crate::problem::Geometry`] ([`geometry`]: contact means, exact
+//! L² norms against x-only solutions ([`norms`]), nodal values), its specification ([`spec`],
+//! parsed from the `[plate]` table in [`crate::scene`]), the problem a scene poses ([`problem`])
+//! and VTU/PVD output ([`vtu`]). The mesh (Q1 quadrilaterals or P1 triangles) and the mass weights by
+//! layers of cells touching Γ_C are the ones of solids ([`crate::fem::mesh`],
+//! [`crate::fem::layers`]). Everything else is the one core shared with bars: the contact system
 //! ([`crate::system`]) over the sparse back-end ([`crate::linalg::sparse`]) with the exact
 //! many-node contact solver ([`crate::contact::Schur`]), the schemes ([`crate::schemes`]), the
 //! driver and observers, and the run path ([`crate::run`]).
@@ -29,14 +29,11 @@
 pub mod assembly;
 pub mod cells;
 pub mod geometry;
-pub use crate::fem::layers;
-pub mod mesh;
 pub mod norms;
 pub mod problem;
 pub mod spec;
 pub mod vtu;
 
 pub use assembly::{PlateSystem, assemble};
-pub use mesh::{CellKind, Mesh2d};
 pub use problem::{PlateError, PlateProblem};
 pub use spec::{PlateInitial, PlateSpec};

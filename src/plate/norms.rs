@@ -14,9 +14,10 @@
 
 use super::assembly::PlateSystem;
 use super::cells::QuadCells;
-use super::mesh::{CellKind, Columns};
 use crate::characteristics::Characteristics;
 use crate::exact::ImpactingBar;
+use crate::fem::Cell;
+use crate::fem::columns::Columns;
 use crate::linalg::sparse;
 
 /// `‖u_h‖_{L²(Ω)} = (Uᵀ M₁ U)^{1/2}` (M₁ the unweighted mass matrix; u_h = 0 on Γ_D).
@@ -125,7 +126,7 @@ pub fn l2_error(plate: &PlateSystem, u: &[f64], exact: &ImpactingBar, t: f64) ->
     let nk = exact.kinks(t, &mut kinks);
     let kinks = &mut kinks[..nk];
     kinks.sort_by(f64::total_cmp);
-    if mesh.kind == CellKind::Quad {
+    if mesh.kind == Cell::Quad {
         let total = quad_error_squared(plate, u, exact, t, kinks);
         return (if total < 0.0 { 0.0 } else { total }).sqrt();
     }
@@ -149,8 +150,9 @@ pub fn l2_error(plate: &PlateSystem, u: &[f64], exact: &ImpactingBar, t: f64) ->
         cuts[nc] = x1;
         nc += 1;
         match mesh.kind {
-            CellKind::Triangle => {
-                let p = [mesh.points[cell[0]], mesh.points[cell[1]], mesh.points[cell[2]]];
+            Cell::Triangle => {
+                let xy = |v: usize| [mesh.points[v][0], mesh.points[v][1]];
+                let p = [xy(cell[0]), xy(cell[1]), xy(cell[2])];
                 let uv = [val(cell[0]), val(cell[1]), val(cell[2])];
                 // u_h(x, y) = Σ uv_i λ_i(x, y) (barycentric coordinates).
                 let det = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
@@ -176,7 +178,7 @@ pub fn l2_error(plate: &PlateSystem, u: &[f64], exact: &ImpactingBar, t: f64) ->
                     }
                 }
             }
-            CellKind::Quad => unreachable!("quad meshes take quad_error_squared"),
+            _ => unreachable!("quad meshes take quad_error_squared; plates have no 3D cells"),
         }
     }
     // A sum of positive semi-definite quadratic forms; NaN stays NaN.

@@ -3,13 +3,13 @@
 //! and the plate's place in the one run path ([`GeometrySpec`]).
 
 use super::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
-use super::layers::cell_weights;
-use super::mesh::{Mesh2d, MeshError};
 use super::spec::{PlateInitial, PlateSpec};
 use crate::body::{Body, Force};
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::fem::frames::VtuFrames;
+use crate::fem::layers::cell_weights;
+use crate::fem::{Mesh, MeshError};
 use crate::mass::MassKind;
 use crate::run::{GeometrySpec, Totals};
 use crate::scene::Scene;
@@ -35,7 +35,7 @@ impl PlateProblem {
     /// where one is known: the paper's closed form, or a plane wave (`t_end`: how long the
     /// characteristics are traced).
     pub fn new(spec: &PlateSpec, mass: &MassKind) -> Result<Self, PlateError> {
-        let mesh = Mesh2d::clone(spec.mesh()?.as_ref());
+        let mesh = Mesh::clone(spec.mesh()?.as_ref());
         Self::from_mesh(mesh, mass, &spec.initial, &spec.body)
     }
 
@@ -50,9 +50,9 @@ impl PlateProblem {
     }
 
     /// Any mesh of (0, L) × (y_min, y_min + H) (e.g. a triangle mesh read from a file with
-    /// [`Mesh2d::from_arrays`]); the initial data use `y − y_min`.
-    pub fn from_mesh(mesh: Mesh2d, mass: &MassKind, initial: &PlateInitial, body: &Body) -> Result<Self, PlateError> {
-        let (l, h) = (mesh.length, mesh.height);
+    /// [`Mesh::from_arrays`]); the initial data use `y − y_min`.
+    pub fn from_mesh(mesh: Mesh, mass: &MassKind, initial: &PlateInitial, body: &Body) -> Result<Self, PlateError> {
+        let [l, h, _] = mesh.extent;
         let ymin = mesh.points.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
         let weights = cell_weights(&mesh, mass).map_err(PlateAssemblyError::from)?;
         let field;

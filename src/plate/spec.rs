@@ -4,7 +4,7 @@
 
 use crate::body::Body;
 use crate::expr::Expr;
-use crate::plate::mesh::{CellKind, Mesh2d};
+use crate::fem::{Cell, Mesh, MeshError};
 use std::sync::Arc;
 
 /// Initial data of the plate.
@@ -70,7 +70,7 @@ pub struct PlateSpec {
     /// Cells along x and y of a structured mesh (0 for a mesh file).
     pub nx: usize,
     pub ny: usize,
-    pub cells: CellKind,
+    pub cells: Cell,
     pub initial: PlateInitial,
     /// Material, far end (x = L), gap and force.
     pub body: Body,
@@ -79,20 +79,20 @@ pub struct PlateSpec {
     pub mesh_file: Option<std::path::PathBuf>,
     /// The mesh, built or read once when the scene is validated (None: the structured mesh of
     /// `nx`, `ny`, `cells`, built with the problem).
-    pub mesh: Option<Arc<Mesh2d>>,
+    pub mesh: Option<Arc<Mesh>>,
 }
 
 impl PlateSpec {
     /// The structured plate (0, L) × (0, H) with nx × ny cells (its mesh built with the problem).
-    pub fn structured(length: f64, height: f64, nx: usize, ny: usize, cells: CellKind, initial: PlateInitial) -> Self {
+    pub fn structured(length: f64, height: f64, nx: usize, ny: usize, cells: Cell, initial: PlateInitial) -> Self {
         PlateSpec { length, height, nx, ny, cells, initial, body: Body::default(), mesh_file: None, mesh: None }
     }
 
     /// The mesh: the one validated with the scene, or the structured one of the spec.
-    pub fn mesh(&self) -> Result<Arc<Mesh2d>, crate::plate::mesh::MeshError> {
+    pub fn mesh(&self) -> Result<Arc<Mesh>, MeshError> {
         match &self.mesh {
             Some(m) => Ok(m.clone()),
-            None => Ok(Arc::new(Mesh2d::structured(self.length, self.height, self.nx, self.ny, self.cells)?)),
+            None => Ok(Arc::new(Mesh::structured_2d(self.length, self.height, self.nx, self.ny, self.cells)?)),
         }
     }
 

@@ -4,23 +4,14 @@
 //! By Vector"), and the cell data `weight` (the mass redistribution). The streaming writer of a
 //! run is the one of every geometry ([`FrameWriter`]).
 
-use super::mesh::{CellKind, Mesh2d};
+use crate::fem::Mesh;
 use crate::fem::vtu::{Array, Grid, Layout};
-
-/// VTK cell type codes.
-pub fn vtk_type(kind: CellKind) -> u8 {
-    match kind {
-        CellKind::Quad => 9,
-        CellKind::Triangle => 5,
-    }
-}
 
 /// The frame layout of a plate: its mesh and `weights` serialised once, point arrays `u`, `v`,
 /// `warp`.
-pub fn layout(mesh: &Mesh2d, weights: &[f64]) -> Layout {
+pub fn layout(mesh: &Mesh, weights: &[f64]) -> Layout {
     assert_eq!(weights.len(), mesh.n_cells());
-    let points: Vec<[f64; 3]> = mesh.points.iter().map(|p| [p[0], p[1], 0.0]).collect();
-    let grid = Grid { points: &points, cells: &mesh.cells, verts: mesh.kind.verts(), kind: vtk_type(mesh.kind) };
+    let grid = Grid { points: &mesh.points, cells: &mesh.cells, verts: mesh.kind.verts(), kind: mesh.kind.vtk() };
     Layout::new(
         &grid,
         &[("u", 1), ("v", 1), ("warp", 3)],
@@ -36,7 +27,7 @@ fn warp(u: &[f64], out: &mut Vec<f64>) {
 }
 
 /// The `.vtu` of one frame: `u`, `v` at every mesh node, `weights` per cell.
-pub fn vtu_bytes(mesh: &Mesh2d, u: &[f64], v: &[f64], weights: &[f64]) -> Vec<u8> {
+pub fn vtu_bytes(mesh: &Mesh, u: &[f64], v: &[f64], weights: &[f64]) -> Vec<u8> {
     let mut w = Vec::new();
     warp(u, &mut w);
     layout(mesh, weights).frame(&[u, v, &w])
@@ -72,14 +63,15 @@ pub use crate::fem::frames::FrameWriter;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fem::Cell;
 
     #[test]
     fn a_frame_reads_back_bit_for_bit() {
         // Values that ASCII would need all 17 digits for, and the geometry of both cell kinds.
         // mutation: `Layout::write` writing the `v` values into the `u` block -> fails on the `u`
         // comparison.
-        for kind in [CellKind::Quad, CellKind::Triangle] {
-            let mesh = Mesh2d::structured(1.0, 0.5, 3, 2, kind).unwrap();
+        for kind in [Cell::Quad, Cell::Triangle] {
+            let mesh = Mesh::structured_2d(1.0, 0.5, 3, 2, kind).unwrap();
             let n = mesh.n_nodes();
             let u: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin() / 3.0).collect();
             let v: Vec<f64> = (0..n).map(|i| -(i as f64).sqrt() * 1e-300).collect();
@@ -96,7 +88,7 @@ mod tests {
             assert_eq!(d.connectivity, mesh.cells);
             let k = mesh.kind.verts();
             assert_eq!(d.offsets, (1..=mesh.n_cells()).map(|c| c * k).collect::<Vec<_>>());
-            assert!(d.types.iter().all(|&t| t == vtk_type(kind)));
+            assert!(d.types.iter().all(|&t| t == kind.vtk()));
             let points: Vec<f64> = mesh.points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
             assert_eq!(d.points, points);
         }

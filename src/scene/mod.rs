@@ -28,6 +28,7 @@
 mod bar;
 mod body;
 mod common;
+pub mod mesh_file;
 mod plate;
 mod solid;
 
@@ -121,9 +122,11 @@ pub enum SceneError {
     #[error(transparent)]
     Mass(#[from] crate::mass::MassError),
     #[error(transparent)]
-    PlateMass(#[from] crate::plate::layers::PlateMassError),
+    LayerMass(#[from] crate::fem::layers::LayerMassError),
     #[error(transparent)]
-    Mesh(#[from] crate::plate::mesh::MeshError),
+    Mesh(#[from] crate::fem::MeshError),
+    #[error(transparent)]
+    MeshFile(#[from] mesh_file::MeshFileError),
     #[error(
         "{contact} contact nodes: their dense Schur complement would take {values:.3e} values ({megabytes:.0} MB), over the limit of {limit:.1e}: reduce the nodes of the contact face (plate.ny, solid.ny and solid.nz, or the contact edge of plate.mesh)"
     )]

@@ -29,10 +29,9 @@
 //! ```
 
 use super::*;
+use crate::fem::layers::{cell_weights, layers};
+use crate::fem::{Cell, Mesh};
 use crate::mass::MassKind;
-use crate::plate::layers::{cell_weights, layers};
-use crate::plate::mesh::{CellKind, Mesh2d};
-use crate::plate::spec::{PlateInitial, PlateSpec};
 use std::sync::Arc;
 
 /// Upper bound on `contact nodes²`: the contact solver ([`crate::contact::Schur`]) keeps the dense
@@ -74,21 +73,21 @@ impl PlateSpec {
                 forbid("plate.ny", &p.ny, context)?;
                 forbid("plate.cells", &p.cells, context)?;
                 let path = base.join(file);
-                (read_mesh_file(&path)?, Some(path))
+                (plate_file_mesh(&path)?, Some(path))
             }
             None => (structured_mesh(&p)?, None),
         };
-        let (nx, ny) = mesh.grid.unwrap_or((0, 0));
+        let [nx, ny, _] = mesh.grid.unwrap_or([0; 3]);
         let contact = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count();
         check_contact_memory(contact)?;
         let (initial, body) = parse_plate_body(p.body, &p.unknown, &mesh)?;
-        let (length, height, cells) = (mesh.length, mesh.height, mesh.kind);
+        let ([length, height, _], cells) = (mesh.extent, mesh.kind);
         Ok(PlateSpec { length, height, nx, ny, cells, initial, body, mesh_file, mesh: Some(Arc::new(mesh)) })
     }
 }
 
 /// The structured mesh of a `[plate]` table without `mesh`.
-fn structured_mesh(p: &RawPlate) -> Result<Mesh2d, SceneError> {
+fn structured_mesh(p: &RawPlate) -> Result<Mesh, SceneError> {
     let length = length_in("plate.length", p.length.map_or(1.0, Number::get))?;
     let height = length_in("plate.height", p.height.map_or(1.0, Number::get))?;
     let nx = p.nx.unwrap_or(20);
@@ -111,8 +110,8 @@ fn structured_mesh(p: &RawPlate) -> Result<Mesh2d, SceneError> {
         });
     }
     let cells = match p.cells.as_deref().unwrap_or("quad") {
-        "quad" => CellKind::Quad,
-        "triangle" => CellKind::Triangle,
+        "quad" => Cell::Quad,
+        "triangle" => Cell::Triangle,
         other => {
             return Err(SceneError::Range {
                 key: "plate.cells",
@@ -123,7 +122,7 @@ fn structured_mesh(p: &RawPlate) -> Result<Mesh2d, SceneError> {
     };
     // Checked before the mesh is built: a hostile nx, ny must fail fast.
     check_contact_memory(ny + 1)?;
-    Ok(Mesh2d::structured(length, height, nx, ny, cells)?)
+    Ok(Mesh::structured_2d(length, height, nx, ny, cells)?)
 }
 
 pub(crate) const SERIES_NAMES: &str =
@@ -231,9 +230,9 @@ impl Scene<PlateSpec> {
 fn parse_plate_body(
     b: RawBody,
     unknown: &std::collections::BTreeMap<String, toml::Value>,
-    mesh: &Mesh2d,
+    mesh: &Mesh,
 ) -> Result<(PlateInitial, Body), SceneError> {
-    let (length, height) = (mesh.length, mesh.height);
+    let [length, height, _] = mesh.extent;
     let keys =
         BodyKeys { density: "plate.density", modulus: "plate.modulus", far_end: "plate.far_end", gap: "plate.gap" };
     let expected = "length, height, nx, ny, cells, mesh, density, modulus, far_end, gap, initial, force";
@@ -242,7 +241,7 @@ fn parse_plate_body(
     let consts = [("L", length), ("H", height), ("pi", std::f64::consts::PI)];
     let initial = parse_initial(b.initial, &consts)?;
     let force = parse_force("plate.force", b.force, &["x", "y"], &consts)?;
-    let points = || mesh.points.iter().copied();
+    let points = || mesh.points.iter().map(|p| [p[0], p[1]]);
     if let PlateInitial::Fields { displacement, velocity } = &initial {
         displacement.eval_at_nodes(points()).map_err(SceneError::from)?;
         velocity.eval_at_nodes(points()).map_err(SceneError::from)?;
@@ -281,19 +280,15 @@ pub(crate) fn check_contact_memory(contact: usize) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// A mesh file through meshio (feature `python`).
-#[cfg(feature = "python")]
-fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, SceneError> {
-    Ok(Mesh2d::read_file(path)?)
-}
-
-#[cfg(not(feature = "python"))]
-fn read_mesh_file(path: &std::path::Path) -> Result<Mesh2d, SceneError> {
-    Err(SceneError::Inapplicable {
-        key: "plate.mesh",
-        context: format!(
-            "this build ({}): mesh files are read by meshio through the `python` feature; run `cargo run --features python -- run SCENE --out DIR` after `bash python/install-deps.sh`",
-            path.display()
-        ),
-    })
+/// The mesh of `plate.mesh` ([`super::mesh_file`]): a triangle or quad mesh.
+fn plate_file_mesh(path: &std::path::Path) -> Result<Mesh, SceneError> {
+    let mesh = super::mesh_file::read("plate.mesh", path)?;
+    if mesh.dim != 2 {
+        return Err(SceneError::Range {
+            key: "plate.mesh",
+            value: format!("\"{}\" (a {} mesh)", path.display(), mesh.kind.data().meshio),
+            range: "a triangle or quad mesh file",
+        });
+    }
+    Ok(mesh)
 }

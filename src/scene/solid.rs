@@ -255,7 +255,7 @@ fn file_mesh(t: &RawSolid, dim: usize, path: &std::path::Path) -> Result<Mesh, S
     forbid("solid.ny", &t.ny, context)?;
     forbid("solid.nz", &t.nz, context)?;
     forbid("solid.cells", &t.cells, context)?;
-    let mesh = read_mesh_file(path)?;
+    let mesh = super::mesh_file::read("solid.mesh", path)?;
     let bad = |what: String| SceneError::Range {
         key: "solid.mesh",
         value: format!("\"{}\" ({what})", path.display()),
@@ -270,32 +270,9 @@ fn file_mesh(t: &RawSolid, dim: usize, path: &std::path::Path) -> Result<Mesh, S
             return Err(bad(format!("smallest {} = {}", ["x", "y", "z"][axis], short(lo))));
         }
     }
-    let volume: f64 = (0..mesh.n_cells())
-        .map(|c| crate::fem::element::CellIntegrals::new(mesh.kind, &mesh.cell_points(c)).measure())
-        .sum();
-    let bbox: f64 = mesh.extent[..dim].iter().product();
-    if (volume - bbox).abs() > 1e-9 * bbox {
-        return Err(bad(format!("its cells measure {} of the box's {}", short(volume), short(bbox))));
-    }
-    check_contact_memory((0..mesh.n_nodes()).filter(|&v| crate::fem::CellMesh::on_contact(&mesh, v)).count())?;
+    mesh.check_fills_box().map_err(|e| bad(e.to_string()))?;
+    check_contact_memory((0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count())?;
     Ok(mesh)
-}
-
-/// A mesh file through meshio (feature `python`).
-#[cfg(feature = "python")]
-fn read_mesh_file(path: &std::path::Path) -> Result<Mesh, SceneError> {
-    Ok(Mesh::read_file(path)?)
-}
-
-#[cfg(not(feature = "python"))]
-fn read_mesh_file(path: &std::path::Path) -> Result<Mesh, SceneError> {
-    Err(SceneError::Inapplicable {
-        key: "solid.mesh",
-        context: format!(
-            "this build ({}): mesh files are read by meshio through the `python` feature; run `cargo run --features python -- run SCENE --out DIR` after `bash python/install-deps.sh`",
-            path.display()
-        ),
-    })
 }
 
 /// Sizes refused before a mesh is built: more than [`MAX_ELEMENTS`] cells, more contact nodes
@@ -344,10 +321,7 @@ impl SceneGeometry for SolidSpec {
             let d = self.dim;
             let roller = self.lateral == Lateral::Roller;
             let free = |v: usize| (0..d).filter(|&c| !(c >= 1 && roller && mesh.on_lateral(v, c))).count();
-            return (0..mesh.n_nodes())
-                .filter(|&v| !crate::fem::CellMesh::on_dirichlet(mesh.as_ref(), v))
-                .map(free)
-                .sum();
+            return (0..mesh.n_nodes()).filter(|&v| !mesh.on_dirichlet(v)).map(free).sum();
         }
         let [nx, ny, nz] = self.cells_per_axis;
         let nz = if self.dim == 2 { 0 } else { nz };

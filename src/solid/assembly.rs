@@ -20,9 +20,8 @@
 //! (frictionless), which the schemes handle as massless unknowns without a contact condition
 //! (`crate::schemes::hybrid`).
 
-use crate::fem::element::CellIntegrals;
+use crate::fem::Mesh;
 use crate::fem::layers::LayerMassError;
-use crate::fem::{CellMesh, Mesh};
 use crate::linalg::sparse::{self, SpMat, SparseError};
 use crate::system::ContactSystem;
 use thiserror::Error;
@@ -66,7 +65,7 @@ pub fn assemble(mesh: &Mesh, weights: &[f64], lame: &Lame) -> Result<(SpMat, SpM
     let mut tm = Vec::with_capacity(mesh.n_cells() * k * k * d);
     let mut ts = Vec::with_capacity(mesh.n_cells() * k * k * d * d);
     for (c, &w) in weights.iter().enumerate() {
-        let e = CellIntegrals::new(mesh.kind, &mesh.cell_points(c));
+        let e = mesh.integrals(c);
         let v = mesh.cell(c);
         for a in 0..k {
             for b in 0..k {
@@ -78,8 +77,7 @@ pub fn assemble(mesh: &Mesh, weights: &[f64], lame: &Lame) -> Result<(SpMat, SpM
                         let mut s = 0.0;
                         for q in 0..e.nq {
                             let (ga, gb) = (&e.grads[q][a], &e.grads[q][b]);
-                            let dot: f64 = (0..d).map(|l| ga[l] * gb[l]).sum();
-                            let delta = if i == j { dot } else { 0.0 };
+                            let delta = if i == j { e.grad_dot(q, a, b) } else { 0.0 };
                             s += e.weights[q] * (lame.lambda * ga[i] * gb[j] + lame.mu * (delta + ga[j] * gb[i]));
                         }
                         ts.push((v[a] * d + i, v[b] * d + j, s));

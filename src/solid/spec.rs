@@ -25,8 +25,7 @@
 
 use super::assembly::{Lame, Lateral};
 use crate::expr::Expr;
-use crate::fem::mesh::{Cell, Mesh};
-use crate::plate::mesh::{CellKind, MeshError};
+use crate::fem::mesh::{Cell, Mesh, MeshError};
 
 /// The initial data of a solid.
 #[derive(Debug, Clone, PartialEq)]
@@ -104,8 +103,7 @@ impl SolidSpec {
         }
         let ([l, h, d], [nx, ny, nz]) = (self.extent, self.cells_per_axis);
         match self.cells {
-            Cell::Quad => Mesh::structured_2d(l, h, nx, ny, CellKind::Quad),
-            Cell::Triangle => Mesh::structured_2d(l, h, nx, ny, CellKind::Triangle),
+            Cell::Quad | Cell::Triangle => Mesh::structured_2d(l, h, nx, ny, self.cells),
             Cell::Hex | Cell::Tet => Mesh::structured_3d([l, h, d], [nx, ny, nz], self.cells),
         }
     }
