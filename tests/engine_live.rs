@@ -327,11 +327,13 @@ fn processes_mentioning(needle: &str) -> Vec<String> {
     found
 }
 
-/// Issue 22, D2: SIGTERM to `massredist run --engine fenicsx` no longer orphans the engine. The
-/// engine's stdout and stdin are pipes to massredist (the stream): once it is gone, mpirun's
-/// forwarding of rank 0's records hits a closed pipe and mpirun ends the job, and rank 0 reads
-/// the end of its input as "hide" and stops at its next state; so mpirun and its ranks end
-/// within seconds, and the next run into the same --out removes the partial folder and writes.
+/// Issue 22, D2: SIGTERM to `massredist run --engine fenicsx` no longer orphans the engine.
+/// mpirun runs in its own process group, to which massredist's signal thread forwards the signal
+/// before it removes the staging folder (src/output/staging.rs); the stream's pipes are a second
+/// way out (mpirun ends the job on a closed pipe, rank 0 reads the end of its input as "hide").
+/// So mpirun and its ranks end within seconds, and the next run into the same --out writes.
+/// Seen failing after the merge with the signal cleanup (the staging folder removed, the
+/// process exiting) and before the forwarding: mpirun and both ranks still ran 20 s later.
 // Before: the same steps with the starting commit's binary (/work/baseline/massredist and the
 // python/ of /work/main) left mpirun and both python ranks running 20 s after SIGTERM (checked by
 // hand, 2026-11-25). mutation: EOF read as "go" and write errors ignored in stream.py -> still

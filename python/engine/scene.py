@@ -160,8 +160,29 @@ def expression(text, names):
             raise SceneError(f"expression {text!r}: {type(node).__name__} is not allowed")
         if isinstance(node, ast.Name) and node.id not in _FUNCS and node.id not in names:
             raise SceneError(f"expression {text!r}: unknown name {node.id!r}")
+    tree = ast.fix_missing_locations(_Float64().visit(tree))
     code = compile(tree, "<scene expression>", "eval")
-    return lambda **env: np.asarray(eval(code, {"__builtins__": {}, **_FUNCS}, env), dtype=float)
+    scope = {"__builtins__": {}, "_f64": np.float64, **_FUNCS}
+
+    def evaluate(**env):
+        env = {k: np.float64(v) if isinstance(v, (int, float)) else v for k, v in env.items()}
+        with np.errstate(all="ignore"):
+            return np.asarray(eval(code, scope, env), dtype=float)
+    return evaluate
+
+
+class _Float64(ast.NodeTransformer):
+    """Every number a numpy float64, as src/expr computes in f64: ``9^9^9`` is inf there and
+    here, not an exact integer of 370 million digits that Python would compute for minutes, and
+    ``10^400``, ``1/0`` are inf, not an OverflowError or a ZeroDivisionError (issue 22, D9)."""
+
+    def visit_Constant(self, node):
+        try:
+            value = float(node.value)
+        except OverflowError:  # an integer literal beyond the f64 range
+            value = math.inf
+        call = ast.Call(ast.Name("_f64", ast.Load()), [ast.Constant(value)], [])
+        return ast.copy_location(call, node)
 
 
 def initial_fields(scene):

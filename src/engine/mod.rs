@@ -327,6 +327,8 @@ fn too_many_ranks(ranks: usize) -> Option<EngineError> {
 /// output read line by line ([`stream::parse`]) and its standard input for the replies.
 struct Engine {
     child: std::process::Child,
+    /// The engine's process group, to which massredist forwards SIGTERM, SIGINT and SIGHUP.
+    _group: crate::output::ChildGroup,
     lines: std::io::Lines<std::io::BufReader<std::process::ChildStdout>>,
     replies: Option<std::process::ChildStdin>,
 }
@@ -338,10 +340,14 @@ impl Engine {
         cmd.arg(program("MASSREDIST_PYTHON", "/usr/bin/python3"));
         cmd.arg(entry_point()).arg(scene_file).arg(dir);
         cmd.stdin(std::process::Stdio::piped()).stdout(std::process::Stdio::piped());
+        // Its own process group, so that a signal to massredist reaches mpirun and its ranks
+        // through the signal thread (src/output/staging.rs), which then removes the folder.
+        std::os::unix::process::CommandExt::process_group(&mut cmd, 0);
         let mut child = cmd.spawn().map_err(EngineError::Output)?;
+        let _group = crate::output::ChildGroup::register(child.id());
         let stdout = child.stdout.take().expect("stdout is piped");
         let replies = child.stdin.take();
-        Ok(Engine { child, lines: std::io::BufReader::new(stdout).lines(), replies })
+        Ok(Engine { child, _group, lines: std::io::BufReader::new(stdout).lines(), replies })
     }
 
     /// The next record (None at the end of the engine's output); other lines go to stderr.

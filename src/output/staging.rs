@@ -203,9 +203,48 @@ impl Live {
     }
 }
 
-/// Starts the signal thread (module docs): on SIGTERM, SIGINT or SIGHUP it removes every live
-/// staging folder and exits with 128 + the signal; SIGXFSZ is caught so that the write fails
-/// instead. Call once, early in `main`.
+/// Process groups of children that write into a staging folder (the FEniCSx engine's `mpirun`
+/// and its ranks): the signal thread forwards the signal to them first.
+static GROUPS: Mutex<Vec<i32>> = Mutex::new(Vec::new());
+
+/// A child's process group registered for signal forwarding while the guard lives (the child
+/// was started with `process_group(0)`, so its group id is its pid).
+#[derive(Debug)]
+pub struct ChildGroup(i32);
+
+impl ChildGroup {
+    pub fn register(pid: u32) -> ChildGroup {
+        let pgid = pid as i32;
+        GROUPS.lock().unwrap_or_else(PoisonError::into_inner).push(pgid);
+        ChildGroup(pgid)
+    }
+}
+
+impl Drop for ChildGroup {
+    fn drop(&mut self) {
+        GROUPS.lock().unwrap_or_else(PoisonError::into_inner).retain(|&g| g != self.0);
+    }
+}
+
+/// Sends `signal` to every registered group and waits (at most 5 s) until they are gone, so
+/// that nothing writes into a staging folder while it is removed.
+fn stop_groups(signal: i32) {
+    let groups = GROUPS.lock().unwrap_or_else(PoisonError::into_inner).clone();
+    for &g in &groups {
+        // SAFETY: kill(2) with a negative pid signals a process group; no memory is involved.
+        unsafe { libc::kill(-g, signal) };
+    }
+    let started = std::time::Instant::now();
+    // kill(-g, 0) fails (ESRCH) once no process of the group is left.
+    while groups.iter().any(|&g| unsafe { libc::kill(-g, 0) } == 0) && started.elapsed().as_secs() < 5 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+/// Starts the signal thread (module docs): on SIGTERM, SIGINT or SIGHUP it forwards the signal
+/// to the registered child groups ([`ChildGroup`]), removes every live staging folder and exits
+/// with 128 + the signal; SIGXFSZ is caught so that the write fails instead. Call once, early in
+/// `main`.
 pub fn install_signal_cleanup() -> std::io::Result<()> {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGXFSZ};
     let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGINT, SIGHUP, SIGXFSZ])?;
@@ -214,6 +253,7 @@ pub fn install_signal_cleanup() -> std::io::Result<()> {
             if signal == SIGXFSZ {
                 continue;
             }
+            stop_groups(signal);
             let held = live();
             for (_, staging, parents) in held.iter() {
                 remove_tree(staging, parents);
