@@ -9,6 +9,8 @@
 //! Each test runs the built binary in a temporary folder. Exit codes: 0 success, 1 failure while
 //! computing or writing, 2 invalid input or refused output (nothing computed, nothing written).
 
+mod common;
+use common::dead_pid;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -187,14 +189,6 @@ fn force_replaces_a_foreign_folder_but_never_the_current_one() {
         assert_refused(&o, &["current folder"]);
         assert_eq!(names(&cwd), set(&["keep.txt"]), "{out}");
     }
-}
-
-/// A pid that is certainly not running: a child that has exited and been reaped.
-fn dead_pid() -> u32 {
-    let mut child = Command::new("true").spawn().unwrap();
-    let pid = child.id();
-    child.wait().unwrap();
-    pid
 }
 
 /// A partial folder `.out.tmp-<pid>` left by a killed run (it carries the marker) is removed by

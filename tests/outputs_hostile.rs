@@ -8,6 +8,8 @@
 //! Each test was run against the unfixed binary (commit a8ddfb4) and failed there, as its
 //! comment says.
 
+mod common;
+use common::dead_pid;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -77,14 +79,6 @@ fn a_users_file_inside_a_listed_subfolder_needs_force() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!out.join("vtu/keep").exists());
     assert_eq!(names(tmp.path()), ["out", "p.toml"]);
-}
-
-/// A pid that is certainly not running: a child that has exited and been reaped.
-fn dead_pid() -> u32 {
-    let mut child = Command::new("true").spawn().unwrap();
-    let pid = child.id();
-    child.wait().unwrap();
-    pid
 }
 
 /// D10. Unfixed: `.res.tmp-<dead pid>` (no marker) was removed with the user's file in it.
