@@ -326,20 +326,31 @@ fn classify(path: &Path, force: bool, protected: &[(PathBuf, &'static str)]) -> 
 /// sorted. Symbolic links are entries, not followed.
 fn walk(dir: &Path) -> std::io::Result<BTreeSet<String>> {
     let mut out = BTreeSet::new();
+    walk_each(dir, |name| {
+        out.insert(name.to_string());
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+/// [`walk`]'s entries handed to `each` one at a time, in directory order, without collecting
+/// them: the marker of a run with 10⁵ frames is written in constant memory.
+fn walk_each(dir: &Path, mut each: impl FnMut(&str) -> std::io::Result<()>) -> std::io::Result<()> {
     let mut pending = vec![(dir.to_path_buf(), String::new())];
     while let Some((at, prefix)) = pending.pop() {
         for e in std::fs::read_dir(&at)? {
             let e = e?;
             let name = format!("{prefix}{}", e.file_name().to_string_lossy());
             if e.file_type()?.is_dir() {
-                pending.push((e.path(), format!("{name}/")));
-                out.insert(format!("{name}/"));
+                let folder = format!("{name}/");
+                each(&folder)?;
+                pending.push((e.path(), folder));
             } else {
-                out.insert(name);
+                each(&name)?;
             }
         }
     }
-    Ok(out)
+    Ok(())
 }
 
 /// What the marker in `dir` lists, or `None` without a marker massredist wrote.
@@ -363,12 +374,16 @@ fn marker_head() -> String {
 
 /// Completes the marker in `dir` with everything written into it, at any depth (sorted).
 fn write_marker(dir: &Path) -> std::io::Result<()> {
-    let mut text = marker_head();
-    for n in walk(dir)?.iter().filter(|n| *n != MARKER) {
-        text.push_str(n);
-        text.push('\n');
-    }
-    std::fs::write(dir.join(MARKER), text)
+    use std::io::Write;
+    // Written beside the folder's entries and renamed in, so that the walk skips it by name.
+    let part_name = format!("{MARKER}.part");
+    let part = dir.join(&part_name);
+    let mut w = std::io::BufWriter::new(std::fs::File::create(&part)?);
+    w.write_all(marker_head().as_bytes())?;
+    walk_each(dir, |n| if n == MARKER || n == part_name { Ok(()) } else { writeln!(w, "{n}") })?;
+    w.flush()?;
+    drop(w);
+    std::fs::rename(part, dir.join(MARKER))
 }
 
 #[cfg(test)]
