@@ -10,7 +10,7 @@
 //! computing or writing, 2 invalid input or refused output (nothing computed, nothing written).
 
 mod common;
-use common::dead_pid;
+use common::{assert_refused, dead_pid, stderr};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -41,20 +41,6 @@ fn set(items: &[&str]) -> BTreeSet<String> {
 /// `massredist run SCENE --out OUT [extra…]`.
 fn run(scene: &Path, out: &Path, extra: &[&str]) -> Output {
     bin().arg("run").arg(scene).arg("--out").arg(out).args(extra).output().unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// Asserts a refusal: exit code 2, a message containing every needle, and no run output.
-fn assert_refused(o: &Output, needles: &[&str]) {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    for n in needles {
-        assert!(err.contains(n), "message lacks {n:?}: {err}");
-    }
-    assert!(!err.contains(" steps in "), "the run was computed before the refusal: {err}");
 }
 
 /// A temporary folder holding the test scene as `s.toml`.

@@ -9,7 +9,7 @@
 //! comment says.
 
 mod common;
-use common::dead_pid;
+use common::{assert_refused, dead_pid, stderr};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -27,25 +27,11 @@ fn run(scene: &Path, out: &Path, extra: &[&str]) -> Output {
     bin().arg("run").arg(scene).arg("--out").arg(out).args(extra).output().unwrap()
 }
 
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
 fn names(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> =
         std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     v.sort();
     v
-}
-
-/// Exit code 2, every needle in the message, and nothing computed.
-fn assert_refused(o: &Output, needles: &[&str]) {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    for n in needles {
-        assert!(err.contains(n), "message lacks {n:?}: {err}");
-    }
-    assert!(!err.contains(" steps in "), "the run was computed before the refusal: {err}");
 }
 
 /// A small plate scene writing VTU frames into `vtu/`.
