@@ -198,13 +198,21 @@ fn energy_text(config: &Config, group: &[&CaseResult]) -> String {
     let fin: Vec<String> = group
         .iter()
         .map(|r| {
-            format!(
-                "{} {} (min {}, max {})",
-                r.case.mass.name(),
-                r.stable(|s| Some(s.energy_final), 6),
-                r.stable(|s| Some(s.energy_min), 6),
-                r.stable(|s| Some(s.energy_max), 6)
-            )
+            let (name, min) = (r.case.mass.name(), r.stable(|s| Some(s.energy_min), 6));
+            match r.failure {
+                // A diverged run stops at its first energy above the divergence threshold: its
+                // last energy is that threshold's crossing, not a physical value (issue 22).
+                Some(_) => format!(
+                    "{name} none: the run diverged, its last energy {} is where it crossed the divergence threshold ({:e} × max(|E⁰|, E_F)) and stopped (min {min})",
+                    r.stable(|s| Some(s.energy_final), 2),
+                    crate::driver::DivergenceCriterion::DEFAULT_ENERGY_FACTOR
+                ),
+                None => format!(
+                    "{name} {} (min {min}, max {})",
+                    r.stable(|s| Some(s.energy_final), 6),
+                    r.stable(|s| Some(s.energy_max), 6)
+                ),
+            }
         })
         .collect();
     let _ = write!(s, "Final energy: {}.", fin.join(", "));
