@@ -31,10 +31,10 @@
 pub mod stream;
 
 use crate::driver::{DivergenceCriterion, DivergenceWatch, Observer};
-use crate::exact::{Exact, ImpactingBar};
+use crate::exact::Exact;
 use crate::observe::{Summary, SummaryObserver};
 use crate::output::{OutputDir, SeriesWriter, commit_run};
-use crate::scene::{Body, PlateInitial, PlateSpec, Scene};
+use crate::scene::{PlateSpec, Scene};
 use crate::solid::SolidSpec;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -160,14 +160,8 @@ impl EngineGeometry for PlateSpec {
         self.mesh_file.as_ref().map(|_| "plate.mesh: the fenicsx engine runs structured plates only (for now)".into())
     }
 
-    /// As [`crate::plate::PlateProblem::with_plane_wave`]: the paper's closed form for its
-    /// data, else the plane wave where the data allow it.
     fn exact(&self, t_end: f64) -> Result<Option<Exact>, String> {
-        if self.initial == PlateInitial::Paper && self.body == Body::default() {
-            return Ok(Some(Exact::Paper(ImpactingBar { length: self.length })));
-        }
-        let wave = crate::plate::problem::plane_wave(self, t_end).map_err(|e| e.to_string())?;
-        Ok(wave.map(|c| Exact::General(std::sync::Arc::new(c))))
+        PlateSpec::exact(self, t_end).map_err(|e| e.to_string())
     }
 
     fn streamed(&self, head: &Head) -> StreamedGeometry {

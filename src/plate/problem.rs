@@ -40,12 +40,10 @@ impl PlateProblem {
     }
 
     /// [`PlateProblem::new`] with the plane-wave exact solution up to `t_end` where the data allow
-    /// it and the closed form does not apply.
+    /// it and the closed form does not apply ([`PlateSpec::exact`]).
     pub fn with_plane_wave(spec: &PlateSpec, mass: &MassKind, t_end: f64) -> Result<Self, PlateError> {
         let mut problem = Self::new(spec, mass)?;
-        if problem.exact.is_none() {
-            problem.exact = plane_wave(spec, t_end)?.map(|c| Exact::General(std::sync::Arc::new(c)));
-        }
+        problem.exact = spec.exact(t_end)?;
         Ok(problem)
     }
 
@@ -106,9 +104,21 @@ fn transient_load(
     Ok(crate::system::Forcing(std::sync::Arc::new(forcing)))
 }
 
+impl PlateSpec {
+    /// The exact solution up to `t_end` (None if none is known): the paper's closed form for its
+    /// data on its body, else the plane wave where the data allow it. The Rust run and the
+    /// FEniCSx engine's observers both take it from here.
+    pub fn exact(&self, t_end: f64) -> Result<Option<Exact>, PlateError> {
+        if self.has_paper_solution() {
+            return Ok(Some(Exact::Paper(ImpactingBar { length: self.length })));
+        }
+        Ok(plane_wave(self, t_end)?.map(|c| Exact::General(std::sync::Arc::new(c))))
+    }
+}
+
 /// The plane-wave solution of a plate with y-independent data and no force: the bar's solution
 /// by characteristics, extended in y (None otherwise).
-pub(crate) fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, PlateError> {
+fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, PlateError> {
     let b = &spec.body;
     if !spec.initial.y_independent() || b.force.constant() != Some(0.0) {
         return Ok(None);
