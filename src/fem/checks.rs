@@ -37,7 +37,8 @@ impl Mesh {
         if extent[0] <= 0.0 {
             return Err(MeshError::Extent { axis: "x", value: extent[0] });
         }
-        let mut mesh = Self { dim, points: pts, cells: cells.to_vec(), kind, extent, grid: None };
+        let mut mesh =
+            Self { dim, points: pts, cells: cells.to_vec(), kind, extent, grid: None, groups: Default::default() };
         let tol = 1e-12 * extent.iter().sum::<f64>();
         for c in 0..mesh.n_cells() {
             let p = mesh.cell_points(c);

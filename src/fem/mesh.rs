@@ -75,6 +75,9 @@ pub struct Mesh {
     pub extent: [f64; 3],
     /// `[nx, ny, nz]` for a structured mesh (nz = 0 in 2D).
     pub grid: Option<[usize; 3]>,
+    /// Named node sets (a mesh file's physical groups): name → node indices, sorted, each once.
+    /// Empty for structured meshes.
+    pub groups: std::collections::BTreeMap<String, Vec<usize>>,
 }
 
 /// `x_k = ext k/n`, the last one set to ext exactly.
@@ -119,7 +122,7 @@ impl Mesh {
             }
         }
         let extent = [length, height, 0.0];
-        Ok(Self { dim: 2, points, cells, kind, extent, grid: Some([nx, ny, 0]) })
+        Ok(Self { dim: 2, points, cells, kind, extent, grid: Some([nx, ny, 0]), groups: Default::default() })
     }
 
     /// The structured mesh of (0, L) × (0, H) × (0, D) with nx × ny × nz cubes: hexahedra, or
@@ -168,7 +171,7 @@ impl Mesh {
                 }
             }
         }
-        Ok(Self { dim: 3, points, cells, kind, extent, grid: Some(n) })
+        Ok(Self { dim: 3, points, cells, kind, extent, grid: Some(n), groups: Default::default() })
     }
 
     pub fn n_nodes(&self) -> usize {
