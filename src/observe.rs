@@ -110,8 +110,11 @@ pub struct Summary {
     pub status: Status,
     /// Where and why the run stopped (null for a run with status "ok").
     pub divergence: Option<Divergence>,
-    /// The steps asked for (a diverged run stopped at `divergence.step`).
+    /// The steps whose states this summary describes: `steps_requested` for a completed run,
+    /// the last state shown for a diverged one (0 when even t_0 was not finite).
     pub steps: usize,
+    /// The steps the scene asked for (`time.end / time.dt`).
+    pub steps_requested: usize,
     pub h: f64,
     pub dt: f64,
     /// max over t_n of ‖u_h(t_n) − u(t_n)‖_{L²(Ω)} (null without exact solution).
@@ -195,6 +198,8 @@ pub struct SummaryObserver {
     /// The last state seen, and its λ term `Δt (λⁿ − λ(t_n))²` (weighted 1 unless n = steps).
     last_n: usize,
     last_lambda_term: f64,
+    /// Whether any state was shown (a run diverged at t_0 shows none: its maxima are null).
+    seen: bool,
     divergence: Option<Divergence>,
     started: std::time::Instant,
 }
@@ -241,18 +246,20 @@ impl SummaryObserver {
             final_force: f64::NAN,
             last_n: 0,
             last_lambda_term: 0.0,
+            seen: false,
             divergence: None,
             started: std::time::Instant::now(),
         }
     }
 
     pub fn finish(&self) -> Summary {
-        let exact = |v: f64| self.has_exact.then_some(v);
-        let l2 = |v: f64| (self.has_exact && self.with_l2).then_some(v);
+        let exact = |v: f64| (self.has_exact && self.seen).then_some(v);
+        let l2 = |v: f64| (self.has_exact && self.with_l2 && self.seen).then_some(v);
         Summary {
             status: if self.divergence.is_some() { Status::Diverged } else { Status::Ok },
             divergence: self.divergence,
-            steps: self.steps,
+            steps: if self.divergence.is_some() { self.last_n } else { self.steps },
+            steps_requested: self.steps,
             h: self.h,
             dt: self.dt,
             linf_l2_error: l2(self.linf_l2),
@@ -263,7 +270,7 @@ impl SummaryObserver {
             energy_final: self.energy[1],
             energy_min: self.energy[2],
             energy_max: self.energy[3],
-            energy_exact: exact(self.exact_energy),
+            energy_exact: self.has_exact.then_some(self.exact_energy),
             first_impact_time: self.first_impact,
             first_release_time: self.first_release,
             impact_time_shift: self.first_impact.zip(self.first_contact).map(|(t, c)| t - c.0),
@@ -271,7 +278,7 @@ impl SummaryObserver {
             final_u0: self.final_u0,
             min_u0: self.min_u0,
             max_lambda: self.max_lambda,
-            max_complementarity_product: self.max_product,
+            max_complementarity_product: if self.seen { self.max_product } else { f64::NAN },
             energy_max_increase: self.max_increase.0,
             energy_max_increase_step: self.max_increase.1,
             energy_max_increase_after_first: self.max_increase_after_first,
@@ -310,6 +317,7 @@ impl Observer for SummaryObserver {
     fn observe(&mut self, s: &Sample) {
         let st = s.state;
         self.last_n = st.n;
+        self.seen = true;
         self.energy(st.n, s.energy);
         let u0 = s.u0;
         self.final_u0 = u0;
