@@ -139,3 +139,53 @@ fn windows_give_the_whole_marchs_numbers_bit_for_bit() {
     times.shuffle(&mut rng);
     assert_same(&whole, &windowed, &times, "smooth");
 }
+
+/// Issue 22, D1 (time): the march costs ~0.5 µs per crossing, so a 6-element bar with wave
+/// speed c = 10¹⁰ over three steps of 0.01 (3·10⁸ crossings) spent minutes in `check` (E = 10¹⁶,
+/// T = 1, 10⁸ crossings: 54 s on ec19309). Such a horizon is now refused at once, by `check` and
+/// `run`, with exit 2 naming the crossings, the limit and `time.end`; 10⁷ crossings still pass
+/// (c = 10⁶, T = 1: 10⁶). The run is timed out at 60 s, so the unfixed code fails here.
+#[test]
+fn a_horizon_of_too_many_crossings_is_refused_at_once() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = |modulus: &str, end: &str| {
+        let p = tmp.path().join(format!("s{modulus}.toml"));
+        let text = format!(
+            "[bar]\nelements = 6\nmodulus = {modulus}\ninitial = {{ displacement = \"(1-x)/2\", velocity = \"0\" }}\n[time]\ndt = 0.01\nend = {end}\n"
+        );
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let bin = env!("CARGO_BIN_EXE_massredist");
+    let timed = |args: &[&std::ffi::OsStr]| {
+        let mut child = std::process::Command::new(bin)
+            .args(args)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let start = std::time::Instant::now();
+        while child.try_wait().unwrap().is_none() {
+            if start.elapsed().as_secs() > 60 {
+                child.kill().unwrap();
+                panic!("{args:?} still running after 60 s");
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        child.wait_with_output().unwrap()
+    };
+    let stiff = scene("1e20", "0.03");
+    let out = tmp.path().join("out");
+    for args in [
+        vec![std::ffi::OsStr::new("check"), stiff.as_os_str()],
+        vec!["run".as_ref(), stiff.as_os_str(), "--out".as_ref(), out.as_os_str()],
+    ] {
+        let o = timed(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("3.000e8 crossings") && err.contains("at most 1e7") && err.contains("time.end"), "{err}");
+    }
+    assert!(!out.exists());
+    let fine = timed(&["check".as_ref(), scene("1e12", "1").as_os_str()]);
+    assert_eq!(fine.status.code(), Some(0), "{}", String::from_utf8_lossy(&fine.stderr));
+}
