@@ -139,11 +139,12 @@ fn main() -> ExitCode {
         #[cfg(feature = "python")]
         Command::Crosscheck { json } => crosscheck(json),
         Command::Check { scene } => match AnyScene::from_file(&scene).and_then(|s| {
-            massredist::run::check(&s)?;
-            Ok(s)
+            let estimate = massredist::run::check(&s)?;
+            Ok((s, estimate))
         }) {
-            Ok(s) => {
+            Ok((s, estimate)) => {
                 print!("{}", s.resolved_toml());
+                eprintln!("{}: {}", scene.display(), describe(&estimate));
                 ExitCode::SUCCESS
             }
             Err(e) => fail(&scene, e.to_string(), exit::INVALID),
@@ -325,4 +326,16 @@ fn crosscheck(json: Option<PathBuf>) -> ExitCode {
 fn fail(path: &std::path::Path, msg: String, code: u8) -> ExitCode {
     eprintln!("error: {}: {msg}", path.display());
     ExitCode::from(code)
+}
+
+/// `check`'s estimate of a run ([`massredist::run::Estimate`]) in one line.
+fn describe(e: &massredist::run::Estimate) -> String {
+    let head = format!("{} unknowns, set up in {:.3} s", e.unknowns, e.setup_seconds);
+    match (e.step_seconds, e.run_seconds()) {
+        (Some(step), Some(run)) => format!(
+            "{head}; {:.3e} s per step (mean of the first {}), so about {:.3e} s for the {} steps (without output)",
+            step, e.probe_steps, run, e.steps
+        ),
+        _ => format!("{head}; its first step did not complete, no time estimate"),
+    }
 }

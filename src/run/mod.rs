@@ -97,10 +97,55 @@ pub fn setup<G: GeometrySpec>(scene: &Scene<G>) -> Result<Setup<G::System>, Scen
     Ok(Setup { problem, scheme })
 }
 
-/// Sets a scene up as `run` does (assembly, exact solution, factorisation) without stepping:
-/// `check` calls it, so a scene `check` accepts starts its run.
-pub fn check(scene: &AnyScene) -> Result<(), SceneError> {
-    crate::with_scene!(scene, s => setup(s).map(|_| ()))
+/// Sets a scene up as `run` does (assembly, exact solution, factorisation), so a scene `check`
+/// accepts starts its run, and times that set-up and the first few steps ([`Estimate`]).
+pub fn check(scene: &AnyScene) -> Result<Estimate, SceneError> {
+    crate::with_scene!(scene, s => estimate(s))
+}
+
+/// What `check` measured of a scene: the set-up's wall time, and the mean wall time of its
+/// first steps (up to [`Estimate::PROBE_STEPS`] of them or [`Estimate::PROBE_SECONDS`]), from
+/// which [`Estimate::run_seconds`] extrapolates the run. An implicit step of a plate or solid
+/// streams its factor (memory bound), so its time per step is steady after the first; the
+/// first steps include the impact's extra contact pivots, which makes the estimate high rather
+/// than low. Output (series, VTU) is not included.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimate {
+    pub unknowns: usize,
+    pub steps: usize,
+    pub setup_seconds: f64,
+    /// The mean step time over `probe_steps` (None if no step could be taken: the scheme
+    /// failed at once).
+    pub step_seconds: Option<f64>,
+    pub probe_steps: usize,
+}
+
+impl Estimate {
+    pub const PROBE_STEPS: usize = 16;
+    pub const PROBE_SECONDS: f64 = 0.5;
+
+    /// Set-up plus `steps` times the mean step.
+    pub fn run_seconds(&self) -> Option<f64> {
+        self.step_seconds.map(|s| self.setup_seconds + s * self.steps as f64)
+    }
+}
+
+fn estimate<G: GeometrySpec>(scene: &Scene<G>) -> Result<Estimate, SceneError> {
+    let start = std::time::Instant::now();
+    let Setup { problem, mut scheme } = setup(scene)?;
+    let setup_seconds = start.elapsed().as_secs_f64();
+    let unknowns = G::totals(&problem.system).unknowns;
+    let probe = std::time::Instant::now();
+    let mut taken = 0;
+    while taken < Estimate::PROBE_STEPS.min(scene.time.steps) && probe.elapsed().as_secs_f64() < Estimate::PROBE_SECONDS
+    {
+        if scheme.step().is_err() {
+            break;
+        }
+        taken += 1;
+    }
+    let step_seconds = (taken > 0).then(|| probe.elapsed().as_secs_f64() / taken as f64);
+    Ok(Estimate { unknowns, steps: scene.time.steps, setup_seconds, step_seconds, probe_steps: taken })
 }
 
 /// Runs a problem with its scheme, its summary and `observers` (series, frames, progress)

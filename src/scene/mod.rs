@@ -53,8 +53,11 @@ use thiserror::Error;
 /// observers.
 pub const MAX_ELEMENTS: usize = 10_000_000;
 
-/// Upper bound on unknowns × steps (every geometry): at ~10 ns per unknown-step (a release
-/// build's bar; a plate's sparse step costs more per unknown) about 2 minutes of a bar.
+/// Upper bound on unknowns × steps (every geometry), a guard against absurd input rather than
+/// a time limit: at ~10 ns per unknown-step it is about 2 minutes of a bar, but an implicit
+/// plate or solid step streams its Cholesky factor, whose size grows faster than the unknowns
+/// (a 3D scene at this cap takes most of an hour). `check` measures the scene's own step and
+/// prints the run's time ([`crate::run::Estimate`]).
 pub const MAX_NODE_STEPS: f64 = 1e10;
 
 /// The default `output.divergence_factor` (its reason: the driver's
