@@ -4,6 +4,8 @@
 
 use crate::errors::{scene_error, scene_error_msg};
 use massredist::scene::AnyScene;
+use massredist::scene::mesh_file::{ARRAY_MESH, ArrayMesh, with_array_mesh};
+use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use std::path::{Path, PathBuf};
@@ -16,16 +18,42 @@ pub struct Scene {
     source: toml::Table,
     /// The folder a mesh file is relative to.
     base: PathBuf,
+    /// A mesh given as arrays (`mesh=`), standing for `<table>.mesh = "<arrays>"`.
+    arrays: Option<ArrayMesh>,
 }
 
+/// The `mesh=` argument: points (n × 2 or 3), cells (c × vertices), meshio's cell kind.
+type MeshArg<'py> = (PyReadonlyArray2<'py, f64>, PyReadonlyArray2<'py, i64>, String);
+
 impl Scene {
-    fn new(py: Python<'_>, source: toml::Table, base: PathBuf) -> PyResult<Self> {
+    fn new(py: Python<'_>, mut source: toml::Table, base: PathBuf, arrays: Option<ArrayMesh>) -> PyResult<Self> {
+        if arrays.is_some() {
+            let table = ["plate", "solid"].into_iter().find(|t| source.contains_key(*t));
+            let Some(toml::Value::Table(t)) = table.and_then(|t| source.get_mut(t)) else {
+                let msg = "mesh: a mesh given as arrays needs a [plate] or [solid] table".to_string();
+                return Err(scene_error_msg(py, msg, Some("mesh".into())));
+            };
+            t.insert("mesh".into(), toml::Value::String(ARRAY_MESH.into()));
+        }
         let text = toml::to_string(&source).map_err(|e| scene_error_msg(py, e.to_string(), None))?;
         // Validation (with the mesh file it may read) runs without the GIL.
-        let parsed = py.detach(|| AnyScene::from_toml_at(&text, &base));
+        let parsed = py.detach(|| match &arrays {
+            Some(a) => with_array_mesh(a.clone(), || AnyScene::from_toml_at(&text, &base)),
+            None => AnyScene::from_toml_at(&text, &base),
+        });
         let any = parsed.map_err(|e| scene_error(py, &e))?;
-        Ok(Self { any, source, base })
+        Ok(Self { any, source, base, arrays })
     }
+}
+
+/// The arrays of `mesh=` as a file's blocks.
+fn array_mesh(mesh: Option<MeshArg<'_>>) -> PyResult<Option<ArrayMesh>> {
+    let Some((points, cells, kind)) = mesh else { return Ok(None) };
+    let columns = points.shape()[1];
+    let verts = cells.shape()[1];
+    let points = points.as_array().iter().copied().collect();
+    let cells = cells.as_array().iter().copied().collect();
+    Ok(Some(ArrayMesh { points, columns, blocks: vec![(kind, cells, verts)] }))
 }
 
 /// Parses TOML text into a table, with the CLI's message (and key) for a syntax error.
@@ -44,10 +72,10 @@ fn parse_table(py: Python<'_>, text: &str) -> PyResult<toml::Table> {
 impl Scene {
     /// A scene from TOML text; a mesh file it names is relative to `base`.
     #[staticmethod]
-    #[pyo3(signature = (text, base = None))]
-    fn from_toml(py: Python<'_>, text: &str, base: Option<PathBuf>) -> PyResult<Self> {
+    #[pyo3(signature = (text, base = None, mesh = None))]
+    fn from_toml(py: Python<'_>, text: &str, base: Option<PathBuf>, mesh: Option<MeshArg<'_>>) -> PyResult<Self> {
         let source = parse_table(py, text)?;
-        Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")))
+        Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")), array_mesh(mesh)?)
     }
 
     /// A scene from a TOML file (read as the CLI reads it: at most 16 MB, UTF-8).
@@ -58,15 +86,20 @@ impl Scene {
         let text = std::fs::read_to_string(&path).map_err(|e| scene_error_msg(py, e.to_string(), None))?;
         let source = parse_table(py, &text)?;
         let base = path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
-        Ok(Self { any, source, base })
+        Ok(Self { any, source, base, arrays: None })
     }
 
     /// A scene from a dict of tables (`{"bar": {...}, "time": {"dt": 0.01}}`).
     #[staticmethod]
-    #[pyo3(signature = (tables, base = None))]
-    fn from_dict(py: Python<'_>, tables: &Bound<'_, PyDict>, base: Option<PathBuf>) -> PyResult<Self> {
+    #[pyo3(signature = (tables, base = None, mesh = None))]
+    fn from_dict(
+        py: Python<'_>,
+        tables: &Bound<'_, PyDict>,
+        base: Option<PathBuf>,
+        mesh: Option<MeshArg<'_>>,
+    ) -> PyResult<Self> {
         let toml::Value::Table(source) = to_toml(tables.as_any(), "")? else { unreachable!("a dict is a table") };
-        Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")))
+        Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")), array_mesh(mesh)?)
     }
 
     /// A new scene with keys changed: `{"time.dt": 0.005, "mass.kind": "mod2"}` (dotted keys;
@@ -94,7 +127,7 @@ impl Scene {
                 table.insert(last.to_string(), to_toml(&v, &key)?);
             }
         }
-        Self::new(py, source, self.base.clone())
+        Self::new(py, source, self.base.clone(), self.arrays.clone())
     }
 
     /// The scene with every default filled in, as TOML (`massredist check` prints it).

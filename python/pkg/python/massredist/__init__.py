@@ -54,19 +54,59 @@ __all__ = [
 SceneLike = Union[Scene, str, "os.PathLike[str]", Mapping[str, Any]]
 
 
-def load(source: SceneLike, *, base: str | os.PathLike[str] | None = None) -> Scene:
+MeshLike = Union[tuple[Any, Any], tuple[Any, Any, str]]
+
+_KINDS = {(2, 3): "triangle", (2, 4): "quad", (3, 4): "tetra", (3, 8): "hexahedron"}
+
+
+def _mesh_arrays(mesh: MeshLike) -> tuple[np.ndarray, np.ndarray, str]:
+    points = np.ascontiguousarray(mesh[0], dtype=np.float64)
+    cells = np.ascontiguousarray(mesh[1], dtype=np.int64)
+    if points.ndim != 2 or cells.ndim != 2:
+        raise SceneError(f"mesh: points and cells must be 2D arrays (got {points.ndim}D and {cells.ndim}D)")
+    if len(mesh) > 2:
+        kind = str(mesh[2])
+    else:
+        dim = 3 if points.shape[1] == 3 and np.ptp(points[:, 2]) > 0 else 2
+        kind = _KINDS.get((dim, cells.shape[1]), f"{cells.shape[1]}-vertex cells")
+    return points, cells, kind
+
+
+def load(
+    source: SceneLike,
+    *,
+    base: str | os.PathLike[str] | None = None,
+    mesh: MeshLike | None = None,
+) -> Scene:
     """A validated scene from a TOML file, TOML text or a dict of tables.
 
     ``source`` is a :class:`Scene` (returned as is), a ``dict`` such as
     ``{"bar": {"elements": 6}, "time": {"dt": 0.01, "end": 3.0}}``, a path (``str`` or
     ``os.PathLike``) of a ``.toml`` file, or TOML text (a ``str`` with a newline, ``=`` or ``[``).
     A mesh file named by the scene is relative to the file's folder, or to ``base`` (default:
-    the current folder) for text and dicts. Raises :class:`SceneError` (a ``ValueError``) with
+    the current folder) for text and dicts.
+
+    ``mesh=(points, cells)`` (or ``(points, cells, kind)``, kind as meshio names it: triangle,
+    quad, tetra, hexahedron) gives the body of a ``[plate]`` or ``[solid]`` scene as arrays
+    instead of a mesh file (e.g. a dolfinx mesh's ``geometry.x`` and ``geometry.dofmap``,
+    vertices in meshio's order): the table's ``mesh`` becomes ``"<arrays>"`` and the arrays go
+    through the checks of a mesh file. Raises :class:`SceneError` (a ``ValueError``) with
     the CLI's message; its ``key`` attribute names the key at fault.
     """
+    base_s = None if base is None else os.fspath(base)
+    arrays = None if mesh is None else _mesh_arrays(mesh)
+    if arrays is not None:
+        if isinstance(source, Scene):
+            return Scene.from_toml(source.source_toml(), os.fspath(source.base), arrays)
+        if isinstance(source, Mapping):
+            return Scene.from_dict(dict(source), base_s, arrays)
+        if isinstance(source, os.PathLike) or (isinstance(source, str) and "=" not in source and "\n" not in source):
+            path = os.fspath(source)
+            with open(path, encoding="utf-8") as f:
+                return Scene.from_toml(f.read(), base_s or os.path.dirname(path) or ".", arrays)
+        return Scene.from_toml(source, base_s, arrays)
     if isinstance(source, Scene):
         return source
-    base_s = None if base is None else os.fspath(base)
     if isinstance(source, Mapping):
         return Scene.from_dict(dict(source), base_s)
     if isinstance(source, os.PathLike):

@@ -22,13 +22,22 @@ class Scene:
     shared sections (``[mass]``, ``[scheme]``, ``[time]``, ``[output]``)."""
 
     @staticmethod
-    def from_toml(text: str, base: str | os.PathLike[str] | None = None) -> Scene:
-        """A scene from TOML text; a mesh file is relative to ``base`` (default ".")."""
+    def from_toml(
+        text: str,
+        base: str | os.PathLike[str] | None = None,
+        mesh: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], str] | None = None,
+    ) -> Scene:
+        """A scene from TOML text; a mesh file is relative to ``base`` (default "."); ``mesh``
+        (points, cells, meshio kind) stands for the [plate] or [solid] table's mesh file."""
     @staticmethod
     def from_file(path: str | os.PathLike[str]) -> Scene:
         """A scene from a TOML file (read as the CLI reads it)."""
     @staticmethod
-    def from_dict(tables: dict[str, Any], base: str | os.PathLike[str] | None = None) -> Scene:
+    def from_dict(
+        tables: dict[str, Any],
+        base: str | os.PathLike[str] | None = None,
+        mesh: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], str] | None = None,
+    ) -> Scene:
         """A scene from a dict of tables; values: bool, int, float, str, lists, dicts, numpy."""
     def replace(self, changes: dict[str, Any]) -> Scene:
         """A new scene with dotted keys changed (``{"time.dt": 0.005}``); None removes a key."""
