@@ -9,8 +9,9 @@
 #
 # One scene (the paper's bar with Crank–Nicolson), its time step and mass redistribution changed
 # key by key with `Scene.replace` (the mesh refined with it, h = Δt), each run's L∞(0,T; L²) error and wall time read from its
-# summary: a work–precision diagram. The runs go in parallel threads (the GIL is released while
-# Rust steps). Run from the repository root; writes `work_precision.png`.
+# summary: a work–precision diagram. The runs go in two parallel threads (the GIL is released
+# while Rust steps), so a run's wall time includes what it shares of the machine: for timings
+# to quote, use `max_workers=1`. Run from the repository root; writes `work_precision.png`.
 
 # %%
 import os

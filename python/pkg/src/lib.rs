@@ -18,6 +18,10 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    // Load numpy's C API now: its first use imports numpy's Python code, where a pending
+    // Ctrl-C would raise and rust-numpy would panic (found with the interrupt guard disabled:
+    // the KeyboardInterrupt then fired inside the first array creation after a run).
+    let _ = numpy::PyArray1::<f64>::zeros(py, 0, false);
     m.add("SceneError", py.get_type::<errors::SceneError>())?;
     m.add("RunError", py.get_type::<errors::RunError>())?;
     m.add_class::<scene::Scene>()?;
