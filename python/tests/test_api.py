@@ -66,6 +66,11 @@ def test_replace_removes_with_none_and_keeps_the_original():
     changed = scene.replace({"time.dt": 0.02, "mass.kind": "mod2"})
     assert (scene.dt, changed.dt) == (0.01, 0.02)
     assert "mod2" in changed.resolved_toml() and "mod3" in scene.resolved_toml()
+    by_table = scene.replace(time={"dt": 0.02}, mass={"kind": "mod2"})
+    assert by_table.resolved_toml() == changed.resolved_toml()
+    with pytest.raises(mr.SceneError) as info:
+        scene.replace({"time.dt.x": 1})
+    assert info.value.key == "time.dt.x"
     default_series = scene.replace({"output.series": None})
     assert "series" not in default_series.source_toml().split("[output]")[1]
 

@@ -102,30 +102,30 @@ impl Scene {
         Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")), array_mesh(mesh)?)
     }
 
-    /// A new scene with keys changed: `{"time.dt": 0.005, "mass.kind": "mod2"}` (dotted keys;
-    /// None removes a key, so that its default applies).
-    fn replace(&self, py: Python<'_>, changes: &Bound<'_, PyDict>) -> PyResult<Self> {
+    /// A new scene with keys changed: `{"time.dt": 0.005, "mass.kind": "mod2"}` (dotted keys)
+    /// and/or tables as keywords, `time={"dt": 0.005}`; None removes a key, so that its
+    /// default applies.
+    #[pyo3(signature = (changes = None, **tables))]
+    fn replace(
+        &self,
+        py: Python<'_>,
+        changes: Option<&Bound<'_, PyDict>>,
+        tables: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
         let mut source = self.source.clone();
-        for (k, v) in changes.iter() {
-            let key: String = k.extract()?;
-            let parts: Vec<&str> = key.split('.').collect();
-            let (last, tables) = parts.split_last().expect("split yields one part at least");
-            let mut table = &mut source;
-            for (i, part) in tables.iter().enumerate() {
-                let entry = table.entry(part.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()));
-                table = match entry {
-                    toml::Value::Table(t) => t,
-                    _ => {
-                        let msg = format!("{key}: {} is not a table", parts[..=i].join("."));
-                        return Err(scene_error_msg(py, msg, Some(key.clone())));
+        for (table, values) in tables.map(|t| t.iter().collect::<Vec<_>>()).unwrap_or_default() {
+            let table: String = table.extract()?;
+            match values.cast::<PyDict>() {
+                Ok(d) => {
+                    for (k, v) in d.iter() {
+                        set_key(py, &mut source, &format!("{table}.{}", k.extract::<String>()?), &v)?;
                     }
-                };
+                }
+                Err(_) => set_key(py, &mut source, &table, &values)?,
             }
-            if v.is_none() {
-                table.remove(*last);
-            } else {
-                table.insert(last.to_string(), to_toml(&v, &key)?);
-            }
+        }
+        for (k, v) in changes.map(|c| c.iter().collect::<Vec<_>>()).unwrap_or_default() {
+            set_key(py, &mut source, &k.extract::<String>()?, &v)?;
         }
         Self::new(py, source, self.base.clone(), self.arrays.clone())
     }
@@ -182,6 +182,29 @@ impl Scene {
 pub fn check(py: Python<'_>, scene: &Scene) -> PyResult<String> {
     py.detach(|| massredist::run::check(&scene.any)).map_err(|e| scene_error(py, &e))?;
     Ok(scene.any.resolved_toml())
+}
+
+/// Sets the dotted `key` of `source` to `v` (None removes it), creating tables on the way.
+fn set_key(py: Python<'_>, source: &mut toml::Table, key: &str, v: &Bound<'_, PyAny>) -> PyResult<()> {
+    let parts: Vec<&str> = key.split('.').collect();
+    let (last, tables) = parts.split_last().expect("split yields one part at least");
+    let mut table = source;
+    for (i, part) in tables.iter().enumerate() {
+        let entry = table.entry(part.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        table = match entry {
+            toml::Value::Table(t) => t,
+            _ => {
+                let msg = format!("{key}: {} is not a table", parts[..=i].join("."));
+                return Err(scene_error_msg(py, msg, Some(key.to_string())));
+            }
+        };
+    }
+    if v.is_none() {
+        table.remove(*last);
+    } else {
+        table.insert(last.to_string(), to_toml(v, key)?);
+    }
+    Ok(())
 }
 
 /// A Python value as a TOML value: bool, int, float, str, list/tuple (or anything with

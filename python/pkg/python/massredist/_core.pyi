@@ -39,8 +39,9 @@ class Scene:
         mesh: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], str] | None = None,
     ) -> Scene:
         """A scene from a dict of tables; values: bool, int, float, str, lists, dicts, numpy."""
-    def replace(self, changes: dict[str, Any]) -> Scene:
-        """A new scene with dotted keys changed (``{"time.dt": 0.005}``); None removes a key."""
+    def replace(self, changes: dict[str, Any] | None = None, **tables: Any) -> Scene:
+        """A new scene with dotted keys changed (``{"time.dt": 0.005}``) and/or tables as
+        keywords (``time={"dt": 0.005}``); None removes a key (its default applies)."""
     def resolved_toml(self) -> str:
         """The scene with every default filled in, as TOML."""
     def source_toml(self) -> str:
