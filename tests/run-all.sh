@@ -19,3 +19,22 @@ cargo test --features python --all-targets
 
 echo "== the crosscheck command"
 cargo run --quiet --features python -- crosscheck --json target/crosscheck.json
+
+echo "== the Python package: pytest and the demos, in a venv (numpy 2) and with Debian's python3 (numpy 1.24, dolfinx)"
+cargo build --release --bin massredist
+export MASSREDIST_BIN="$PWD/target/release/massredist"
+for env in "${MASSREDIST_VENV:-target/python/venv}" "${MASSREDIST_DEBIAN_VENV:-target/python/debian-venv}"; do
+    echo "-- $env"
+    "$env/bin/python" -m pytest -q -p no:cacheprovider python/tests
+    out="target/python/demos-out/$(basename "$env")"
+    mkdir -p "$out"
+    for demo in python/demos/*.py; do
+        # The dolfinx demos need Debian's python3 (dolfinx is not on PyPI).
+        if grep -q "^import dolfinx" "$demo" && ! "$env/bin/python" -c "import dolfinx" 2>/dev/null; then
+            echo "   $demo: skipped (no dolfinx in $env)"
+            continue
+        fi
+        echo "   $demo"
+        MASSREDIST_DEMO_OUT="$out" "$env/bin/python" "$demo" >"$out/$(basename "$demo" .py).log"
+    done
+done

@@ -6,7 +6,7 @@
 
 use crate::driver::{DivergenceCriterion, Observer, integrate_watched};
 use crate::fem::frames::{FrameWriter, VtuFrames};
-use crate::observe::{FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
+use crate::observe::{Frame, FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
 use crate::output::{OutputDir, OutputError, SeriesWriter, commit_run};
 use crate::problem::{Geometry, Problem};
 use crate::scene::{AnyScene, Scene, SceneError, SceneGeometry};
@@ -154,7 +154,7 @@ fn estimate<G: GeometrySpec>(scene: &Scene<G>) -> Result<Estimate, SceneError> {
 fn run_observed<G: GeometrySpec>(
     scene: &Scene<G>,
     problem: &Problem<G::System>,
-    mut scheme: Box<dyn Scheme>,
+    scheme: &mut dyn Scheme,
     observers: &mut [&mut dyn Observer],
 ) -> Result<Summary, SchemeError> {
     let (time, output) = (&scene.time, &scene.output);
@@ -164,7 +164,7 @@ fn run_observed<G: GeometrySpec>(
         all.push(&mut **o);
     }
     let criterion = DivergenceCriterion { energy_factor: output.divergence_factor };
-    let _ = integrate_watched(problem, scheme.as_mut(), time.steps, &criterion, &mut all)?;
+    let _ = integrate_watched(problem, scheme, time.steps, &criterion, &mut all)?;
     Ok(summary.finish())
 }
 
@@ -177,6 +177,10 @@ pub struct SceneRun<G: Geometry> {
     pub series: SeriesRecorder,
     /// The states every `output.vtu_every` steps (None without VTU output).
     pub frames: Option<FrameRecorder>,
+    /// The scheme's state when the run stopped, at the mesh nodes
+    /// ([`crate::problem::GeometryView::nodal_values`]): the last state shown, or for a run that
+    /// diverged on a non-finite state, that state.
+    pub last: Frame,
 }
 
 /// Runs a scene: the summary always, plus the requested series and frames, held in memory (for
@@ -188,7 +192,7 @@ pub fn run_scene<G: GeometrySpec>(
     scene: &Scene<G>,
     extra: &mut [&mut dyn Observer],
 ) -> Result<SceneRun<G::System>, RunError> {
-    let Setup { problem, scheme } = setup(scene).map_err(RunError::Setup)?;
+    let Setup { problem, mut scheme } = setup(scene).map_err(RunError::Setup)?;
     let output = &scene.output;
     let rows = if output.series.is_empty() { 0 } else { scene.time.steps / output.every + 1 };
     let mut series = SeriesRecorder::new(output.series.clone(), output.every, rows);
@@ -200,8 +204,20 @@ pub fn run_scene<G: GeometrySpec>(
     for o in extra.iter_mut() {
         observers.push(&mut **o);
     }
-    let summary = run_observed(scene, &problem, scheme, &mut observers)?;
-    Ok(SceneRun { problem, summary, series, frames })
+    let summary = run_observed(scene, &problem, scheme.as_mut(), &mut observers)?;
+    drop(observers);
+    let last = last_frame(&problem.system, scheme.as_ref());
+    Ok(SceneRun { problem, summary, series, frames, last })
+}
+
+/// The scheme's current state at the mesh nodes.
+fn last_frame<G: Geometry>(geometry: &G, scheme: &dyn Scheme) -> Frame {
+    let state = scheme.state();
+    let n = geometry.n_nodes() * geometry.components();
+    let (mut u, mut v) = (vec![0.0; n], vec![0.0; n]);
+    geometry.nodal_values(state.u, &mut u);
+    geometry.nodal_values(state.v, &mut v);
+    Frame { t: state.t, u, v, lambda: state.lambda.to_vec() }
 }
 
 /// `massredist run`: runs a scene into the output folder `out` prepared before computing,
@@ -215,7 +231,7 @@ pub fn run_scene_into<G: GeometrySpec>(
     out: OutputDir,
     extra: &mut [&mut dyn Observer],
 ) -> Result<Summary, RunError> {
-    let Setup { problem, scheme } = setup(scene).map_err(RunError::Setup)?;
+    let Setup { problem, mut scheme } = setup(scene).map_err(RunError::Setup)?;
     let output = &scene.output;
     let fill = |e| out.fill_error(e);
     let mut series = match output.series.is_empty() {
@@ -237,7 +253,7 @@ pub fn run_scene_into<G: GeometrySpec>(
     if let Some(s) = series.as_mut() {
         observers.push(s);
     }
-    let summary = run_observed(scene, &problem, scheme, &mut observers)?;
+    let summary = run_observed(scene, &problem, scheme.as_mut(), &mut observers)?;
     drop(observers);
     if let Some(s) = series {
         s.finish().map_err(fill)?;

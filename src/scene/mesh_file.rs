@@ -72,8 +72,40 @@ pub struct Blocks<'a> {
     pub blocks: &'a [Block],
 }
 
+/// The file name that stands for a mesh given as arrays ([`with_array_mesh`]).
+pub const ARRAY_MESH: &str = "<arrays>";
+
+/// A mesh given as arrays, as a file would give it (points, `columns` coordinates each, and
+/// cell blocks): for library users (the Python package's `mesh=`, e.g. a dolfinx mesh).
+#[derive(Debug, Clone)]
+pub struct ArrayMesh {
+    pub points: Vec<f64>,
+    pub columns: usize,
+    pub blocks: Vec<Block>,
+}
+
+thread_local! {
+    static ARRAY_MESHES: std::cell::RefCell<Option<ArrayMesh>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Runs `f` (a scene's validation) with `mesh` standing for the mesh file named
+/// [`ARRAY_MESH`] (`plate.mesh = "<arrays>"`, `solid.mesh = "<arrays>"`) on this thread: its
+/// arrays go through the checks of a file's ([`mesh_of`]), no file is opened.
+pub fn with_array_mesh<T>(mesh: ArrayMesh, f: impl FnOnce() -> T) -> T {
+    let previous = ARRAY_MESHES.with(|m| m.replace(Some(mesh)));
+    let out = f();
+    ARRAY_MESHES.with(|m| m.replace(previous));
+    out
+}
+
 /// The mesh of `path`, the value of `key` (module docs for what is checked).
 pub fn read(key: &'static str, path: &Path) -> Result<Mesh, MeshFileError> {
+    if path.file_name().is_some_and(|n| n == ARRAY_MESH) {
+        let given = ARRAY_MESHES.with(|m| m.borrow().clone());
+        if let Some(a) = given {
+            return mesh_of(key, ARRAY_MESH, &Blocks { points: &a.points, columns: a.columns, blocks: &a.blocks });
+        }
+    }
     check_file(key, path)?;
     let shown = path.display().to_string();
     let blocks = read_blocks(key, path)?;

@@ -311,6 +311,12 @@ impl AnyScene {
         AnyScene::parse(text, std::path::Path::new("."))
     }
 
+    /// Parses and validates scene text; a mesh file is relative to `base` (the folder of the
+    /// file the text came from, for the Python package's scenes changed key by key).
+    pub fn from_toml_at(text: &str, base: &std::path::Path) -> Result<AnyScene, SceneError> {
+        AnyScene::parse(text, base)
+    }
+
     fn parse(text: &str, base: &std::path::Path) -> Result<AnyScene, SceneError> {
         let mut raw: RawScene = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
         match (raw.bar.take(), raw.plate.take(), raw.solid.take()) {

@@ -1,0 +1,60 @@
+//! The Python exceptions: `SceneError` (a `ValueError`: the input is at fault, the CLI's exit
+//! code 2) with the key it names in `.key`, and `RunError` (a `RuntimeError`: a scheme failed
+//! while stepping).
+
+use massredist::run::RunError as CoreRunError;
+use massredist::scene::SceneError as CoreSceneError;
+use pyo3::prelude::*;
+
+pyo3::create_exception!(
+    _core,
+    SceneError,
+    pyo3::exceptions::PyValueError,
+    "A scene the CLI would refuse: the same message; `.key` is the key it names (None if none)."
+);
+pyo3::create_exception!(_core, RunError, pyo3::exceptions::PyRuntimeError, "A run failed while stepping.");
+
+/// The key a scene error names, for `SceneError.key`: the key of the variants that carry one,
+/// the key before the first `:` of a parse error (`plate.cells: …`), None otherwise (the
+/// message still says what is wrong).
+fn key_of(e: &CoreSceneError) -> Option<String> {
+    use CoreSceneError as E;
+    match e {
+        E::Range { key, .. } | E::Missing { key, .. } | E::Inapplicable { key, .. } => Some((*key).to_string()),
+        E::NotAnInteger { .. } => Some("time.dt".into()),
+        E::TooManyValues { .. } => Some("output.every".into()),
+        E::TooManyFrames { .. } => Some("output.vtu_every".into()),
+        E::DuplicateColumn(_) => Some("output.series".into()),
+        E::TooMuchWork { size, .. } => Some((*size).to_string()),
+        E::TooMuchMemory { keys, .. } => Some((*keys).to_string()),
+        E::Setup { keys, .. } => Some(keys.clone()),
+        E::Parse(m) => {
+            let head = m.split(':').next().unwrap_or("");
+            let is_key = !head.is_empty() && head.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.');
+            is_key.then(|| head.to_string())
+        }
+        E::Mass(_) | E::LayerMass(_) => Some("mass".into()),
+        _ => None,
+    }
+}
+
+/// A `SceneError` with the message of the CLI and its key.
+pub fn scene_error(py: Python<'_>, e: &CoreSceneError) -> PyErr {
+    scene_error_msg(py, e.to_string(), key_of(e))
+}
+
+/// A `SceneError` from a message and a key (keys changed by `Scene.replace`).
+pub fn scene_error_msg(py: Python<'_>, message: String, key: Option<String>) -> PyErr {
+    let err = SceneError::new_err(message);
+    // Setting an attribute on a fresh exception instance cannot fail but for memory.
+    let _ = err.value(py).setattr("key", key);
+    err
+}
+
+/// A run error: `SceneError` when the scene cannot be set up, `RunError` otherwise.
+pub fn run_error(py: Python<'_>, e: &CoreRunError) -> PyErr {
+    match e {
+        CoreRunError::Setup(s) => scene_error(py, s),
+        other => RunError::new_err(other.to_string()),
+    }
+}

@@ -1,0 +1,157 @@
+//! `run`: the crate's `run::run_scene` (the CLI's step loop, divergence rule and summary) with
+//! the GIL released while Rust steps, two observers of this module's own, and the results
+//! handed to Python as numpy arrays.
+//!
+//! - [`Interrupt`] takes the GIL at most every [`SIGNAL_PERIOD`] to run Python's signal
+//!   handlers (Ctrl-C raises `KeyboardInterrupt` there); an exception halts the run (the
+//!   driver takes no further step) and is raised once `run_scene` returns. Nothing is written
+//!   anywhere, so nothing is left half-written.
+//! - [`Callback`] calls a Python function every k steps with the state at the mesh nodes.
+
+use crate::errors::run_error;
+use crate::ops::{Body, put_mesh};
+use crate::scene::Scene;
+use massredist::driver::{Needs, Observer, Sample};
+use massredist::observe::Status;
+use massredist::problem::GeometryView;
+use massredist::run::{GeometrySpec, run_scene, summary_json};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::time::{Duration, Instant};
+
+/// How often a run looks for a pending signal: a Ctrl-C is seen within this time plus one step.
+const SIGNAL_PERIOD: Duration = Duration::from_millis(20);
+/// Steps between two reads of the clock (a read costs ~20 ns; a bar step about 100 ns).
+const CLOCK_STEPS: usize = 16;
+
+/// Runs Python's signal handlers every [`SIGNAL_PERIOD`] (module docs).
+struct Interrupt {
+    steps: usize,
+    last: Instant,
+    error: Option<PyErr>,
+}
+
+impl Observer for Interrupt {
+    fn observe(&mut self, _: &Sample) {
+        self.steps += 1;
+        if !self.steps.is_multiple_of(CLOCK_STEPS) || self.last.elapsed() < SIGNAL_PERIOD {
+            return;
+        }
+        self.last = Instant::now();
+        if let Err(e) = Python::attach(|py| py.check_signals()) {
+            self.error = Some(e);
+        }
+    }
+
+    fn halted(&self) -> bool {
+        self.error.is_some()
+    }
+}
+
+/// Calls `f(n, t, u, v, reaction, energy)` every `every` steps: u and v at the mesh nodes
+/// (n × components), the contact reactions λ_c in contact order; an exception halts the run.
+struct Callback<'a> {
+    f: &'a Py<PyAny>,
+    every: usize,
+    error: Option<PyErr>,
+}
+
+impl Callback<'_> {
+    fn call(&self, s: &Sample) -> PyResult<()> {
+        let shape = (s.geometry.n_nodes(), s.geometry.components());
+        let n = shape.0 * shape.1;
+        let (mut u, mut v) = (vec![0.0; n], vec![0.0; n]);
+        s.geometry.nodal_values(s.state.u, &mut u);
+        s.geometry.nodal_values(s.state.v, &mut v);
+        Python::attach(|py| {
+            let u = Array2::from_shape_vec(shape, u).expect("n × components").into_pyarray(py);
+            let v = Array2::from_shape_vec(shape, v).expect("n × components").into_pyarray(py);
+            let reaction = PyArray1::from_slice(py, s.state.lambda);
+            self.f.call1(py, (s.state.n, s.state.t, u, v, reaction, s.energy))?;
+            Ok(())
+        })
+    }
+}
+
+impl Observer for Callback<'_> {
+    fn needs(&self) -> Needs {
+        Needs { energy: true, ..Needs::default() }
+    }
+
+    fn every(&self) -> usize {
+        self.every
+    }
+
+    fn observe(&mut self, s: &Sample) {
+        if self.error.is_none()
+            && let Err(e) = self.call(s)
+        {
+            self.error = Some(e);
+        }
+    }
+
+    fn halted(&self) -> bool {
+        self.error.is_some()
+    }
+}
+
+/// A run of one geometry's scene (see [`run`]).
+fn run_geometry<G>(
+    py: Python<'_>,
+    scene: &massredist::scene::Scene<G>,
+    callback: Option<&Py<PyAny>>,
+    every: usize,
+) -> PyResult<Py<PyDict>>
+where
+    G: GeometrySpec + Sync,
+    G::System: Body + Send,
+{
+    let mut interrupt = Interrupt { steps: 0, last: Instant::now(), error: None };
+    let result = py.detach(|| {
+        let mut callback = callback.map(|f| Callback { f, every: every.max(1), error: None });
+        let mut extra: Vec<&mut dyn Observer> = vec![&mut interrupt];
+        if let Some(c) = callback.as_mut() {
+            extra.push(c);
+        }
+        let run = run_scene(scene, &mut extra);
+        (run, callback.and_then(|c| c.error))
+    });
+    let (run, callback_error) = result;
+    if let Some(e) = interrupt.error.or(callback_error) {
+        return Err(e);
+    }
+    let run = run.map_err(|e| run_error(py, &e))?;
+    let d = PyDict::new(py);
+    let status = match run.summary.status {
+        Status::Ok => "ok",
+        Status::Diverged => "diverged",
+    };
+    d.set_item("status", status)?;
+    d.set_item("summary_json", summary_json(scene, &run.problem, &run.summary))?;
+    let names: Vec<&str> = run.series.columns.iter().map(|c| c.name()).collect();
+    let width = run.series.width();
+    let rows = run.series.rows.len() / width;
+    d.set_item("columns", names)?;
+    let table = Array2::from_shape_vec((rows, width), run.series.rows).expect("rows × width");
+    d.set_item("series", table.into_pyarray(py))?;
+    let geometry = &run.problem.system;
+    let shape = (geometry.n_nodes(), geometry.components());
+    d.set_item("t", run.last.t)?;
+    d.set_item("u", Array2::from_shape_vec(shape, run.last.u).expect("n × components").into_pyarray(py))?;
+    d.set_item("v", Array2::from_shape_vec(shape, run.last.v).expect("n × components").into_pyarray(py))?;
+    d.set_item("reaction", PyArray1::from_vec(py, run.last.lambda))?;
+    put_mesh(py, geometry, &d)?;
+    Ok(d.unbind())
+}
+
+/// Runs a scene (module docs): a dict with `status`, `summary_json` (the CLI's
+/// `summary.json` text), `columns` and `series` (rows: t, then one value per column), the
+/// final state `t`, `u`, `v` (mesh nodes × components), `reaction` (contact order) and the
+/// mesh. `callback(n, t, u, v, reaction, energy)` is called every `every` steps.
+#[pyfunction]
+#[pyo3(signature = (scene, callback = None, every = 1))]
+pub fn run(py: Python<'_>, scene: &Scene, callback: Option<Py<PyAny>>, every: usize) -> PyResult<Py<PyDict>> {
+    massredist::with_scene!(&scene.any, s => run_geometry(py, s, callback.as_ref(), every))
+}

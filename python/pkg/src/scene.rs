@@ -1,0 +1,250 @@
+//! Scenes for Python: TOML text, a TOML file or a dict, validated by the crate's own
+//! `AnyScene` (so the checks and messages are the CLI's), with the source table kept so that a
+//! sweep can change a few keys and validate again.
+
+use crate::errors::{scene_error, scene_error_msg};
+use massredist::scene::AnyScene;
+use massredist::scene::mesh_file::{ARRAY_MESH, ArrayMesh, with_array_mesh};
+use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use std::path::{Path, PathBuf};
+
+/// A validated scene (the `[bar]`, `[plate]` or `[solid]` table and the shared sections).
+#[pyclass(module = "massredist._core", frozen)]
+pub struct Scene {
+    pub any: AnyScene,
+    /// The tables as given (before defaults), for [`Scene::replace`].
+    source: toml::Table,
+    /// The folder a mesh file is relative to.
+    base: PathBuf,
+    /// A mesh given as arrays (`mesh=`), standing for `<table>.mesh = "<arrays>"`.
+    arrays: Option<ArrayMesh>,
+}
+
+/// The `mesh=` argument: points (n × 2 or 3), cells (c × vertices), meshio's cell kind.
+type MeshArg<'py> = (PyReadonlyArray2<'py, f64>, PyReadonlyArray2<'py, i64>, String);
+
+impl Scene {
+    fn new(py: Python<'_>, mut source: toml::Table, base: PathBuf, arrays: Option<ArrayMesh>) -> PyResult<Self> {
+        if arrays.is_some() {
+            let table = ["plate", "solid"].into_iter().find(|t| source.contains_key(*t));
+            let Some(toml::Value::Table(t)) = table.and_then(|t| source.get_mut(t)) else {
+                let msg = "mesh: a mesh given as arrays needs a [plate] or [solid] table".to_string();
+                return Err(scene_error_msg(py, msg, Some("mesh".into())));
+            };
+            t.insert("mesh".into(), toml::Value::String(ARRAY_MESH.into()));
+        }
+        let text = toml::to_string(&source).map_err(|e| scene_error_msg(py, e.to_string(), None))?;
+        // Validation (with the mesh file it may read) runs without the GIL.
+        let parsed = py.detach(|| match &arrays {
+            Some(a) => with_array_mesh(a.clone(), || AnyScene::from_toml_at(&text, &base)),
+            None => AnyScene::from_toml_at(&text, &base),
+        });
+        let any = parsed.map_err(|e| scene_error(py, &e))?;
+        Ok(Self { any, source, base, arrays })
+    }
+}
+
+/// The arrays of `mesh=` as a file's blocks.
+fn array_mesh(mesh: Option<MeshArg<'_>>) -> PyResult<Option<ArrayMesh>> {
+    let Some((points, cells, kind)) = mesh else { return Ok(None) };
+    let columns = points.shape()[1];
+    let verts = cells.shape()[1];
+    let points = points.as_array().iter().copied().collect();
+    let cells = cells.as_array().iter().copied().collect();
+    Ok(Some(ArrayMesh { points, columns, blocks: vec![(kind, cells, verts)] }))
+}
+
+/// Parses TOML text into a table, with the CLI's message (and key) for a syntax error.
+fn parse_table(py: Python<'_>, text: &str) -> PyResult<toml::Table> {
+    match toml::from_str::<toml::Table>(text) {
+        Ok(t) => Ok(t),
+        // The crate's parser makes the message (key, line, column) the CLI prints.
+        Err(_) => match AnyScene::from_toml(text) {
+            Err(e) => Err(scene_error(py, &e)),
+            Ok(_) => Err(scene_error_msg(py, "the scene is not a TOML table".into(), None)),
+        },
+    }
+}
+
+#[pymethods]
+impl Scene {
+    /// A scene from TOML text; a mesh file it names is relative to `base`.
+    #[staticmethod]
+    #[pyo3(signature = (text, base = None, mesh = None))]
+    fn from_toml(py: Python<'_>, text: &str, base: Option<PathBuf>, mesh: Option<MeshArg<'_>>) -> PyResult<Self> {
+        let source = parse_table(py, text)?;
+        Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")), array_mesh(mesh)?)
+    }
+
+    /// A scene from a TOML file (read as the CLI reads it: at most 16 MB, UTF-8).
+    #[staticmethod]
+    fn from_file(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        // The CLI's reader first: its size limit and its messages for a missing or binary file.
+        let any = py.detach(|| AnyScene::from_file(&path)).map_err(|e| scene_error(py, &e))?;
+        let text = std::fs::read_to_string(&path).map_err(|e| scene_error_msg(py, e.to_string(), None))?;
+        let source = parse_table(py, &text)?;
+        let base = path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+        Ok(Self { any, source, base, arrays: None })
+    }
+
+    /// A scene from a dict of tables (`{"bar": {...}, "time": {"dt": 0.01}}`).
+    #[staticmethod]
+    #[pyo3(signature = (tables, base = None, mesh = None))]
+    fn from_dict(
+        py: Python<'_>,
+        tables: &Bound<'_, PyDict>,
+        base: Option<PathBuf>,
+        mesh: Option<MeshArg<'_>>,
+    ) -> PyResult<Self> {
+        let toml::Value::Table(source) = to_toml(tables.as_any(), "")? else { unreachable!("a dict is a table") };
+        Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")), array_mesh(mesh)?)
+    }
+
+    /// A new scene with keys changed: `{"time.dt": 0.005, "mass.kind": "mod2"}` (dotted keys)
+    /// and/or tables as keywords, `time={"dt": 0.005}`; None removes a key, so that its
+    /// default applies.
+    #[pyo3(signature = (changes = None, **tables))]
+    fn replace(
+        &self,
+        py: Python<'_>,
+        changes: Option<&Bound<'_, PyDict>>,
+        tables: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        let mut source = self.source.clone();
+        for (table, values) in tables.map(|t| t.iter().collect::<Vec<_>>()).unwrap_or_default() {
+            let table: String = table.extract()?;
+            match values.cast::<PyDict>() {
+                Ok(d) => {
+                    for (k, v) in d.iter() {
+                        set_key(py, &mut source, &format!("{table}.{}", k.extract::<String>()?), &v)?;
+                    }
+                }
+                Err(_) => set_key(py, &mut source, &table, &values)?,
+            }
+        }
+        for (k, v) in changes.map(|c| c.iter().collect::<Vec<_>>()).unwrap_or_default() {
+            set_key(py, &mut source, &k.extract::<String>()?, &v)?;
+        }
+        Self::new(py, source, self.base.clone(), self.arrays.clone())
+    }
+
+    /// The scene with every default filled in, as TOML (`massredist check` prints it).
+    fn resolved_toml(&self) -> String {
+        self.any.resolved_toml()
+    }
+
+    /// The tables as given (no defaults filled in), as TOML.
+    fn source_toml(&self) -> String {
+        toml::to_string(&self.source).unwrap_or_default()
+    }
+
+    /// The geometry table: "bar", "plate" or "solid".
+    #[getter]
+    fn table(&self) -> &'static str {
+        self.any.table()
+    }
+
+    /// The time step Δt.
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.any.time().dt
+    }
+
+    /// The end time T.
+    #[getter]
+    fn end(&self) -> f64 {
+        self.any.time().end
+    }
+
+    /// The number of steps T / Δt.
+    #[getter]
+    fn steps(&self) -> usize {
+        self.any.time().steps
+    }
+
+    /// The folder a mesh file is relative to.
+    #[getter]
+    fn base(&self) -> PathBuf {
+        self.base.clone()
+    }
+
+    fn __repr__(&self) -> String {
+        let t = self.any.time();
+        format!("Scene([{}], dt={}, end={}, steps={})", self.any.table(), t.dt, t.end, t.steps)
+    }
+}
+
+/// `check`: sets the scene up as `massredist check` does (assembly, exact solution,
+/// factorisation) and returns the resolved scene as TOML.
+#[pyfunction]
+pub fn check(py: Python<'_>, scene: &Scene) -> PyResult<String> {
+    py.detach(|| massredist::run::check(&scene.any)).map_err(|e| scene_error(py, &e))?;
+    Ok(scene.any.resolved_toml())
+}
+
+/// Sets the dotted `key` of `source` to `v` (None removes it), creating tables on the way.
+fn set_key(py: Python<'_>, source: &mut toml::Table, key: &str, v: &Bound<'_, PyAny>) -> PyResult<()> {
+    let parts: Vec<&str> = key.split('.').collect();
+    let (last, tables) = parts.split_last().expect("split yields one part at least");
+    let mut table = source;
+    for (i, part) in tables.iter().enumerate() {
+        let entry = table.entry(part.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        table = match entry {
+            toml::Value::Table(t) => t,
+            _ => {
+                let msg = format!("{key}: {} is not a table", parts[..=i].join("."));
+                return Err(scene_error_msg(py, msg, Some(key.to_string())));
+            }
+        };
+    }
+    if v.is_none() {
+        table.remove(*last);
+    } else {
+        table.insert(last.to_string(), to_toml(v, key)?);
+    }
+    Ok(())
+}
+
+/// A Python value as a TOML value: bool, int, float, str, list/tuple (or anything with
+/// `tolist`, e.g. numpy arrays and scalars) and dict.
+fn to_toml(v: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
+    let py = v.py();
+    if v.is_instance_of::<PyBool>() {
+        return Ok(toml::Value::Boolean(v.extract()?));
+    }
+    if v.is_instance_of::<PyInt>() {
+        return Ok(toml::Value::Integer(v.extract()?));
+    }
+    if v.is_instance_of::<PyFloat>() {
+        return Ok(toml::Value::Float(v.extract()?));
+    }
+    if v.is_instance_of::<PyString>() {
+        return Ok(toml::Value::String(v.extract()?));
+    }
+    if let Ok(d) = v.cast::<PyDict>() {
+        let mut t = toml::Table::new();
+        for (k, x) in d.iter() {
+            let name: String = k.extract()?;
+            let sub = if key.is_empty() { name.clone() } else { format!("{key}.{name}") };
+            if !x.is_none() {
+                t.insert(name, to_toml(&x, &sub)?);
+            }
+        }
+        return Ok(toml::Value::Table(t));
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let items: PyResult<Vec<_>> = v.try_iter()?.map(|x| to_toml(&x?, key)).collect();
+        return Ok(toml::Value::Array(items?));
+    }
+    if v.hasattr("tolist")? {
+        return to_toml(&v.call_method0("tolist")?, key);
+    }
+    let type_name = v.get_type().name().map(|n| n.to_string()).unwrap_or_default();
+    Err(scene_error_msg(
+        py,
+        format!("{key}: a value of type {type_name} is not a TOML value (bool, int, float, str, list, dict)"),
+        Some(key.to_string()),
+    ))
+}
