@@ -295,6 +295,18 @@ static CODES: Mutex<Vec<(i32, i32)>> = Mutex::new(Vec::new());
 /// Runs one mutated scene through `check` and `run` and asserts the properties of the module
 /// docs; returns the two exit codes.
 fn one_case(scene: &Table, mutations: &[Mutation], allow_setup: bool) -> Result<(i32, i32), TestCaseError> {
+    one_case_on(scene, mutations, allow_setup, false)
+}
+
+/// [`one_case`], the run by the Rust stepper or (`engine`) by the FEniCSx engine on one rank,
+/// which may also refuse what it does not run (exit 2, naming the key) and must never show a
+/// Python traceback (issue 22, D15).
+fn one_case_on(
+    scene: &Table,
+    mutations: &[Mutation],
+    allow_setup: bool,
+    engine: bool,
+) -> Result<(i32, i32), TestCaseError> {
     let mut scene = scene.clone();
     for m in mutations {
         apply(&mut scene, m);
@@ -309,9 +321,15 @@ fn one_case(scene: &Table, mutations: &[Mutation], allow_setup: bool) -> Result<
     no_panic("check", &check, &text)?;
     prop_assert!(left_in(tmp.path()).is_empty(), "check wrote {:?}", left_in(tmp.path()));
     let out = tmp.path().join("out");
-    let run = massredist(&["run".as_ref(), path.as_os_str(), "--out".as_ref(), out.as_os_str()], logs.path());
+    let mut args: Vec<&std::ffi::OsStr> = vec!["run".as_ref(), path.as_os_str(), "--out".as_ref(), out.as_os_str()];
+    if engine {
+        args.extend(["--engine", "fenicsx", "--ranks", "1"].map(std::ffi::OsStr::new));
+    }
+    let run = massredist(&args, logs.path());
     no_panic("run", &run, &text)?;
     let c = code(&run);
+    let err = String::from_utf8_lossy(&run.stderr);
+    prop_assert!(!err.contains("Traceback"), "run showed a Python traceback: {err}\nscene:\n{text}");
     let left = left_in(tmp.path());
     prop_assert!(left.iter().all(|n| !n.contains(".tmp-")), "run left a partial folder: {left:?}\nscene:\n{text}");
     if c == 1 || c == 2 {
@@ -377,4 +395,37 @@ fn a_twice_stiffened_bar_is_refused_at_once() {
     apply(&mut scene, &Mutation::Stiff);
     let codes = one_case(&scene, &[], false).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(codes, (2, 2));
+}
+
+/// The engine's surface (issue 22 item 7): the shipped plate and solid scenes, shortened and
+/// mutated as above, run by `run --engine fenicsx --ranks 1`. 12 seeded cases (each an MPI
+/// launch of dolfinx, a few seconds). Gated on `python` because CI installs dolfinx and mpirun
+/// there (tests/run-all.sh).
+#[cfg(feature = "python")]
+#[test]
+fn mutated_engine_scenes_never_panic_and_fail_cleanly() {
+    let scenes: Vec<Table> = shipped()
+        .into_iter()
+        .filter(|(_, t)| t.contains_key("plate") || t.contains_key("solid"))
+        .map(|(_, t)| shorten(t))
+        .collect();
+    assert!(scenes.len() >= 4, "the shipped plate and solid scenes");
+    let config = Config { cases: 12, failure_persistence: None, ..Config::default() };
+    let rng = proptest::test_runner::TestRng::deterministic_rng(RngAlgorithm::ChaCha);
+    let mut runner = TestRunner::new_with_rng(config, rng);
+    let strategy = (0..scenes.len(), proptest::collection::vec(mutation(), 1..=2));
+    let seen = Mutex::new(Vec::new());
+    runner
+        .run(&strategy, |(i, mutations)| {
+            let codes = one_case_on(&scenes[i], &mutations, false, true)?;
+            seen.lock().unwrap().push(codes);
+            Ok(())
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    let codes = seen.into_inner().unwrap();
+    eprintln!("engine cases (check, run): {codes:?}");
+    assert!(
+        codes.iter().any(|&(c, r)| c == 0 && (r == 0 || r == 3)),
+        "no mutated scene reached the engine's steps: {codes:?}"
+    );
 }
