@@ -75,6 +75,40 @@ pub struct SolidSpec {
     pub mesh_file: Option<std::path::PathBuf>,
     /// The file's mesh, read once when the scene is validated (None: the structured mesh).
     pub mesh: Option<std::sync::Arc<Mesh>>,
+    /// A body of any shape against a rigid plane (`[obstacle]`; module docs of
+    /// [`super::body`]); None: the box, in contact on x = 0 and clamped on x = L.
+    pub body: Option<BodySpec>,
+}
+
+/// Which nodes meet the obstacle.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ContactSet {
+    /// Every node of every boundary facet whose outward unit normal n_f has
+    /// n_f · normal < −0.01 (GetFEM's rule).
+    Auto,
+    /// The nodes of a physical group of the mesh.
+    Group(String),
+}
+
+/// The rigid plane `{x : normal · (x − point) = 0}`, the body on the side `normal` points to.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Obstacle {
+    /// Unit normal, pointing from the plane into the body (entries beyond `dim` are 0).
+    pub normal: [f64; 3],
+    /// A point of the plane (entries beyond `dim` are 0).
+    pub point: [f64; 3],
+    pub contact: ContactSet,
+}
+
+/// What a body scene adds to the solid: the obstacle, the clamped group, and the body force as
+/// expressions in x, y[, z], t (force per unit volume).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodySpec {
+    pub obstacle: Obstacle,
+    /// The physical group whose nodes are fixed (None: a free body).
+    pub clamped: Option<String>,
+    /// One expression per component, variables x, y[, z], t.
+    pub force: Vec<Expr>,
 }
 
 impl SolidSpec {
@@ -93,6 +127,7 @@ impl SolidSpec {
             initial: SolidInitial::Paper,
             mesh_file: None,
             mesh: None,
+            body: None,
         }
     }
 
@@ -111,7 +146,8 @@ impl SolidSpec {
     /// Whether the solution is a plane wave (module docs of [`crate::solid`]): x-only data, no
     /// force, and λ = 0 or roller lateral faces.
     pub fn is_plane_wave(&self) -> bool {
-        self.initial.x_only()
+        self.body.is_none()
+            && self.initial.x_only()
             && self.force.iter().all(|&f| f == 0.0)
             && (self.lame.lambda == 0.0 || self.lateral == Lateral::Roller)
     }
