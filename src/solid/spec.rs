@@ -22,6 +22,23 @@
 //! # x, y[, z] and L, H[, D], pi:
 //! # initial = { displacement = ["(1-x)/2", "0"], velocity = ["0", "0"] }
 //! ```
+//!
+//! A body against a rigid plane adds an `[obstacle]` table and changes some keys
+//! ([`BodySpec`], `crate::solid::body`):
+//!
+//! ```toml
+//! [solid]
+//! dim = 2
+//! mesh = "disc.msh"        # or the structured box keys (its groups: xmin, xmax, ymin, ymax[, zmin, zmax])
+//! force = ["0", "-0.1"]    # per unit volume: numbers or expressions in x, y[, z], t
+//! initial = { displacement = ["0", "0"], velocity = ["0", "-1"] }   # default: at rest
+//! clamped = "top"          # a group whose nodes are fixed; absent: a free body
+//! # no gap, no lateral
+//! [obstacle]
+//! normal = [0.0, 1.0]      # from the plane into the body (normalised)
+//! point = [0.0, 0.0]       # a point of the plane (default: the origin)
+//! contact = "auto"         # or a group name
+//! ```
 
 use super::assembly::{Lame, Lateral};
 use crate::expr::Expr;
@@ -131,16 +148,21 @@ impl SolidSpec {
         }
     }
 
-    /// The mesh: the file's, read with the scene, or the structured mesh of the spec.
+    /// The mesh: the file's, read with the scene, or the structured mesh of the spec (a body's
+    /// with the groups of its faces, [`face_groups`]).
     pub fn mesh(&self) -> Result<Mesh, MeshError> {
         if let Some(m) = &self.mesh {
             return Ok(Mesh::clone(m));
         }
         let ([l, h, d], [nx, ny, nz]) = (self.extent, self.cells_per_axis);
-        match self.cells {
+        let mut mesh = match self.cells {
             Cell::Quad | Cell::Triangle => Mesh::structured_2d(l, h, nx, ny, self.cells),
             Cell::Hex | Cell::Tet => Mesh::structured_3d([l, h, d], [nx, ny, nz], self.cells),
+        }?;
+        if self.body.is_some() {
+            face_groups(&mut mesh);
         }
+        Ok(mesh)
     }
 
     /// Whether the solution is a plane wave (module docs of [`crate::solid`]): x-only data, no
@@ -150,5 +172,17 @@ impl SolidSpec {
             && self.initial.x_only()
             && self.force.iter().all(|&f| f == 0.0)
             && (self.lame.lambda == 0.0 || self.lateral == Lateral::Roller)
+    }
+}
+
+/// The groups of a structured box's faces, for bodies without a mesh file: "xmin", "xmax",
+/// "ymin", "ymax" (and "zmin", "zmax" in 3D), each the nodes whose coordinate is exactly the
+/// face's (structured meshes put them there).
+pub fn face_groups(mesh: &mut Mesh) {
+    for (axis, name) in ["x", "y", "z"].iter().enumerate().take(mesh.dim) {
+        for (end, side) in [(0.0, "min"), (mesh.extent[axis], "max")] {
+            let nodes = (0..mesh.n_nodes()).filter(|&v| mesh.points[v][axis] == end).collect();
+            mesh.groups.insert(format!("{name}{side}"), nodes);
+        }
     }
 }

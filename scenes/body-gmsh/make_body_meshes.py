@@ -6,7 +6,7 @@
 - block.msh: the square (0, 1) x (0.02, 1.02), 8 x 8 quads; groups "block", "top" (y = 1.02)
   and "bottom" (y = 0.02).
 
-Run: /usr/bin/python3 scenes/meshes/make_body_meshes.py (writes next to itself).
+Run: /usr/bin/python3 scenes/body-gmsh/make_body_meshes.py (writes next to itself).
 """
 import math
 import os
