@@ -442,3 +442,35 @@ fn the_command_line_refuses_a_bad_body_with_exit_2_and_writes_nothing() {
     let series = std::fs::read_to_string(out.join("series.csv")).unwrap();
     assert!(series.lines().next().unwrap().contains("momentum_y"), "{series:.200}");
 }
+
+#[test]
+fn a_body_frame_holds_its_reaction_pressure_and_contact_state() {
+    // The dropped disc with a frame every step: contact_pressure · a_i = R_i = −λ_i ≥ 0 on
+    // the contact nodes, contact_state 1 exactly where R_i > 0 or d_i ≤ 0, the displacement
+    // in world components (the free body's mean ū from the frame's nodes), some frame in contact.
+    // mutation: `sign = -1.0` → `1.0` in solid/vtu.rs -> the pressure check fails.
+    let mesh = disc(1.0, [1.0, 1.02], 3, 16);
+    let rest = "[mass]\nkind = \"mod3\"\n[scheme]\nkind = \"crank-nicolson\"\n[time]\ndt = 0.01\nend = 0.6\n[output]\nvtu = true\nvtu_every = 1\n";
+    let s = body_on(mesh, ([0.0, 1.0, 0.0], [0.0; 3]), ContactSet::Auto, None, "force = [\"0\", \"-1\"]", rest);
+    let run = run(&s);
+    let g = &run.problem.system;
+    let mut touching = 0;
+    for frame in &run.frames.as_ref().unwrap().frames {
+        let data =
+            massredist::fem::vtu::read_vtu(massredist::solid::vtu::vtu_bytes(g, &frame.u, &frame.v, &frame.lambda))
+                .unwrap();
+        let pressure = &data.point_array("contact_pressure").unwrap().values;
+        let state = &data.point_array("contact_state").unwrap().values;
+        for (c, &node) in g.contact_nodes.iter().enumerate() {
+            let r = -frame.lambda[c];
+            assert!((pressure[node] * g.contact_areas[c] - r).abs() <= 4.0 * f64::EPSILON * r.abs());
+            assert!(pressure[node] >= 0.0);
+            let d = frame.u[node * 2 + 1] - g.system.lower[c];
+            assert_eq!(state[node], if r > 0.0 || d <= 0.0 { 1.0 } else { 0.0 }, "node {node}");
+            touching += usize::from(state[node] == 1.0);
+        }
+        let disp = &data.point_array("displacement").unwrap().values;
+        assert_eq!(disp[1], frame.u[1], "world components (normal e_y: the frame swaps axes)");
+    }
+    assert!(touching > 0, "some frame in contact");
+}
