@@ -494,3 +494,74 @@ fn an_independent_numpy_implementation_agrees_in_every_summary_key() {
     assert!(o.status.success(), "{text}\n{}", String::from_utf8_lossy(&o.stderr));
     assert!(text.contains("largest relative difference"), "{text}");
 }
+
+#[test]
+fn the_frame_is_a_rotation_whose_first_axis_is_the_normal() {
+    // RᵀR = I, R e_x = n, det R = 1 (to round-off), R = I exactly for n = e_x, in 2D and 3D.
+    use massredist::solid::body::{rotation, unit_normal};
+    for (raw, dim) in [([1.0, 0.0, 0.0], 2), ([0.0, -3.0, 0.0], 2), ([0.3, 1.0, 0.0], 2), ([1.0, 0.0, 0.0], 3)]
+        .into_iter()
+        .chain([([0.0, 0.0, 1.0], 3), ([-1.0, 0.0, 0.0], 3), ([0.2, -0.5, 0.7], 3), ([-0.9, 1e-9, 0.0], 3)])
+    {
+        let n = unit_normal(&raw[..dim], dim).unwrap();
+        let r = rotation(n, dim);
+        for i in 0..3 {
+            assert!((r[i][0] - n[i]).abs() <= 1e-15, "{raw:?}");
+            for j in 0..3 {
+                let dot: f64 = (0..3).map(|k| r[k][i] * r[k][j]).sum();
+                assert!((dot - f64::from(u8::from(i == j))).abs() <= 4e-16, "{raw:?} {i} {j}: {dot}");
+            }
+        }
+        let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
+            + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+        assert!((det - 1.0).abs() <= 1e-15, "{raw:?}: det {det}");
+    }
+    assert_eq!(rotation([1.0, 0.0, 0.0], 3), [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+}
+
+#[test]
+fn three_dimensional_bodies_keep_the_box_numbers_and_balance_their_momentum() {
+    // A hex box written as a body (normal e_x, contact xmin, clamped xmax: the face groups of a
+    // structured body) gives the box's energies and contact history bit for bit; a free tet
+    // block against a tilted plane far below balances P(t) = P(0) + t f |Ω| (standard mass).
+    let table = "dim = 3\nnx = 4\nny = 2\nnz = 2\ncells = \"hex\"\nlame_lambda = 0.4\ninitial = { displacement = [\"(1-x)/2\", \"0\", \"0.1*x*z\"], velocity = [\"0\", \"0\", \"0\"] }";
+    let tail = "[mass]\nkind = \"mod2\"\n[scheme]\nkind = \"backward-euler\"\n[time]\ndt = 0.05\nend = 2.0\n";
+    let boxed = run(&scene(&format!("[solid]\n{table}\ngap = 0.02\n{tail}")));
+    let body = run(&scene(&format!(
+        "[solid]\n{table}\nclamped = \"xmax\"\n[obstacle]\nnormal = [1, 0, 0]\npoint = [-0.02, 0, 0]\ncontact = \"xmin\"\n{tail}"
+    )));
+    let (a, b) = (&boxed.summary, &body.summary);
+    assert!(a.first_impact_time.is_some());
+    assert_eq!((a.energy_initial, a.energy_final, a.energy_max), (b.energy_initial, b.energy_final, b.energy_max));
+    assert_eq!(
+        (a.first_impact_time, a.first_release_time, a.min_u0),
+        (b.first_impact_time, b.first_release_time, b.min_u0)
+    );
+    let f = [0.1, -0.2, -1.0];
+    let free = format!(
+        "[solid]\ndim = 3\nnx = 3\nny = 2\nnz = 2\ncells = \"tet\"\nforce = [\"{}\", \"{}\", \"{}\"]\ninitial = {{ displacement = [\"0\", \"0\", \"0\"], velocity = [\"0.1*y\", \"-0.1*x\", \"0.3\"] }}\n[obstacle]\nnormal = [0.2, -0.5, 0.7]\npoint = [0, 0, -10]\n[mass]\nkind = \"standard\"\n[scheme]\nkind = \"crank-nicolson\"\n[time]\ndt = 0.05\nend = 1.0\n",
+        f[0], f[1], f[2]
+    );
+    let run3 = run(&scene(&free));
+    assert_eq!(run3.summary.first_impact_time, None);
+    let t = run3.series.times();
+    for k in 0..3 {
+        let p = run3.series.column(Column::Momentum(k as u8)).unwrap();
+        for (n, tn) in t.iter().enumerate() {
+            let want = p[0] + tn * f[k];
+            assert!((p[n] - want).abs() <= 1e-12, "P_{k}({tn}) = {} vs {want}", p[n]);
+        }
+    }
+}
+
+#[test]
+fn a_body_starting_on_the_plane_is_in_contact_at_t0() {
+    // g_i = 0 on the face y = 0: in contact at t_0, so the first impact is 0 (the contact test
+    // applies at t_0 too), and the clamped top keeps it there under gravity.
+    let text = format!(
+        "{BLOCK}force = [\"0\", \"-1\"]\nclamped = \"ymax\"\n[obstacle]\nnormal = [0, 1]\n[scheme]\nkind = \"backward-euler\"\n[time]\ndt = 0.05\nend = 0.5\n"
+    );
+    let r = run(&scene(&text));
+    assert_eq!(r.summary.first_impact_time, Some(0.0));
+    assert_eq!(r.summary.body.as_ref().unwrap().min_distance, 0.0);
+}
