@@ -41,7 +41,7 @@ pub enum LayerMassError {
     )]
     MasslessNode { node: usize, at: Vec<f64> },
     #[error(
-        "mass.kind = \"{kind}\" needs cells beyond the layer touching x = 0 (the mesh has {layer0} of {cells} cells in it)"
+        "mass.kind = \"{kind}\" needs cells beyond the contact layer (layer 0: the cells holding a contact node, x = 0 for a box; the mesh has {layer0} of {cells} cells in it)"
     )]
     NoSecondLayer { kind: &'static str, layer0: usize, cells: usize },
 }
