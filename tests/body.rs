@@ -259,8 +259,8 @@ fn a_free_body_in_free_flight_balances_its_momentum_and_falls_by_half_g_t_square
     // P(t) = P(0) + t ∫ f (1ᵀ S = 0 for a free body, 1ᵀ F = f |Ω|), for every mass; with the
     // standard mass ū(t) = v0 t + ½ (f/ρ) t² exactly for CN under a constant force (the
     // trapezoidal rule integrates the linear momentum exactly). Tolerance 1e-12 of the scale
-    // (40 steps of round-off on O(1) sums). mutation: the load multiplied by ρ in
-    // body_system.rs (`m * fb * 2.0`) -> both fail.
+    // (40 steps of round-off on O(1) sums). mutation: the load doubled in body_system.rs
+    // (`m * fb * 2.0`) -> fails.
     let (rho, f, v0) = (2.0, [0.3, -1.0], [0.2, 0.1]);
     let solid = format!(
         "lame_lambda = 3.0\nlame_mu = 2.0\ndensity = {rho}\nforce = [\"{}\", \"{}\"]\ninitial = {{ displacement = [\"0\", \"0\"], velocity = [\"{} - 0.5*(y-10)\", \"{} + 0.5*(x-1)\"] }}",
@@ -479,8 +479,8 @@ fn a_body_frame_holds_its_reaction_pressure_and_contact_state() {
 /// assembly, layers, Newmark with massless rows, contact in world coordinates with an LCP solved
 /// by enumeration) agrees with the binary's summary keys to 1e-7 (measured: 4e-10, the standard
 /// mass with massive contact nodes; 1e-13 for mod1 and mod3). Live: Debian's python with numpy.
-/// mutation: the load multiplied by ρ in body_system.rs -> every key of the gravity cases
-/// disagrees.
+/// mutation: the load doubled in body_system.rs (`m * fb * 2.0`) -> the gravity cases
+/// disagree (0.49 relative; run with the script directly on the mutated binary).
 #[cfg(feature = "python")]
 #[test]
 fn an_independent_numpy_implementation_agrees_in_every_summary_key() {
