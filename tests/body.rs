@@ -12,6 +12,8 @@ use massredist::scene::{AnyScene, SolidScene};
 use massredist::solid::{ContactSet, SolidSystem};
 use std::sync::Arc;
 
+mod body_common;
+
 fn scene(text: &str) -> SolidScene {
     SolidScene::from_toml(text).unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
@@ -411,29 +413,13 @@ fn the_command_line_refuses_a_bad_body_with_exit_2_and_writes_nothing() {
     let scene = tmp.path().join("bad.toml");
     std::fs::write(&scene, format!("{BLOCK}[obstacle]\nnormal = [0, 1]\npoint = [0, 0.1]\n")).unwrap();
     let out = tmp.path().join("out");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_massredist"))
-        .arg("run")
-        .arg(&scene)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = body_common::run_cli(&scene, &out);
     assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stderr).contains("starts inside the obstacle"));
     assert!(!out.exists());
     // A shipped body scene runs and reports the body keys.
-    let ship = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/body-block-drop-mod3.toml");
     let out = tmp.path().join("drop");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_massredist"))
-        .arg("run")
-        .arg(&ship)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let summary = body_common::shipped_summary("scenes/body-block-drop-mod3.toml", &out);
     for key in ["max_contact_force", "min_distance", "final_active_nodes", "final_momentum", "final_mean_displacement"]
     {
         assert!(!summary[key].is_null(), "{key}: {summary}");

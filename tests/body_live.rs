@@ -3,6 +3,8 @@
 //! (read by meshio) lands and rebounds.
 #![cfg(feature = "python")]
 
+mod body_common;
+
 /// The independent numpy implementation (python/independent/body_p1.py: its own mesh, P1
 /// assembly, layers, Newmark with massless rows, contact in world coordinates with an LCP solved
 /// by enumeration) agrees with the binary's summary keys to 1e-7 (measured: 4e-10, the standard
@@ -27,18 +29,7 @@ fn an_independent_numpy_implementation_agrees_in_every_summary_key() {
 #[test]
 fn the_gmsh_disc_scene_lands_and_rebounds() {
     let tmp = tempfile::tempdir().unwrap();
-    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/body-gmsh/body-disc-drop-mod3.toml");
-    let out = tmp.path().join("disc");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_massredist"))
-        .arg("run")
-        .arg(&scene)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let s = body_common::shipped_summary("scenes/body-gmsh/body-disc-drop-mod3.toml", &tmp.path().join("disc"));
     // Free fall from rest through 0.05 under g = 1: t = √0.1 ≈ 0.316, the first step after it.
     assert_eq!(s["first_impact_time"].as_f64(), Some(0.32), "{s}");
     assert!(s["first_release_time"].as_f64().is_some(), "{s}");
