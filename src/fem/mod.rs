@@ -13,6 +13,7 @@ pub mod element;
 pub mod frames;
 pub mod layers;
 pub mod mesh;
+pub mod quadrature;
 pub mod vtu;
 
 pub use cell::Cell;

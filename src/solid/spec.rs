@@ -103,8 +103,8 @@ impl SolidSpec {
         }
         let ([l, h, d], [nx, ny, nz]) = (self.extent, self.cells_per_axis);
         match self.cells {
-            Cell::Quad | Cell::Triangle => Mesh::structured_2d(l, h, nx, ny, self.cells),
-            Cell::Hex | Cell::Tet => Mesh::structured_3d([l, h, d], [nx, ny, nz], self.cells),
+            Cell::Quad | Cell::Triangle | Cell::Triangle6 => Mesh::structured_2d(l, h, nx, ny, self.cells),
+            Cell::Hex | Cell::Tet | Cell::Tet10 => Mesh::structured_3d([l, h, d], [nx, ny, nz], self.cells),
         }
     }
 
