@@ -47,6 +47,14 @@ pub enum MeshError {
         "{noun} {cell} is not an axis-aligned {shape} with its vertices in {order} order (only such cells are supported for Q1)"
     )]
     NotBox { noun: &'static str, cell: usize, shape: &'static str, order: &'static str },
+    #[error(
+        "{noun} {cell} is tangled: its det J ranges over [{min:e}, {max:e}] (changes sign: a node, e.g. a P2 edge node, lies across the cell; fix the mesh)"
+    )]
+    Tangled { noun: &'static str, cell: usize, min: f64, max: f64 },
+    #[error(
+        "cell {cell} has node {node} on the edge {vertices:?} but cell {first} has node {other} there: a conforming P2 mesh shares edge nodes"
+    )]
+    EdgeNode { vertices: [usize; 2], cell: usize, node: usize, first: usize, other: usize },
     #[error("the mesh has its smallest x at {xmin}: the contact boundary is x = 0, so the mesh must start there")]
     NotAtOrigin { xmin: f64 },
     #[error("vertex {vertex} belongs to no cell")]

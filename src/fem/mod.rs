@@ -6,6 +6,7 @@
 //! here as arrays; nothing here calls Python. (The VTU frame format [`vtu`] and its streaming
 //! observer [`frames`] are the output edge of every 2D/3D geometry.)
 
+pub mod body_mesh;
 pub mod cell;
 pub mod checks;
 pub mod columns;
