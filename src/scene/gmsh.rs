@@ -57,8 +57,10 @@ pub enum GmshError {
     Truncated { section: &'static str },
     #[error("element {element} has gmsh type {code}: not a type this reader knows (known: 1-21, 26, 29)")]
     UnknownType { element: i64, code: i64 },
-    #[error("element {element} refers to node tag {node}, which no $Nodes entry defines")]
+    #[error("gmsh element {element} refers to node tag {node}, which no $Nodes entry defines")]
     NodeTag { element: i64, node: i64 },
+    #[error("gmsh element {element} refers to node tag {node}: gmsh node tags start at 1")]
+    LowTag { element: i64, node: i64 },
     #[error("node tag {tag} is defined twice (or is < 1: gmsh node tags start at 1)")]
     BadNodeTag { tag: i64 },
     #[error("the file has no $Nodes or no $Elements section")]
@@ -350,6 +352,9 @@ fn add_element(raw: &mut Raw, element: i64, code: i64, tags: &[i64], phys: &[i64
     let (_, dim, _) = type_of(element, code)?;
     let mut idx = Vec::with_capacity(tags.len());
     for &node in tags {
+        if node < 1 {
+            return Err(GmshError::LowTag { element, node });
+        }
         idx.push(*raw.index.get(&node).ok_or(GmshError::NodeTag { element, node })?);
     }
     let block = match raw.blocks.iter().position(|b| b.0 == code) {
@@ -451,6 +456,8 @@ mod tests {
     fn malformed_files_are_refused_by_name() {
         let bad = SQUARE_22.replace("3 2 2 9 1 10 30 40", "3 2 2 9 1 10 30 41");
         assert_eq!(parse(bad.as_bytes()).unwrap_err(), GmshError::NodeTag { element: 3, node: 41 });
+        let bad = SQUARE_22.replace("3 2 2 9 1 10 30 40", "3 2 2 9 1 10 30 0");
+        assert_eq!(parse(bad.as_bytes()).unwrap_err(), GmshError::LowTag { element: 3, node: 0 });
         let bad = SQUARE_22.replace("50 9 9 0", "0 9 9 0");
         assert_eq!(parse(bad.as_bytes()).unwrap_err(), GmshError::BadNodeTag { tag: 0 });
         let bad = SQUARE_22.replace("2.2 0 8", "3.0 0 8");
