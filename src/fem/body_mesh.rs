@@ -317,4 +317,24 @@ mod tests {
             assert!((back.total_measure() - m.total_measure()).abs() <= 1e-14, "{:?}", m.kind);
         }
     }
+
+    /// Q1 cells of a body need not be boxes: the trapezoid (0,0), (2,0), (1.5,1), (0.5,1) has
+    /// area 1.5 and the frustum over the square [0,2]² with top [0.5,1.5]² at height 1 volume
+    /// 7/3 (det J is linear per direction on them: the 2^d Gauss rule is exact); a non-convex
+    /// quadrilateral (a vertex pushed inside) is refused as tangled. mutation, as run: `orient`
+    /// skipped -> the tangled assertion fails.
+    #[test]
+    fn general_quadrilaterals_and_hexahedra_are_isoparametric() {
+        let quad = [0.0, 0.0, 2.0, 0.0, 1.5, 1.0, 0.5, 1.0];
+        let m = Mesh::body_from_arrays(Cell::Quad, &quad, &[0, 1, 2, 3], BTreeMap::new()).unwrap();
+        assert!((m.total_measure() - 1.5).abs() <= 4.0 * f64::EPSILON);
+        #[rustfmt::skip]
+        let hex = [0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 2.0, 2.0, 0.0, 0.0, 2.0, 0.0,
+                   0.5, 0.5, 1.0, 1.5, 0.5, 1.0, 1.5, 1.5, 1.0, 0.5, 1.5, 1.0];
+        let m = Mesh::body_from_arrays(Cell::Hex, &hex, &(0..8).collect::<Vec<_>>(), BTreeMap::new()).unwrap();
+        assert!((m.total_measure() - 7.0 / 3.0).abs() <= 8.0 * f64::EPSILON, "{}", m.total_measure());
+        let dart = [0.0, 0.0, 2.0, 0.0, 0.5, 0.5, 0.0, 2.0];
+        let err = Mesh::body_from_arrays(Cell::Quad, &dart, &[0, 1, 2, 3], BTreeMap::new()).unwrap_err();
+        assert!(matches!(err, MeshError::Tangled { cell: 0, .. }), "{err}");
+    }
 }
