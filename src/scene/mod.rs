@@ -28,6 +28,7 @@
 mod bar;
 mod body;
 mod common;
+pub mod gmsh;
 pub mod mesh_file;
 mod plate;
 mod solid;

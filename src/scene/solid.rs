@@ -299,15 +299,7 @@ fn body_file_mesh(t: &RawSolid, dim: usize, path: &std::path::Path) -> Result<Me
         forbid(key, v, context)?;
     }
     forbid("solid.cells", &t.cells, context)?;
-    let mesh = super::mesh_file::read("solid.mesh", path)?;
-    if mesh.dim != dim {
-        return Err(SceneError::Range {
-            key: "solid.mesh",
-            value: format!("\"{}\" (a {}D mesh)", path.display(), mesh.dim),
-            range: "a mesh of dimension solid.dim",
-        });
-    }
-    Ok(mesh)
+    Ok(super::mesh_file::read_body("solid.mesh", path, dim)?)
 }
 
 /// The structured box of a `[solid]` table without `mesh`: extent, cells per axis, cell kind,

@@ -156,8 +156,8 @@ impl SolidSpec {
         }
         let ([l, h, d], [nx, ny, nz]) = (self.extent, self.cells_per_axis);
         let mut mesh = match self.cells {
-            Cell::Quad | Cell::Triangle => Mesh::structured_2d(l, h, nx, ny, self.cells),
-            Cell::Hex | Cell::Tet => Mesh::structured_3d([l, h, d], [nx, ny, nz], self.cells),
+            Cell::Quad | Cell::Triangle | Cell::Triangle6 => Mesh::structured_2d(l, h, nx, ny, self.cells),
+            Cell::Hex | Cell::Tet | Cell::Tet10 => Mesh::structured_3d([l, h, d], [nx, ny, nz], self.cells),
         }?;
         if self.body.is_some() {
             face_groups(&mut mesh);
