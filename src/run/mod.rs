@@ -93,7 +93,7 @@ impl RunError {
 pub fn setup<G: GeometrySpec>(scene: &Scene<G>) -> Result<Setup<G::System>, SceneError> {
     let error = |e: &dyn std::fmt::Display| SceneError::Setup { keys: G::SETUP_KEYS.into(), reason: e.to_string() };
     let problem = G::problem(scene).map_err(|e| error(&e))?;
-    let scheme = problem.scheme(&scene.scheme, scene.time.dt).map_err(|e| error(&e))?;
+    let scheme = problem.scheme_with(&scene.scheme, &scene.contact, scene.time.dt).map_err(|e| error(&e))?;
     Ok(Setup { problem, scheme })
 }
 

@@ -28,12 +28,14 @@
 mod bar;
 mod body;
 mod common;
+mod contact;
 pub mod mesh_file;
 mod plate;
 mod solid;
 
 pub(crate) use body::*;
 pub use common::*;
+pub use contact::RawContact;
 pub use plate::*;
 pub use solid::*;
 // The geometries' specifications, which the tables validate into.
@@ -205,6 +207,8 @@ pub struct Scene<G> {
     pub geometry: G,
     pub mass: crate::mass::MassKind,
     pub scheme: SchemeSpec,
+    /// The contact law (`[contact]`; default exact).
+    pub contact: crate::contact::law::ContactLaw,
     pub time: TimeSpec,
     pub output: OutputSpec,
 }
@@ -252,6 +256,8 @@ pub struct RawScene {
     pub(crate) solid: Option<solid::RawSolid>,
     pub(crate) mass: Option<RawMass>,
     pub(crate) scheme: Option<RawScheme>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) contact: Option<RawContact>,
     pub(crate) time: Option<RawTime>,
     pub(crate) output: Option<RawOutput>,
 }
@@ -359,7 +365,8 @@ impl<G: SceneGeometry> Scene<G> {
     /// The scene with every default filled in, as TOML.
     pub fn resolved_toml(&self) -> String {
         let (mass, scheme, time, output) = raw_sections(&self.mass, &self.scheme, &self.time, &self.output, G::VTU);
-        let raw = RawScene { mass, scheme, time, output, ..self.geometry.raw() };
+        let contact = contact::raw_contact(&self.contact);
+        let raw = RawScene { mass, scheme, contact, time, output, ..self.geometry.raw() };
         let mut text = self.geometry.header(&self.time);
         text.push_str(&toml::to_string(&raw).expect("a resolved scene always serialises"));
         text
