@@ -450,7 +450,7 @@ mod tests {
         );
         assert_eq!(
             scheme("kind = \"euler\"").unwrap_err(),
-            "scheme.kind = \"euler\": allowed range is crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid"
+            "scheme.kind = \"euler\": allowed range is crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid | central-difference | moreau-jean"
         );
         // A wrong type names the key (serde's message alone does not).
         assert_eq!(

@@ -11,6 +11,7 @@
 //! # weights = [0.0, 2.0, 1.0, 1.0, 1.0, 1.0]   # custom only, one per element
 //! [scheme]
 //! kind = "crank-nicolson"    # crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid
+//!                            # | central-difference | moreau-jean (contact law: [contact], scene/contact.rs)
 //! formulation = "full"       # crank-nicolson/newmark: full | reduced (reduced needs w_0 = 0)
 //! [time]
 //! dt = 0.01

@@ -1,8 +1,8 @@
 //! The one builder of the method classes of issue 20 on any geometry: central differences
-//! ([`super::CentralDifference`]), and the contact laws other than exact. What a geometry or a
+//! ([`super::CentralDifference`]), Moreau–Jean ([`super::MoreauJean`]), and the contact laws other than exact. What a geometry or a
 //! law cannot do is refused here, with the reason.
 
-use super::{CentralDifference, Scheme, SchemeError, SchemeSpec};
+use super::{CentralDifference, MoreauJean, Scheme, SchemeError, SchemeSpec};
 use crate::contact::law::ContactLaw;
 use crate::problem::Geometry;
 
@@ -26,6 +26,16 @@ pub fn build<G: Geometry>(
                 });
             };
             Ok(Box::new(CentralDifference::new(system, lumped, law, dt, u, v)?))
+        }
+        SchemeSpec::MoreauJean { theta, restitution } => {
+            if *law != ContactLaw::Exact {
+                return Err(SchemeError::Unsupported {
+                    key: "contact.method",
+                    geometry: geometry.name(),
+                    reason: "Moreau–Jean has its own impact law: use contact.method = \"exact\"",
+                });
+            }
+            Ok(Box::new(MoreauJean::new(system, theta, restitution, dt, u, v)?))
         }
         _ => Err(SchemeError::Unsupported {
             key: if spec.method_class() { "scheme.kind" } else { "contact.method" },

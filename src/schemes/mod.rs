@@ -20,6 +20,7 @@ pub mod backward_euler;
 pub mod central_difference;
 pub mod hybrid;
 pub mod methods;
+pub mod moreau_jean;
 pub mod newmark;
 pub mod newmark_reduced;
 pub mod paoli_schatzman;
@@ -53,6 +54,7 @@ impl OneNodeContact<'_> {
 pub use backward_euler::BackwardEuler;
 pub use central_difference::CentralDifference;
 pub use hybrid::Hybrid;
+pub use moreau_jean::MoreauJean;
 pub use newmark::Newmark;
 pub use newmark_reduced::NewmarkReduced;
 pub use paoli_schatzman::PaoliSchatzman;
