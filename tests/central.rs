@@ -157,14 +157,14 @@ fn the_stable_limit_is_computed_and_enforced() {
     assert!(text.starts_with("time.dt = ") && text.contains(&massredist::numfmt::fmt_f64(limit)), "{text}");
 }
 
-/// Central differences refuse what is not built, naming the key: another contact law, a
+/// Central differences refuse what is not built, naming the key: Nitsche contact, a
 /// geometry without a lumped mass (here, a plate scene: exit 2 from `check`).
 #[test]
 fn refusals_name_the_key() {
     let p = problem(bar(vec![1.0; 10], 10.0), f);
-    let law = ContactLaw::Penalty { penalty: 1e3 };
-    let e = p.scheme_with(&CD, &law, 1e-3).err().expect("penalty not built yet");
-    assert!(e.to_string().starts_with("contact.method"), "{e}");
+    let law = ContactLaw::Nitsche { theta: 1, gamma0: 100.0 };
+    let e = p.scheme_with(&CD, &law, 1e-3).err().expect("Nitsche not built");
+    assert!(e.to_string().starts_with("contact.method = \"nitsche\""), "{e}");
     let scene = "[plate]\nnx = 4\nny = 2\ninitial = \"paper\"\n[mass]\nkind = \"mod3\"\n[scheme]\nkind = \"central-difference\"\n[time]\ndt = 0.01\nend = 0.1\n";
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("plate.toml");

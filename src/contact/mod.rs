@@ -15,6 +15,7 @@
 
 pub mod law;
 pub mod lcp;
+pub mod penalty;
 pub mod schur;
 
 use crate::linalg::tridiag::{SymTridiag, TwistedFactor};

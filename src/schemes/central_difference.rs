@@ -35,20 +35,37 @@
 //! with C on the obstacle it is K_II; both are ≤ K_II, so K_II's λ_max bounds every contact
 //! state. A larger `time.dt` is refused naming Δt_c; `dt = Δt_c` is accepted.
 //!
-//! **Energy**: `½ V·M_L V + ½ U·K U − F·U` ([`CentralDifference::energy`]); without contact and
+//! **Penalty** (`[contact] method = "penalty"`): on a massive contact node the spring force of
+//! the current displacement enters Aⁿ (force at t_n, `λ_c = κ min(0, u_cⁿ − lb_c)`); on massless
+//! contact nodes the quasi-static rows carry the spring, solved exactly
+//! ([`crate::contact::penalty::PenaltyQuasiStatic`]). The springs enter the stable limit through
+//! the massive contact nodes only: Δt_c is computed for `K + κ Σ_{c massive} e_c e_cᵀ` (all
+//! springs engaged: adding a positive semi-definite term can only raise λ_max, so this bounds every
+//! contact state; on massless nodes the spring stiffens the quasi-static rows, whose condensed
+//! stiffness stays ≤ K_II).
+//!
+//! **Energy**: `½ V·M_L V + ½ U·K U − F·U (+ Σ ½κ (d_c⁻)²)` ([`CentralDifference::energy`]); without contact and
 //! with Δt < Δt_c it stays within O(Δt²) of its initial value (a shadow energy is conserved).
 
 use super::{SchemeError, StateView, check_finite, check_range, contact_err};
 use crate::contact::QuasiStatic;
 use crate::contact::law::ContactLaw;
+use crate::contact::penalty::PenaltyQuasiStatic;
 use crate::linalg::SymMatrix;
 use crate::system::ContactSystem;
+
+/// The quasi-static map of the massless unknowns under the contact law.
+#[derive(Debug)]
+enum Phi {
+    Exact(QuasiStatic),
+    Penalty(PenaltyQuasiStatic),
+}
 
 /// The quasi-static massless contact unknowns: Φ with its contact subset (slots into the
 /// contact order) and bounds.
 #[derive(Debug)]
 struct Massless {
-    phi: QuasiStatic,
+    phi: Phi,
     slots: Vec<usize>,
     lower: Vec<f64>,
     lambda: Vec<f64>,
@@ -64,8 +81,11 @@ pub struct CentralDifference<A: SymMatrix> {
     /// `1/M_L,ii` on I, 0 on C.
     inv_mass: Vec<f64>,
     lower: Vec<f64>,
+    contact: Vec<usize>,
     /// Massive contact nodes: (slot in contact order, unknown).
     kinematic: Vec<(usize, usize)>,
+    /// The penalty κ (None: exact contact).
+    kappa: Option<f64>,
     quasi: Option<Massless>,
     /// All massless unknowns and their value at the start of the step.
     massless: Vec<usize>,
@@ -84,7 +104,8 @@ pub struct CentralDifference<A: SymMatrix> {
 impl<A: SymMatrix> CentralDifference<A> {
     pub const NAME: &'static str = super::SchemeSpec::CentralDifference.name();
 
-    /// On `system` with the lumped mass `lumped` (one entry per unknown, ≥ 0), exact contact.
+    /// On `system` with the lumped mass `lumped` (one entry per unknown, ≥ 0) and the contact law
+    /// (exact or penalty).
     /// Refuses `dt > Δt_c` ([`SchemeError::AboveStableLimit`]).
     pub fn new(
         system: &ContactSystem<A>,
@@ -95,36 +116,40 @@ impl<A: SymMatrix> CentralDifference<A> {
         v0: Vec<f64>,
     ) -> Result<Self, SchemeError> {
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
-        if *law != ContactLaw::Exact {
-            return Err(SchemeError::Unsupported {
-                key: "contact.method",
-                geometry: "central-difference",
-                reason: "only contact.method = \"exact\" is built for central differences",
-            });
-        }
+        let kappa = match *law {
+            ContactLaw::Exact => None,
+            ContactLaw::Penalty { penalty } => {
+                check_range(Self::NAME, ContactLaw::PENALTY_KEY, penalty, penalty > 0.0, ContactLaw::PENALTY_RANGE)?;
+                Some(penalty)
+            }
+            ContactLaw::Nitsche { .. } => {
+                let reason = "Nitsche contact is not built for central differences";
+                return Err(SchemeError::Unsupported { key: "contact.method", geometry: "central-difference", reason });
+            }
+        };
         let n = system.n();
         let inv_mass: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
         let inv_sqrt: Vec<f64> = inv_mass.iter().map(|x| x.sqrt()).collect();
-        let (lam, lanczos_steps) = super::stable_limit::lambda_max(&system.stiffness, &inv_sqrt);
+        // With the penalty, the springs of the massive contact nodes all engaged: K + κ Σ e_c e_cᵀ
+        // bounds K's λ_max in every contact state (module docs).
+        let springs: Vec<usize> = system.contact.iter().copied().filter(|&c| lumped[c] > 0.0).collect();
+        let k_spring = kappa.unwrap_or(0.0);
+        let (lam, lanczos_steps) = super::stable_limit::lambda_max_of(
+            |x, y| {
+                system.stiffness.mul_into(x, y);
+                springs.iter().for_each(|&c| y[c] += k_spring * x[c]);
+            },
+            &inv_sqrt,
+        );
         let limit = if lam > 0.0 { 2.0 / lam.sqrt() } else { f64::INFINITY };
         if dt > limit {
-            return Err(SchemeError::AboveStableLimit { scheme: Self::NAME, dt, limit, spring: "" });
+            let spring = if kappa.is_some() && !springs.is_empty() { " + κ E_Cᵀ E_C" } else { "" };
+            return Err(SchemeError::AboveStableLimit { scheme: Self::NAME, dt, limit, spring });
         }
         let massless: Vec<usize> = (0..n).filter(|&i| lumped[i] <= 0.0).collect();
-        let mut is_contact = vec![false; n];
-        system.contact.iter().for_each(|&c| is_contact[c] = true);
         let kinematic: Vec<(usize, usize)> =
             system.contact.iter().enumerate().filter(|&(_, &c)| lumped[c] > 0.0).map(|(s, &c)| (s, c)).collect();
-        let quasi = if massless.is_empty() {
-            None
-        } else {
-            let slots: Vec<usize> = (0..system.contact.len()).filter(|&s| lumped[system.contact[s]] <= 0.0).collect();
-            let qc: Vec<usize> = slots.iter().map(|&s| system.contact[s]).collect();
-            let free: Vec<usize> = massless.iter().copied().filter(|&i| !is_contact[i]).collect();
-            let phi = QuasiStatic::with_free(&system.stiffness, &system.load, &qc, &free)?;
-            let lower = slots.iter().map(|&s| system.lower[s]).collect();
-            Some(Massless { phi, lambda: vec![0.0; slots.len()], slots, lower })
-        };
+        let quasi = if massless.is_empty() { None } else { Some(massless_map(system, &lumped, &massless, kappa)?) };
         let mut s = Self {
             dt,
             stiffness: system.stiffness.clone(),
@@ -133,7 +158,9 @@ impl<A: SymMatrix> CentralDifference<A> {
             lumped,
             inv_mass,
             lower: system.lower.clone(),
+            contact: system.contact.clone(),
             kinematic,
+            kappa,
             quasi,
             massless_old: vec![0.0; massless.len()],
             massless,
@@ -157,20 +184,35 @@ impl<A: SymMatrix> CentralDifference<A> {
         (self.limit, self.lanczos_steps)
     }
 
-    /// `½ V·M_L V + ½ U·K U − F(t_n)·U` of the current state.
+    /// `½ V·M_L V + ½ U·K U − F(t_n)·U` of the current state, `+ Σ ½κ (d_c⁻)²` with the
+    /// penalty.
     pub fn energy(&self) -> f64 {
         let kinetic: f64 = self.v.iter().zip(&self.lumped).map(|(v, m)| m * v * v).sum();
         let work: f64 = self.u.iter().zip(&self.load).map(|(u, f)| u * f).sum();
-        0.5 * kinetic + 0.5 * self.stiffness.quad_form(&self.u) - work
+        let spring = self.kappa.map_or(0.0, |penalty| {
+            ContactLaw::Penalty { penalty }.energy(self.contact.iter().map(|&c| self.u[c]), &self.lower)
+        });
+        0.5 * kinetic + 0.5 * self.stiffness.quad_form(&self.u) - work + spring
     }
 
     /// The massless unknowns from the quasi-static rows at t (F(t) already in `load`).
     fn quasi_static(&mut self, step: usize, time: f64) -> Result<(), SchemeError> {
         if let Some(q) = &mut self.quasi {
-            if self.forcing.is_some() {
-                q.phi.set_load(&self.load);
-            }
-            self.pivots = q.phi.apply(&mut self.u, &q.lower, &mut q.lambda).map_err(contact_err(step, time))?;
+            let err = contact_err(step, time);
+            self.pivots = match &mut q.phi {
+                Phi::Exact(phi) => {
+                    if self.forcing.is_some() {
+                        phi.set_load(&self.load);
+                    }
+                    phi.apply(&mut self.u, &q.lower, &mut q.lambda).map_err(err)?
+                }
+                Phi::Penalty(phi) => {
+                    if self.forcing.is_some() {
+                        phi.set_load(&self.load);
+                    }
+                    phi.apply(&mut self.u, &q.lower, &mut q.lambda).map_err(err)?
+                }
+            };
             for (&s, &l) in q.slots.iter().zip(&q.lambda) {
                 self.lambda[s] = l;
             }
@@ -188,12 +230,47 @@ impl<A: SymMatrix> CentralDifference<A> {
         }
         let dt2 = kappa * self.dt * self.dt;
         for &(s, c) in &self.kinematic {
-            let predicted = self.u[c] + self.dt * self.v[c] + dt2 * self.a[c];
-            let l = ((predicted - self.lower[s]) * self.lumped[c] / dt2).min(0.0);
+            let l = match self.kappa {
+                // Penalty: the spring at the current displacement (force at t_n).
+                Some(k) => k * (self.u[c] - self.lower[s]).min(0.0),
+                None => {
+                    let predicted = self.u[c] + self.dt * self.v[c] + dt2 * self.a[c];
+                    ((predicted - self.lower[s]) * self.lumped[c] / dt2).min(0.0)
+                }
+            };
             self.lambda[s] = l;
             self.a[c] -= l * self.inv_mass[c];
         }
     }
+}
+
+/// The quasi-static map of the massless unknowns `massless` under the law (κ: penalty).
+fn massless_map<A: SymMatrix>(
+    system: &ContactSystem<A>,
+    lumped: &[f64],
+    massless: &[usize],
+    kappa: Option<f64>,
+) -> Result<Massless, SchemeError> {
+    let mut is_contact = vec![false; system.n()];
+    system.contact.iter().for_each(|&c| is_contact[c] = true);
+    let slots: Vec<usize> = (0..system.contact.len()).filter(|&s| lumped[system.contact[s]] <= 0.0).collect();
+    let qc: Vec<usize> = slots.iter().map(|&s| system.contact[s]).collect();
+    let free: Vec<usize> = massless.iter().copied().filter(|&i| !is_contact[i]).collect();
+    let phi = match kappa {
+        None => Phi::Exact(QuasiStatic::with_free(&system.stiffness, &system.load, &qc, &free)?),
+        Some(_) if !free.is_empty() => {
+            let reason = "penalty contact with free massless unknowns (a contact layer) is not built";
+            return Err(SchemeError::Unsupported { key: "contact.method", geometry: "central-difference", reason });
+        }
+        Some(k) => Phi::Penalty(PenaltyQuasiStatic::new(&system.stiffness, &system.load, &qc, k).map_err(|pivot| {
+            crate::linalg::LinalgError::Unsupported {
+                matrix: "stiffness",
+                detail: format!("its contact block is not positive definite (pivot {pivot})"),
+            }
+        })?),
+    };
+    let lower = slots.iter().map(|&s| system.lower[s]).collect();
+    Ok(Massless { phi, lambda: vec![0.0; slots.len()], slots, lower })
 }
 
 impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {

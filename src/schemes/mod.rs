@@ -24,6 +24,7 @@ pub mod moreau_jean;
 pub mod newmark;
 pub mod newmark_reduced;
 pub mod paoli_schatzman;
+pub mod penalty_implicit;
 mod spec;
 pub mod stable_limit;
 

@@ -24,6 +24,12 @@ pub const MAX_STEPS: usize = 300;
 /// λ_max(M_I⁻¹ K_II) for the unknowns with `inv_sqrt_mass[i] > 0` (the others are left out: `K`
 /// restricted to I), and the number of Lanczos steps taken.
 pub fn lambda_max<A: SymMatrix>(stiffness: &A, inv_sqrt_mass: &[f64]) -> (f64, usize) {
+    lambda_max_of(|x, y| stiffness.mul_into(x, y), inv_sqrt_mass)
+}
+
+/// [`lambda_max`] for the operator `y = K x` given as a function (a stiffness with penalty
+/// springs added).
+pub fn lambda_max_of(mul: impl Fn(&[f64], &mut [f64]), inv_sqrt_mass: &[f64]) -> (f64, usize) {
     let n = inv_sqrt_mass.len();
     let active: Vec<bool> = inv_sqrt_mass.iter().map(|&d| d > 0.0).collect();
     let ni = active.iter().filter(|&&a| a).count();
@@ -45,7 +51,7 @@ pub fn lambda_max<A: SymMatrix>(stiffness: &A, inv_sqrt_mass: &[f64]) -> (f64, u
         for i in 0..n {
             x[i] = inv_sqrt_mass[i] * q[i];
         }
-        stiffness.mul_into(&x, &mut y);
+        mul(&x, &mut y);
         for i in 0..n {
             y[i] *= inv_sqrt_mass[i];
         }
