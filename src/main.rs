@@ -139,10 +139,13 @@ fn main() -> ExitCode {
         #[cfg(feature = "python")]
         Command::Crosscheck { json } => crosscheck(json),
         Command::Check { scene } => match AnyScene::from_file(&scene).and_then(|s| {
-            massredist::run::check(&s)?;
-            Ok(s)
+            let note = massredist::run::check(&s)?;
+            Ok((s, note))
         }) {
-            Ok(s) => {
+            Ok((s, note)) => {
+                if let Some(note) = note {
+                    println!("# {note}");
+                }
                 print!("{}", s.resolved_toml());
                 ExitCode::SUCCESS
             }

@@ -98,9 +98,10 @@ pub fn setup<G: GeometrySpec>(scene: &Scene<G>) -> Result<Setup<G::System>, Scen
 }
 
 /// Sets a scene up as `run` does (assembly, exact solution, factorisation) without stepping:
-/// `check` calls it, so a scene `check` accepts starts its run.
-pub fn check(scene: &AnyScene) -> Result<(), SceneError> {
-    crate::with_scene!(scene, s => setup(s).map(|_| ()))
+/// `check` calls it, so a scene `check` accepts starts its run. Returns the scheme's note (the
+/// stable limit of central differences), if any.
+pub fn check(scene: &AnyScene) -> Result<Option<String>, SceneError> {
+    crate::with_scene!(scene, s => setup(s).map(|setup| setup.scheme.note()))
 }
 
 /// Runs a problem with its scheme, its summary and `observers` (series, frames, progress)

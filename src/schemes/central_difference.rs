@@ -282,6 +282,21 @@ impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
         self.pivots
     }
 
+    fn energy(&self) -> Option<f64> {
+        Some(Self::energy(self))
+    }
+
+    fn note(&self) -> Option<String> {
+        Some(format!(
+            "central-difference: stable limit Δt_c = {} (2/√λ_max(M_L,II⁻¹ K_II{}), Lanczos: {} steps, lower bound of λ_max to ~{:e} relative); time.dt = {}",
+            crate::numfmt::fmt_f64(self.limit),
+            if self.kappa.is_some() && !self.kinematic.is_empty() { " + κ E_Cᵀ E_C" } else { "" },
+            self.lanczos_steps,
+            super::stable_limit::REL_TOL,
+            crate::numfmt::fmt_f64(self.dt),
+        ))
+    }
+
     fn step(&mut self) -> Result<(), SchemeError> {
         let dt = self.dt;
         let (step, time) = (self.n + 1, (self.n + 1) as f64 * dt);

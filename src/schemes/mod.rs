@@ -83,6 +83,17 @@ pub trait Scheme: Send {
     fn pivots(&self) -> usize {
         0
     }
+    /// The scheme's own energy of its state, where it is not the system's `½VᵀMV + ½UᵀSU − UᵀF`
+    /// (central differences: the lumped mass; the penalty law: its spring energy). None: the
+    /// system's, which the run computes.
+    fn energy(&self) -> Option<f64> {
+        None
+    }
+    /// What `check` says of the scheme beyond the resolved scene (central differences: the
+    /// stable limit), one line, or None.
+    fn note(&self) -> Option<String> {
+        None
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Error)]

@@ -140,6 +140,10 @@ impl<A: Backend> super::Scheme for PenaltyImplicit<A> {
         self.pivots
     }
 
+    fn energy(&self) -> Option<f64> {
+        Some(Self::energy(self))
+    }
+
     fn step(&mut self) -> Result<(), SchemeError> {
         let dt = self.dt;
         let (step, time) = (self.n + 1, (self.n + 1) as f64 * dt);
