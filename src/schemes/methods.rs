@@ -28,7 +28,7 @@ pub fn build<G: Geometry>(
                 return Err(SchemeError::Unsupported {
                     key: "scheme.kind = \"central-difference\"",
                     geometry: geometry.name(),
-                    reason: "the lumped mass (row sums over all nodes before Dirichlet removal) is not built for this geometry yet",
+                    reason: "its lumped mass (row sums over all nodes before Dirichlet removal) is not built yet (bars and plates have one)",
                 });
             };
             Ok(Box::new(CentralDifference::new(system, lumped, law, dt, u, v)?))
