@@ -364,3 +364,17 @@ fn moreau_jean_on_a_plate_with_mixed_contact_states() {
     }
     assert!(mixed > 0, "no step with mixed contact states");
 }
+
+/// The fenicsx engine runs exact contact only: a plate scene with the penalty law is refused
+/// before anything starts (an engine run would otherwise ignore `[contact]`). (Mutation: the
+/// check disabled -> `unwrap_err` on Ok: fails.)
+#[test]
+fn the_engine_refuses_other_contact_laws() {
+    let plate = massredist::scene::PlateScene::from_toml(
+        "[plate]\nnx = 4\nny = 2\ninitial = \"paper\"\n[contact]\nmethod = \"penalty\"\npenalty = 10.0\n[time]\ndt = 0.01\nend = 0.1\n",
+    )
+    .unwrap();
+    let e = massredist::engine::validate(&plate).unwrap_err();
+    assert!(e.to_string().contains("contact.method = \"penalty\""), "{e}");
+    assert!(e.is_invalid(), "exit 2");
+}
