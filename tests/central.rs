@@ -251,3 +251,30 @@ fn plates_with_y_independent_data_are_the_bar() {
         assert!(worst < 1e-10, "{mass}: plate vs bar u_0 differ by {worst:e}");
     }
 }
+
+/// The stated accuracy of Δt_c on a large mesh (n = 2001 unknowns > the 300 Lanczos steps): a
+/// free–free uniform chain with the standard lumped mass has λ_max = 4c²/h² exactly (the mode
+/// (−1)^i), so Δt_c = h/c. Lanczos stops unconverged there (its Ritz value gave Δt_c 8.6e-6
+/// above h/c: not conservative), so the Gershgorin bound is used, which the uniform chain attains:
+/// Δt_c = h/c to 1e-12. (Mutation: the Gershgorin fallback removed -> "relative excess 8.6e-6".)
+#[test]
+fn the_stable_limit_accuracy_on_a_large_mesh() {
+    let m = 2000;
+    let bar = Bar { length: 1.0, elements: m };
+    let system =
+        BarSystem::assemble(bar, vec![1.0; m], Material::UNIT, FarEnd::Free, &Load::Constant(0.0)).with_gap(10.0);
+    let n = system.n();
+    let cd = CentralDifference::new(
+        &system.system,
+        system.lumped.clone(),
+        &ContactLaw::Exact,
+        1e-5,
+        vec![0.0; n],
+        vec![0.0; n],
+    )
+    .unwrap();
+    let (limit, steps) = cd.stable_limit();
+    let h = 1.0 / m as f64;
+    eprintln!("Δt_c = {limit:e}, h/c = {h:e}, relative {:e}, {steps} Lanczos steps", limit / h - 1.0);
+    assert!((limit / h - 1.0).abs() <= 1e-12, "relative excess {:e}", limit / h - 1.0);
+}

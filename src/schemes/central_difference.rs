@@ -93,6 +93,8 @@ pub struct CentralDifference<A: SymMatrix> {
     massless_old: Vec<f64>,
     limit: f64,
     lanczos_steps: usize,
+    /// Whether Lanczos converged (false: Δt_c from the Gershgorin bound).
+    converged: bool,
     n: usize,
     u: Vec<f64>,
     v: Vec<f64>,
@@ -135,13 +137,19 @@ impl<A: SymMatrix> CentralDifference<A> {
         // bounds K's λ_max in every contact state (module docs).
         let springs: Vec<usize> = system.contact.iter().copied().filter(|&c| lumped[c] > 0.0).collect();
         let k_spring = kappa.unwrap_or(0.0);
-        let (lam, lanczos_steps) = super::stable_limit::lambda_max_of(
+        let (theta, lanczos_steps, converged) = super::stable_limit::lambda_max_of(
             |x, y| {
                 system.stiffness.mul_into(x, y);
                 springs.iter().for_each(|&c| y[c] += k_spring * x[c]);
             },
             &inv_sqrt,
         );
+        // Unconverged Lanczos: the Gershgorin upper bound instead (conservative; stable_limit docs).
+        let lam = if converged {
+            theta
+        } else {
+            super::stable_limit::gershgorin(&system.stiffness, &inv_sqrt, &springs, k_spring)
+        };
         let limit = if lam > 0.0 { 2.0 / lam.sqrt() } else { f64::INFINITY };
         // dt = Δt_c is accepted up to the accuracy of its computation (a free–free uniform chain
         // has λ_max = 4c²/h² exactly, and Δt_c = h/c is then met within a few ulps).
@@ -169,6 +177,7 @@ impl<A: SymMatrix> CentralDifference<A> {
             massless,
             limit,
             lanczos_steps,
+            converged,
             n: 0,
             u: u0,
             a: vec![0.0; n],
@@ -291,11 +300,14 @@ impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
 
     fn note(&self) -> Option<String> {
         Some(format!(
-            "central-difference: stable limit Δt_c = {} (2/√λ_max(M_L,II⁻¹ K_II{}), Lanczos: {} steps, lower bound of λ_max to ~{:e} relative); time.dt = {}",
+            "central-difference: stable limit Δt_c = {} (2/√λ_max(M_L,II⁻¹ K_II{}), {}); time.dt = {}",
             crate::numfmt::fmt_f64(self.limit),
             if self.kappa.is_some() && !self.kinematic.is_empty() { " + κ E_Cᵀ E_C" } else { "" },
-            self.lanczos_steps,
-            super::stable_limit::REL_TOL,
+            if self.converged {
+                format!("Lanczos, {} steps, to ~{:e} relative", self.lanczos_steps, super::stable_limit::REL_TOL)
+            } else {
+                format!("Gershgorin bound: Lanczos unconverged after {} steps", self.lanczos_steps)
+            },
             crate::numfmt::fmt_f64(self.dt),
         ))
     }
