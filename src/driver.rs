@@ -283,7 +283,11 @@ fn drive<G: Geometry>(
         let due = |k: usize| state.n.is_multiple_of(cadence[k]);
         let mut need = (0..observers.len()).filter(|&k| due(k)).fold(Needs::default(), |n, k| n.or(needs[k]));
         need.energy |= criterion.is_some();
-        let energy = if need.energy { diagnostics.energy(state.u, state.v, state.t) } else { f64::NAN };
+        let energy = if need.energy {
+            scheme.energy().unwrap_or_else(|| diagnostics.energy(state.u, state.v, state.t))
+        } else {
+            f64::NAN
+        };
         let verdict = watch.as_mut().map_or(Verdict::Go, |w| w.judge(state.n, state.t, energy));
         if let Verdict::Hidden(d) = verdict {
             return Some(d);

@@ -143,6 +143,9 @@ fn main() -> ExitCode {
             Ok((s, estimate))
         }) {
             Ok((s, estimate)) => {
+                if let Some(note) = &estimate.note {
+                    println!("# {note}");
+                }
                 print!("{}", s.resolved_toml());
                 eprintln!("{}: {}", scene.display(), describe(&estimate));
                 ExitCode::SUCCESS

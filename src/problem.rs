@@ -9,6 +9,7 @@
 //! [`Geometry::bar_only_scheme`], which every geometry but the bar leaves at its refusal.
 
 use crate::contact::Backend;
+use crate::contact::law::ContactLaw;
 use crate::exact::Exact;
 use crate::schemes::{BackwardEuler, Formulation, Hybrid, Newmark, Scheme, SchemeError, SchemeSpec};
 use crate::system::ContactSystem;
@@ -100,6 +101,13 @@ pub trait Geometry: GeometryView {
         Err(SchemeError::Unsupported { key, geometry: self.name(), reason })
     }
 
+    /// The lumped mass `M_L` on the unknowns: the row sums of the weighted mass over all nodes,
+    /// taken before the Dirichlet nodes are removed (explicit schemes, issue 20). None where the
+    /// geometry does not provide it: the explicit schemes refuse such a geometry, naming it.
+    fn lumped_mass(&self) -> Option<Vec<f64>> {
+        None
+    }
+
     /// The per-step diagnostics of a run on this geometry (energy, exact L² error, interpolant
     /// norm) with their workspaces, allocated once per run. The default evaluates
     /// [`ContactSystem::energy_at`], [`GeometryView::l2_error`] and
@@ -148,11 +156,22 @@ pub struct Problem<G> {
 }
 
 impl<G: Geometry> Problem<G> {
-    /// Builds the scheme of a scene on this problem (factors its matrices once).
+    /// Builds the scheme of a scene on this problem with exact contact (factors its matrices
+    /// once).
     pub fn scheme(&self, spec: &SchemeSpec, dt: f64) -> Result<Box<dyn Scheme>, SchemeError> {
+        self.scheme_with(spec, &ContactLaw::Exact, dt)
+    }
+
+    /// Builds the scheme of a scene on this problem with the contact law of its `[contact]`.
+    pub fn scheme_with(&self, spec: &SchemeSpec, law: &ContactLaw, dt: f64) -> Result<Box<dyn Scheme>, SchemeError> {
         let (u, v) = (self.u0.clone(), self.v0.clone());
         let s = self.system.system();
         Ok(match *spec {
+            // The method classes and contact laws of issue 20: one builder.
+            SchemeSpec::CentralDifference | SchemeSpec::MoreauJean { .. } => {
+                crate::schemes::methods::build(&self.system, spec, law, dt, u, v)?
+            }
+            _ if *law != ContactLaw::Exact => crate::schemes::methods::build(&self.system, spec, law, dt, u, v)?,
             SchemeSpec::CrankNicolson { formulation: Formulation::Full } => {
                 Box::new(Newmark::crank_nicolson(s, dt, u, v)?)
             }

@@ -57,6 +57,9 @@ pub struct BarSystem {
     pub weights: Vec<f64>,
     pub system: ContactSystem<SymTridiag>,
     pub far_end: FarEnd,
+    /// The lumped mass on the unknowns: row sums of ρ M_w over all nodes 0..m (node m included
+    /// before it is eliminated), `ρh/2 (w_{i−1} + w_i)` (explicit schemes).
+    pub lumped: Vec<f64>,
 }
 
 /// The body force f of the bar.
@@ -139,6 +142,11 @@ impl BarSystem {
             FarEnd::Free => m + 1,
         };
         let (mass, stiffness) = full_matrices(&bar, &weights);
+        let row = |i: usize| {
+            let off = |k: usize| mass.off.get(k).copied().unwrap_or(0.0);
+            mass.diag[i] + if i > 0 { off(i - 1) } else { 0.0 } + off(i)
+        };
+        let lumped = (0..n).map(|i| material.density * row(i)).collect();
         let (mut mass, mut stiffness) = (mass.leading(n), stiffness.leading(n));
         if material != Material::UNIT {
             mass = mass.combine(material.density, &mass, 0.0);
@@ -146,7 +154,7 @@ impl BarSystem {
         }
         let mut load = vec![0.0; n];
         load_into(&bar, &weights, force, &mut load);
-        Self { bar, weights, system: ContactSystem::new(mass, stiffness, load, vec![0], 0.0), far_end }
+        Self { bar, weights, system: ContactSystem::new(mass, stiffness, load, vec![0], 0.0), far_end, lumped }
     }
 
     /// Number of unknowns (m clamped, m + 1 free).

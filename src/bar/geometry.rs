@@ -106,6 +106,10 @@ impl Geometry for BarSystem {
         })
     }
 
+    fn lumped_mass(&self) -> Option<Vec<f64>> {
+        Some(self.lumped.clone())
+    }
+
     fn diagnostics(&self) -> Box<dyn Diagnostics + '_> {
         let s = &self.system;
         let unloaded = s.forcing.is_none() && s.load.iter().all(|&f| f == 0.0);

@@ -13,7 +13,9 @@
 //! exactly by [`lcp::Lcp`]). [`QuasiStatic`] solves the quasi-static contact rows of massless
 //! contact nodes (the hybrid scheme's `u_0 = u_1⁺` in 1D).
 
+pub mod law;
 pub mod lcp;
+pub mod penalty;
 pub mod schur;
 
 use crate::linalg::tridiag::{SymTridiag, TwistedFactor};

@@ -206,6 +206,12 @@ impl EngineGeometry for SolidSpec {
 
 /// What the engine cannot run yet ([`EngineGeometry::engine_refusal`]).
 pub fn validate<G: EngineGeometry>(scene: &Scene<G>) -> Result<(), EngineError> {
+    if scene.contact != crate::contact::law::ContactLaw::Exact {
+        let method = scene.contact.method();
+        return Err(EngineError::Scene(format!(
+            "contact.method = \"{method}\": the fenicsx engine runs exact contact only (issue 20's laws are Rust-only)"
+        )));
+    }
     scene.geometry.engine_refusal().map_or(Ok(()), |m| Err(EngineError::Scene(m)))
 }
 

@@ -76,6 +76,9 @@ pub struct PlateSystem {
     /// Mesh node → free unknown (None on Γ_D).
     pub node_dof: Vec<Option<usize>>,
     pub system: ContactSystem<SpMat>,
+    /// The lumped mass on the unknowns: row sums of ρ M_w over all nodes, taken before the
+    /// Dirichlet nodes are removed (explicit schemes).
+    pub lumped: Vec<f64>,
     /// The unweighted mass matrix on the free nodes (for L² norms).
     pub mass_unit: SpMat,
     /// For each free unknown, the free unknown at the same x on the lowest y (for the
@@ -145,9 +148,12 @@ impl PlateSystem {
             PlateLoad::Field(_) => 1.0 / material.density,
         };
         let mut row_sums = vec![0.0; mesh.n_nodes()];
+        let mut lumped_all = vec![0.0; mesh.n_nodes()];
         for (i, j, v) in sparse::triplets(&mass_all) {
             row_sums[i] += v * f_nodes[j];
+            lumped_all[i] += v;
         }
+        let lumped: Vec<f64> = dofs.iter().map(|&v| lumped_all[v]).collect();
         let load: Vec<f64> = dofs.iter().map(|&v| scale * row_sums[v]).collect();
         let mass = sparse::principal(&mass_all, &dofs, "mass")?;
         let stiffness = sparse::principal(&stiff_all, &dofs, "stiffness")?;
@@ -182,7 +188,19 @@ impl PlateSystem {
             .collect();
         let base = dofs.iter().map(|&v| bottom.get(&mesh.points[v][0].to_bits()).copied()).collect();
         let (columns, quad_cells) = Default::default();
-        Ok(Self { mesh, weights, dofs, node_dof, system, mass_unit, base, contact_lengths, columns, quad_cells })
+        Ok(Self {
+            mesh,
+            weights,
+            dofs,
+            node_dof,
+            system,
+            lumped,
+            mass_unit,
+            base,
+            contact_lengths,
+            columns,
+            quad_cells,
+        })
     }
 
     /// The same system with the obstacle at `u_c = −gap` on every contact node (gap ≥ 0).

@@ -76,4 +76,8 @@ impl Geometry for PlateSystem {
     fn system(&self) -> &ContactSystem<Self::Matrix> {
         &self.system
     }
+
+    fn lumped_mass(&self) -> Option<Vec<f64>> {
+        Some(self.lumped.clone())
+    }
 }

@@ -93,12 +93,13 @@ impl RunError {
 pub fn setup<G: GeometrySpec>(scene: &Scene<G>) -> Result<Setup<G::System>, SceneError> {
     let error = |e: &dyn std::fmt::Display| SceneError::Setup { keys: G::SETUP_KEYS.into(), reason: e.to_string() };
     let problem = G::problem(scene).map_err(|e| error(&e))?;
-    let scheme = problem.scheme(&scene.scheme, scene.time.dt).map_err(|e| error(&e))?;
+    let scheme = problem.scheme_with(&scene.scheme, &scene.contact, scene.time.dt).map_err(|e| error(&e))?;
     Ok(Setup { problem, scheme })
 }
 
 /// Sets a scene up as `run` does (assembly, exact solution, factorisation), so a scene `check`
-/// accepts starts its run, and times that set-up and the first few steps ([`Estimate`]).
+/// accepts starts its run, and times that set-up and the first few steps ([`Estimate`], with
+/// the scheme's note: the stable limit of central differences).
 pub fn check(scene: &AnyScene) -> Result<Estimate, SceneError> {
     crate::with_scene!(scene, s => estimate(s))
 }
@@ -109,7 +110,7 @@ pub fn check(scene: &AnyScene) -> Result<Estimate, SceneError> {
 /// streams its factor (memory bound), so its time per step is steady after the first; the
 /// first steps include the impact's extra contact pivots, which makes the estimate high rather
 /// than low. Output (series, VTU) is not included.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Estimate {
     pub unknowns: usize,
     pub steps: usize,
@@ -118,6 +119,8 @@ pub struct Estimate {
     /// failed at once).
     pub step_seconds: Option<f64>,
     pub probe_steps: usize,
+    /// The scheme's note (the stable limit of central differences), if any.
+    pub note: Option<String>,
 }
 
 impl Estimate {
@@ -135,6 +138,7 @@ fn estimate<G: GeometrySpec>(scene: &Scene<G>) -> Result<Estimate, SceneError> {
     let Setup { problem, mut scheme } = setup(scene)?;
     let setup_seconds = start.elapsed().as_secs_f64();
     let unknowns = G::totals(&problem.system).unknowns;
+    let note = scheme.note();
     let probe = std::time::Instant::now();
     let mut taken = 0;
     while taken < Estimate::PROBE_STEPS.min(scene.time.steps) && probe.elapsed().as_secs_f64() < Estimate::PROBE_SECONDS
@@ -145,7 +149,7 @@ fn estimate<G: GeometrySpec>(scene: &Scene<G>) -> Result<Estimate, SceneError> {
         taken += 1;
     }
     let step_seconds = (taken > 0).then(|| probe.elapsed().as_secs_f64() / taken as f64);
-    Ok(Estimate { unknowns, steps: scene.time.steps, setup_seconds, step_seconds, probe_steps: taken })
+    Ok(Estimate { unknowns, steps: scene.time.steps, setup_seconds, step_seconds, probe_steps: taken, note })
 }
 
 /// Runs a problem with its scheme, its summary and `observers` (series, frames, progress)

@@ -371,6 +371,7 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
             return Err(SceneError::Inapplicable { key, context: format!("[{}] scenes ({why})", G::TABLE) });
         }
     }
+    let contact = super::contact::parse_contact(raw.contact)?;
     let time = parse_time(raw.time, 3.0 * geometry.length(), geometry.unknowns(), G::SIZE_KEYS)?;
     let o = raw.output.unwrap_or_default();
     let series = match o.series {
@@ -412,7 +413,7 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
     };
     let divergence_factor = parse_divergence_factor(o.divergence_factor)?;
     let output = OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true), divergence_factor, vtu_every };
-    Ok(Scene { geometry, mass, scheme, time, output })
+    Ok(Scene { geometry, mass, scheme, contact, time, output })
 }
 
 #[cfg(test)]
@@ -449,7 +450,7 @@ mod tests {
         );
         assert_eq!(
             scheme("kind = \"euler\"").unwrap_err(),
-            "scheme.kind = \"euler\": allowed range is crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid"
+            "scheme.kind = \"euler\": allowed range is crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid | central-difference | moreau-jean"
         );
         // A wrong type names the key (serde's message alone does not).
         assert_eq!(

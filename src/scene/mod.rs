@@ -11,6 +11,7 @@
 //! # weights = [0.0, 2.0, 1.0, 1.0, 1.0, 1.0]   # custom only, one per element
 //! [scheme]
 //! kind = "crank-nicolson"    # crank-nicolson | newmark | backward-euler | paoli-schatzman | hybrid
+//!                            # | central-difference | moreau-jean (contact law: [contact], scene/contact.rs)
 //! formulation = "full"       # crank-nicolson/newmark: full | reduced (reduced needs w_0 = 0)
 //! [time]
 //! dt = 0.01
@@ -28,6 +29,7 @@
 mod bar;
 mod body;
 mod common;
+mod contact;
 pub mod gmsh;
 pub mod mesh_file;
 mod plate;
@@ -35,6 +37,7 @@ mod solid;
 
 pub(crate) use body::*;
 pub use common::*;
+pub use contact::RawContact;
 pub use plate::*;
 pub use solid::*;
 // The geometries' specifications, which the tables validate into.
@@ -211,6 +214,8 @@ pub struct Scene<G> {
     pub geometry: G,
     pub mass: crate::mass::MassKind,
     pub scheme: SchemeSpec,
+    /// The contact law (`[contact]`; default exact).
+    pub contact: crate::contact::law::ContactLaw,
     pub time: TimeSpec,
     pub output: OutputSpec,
 }
@@ -261,6 +266,8 @@ pub struct RawScene {
     pub(crate) obstacle: Option<body::RawObstacle>,
     pub(crate) mass: Option<RawMass>,
     pub(crate) scheme: Option<RawScheme>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) contact: Option<RawContact>,
     pub(crate) time: Option<RawTime>,
     pub(crate) output: Option<RawOutput>,
 }
@@ -381,7 +388,8 @@ impl<G: SceneGeometry> Scene<G> {
     /// The scene with every default filled in, as TOML.
     pub fn resolved_toml(&self) -> String {
         let (mass, scheme, time, output) = raw_sections(&self.mass, &self.scheme, &self.time, &self.output, G::VTU);
-        let raw = RawScene { mass, scheme, time, output, ..self.geometry.raw() };
+        let contact = contact::raw_contact(&self.contact);
+        let raw = RawScene { mass, scheme, contact, time, output, ..self.geometry.raw() };
         let mut text = self.geometry.header(&self.time);
         text.push_str(&toml::to_string(&raw).expect("a resolved scene always serialises"));
         text

@@ -17,11 +17,16 @@
 //! impact law) and [`NewmarkReduced`] (the reduced unknowns 1..m−1 with `u_0 = u_1⁺`).
 
 pub mod backward_euler;
+pub mod central_difference;
 pub mod hybrid;
+pub mod methods;
+pub mod moreau_jean;
 pub mod newmark;
 pub mod newmark_reduced;
 pub mod paoli_schatzman;
+pub mod penalty_implicit;
 mod spec;
+pub mod stable_limit;
 
 use crate::contact::lcp::LcpError;
 use crate::linalg::LinalgError;
@@ -48,11 +53,13 @@ impl OneNodeContact<'_> {
     }
 }
 pub use backward_euler::BackwardEuler;
+pub use central_difference::CentralDifference;
 pub use hybrid::Hybrid;
+pub use moreau_jean::MoreauJean;
 pub use newmark::Newmark;
 pub use newmark_reduced::NewmarkReduced;
 pub use paoli_schatzman::PaoliSchatzman;
-pub use spec::{Beta, Formulation, Gamma, ParamError, Restitution, SchemeSpec};
+pub use spec::{Beta, Formulation, Gamma, ImpactRestitution, ParamError, Restitution, SchemeSpec, Theta};
 
 /// The discrete state at `t_n = n Δt`, borrowed from the scheme (no copy).
 #[derive(Debug, Clone, Copy)]
@@ -76,6 +83,17 @@ pub trait Scheme: Send {
     fn pivots(&self) -> usize {
         0
     }
+    /// The scheme's own energy of its state, where it is not the system's `½VᵀMV + ½UᵀSU − UᵀF`
+    /// (central differences: the lumped mass; the penalty law: its spring energy). None: the
+    /// system's, which the run computes.
+    fn energy(&self) -> Option<f64> {
+        None
+    }
+    /// What `check` says of the scheme beyond the resolved scene (central differences: the
+    /// stable limit), one line, or None.
+    fn note(&self) -> Option<String> {
+        None
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -94,6 +112,13 @@ pub enum SchemeError {
     Unsupported { key: &'static str, geometry: &'static str, reason: &'static str },
     #[error("step {step} (t = {time}): {source}")]
     Contact { step: usize, time: f64, source: LcpError },
+    #[error(
+        "time.dt = {dt} is above the stable limit of {scheme}, Δt_c = 2/√λ_max(M_L,II⁻¹ K_II{spring}) = {limit}: use time.dt ≤ {limit}",
+        dt = crate::numfmt::fmt_f64(*dt), limit = crate::numfmt::fmt_f64(*limit)
+    )]
+    AboveStableLimit { scheme: &'static str, dt: f64, limit: f64, spring: &'static str },
+    #[error("{key}: {scheme} needs {what}, got {value} ({reason})")]
+    Needs { scheme: &'static str, key: &'static str, what: &'static str, value: f64, reason: &'static str },
 }
 
 pub(crate) fn factor_err(matrix: &'static str) -> impl Fn(FactorError) -> SchemeError {

@@ -103,6 +103,17 @@ bounded!(
     Restitution, key = "scheme.restitution", range = "[0, 1]", default = 1.0, |e| e >= 0.0 && e <= 1.0
 );
 
+bounded!(
+    /// Moreau–Jean's θ in [½, 1] (Jean 1999: the θ-method on the velocities; ½ is second order
+    /// and conserves the energy without contact, 1 is first order and dissipative). Default ½.
+    Theta, key = "scheme.theta", range = "[0.5, 1]", default = 0.5, |t| t >= 0.5 && t <= 1.0
+);
+bounded!(
+    /// Moreau–Jean's restitution coefficient e in [0, 1] (Newton's impact law on the contact
+    /// velocities, `v_n^{n+1} + e v_nⁿ ≥ 0`). Default 0 (inelastic impact, as Siconos's default).
+    ImpactRestitution, key = "scheme.restitution", range = "[0, 1]", default = 0.0, |e| e >= 0.0 && e <= 1.0
+);
+
 /// Which form of Newmark to solve: the full m-unknown system with the contact multiplier, or the
 /// reduced (P^mod_U) system of a massless contact node.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -169,6 +180,16 @@ pub enum SchemeSpec {
         restitution: Restitution,
     },
     Hybrid,
+    /// Explicit central differences on the lumped weighted mass, with quasi-static massless
+    /// unknowns (`super::central_difference`).
+    CentralDifference,
+    /// Moreau–Jean's θ-scheme with an impact law on the velocities (`super::moreau_jean`).
+    MoreauJean {
+        #[serde(default)]
+        theta: Theta,
+        #[serde(default)]
+        restitution: ImpactRestitution,
+    },
 }
 
 impl SchemeSpec {
@@ -180,13 +201,18 @@ impl SchemeSpec {
     /// Paoli–Schatzman with its default β = ¼, e = 1.
     pub const PAOLI_SCHATZMAN: SchemeSpec =
         SchemeSpec::PaoliSchatzman { beta: Beta::DEFAULT, restitution: Restitution::DEFAULT };
+    /// Moreau–Jean with its default θ = ½, e = 0.
+    pub const MOREAU_JEAN: SchemeSpec =
+        SchemeSpec::MoreauJean { theta: Theta::DEFAULT, restitution: ImpactRestitution::DEFAULT };
     /// One scheme of every kind with its defaults, in the order messages list them.
-    pub const ALL: [SchemeSpec; 5] = [
+    pub const ALL: [SchemeSpec; 7] = [
         SchemeSpec::CRANK_NICOLSON,
         SchemeSpec::NEWMARK,
         SchemeSpec::BackwardEuler,
         SchemeSpec::PAOLI_SCHATZMAN,
         SchemeSpec::Hybrid,
+        SchemeSpec::CentralDifference,
+        SchemeSpec::MOREAU_JEAN,
     ];
 
     /// The scene name (`scheme.kind`): the one list of scheme names.
@@ -197,7 +223,15 @@ impl SchemeSpec {
             SchemeSpec::BackwardEuler => "backward-euler",
             SchemeSpec::PaoliSchatzman { .. } => "paoli-schatzman",
             SchemeSpec::Hybrid => "hybrid",
+            SchemeSpec::CentralDifference => "central-difference",
+            SchemeSpec::MoreauJean { .. } => "moreau-jean",
         }
+    }
+
+    /// The method classes of issue 20 (central differences, Moreau–Jean), built by
+    /// `super::methods::build` with any contact law.
+    pub const fn method_class(&self) -> bool {
+        matches!(self, SchemeSpec::CentralDifference | SchemeSpec::MoreauJean { .. })
     }
 
     /// The scheme of kind `name` with its defaults.
@@ -256,6 +290,12 @@ mod tests {
         assert!(Beta::try_from(f64::NAN).is_err() && Gamma::try_from(1.5).is_err());
         assert_eq!(Gamma::try_from(0.0).map(Gamma::get), Ok(0.0));
         assert!(Restitution::try_from(-0.1).is_err() && Restitution::try_from(0.0).is_ok());
+        assert!(Theta::try_from(0.49).is_err() && Theta::try_from(1.01).is_err() && Theta::try_from(0.5).is_ok());
+        assert!(ImpactRestitution::try_from(1.5).is_err() && ImpactRestitution::DEFAULT.get() == 0.0);
+        let e = toml::from_str::<SchemeSpec>("kind = \"moreau-jean\"\ntheta = 0.4").unwrap_err();
+        assert_eq!(e.message(), "scheme.theta = 0.4: allowed range is [0.5, 1]");
+        let s: SchemeSpec = toml::from_str("kind = \"moreau-jean\"\ntheta = 1\nrestitution = 0.5").unwrap();
+        assert_eq!(s, SchemeSpec::MoreauJean { theta: Theta::new(1.0), restitution: ImpactRestitution::new(0.5) });
         // From a table: the same message, integers accepted.
         let e = toml::from_str::<SchemeSpec>("kind = \"newmark\"\nbeta = 0").unwrap_err();
         assert_eq!(e.message(), "scheme.beta = 0: allowed range is (0, 1]");
@@ -272,7 +312,10 @@ mod tests {
     fn the_bar_only_reason_lists_the_other_schemes() {
         let (key, why) = SchemeSpec::PAOLI_SCHATZMAN.bar_only().unwrap();
         assert_eq!(key, "scheme.kind = \"paoli-schatzman\"");
-        assert!(why.ends_with("use crank-nicolson, newmark, backward-euler or hybrid"), "{why}");
+        assert!(
+            why.ends_with("use crank-nicolson, newmark, backward-euler, hybrid, central-difference or moreau-jean"),
+            "{why}"
+        );
         assert_eq!(SchemeSpec::NEWMARK.bar_only(), None);
     }
 }
