@@ -4,7 +4,7 @@
 
 use crate::driver::{Divergence, Needs, Observer, Sample};
 use crate::exact::Exact;
-use crate::problem::{Geometry, GeometryView, Problem};
+use crate::problem::{BodyStats, Geometry, GeometryView, Problem};
 use serde::Serialize;
 
 /// Records the requested columns every `every` steps (t_0 included), in memory: for library
@@ -54,18 +54,29 @@ pub fn series_needs(columns: &[Column]) -> Needs {
 /// `series.csv`).
 pub fn push_series_row(columns: &[Column], s: &Sample, row: &mut Vec<f64>) {
     row.push(s.state.t);
-    row.extend(columns.iter().map(|&c| series_value(c, s)));
+    // A body's reports, once per row (None for the other geometries).
+    let body = match columns.iter().any(|c| c.is_body() || *c == Column::ContactForce) {
+        true => s.geometry.body_stats(s.state.u, s.state.v, s.state.lambda),
+        false => None,
+    };
+    row.extend(columns.iter().map(|&c| series_value(c, s, body.as_ref())));
 }
 
-/// The value of series column `c` at a sample (one CSV cell of `series.csv`).
-fn series_value(c: Column, s: &Sample) -> f64 {
+/// The value of series column `c` at a sample (one CSV cell of `series.csv`); a body's
+/// `contact_force` is its total reaction `Σ R_i ≥ 0`.
+fn series_value(c: Column, s: &Sample, body: Option<&BodyStats>) -> f64 {
     let t = s.state.t;
+    let of = |f: fn(&BodyStats) -> f64| body.map_or(f64::NAN, f);
     match c {
         Column::U0 => s.u0,
         Column::U1 => s.state.u[1],
         Column::UMean => s.u_mean,
         Column::Lambda => s.pressure,
-        Column::ContactForce => s.contact_force,
+        Column::ContactForce => body.map_or(s.contact_force, |b| b.contact_force),
+        Column::ActiveNodes => of(|b| b.active as f64),
+        Column::MinDistance => of(|b| b.min_distance),
+        Column::Momentum(k) => body.map_or(f64::NAN, |b| b.momentum[k as usize]),
+        Column::MeanU(k) => body.map_or(f64::NAN, |b| b.mean_u[k as usize]),
         Column::Energy => s.energy,
         Column::L2Error => s.l2_error,
         Column::ExactU0 => s.exact.map_or(f64::NAN, |e| e.u0(t)),
@@ -161,8 +172,27 @@ pub struct Summary {
     /// Largest pivot count of one step's contact solves.
     pub max_pivots: usize,
     pub final_u_mean: f64,
+    /// Σ_c λ_c at the last state (a body: its total reaction Σ_i R_i ≥ 0).
     pub final_contact_force: f64,
     pub wall_seconds: f64,
+    /// A body's keys (absent for the other geometries).
+    #[serde(flatten)]
+    pub body: Option<BodySummary>,
+}
+
+/// The summary keys of a body against an obstacle ([`BodyStats`] over the states seen).
+#[derive(Debug, Clone, Serialize)]
+pub struct BodySummary {
+    /// max over t_n of Σ_i R_i.
+    pub max_contact_force: f64,
+    /// min over t_n and contact nodes of d_i (0 for exact contact once touching).
+    pub min_distance: f64,
+    /// Nodes with d_i ≤ 0 at the last state.
+    pub final_active_nodes: usize,
+    /// P_k at the last state (dim entries).
+    pub final_momentum: Vec<f64>,
+    /// ū_k at the last state (dim entries).
+    pub final_mean_displacement: Vec<f64>,
 }
 
 /// Accumulates a [`Summary`] in the step loop (O(1) memory).
@@ -202,6 +232,9 @@ pub struct SummaryObserver {
     seen: bool,
     divergence: Option<Divergence>,
     started: std::time::Instant,
+    dim: usize,
+    /// A body's max Σ R_i, min d_i, and its last stats.
+    body: Option<(f64, f64, BodyStats)>,
 }
 
 impl SummaryObserver {
@@ -249,6 +282,8 @@ impl SummaryObserver {
             seen: false,
             divergence: None,
             started: std::time::Instant::now(),
+            dim: g.dim(),
+            body: None,
         }
     }
 
@@ -287,7 +322,20 @@ impl SummaryObserver {
             final_u_mean: self.final_u_mean,
             final_contact_force: self.final_force,
             wall_seconds: self.started.elapsed().as_secs_f64(),
+            body: self.body.map(|(max_contact_force, min_distance, last)| BodySummary {
+                max_contact_force,
+                min_distance,
+                final_active_nodes: last.active,
+                final_momentum: last.momentum[..self.dim].to_vec(),
+                final_mean_displacement: last.mean_u[..self.dim].to_vec(),
+            }),
         }
+    }
+
+    /// Accumulates a body's keys (no allocation: the last state's stats are kept).
+    fn body(&mut self, b: &BodyStats) {
+        let (max_force, min_distance) = self.body.map_or((f64::NEG_INFINITY, f64::INFINITY), |(m, d, _)| (m, d));
+        self.body = Some((max_force.max(b.contact_force), min_distance.min(b.min_distance), *b));
     }
 
     fn energy(&mut self, n: usize, e: f64) {
@@ -332,6 +380,10 @@ impl Observer for SummaryObserver {
         self.max_pivots = self.max_pivots.max(s.pivots);
         self.final_u_mean = s.u_mean;
         self.final_force = s.contact_force;
+        if let Some(b) = s.geometry.body_stats(st.u, st.v, st.lambda) {
+            self.final_force = b.contact_force;
+            self.body(&b);
+        }
         if self.first_impact.is_none() {
             if touching {
                 self.first_impact = Some(st.t);
@@ -440,6 +492,14 @@ pub enum Column {
     ExactLambda,
     /// Principal pivots of the step's contact solves (plates).
     Pivots,
+    /// A body's nodes in contact (`d_i ≤ 0`).
+    ActiveNodes,
+    /// A body's `min_i d_i` over its contact nodes.
+    MinDistance,
+    /// A body's momentum component k (0, 1, 2: x, y, z).
+    Momentum(u8),
+    /// A body's mean displacement component k.
+    MeanU(u8),
 }
 
 impl Column {
@@ -459,6 +519,51 @@ impl Column {
         Column::Pivots,
     ];
 
+    /// The columns only a body against an obstacle has.
+    pub const BODY: [Column; 8] = [
+        Column::ActiveNodes,
+        Column::MinDistance,
+        Column::Momentum(0),
+        Column::Momentum(1),
+        Column::Momentum(2),
+        Column::MeanU(0),
+        Column::MeanU(1),
+        Column::MeanU(2),
+    ];
+    /// The columns of a solid scene: a plate's, and a body's.
+    pub const SOLID: [Column; 17] = [
+        Column::U0,
+        Column::UMean,
+        Column::Lambda,
+        Column::ContactForce,
+        Column::Energy,
+        Column::L2Error,
+        Column::ExactU0,
+        Column::ExactLambda,
+        Column::Pivots,
+        Column::ActiveNodes,
+        Column::MinDistance,
+        Column::Momentum(0),
+        Column::Momentum(1),
+        Column::Momentum(2),
+        Column::MeanU(0),
+        Column::MeanU(1),
+        Column::MeanU(2),
+    ];
+
+    /// Whether only a body has this column.
+    pub fn is_body(self) -> bool {
+        Column::BODY.contains(&self)
+    }
+
+    /// The vector component of a body column (None for the others).
+    pub fn component(self) -> Option<usize> {
+        match self {
+            Column::Momentum(k) | Column::MeanU(k) => Some(k as usize),
+            _ => None,
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Column::U0 => "u0",
@@ -471,6 +576,10 @@ impl Column {
             Column::ExactU0 => "exact_u0",
             Column::ExactLambda => "exact_lambda",
             Column::Pivots => "pivots",
+            Column::ActiveNodes => "active_nodes",
+            Column::MinDistance => "min_distance",
+            Column::Momentum(k) => ["momentum_x", "momentum_y", "momentum_z"][k.min(2) as usize],
+            Column::MeanU(k) => ["mean_u_x", "mean_u_y", "mean_u_z"][k.min(2) as usize],
         }
     }
 

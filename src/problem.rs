@@ -59,6 +59,27 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
     /// Values at all mesh nodes (0 on the Dirichlet boundary) from values on the unknowns:
     /// `n_nodes() · components()` of them, interleaved `node · components() + component`.
     fn nodal_values(&self, u: &[f64], out: &mut [f64]);
+    /// What a body against an obstacle reports of a state ([`BodyStats`]); None for the
+    /// geometries that are not such bodies (their reports stay as they are).
+    fn body_stats(&self, _u: &[f64], _v: &[f64], _lambda: &[f64]) -> Option<BodyStats> {
+        None
+    }
+}
+
+/// The reports of a body against an obstacle at one state (issue 19): with `R_i = −λ_i ≥ 0`
+/// the reaction of contact node i and `d_i = u_n,i + g_i ≥ 0` its distance to the obstacle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyStats {
+    /// `Σ_i R_i`.
+    pub contact_force: f64,
+    /// The nodes in contact, `d_i ≤ 0`.
+    pub active: usize,
+    /// `min_i d_i`.
+    pub min_distance: f64,
+    /// `P_k = 1ᵀ M V_k` (weighted mass, all nodes; entries beyond the dimension 0).
+    pub momentum: [f64; 3],
+    /// `ū_k = 1ᵀ M_std U_k / |Ω|` (unweighted mass).
+    pub mean_u: [f64; 3],
 }
 
 /// A geometry with its contact system over a linear-algebra back-end.

@@ -179,6 +179,9 @@ impl EngineGeometry for PlateSpec {
 /// Solids: structured meshes of every cell kind; `solid.mesh` files not yet.
 impl EngineGeometry for SolidSpec {
     fn engine_refusal(&self) -> Option<String> {
+        if self.body.is_some() {
+            return Some("[obstacle]: the fenicsx engine does not run bodies against a plane yet".into());
+        }
         self.mesh_file.as_ref().map(|_| "solid.mesh: the fenicsx engine runs structured solids only (for now)".into())
     }
 

@@ -27,6 +27,9 @@ impl Mesh {
     /// L is the largest x, H and D the extents in y and z. No `grid`.
     pub fn from_arrays(kind: Cell, points: &[f64], cells: &[usize]) -> Result<Self, MeshError> {
         let (dim, k) = (kind.dim(), kind.verts());
+        if kind.is_quadratic() {
+            return Err(MeshError::BoxKind { kind: kind.data().meshio });
+        }
         let pts = checked_points(points, cells, k, dim)?;
         let lo = |a: usize| pts.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min);
         let hi = |a: usize| pts.iter().map(|p| p[a]).fold(f64::NEG_INFINITY, f64::max);
@@ -46,6 +49,7 @@ impl Mesh {
                 Cell::Triangle | Cell::Quad => shoelace(&p[..k]),
                 Cell::Tet => tet_volume(&p),
                 Cell::Hex => 1.0, // sized by the box check
+                Cell::Triangle6 | Cell::Tet10 => unreachable!("refused above"),
             };
             if signed.abs() <= tol.powi(dim as i32) {
                 return Err(MeshError::Degenerate { noun: kind.noun(), cell: c, measure: signed });
@@ -57,7 +61,7 @@ impl Mesh {
             let boxed = match kind {
                 Cell::Quad => is_rectangle(&p, tol),
                 Cell::Hex => is_vtk_box(&p, tol),
-                Cell::Triangle | Cell::Tet => true,
+                Cell::Triangle | Cell::Tet | Cell::Triangle6 | Cell::Tet10 => true,
             };
             if !boxed {
                 let (shape, order) = if dim == 2 { ("rectangle", "counter-clockwise") } else { ("box", "VTK") };

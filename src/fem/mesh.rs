@@ -35,6 +35,10 @@ pub enum MeshError {
     Cells { n: [usize; 3] },
     #[error("{kind} cells in a structured {dim}D mesh: allowed are {allowed}")]
     Kind { kind: &'static str, dim: usize, allowed: &'static str },
+    #[error(
+        "{kind} cells in a box mesh: a box scene's mesh has triangle, quad, tetra or hexahedron cells (P2 cells are for bodies)"
+    )]
+    BoxKind { kind: &'static str },
     #[error("the mesh arrays are inconsistent: {0}")]
     Arrays(String),
     #[error("{noun} {cell} has measure {measure:e} (degenerate)")]
@@ -43,6 +47,14 @@ pub enum MeshError {
         "{noun} {cell} is not an axis-aligned {shape} with its vertices in {order} order (only such cells are supported for Q1)"
     )]
     NotBox { noun: &'static str, cell: usize, shape: &'static str, order: &'static str },
+    #[error(
+        "{noun} {cell} is tangled: its det J ranges over [{min:e}, {max:e}] (changes sign: a node, e.g. a P2 edge node, lies across the cell; fix the mesh)"
+    )]
+    Tangled { noun: &'static str, cell: usize, min: f64, max: f64 },
+    #[error(
+        "cell {cell} has node {node} on the edge {vertices:?} but cell {first} has node {other} there: a conforming P2 mesh shares edge nodes"
+    )]
+    EdgeNode { vertices: [usize; 2], cell: usize, node: usize, first: usize, other: usize },
     #[error("the mesh has its smallest x at {xmin}: the contact boundary is x = 0, so the mesh must start there")]
     NotAtOrigin { xmin: f64 },
     #[error("vertex {vertex} belongs to no cell")]
@@ -101,7 +113,7 @@ impl Mesh {
         if nx < 2 || ny < 1 {
             return Err(MeshError::Cells { n: [nx, ny, 0] });
         }
-        if kind.dim() != 2 {
+        if kind.dim() != 2 || kind.is_quadratic() {
             return Err(MeshError::Kind { kind: kind.name(), dim: 2, allowed: "quad, triangle" });
         }
         let mut points = Vec::with_capacity((nx + 1) * (ny + 1));
@@ -134,7 +146,7 @@ impl Mesh {
         if nx < 2 || ny < 1 || nz < 1 {
             return Err(MeshError::Cells { n });
         }
-        if kind.dim() != 3 {
+        if kind.dim() != 3 || kind.is_quadratic() {
             return Err(MeshError::Kind { kind: kind.name(), dim: 3, allowed: "hex, tet" });
         }
         let mut points = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
@@ -299,6 +311,8 @@ mod tests {
             assert_eq!(m.points[m.n_nodes() - 1], [2.0, 0.5, 0.75]);
         }
         assert!(matches!(Mesh::structured_3d([1.0; 3], [2, 1, 1], Cell::Quad), Err(MeshError::Kind { .. })));
+        assert!(matches!(Mesh::structured_3d([1.0; 3], [2, 1, 1], Cell::Tet10), Err(MeshError::Kind { .. })));
+        assert!(matches!(Mesh::structured_2d(1.0, 1.0, 2, 1, Cell::Triangle6), Err(MeshError::Kind { .. })));
         let err = Mesh::structured_2d(1.0, f64::NAN, 2, 1, Cell::Quad).unwrap_err();
         // NaN != NaN: compare the message, which names the axis.
         assert_eq!(err.to_string(), "the mesh's extent along y is NaN: must be finite and > 0");

@@ -6,6 +6,7 @@
 //! here as arrays; nothing here calls Python. (The VTU frame format [`vtu`] and its streaming
 //! observer [`frames`] are the output edge of every 2D/3D geometry.)
 
+pub mod body_mesh;
 pub mod cell;
 pub mod checks;
 pub mod columns;
@@ -13,6 +14,7 @@ pub mod element;
 pub mod frames;
 pub mod layers;
 pub mod mesh;
+pub mod quadrature;
 pub mod vtu;
 
 pub use cell::Cell;

@@ -6,7 +6,8 @@
 //! format VTK itself writes by default; ParaView and meshio read it): each array a block of a
 //! UInt64 byte count and the values. [`Layout`] serialises what every frame of a run shares once
 //! — the XML with every array's offset, the points, the cells (VTK_TRIANGLE = 5, VTK_QUAD = 9,
-//! VTK_TETRA = 10, VTK_HEXAHEDRON = 12; connectivity and offsets as Int32) and the constant
+//! VTK_TETRA = 10, VTK_HEXAHEDRON = 12, VTK_QUADRATIC_TRIANGLE = 22, VTK_QUADRATIC_TETRA = 24:
+//! the P2 cells as such, our node order being VTK's; connectivity and offsets as Int32) and the constant
 //! cell arrays — and [`Layout::write`] appends one state's point arrays to a copy of it: a
 //! frame costs a copy of the geometry's bytes and of the values, no number formatting (the ASCII
 //! frames took about 8 shortest-round-trip numbers per node, 6.6× the steps of a 100 × 100

@@ -1,6 +1,8 @@
 //! Mesh files at the scene's edge (`plate.mesh`, `solid.mesh`): the file is checked before
-//! anything opens it, read by meshio through the Python bridge (feature `python`), and its cells
-//! picked and checked here; [`crate::fem::Mesh::from_arrays`] gets arrays and does no I/O.
+//! anything opens it, read — gmsh `.msh` by [`super::gmsh`] in every build, other formats by
+//! meshio through the Python bridge (feature `python`) — and its cells picked and checked here;
+//! [`crate::fem::Mesh::from_arrays`] (box scenes) and [`crate::fem::Mesh::body_from_arrays`]
+//! (bodies of any shape, [`read_body`]) get arrays and do no I/O.
 //!
 //! - Only a regular file of at most [`MAX_MESH_FILE_BYTES`] is read (a symlink to /dev/zero
 //!   would be read for ever, a FIFO blocks).
@@ -12,7 +14,9 @@
 //! - Points of no cell are dropped, the others renumbered in the file's order. A 2D mesh must
 //!   lie in a plane z = constant.
 
+use super::gmsh::{self, GmshError};
 use crate::fem::{Cell, Mesh, MeshError};
+use std::collections::BTreeMap;
 use std::path::Path;
 use thiserror::Error;
 
@@ -59,6 +63,14 @@ pub enum MeshFileError {
     NotPlanar { key: &'static str, path: String, point: usize, z: f64, first: usize, z0: f64 },
     #[error("{key} = \"{path}\": {source}")]
     Mesh { key: &'static str, path: String, source: MeshError },
+    #[error("{key} = \"{path}\": {source}")]
+    Gmsh { key: &'static str, path: String, source: GmshError },
+    #[error(
+        "{key} = \"{path}\" has {found} cells of the top dimension {dim}: a mesh has one cell kind (triangle, triangle6, quad, tetra, tetra10 or hexahedron)"
+    )]
+    Kinds { key: &'static str, path: String, dim: usize, found: String },
+    #[error("{key} = \"{path}\" is a {found}D mesh ({kind} cells) but the scene has dim = {dim}")]
+    Dimension { key: &'static str, path: String, found: usize, kind: &'static str, dim: usize },
 }
 
 /// One cell block of a file: meshio type, flat vertex indices as the file gives them, vertices
@@ -72,13 +84,126 @@ pub struct Blocks<'a> {
     pub blocks: &'a [Block],
 }
 
-/// The mesh of `path`, the value of `key` (module docs for what is checked).
+impl Blocks<'_> {
+    /// Coordinate a of point v (0 beyond the file's columns).
+    fn coord(&self, v: usize, a: usize) -> f64 {
+        if a < self.columns { self.points[v * self.columns + a] } else { 0.0 }
+    }
+
+    /// A 2D mesh lies in a plane z = constant: every point of `nodes` has the z of the first.
+    fn check_planar(&self, key: &'static str, path: &str, nodes: &[usize]) -> Result<(), MeshFileError> {
+        if let Some(&first) = nodes.first()
+            && let Some(&point) = nodes.iter().find(|&&v| self.coord(v, 2) != self.coord(first, 2))
+        {
+            let (z, z0) = (self.coord(point, 2), self.coord(first, 2));
+            return Err(MeshFileError::NotPlanar { key, path: path.to_string(), point, z, first, z0 });
+        }
+        Ok(())
+    }
+}
+
+/// The mesh of a box scene in `path`, the value of `key` (module docs for what is checked).
 pub fn read(key: &'static str, path: &Path) -> Result<Mesh, MeshFileError> {
     check_file(key, path)?;
     let shown = path.display().to_string();
+    if is_gmsh(path) {
+        let file = read_gmsh(key, path)?;
+        return mesh_of(key, &shown, &Blocks { points: &file.points, columns: 3, blocks: &file.blocks });
+    }
     let blocks = read_blocks(key, path)?;
     let view = Blocks { points: &blocks.points, columns: blocks.columns, blocks: &blocks.blocks };
     mesh_of(key, &shown, &view)
+}
+
+/// The mesh of a body of any shape in `path` (`key`'s value) for a scene of dimension `dim`:
+/// the cells of the file's top dimension, of one kind (triangle, triangle6, quad, tetra,
+/// tetra10, hexahedron), checked by [`Mesh::body_from_arrays`]; a gmsh file's physical groups
+/// become [`Mesh::groups`] (other formats: none).
+pub fn read_body(key: &'static str, path: &Path, dim: usize) -> Result<Mesh, MeshFileError> {
+    check_file(key, path)?;
+    let shown = path.display().to_string();
+    if is_gmsh(path) {
+        let file = read_gmsh(key, path)?;
+        let view = Blocks { points: &file.points, columns: 3, blocks: &file.blocks };
+        return body_of(key, &shown, &view, file.groups, dim);
+    }
+    let blocks = read_blocks(key, path)?;
+    let view = Blocks { points: &blocks.points, columns: blocks.columns, blocks: &blocks.blocks };
+    body_of(key, &shown, &view, BTreeMap::new(), dim)
+}
+
+fn is_gmsh(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("msh"))
+}
+
+fn read_gmsh(key: &'static str, path: &Path) -> Result<gmsh::GmshFile, MeshFileError> {
+    let shown = || path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| MeshFileError::Open { key, path: shown(), reason: e.to_string() })?;
+    gmsh::parse(&bytes).map_err(|source| MeshFileError::Gmsh { key, path: shown(), source })
+}
+
+/// The dimension of a meshio/gmsh cell type name, if known.
+fn type_dim(name: &str) -> Option<usize> {
+    gmsh::TYPES.iter().find(|t| t.1 == name).map(|t| t.2)
+}
+
+/// The body mesh of a file's blocks and groups ([`read_body`]); `path` for messages.
+pub fn body_of(
+    key: &'static str,
+    path: &str,
+    file: &Blocks,
+    groups: BTreeMap<String, Vec<usize>>,
+    dim: usize,
+) -> Result<Mesh, MeshFileError> {
+    let shown = || path.to_string();
+    let mut top = None;
+    for (name, _, _) in file.blocks {
+        let d = type_dim(name).ok_or_else(|| MeshFileError::Unsupported { key, path: shown(), kind: name.clone() })?;
+        top = top.max(Some(d));
+    }
+    let found = |d: usize| -> Vec<(String, usize)> {
+        let mut kinds: Vec<(String, usize)> = Vec::new();
+        for (name, cells, nv) in file.blocks.iter().filter(|b| type_dim(&b.0) == Some(d)) {
+            match kinds.iter_mut().find(|k| &k.0 == name) {
+                Some(k) => k.1 += cells.len() / nv.max(&1),
+                None => kinds.push((name.clone(), cells.len() / nv.max(&1))),
+            }
+        }
+        kinds
+    };
+    let Some(top) = top.filter(|&d| d >= 2) else {
+        let found = file.blocks.iter().map(|b| b.0.clone()).collect();
+        return Err(MeshFileError::NoCells { key, path: shown(), found });
+    };
+    let kinds = found(top);
+    if kinds.len() > 1 {
+        let found = kinds.iter().map(|(n, c)| format!("{c} {n}")).collect::<Vec<_>>().join(", ");
+        return Err(MeshFileError::Kinds { key, path: shown(), dim: top, found });
+    }
+    let name = &kinds[0].0;
+    let kind =
+        Cell::from_meshio(name).ok_or_else(|| MeshFileError::Unsupported { key, path: shown(), kind: name.clone() })?;
+    if kind.dim() != dim {
+        return Err(MeshFileError::Dimension { key, path: shown(), found: kind.dim(), kind: kind.data().meshio, dim });
+    }
+    let points = file.points.len() / file.columns.max(1);
+    let mut cells = Vec::new();
+    for (_, block, _) in file.blocks.iter().filter(|b| &b.0 == name) {
+        for &node in block {
+            let cell = cells.len() / kind.verts();
+            let bad = MeshFileError::NodeIndex { key, path: shown(), kind: kind.data().meshio, cell, node, points };
+            cells.push(usize::try_from(node).ok().filter(|&v| v < points).ok_or(bad)?);
+        }
+    }
+    if dim == 2 {
+        file.check_planar(key, path, &cells)?;
+    }
+    let flat: Vec<f64> = (0..points).flat_map(|v| (0..dim).map(move |a| file.coord(v, a))).collect();
+    Mesh::body_from_arrays(kind, &flat, &cells, groups).map_err(|source| MeshFileError::Mesh {
+        key,
+        path: shown(),
+        source,
+    })
 }
 
 /// Refuses a path that is not a regular file of at most [`MAX_MESH_FILE_BYTES`] (following
@@ -189,15 +314,10 @@ pub fn mesh_of(key: &'static str, path: &str, file: &Blocks) -> Result<Mesh, Mes
             kept.push(v);
         }
     }
-    let coord = |v: usize, a: usize| if a < file.columns { file.points[v * file.columns + a] } else { 0.0 };
-    if dim == 2
-        && let Some(&first) = kept.first()
-        && let Some(&point) = kept.iter().find(|&&v| coord(v, 2) != coord(first, 2))
-    {
-        let (z, z0) = (coord(point, 2), coord(first, 2));
-        return Err(MeshFileError::NotPlanar { key, path: path(), point, z, first, z0 });
+    if dim == 2 {
+        file.check_planar(key, &path(), &kept)?;
     }
-    let flat: Vec<f64> = kept.iter().flat_map(|&v| (0..dim).map(move |a| coord(v, a))).collect();
+    let flat: Vec<f64> = kept.iter().flat_map(|&v| (0..dim).map(move |a| file.coord(v, a))).collect();
     let cells: Vec<usize> = cells.iter().map(|&v| new[v]).collect();
     Mesh::from_arrays(kind, &flat, &cells).map_err(|source| MeshFileError::Mesh { key, path: path(), source })
 }

@@ -28,6 +28,7 @@
 mod bar;
 mod body;
 mod common;
+pub mod gmsh;
 pub mod mesh_file;
 mod plate;
 mod solid;
@@ -141,6 +142,8 @@ pub enum SceneError {
     TooMuchMemory { keys: &'static str, bytes: f64, limit: u64 },
     #[error(transparent)]
     Expr(#[from] crate::expr::ExprError),
+    #[error(transparent)]
+    Body(#[from] crate::solid::BodyError),
     /// The problem a valid-looking scene poses cannot be set up (a matrix that cannot be
     /// factored, an exact solution that cannot be built): found by `check` and by `run` before
     /// stepping.
@@ -253,6 +256,9 @@ pub struct RawScene {
     pub(crate) plate: Option<RawPlate>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) solid: Option<solid::RawSolid>,
+    /// The rigid plane of a body (`[solid]` scenes only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) obstacle: Option<body::RawObstacle>,
     pub(crate) mass: Option<RawMass>,
     pub(crate) scheme: Option<RawScheme>,
     pub(crate) time: Option<RawTime>,
@@ -313,6 +319,10 @@ impl AnyScene {
 
     fn parse(text: &str, base: &std::path::Path) -> Result<AnyScene, SceneError> {
         let mut raw: RawScene = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
+        if raw.obstacle.is_some() && raw.solid.is_none() {
+            let context = "[bar] and [plate] scenes (a [solid] body meets a plane)".into();
+            return Err(SceneError::Inapplicable { key: "[obstacle]", context });
+        }
         match (raw.bar.take(), raw.plate.take(), raw.solid.take()) {
             (b, p, s) if b.is_some() as u8 + p.is_some() as u8 + s.is_some() as u8 > 1 => {
                 let tables: Vec<&str> = [(b.is_some(), "[bar]"), (p.is_some(), "[plate]"), (s.is_some(), "[solid]")]
@@ -325,7 +335,10 @@ impl AnyScene {
                 )))
             }
             (None, Some(p), None) => Ok(AnyScene::Plate(validate_sections(fits(PlateSpec::validate(p, base)?)?, raw)?)),
-            (None, None, Some(s)) => Ok(AnyScene::Solid(validate_sections(fits(validate_solid(s, base)?)?, raw)?)),
+            (None, None, Some(s)) => {
+                let body = validate_solid(s, raw.obstacle.take(), base)?;
+                Ok(AnyScene::Solid(validate_sections(fits(body)?, raw)?))
+            }
             (b, _, _) => Ok(AnyScene::Bar(validate_sections(BarSpec::validate(b.unwrap_or_default())?, raw)?)),
         }
     }

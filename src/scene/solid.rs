@@ -29,10 +29,10 @@
 
 use super::*;
 use crate::expr::Expr;
-use crate::fem::layers::{cell_weights, layers};
+use crate::fem::layers::{cell_weights, cell_weights_of, layers, layers_of};
 use crate::fem::mesh::{Cell, Mesh};
 use crate::mass::MassKind;
-use crate::solid::{Lame, Lateral, SolidInitial, SolidSpec};
+use crate::solid::{BodySpec, Lame, Lateral, SolidInitial, SolidSpec};
 use std::sync::Arc;
 
 /// The `[solid]` table as written (closed: unknown keys are refused, naming the key).
@@ -68,9 +68,11 @@ pub(crate) struct RawSolid {
     #[serde(skip_serializing_if = "Option::is_none")]
     lateral: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    force: Option<Vec<Number>>,
+    force: Option<Vec<RawField>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     initial: Option<RawSolidInitial>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    clamped: Option<String>,
 }
 
 /// `solid.initial`: `"paper"` or a table of per-component fields.
@@ -115,14 +117,18 @@ fn count(key: &'static str, v: Option<i64>, min: i64, range: &'static str) -> Re
 pub fn parse_solid(t: &toml::Table) -> Result<SolidSpec, SceneError> {
     let raw = RawSolid::deserialize(toml::Value::Table(t.clone()))
         .map_err(|e| SceneError::Parse(format!("[solid]: {}", e.to_string().trim_end())))?;
-    validate_solid(raw, std::path::Path::new("."))
+    validate_solid(raw, None, std::path::Path::new("."))
 }
 
 /// The `[solid]` table validated into a [`SolidSpec`]: every error names the key (`solid.…`)
 /// and its allowed range. The size is checked before any mesh is built (cells, contact nodes,
 /// cell aspect ratios), the initial data at the mesh nodes; `mesh = "…"` is relative to `base`
 /// (the scene's folder) and read here, once.
-pub(crate) fn validate_solid(t: RawSolid, base: &std::path::Path) -> Result<SolidSpec, SceneError> {
+pub(crate) fn validate_solid(
+    t: RawSolid,
+    obstacle: Option<RawObstacle>,
+    base: &std::path::Path,
+) -> Result<SolidSpec, SceneError> {
     let dim = match t.dim.unwrap_or(2) {
         d @ (2 | 3) => d as usize,
         d => return Err(SceneError::Range { key: "solid.dim", value: d.to_string(), range: "2 | 3" }),
@@ -131,10 +137,16 @@ pub(crate) fn validate_solid(t: RawSolid, base: &std::path::Path) -> Result<Soli
         forbid("solid.depth", &t.depth, "solid.dim = 2")?;
         forbid("solid.nz", &t.nz, "solid.dim = 2")?;
     }
+    if obstacle.is_some() {
+        forbid("solid.gap", &t.gap, "a body with an [obstacle] (obstacle.point places the plane)")?;
+        forbid("solid.lateral", &t.lateral, "a body with an [obstacle] (its boundary is free but where clamped)")?;
+    } else {
+        forbid("solid.clamped", &t.clamped, "a box without [obstacle] (clamped on x = L)")?;
+    }
     let (extent, n, cells, mesh, mesh_file) = match &t.mesh {
         Some(file) => {
             let path = base.join(file);
-            let mesh = file_mesh(&t, dim, &path)?;
+            let mesh = if obstacle.is_some() { body_file_mesh(&t, dim, &path)? } else { file_mesh(&t, dim, &path)? };
             (mesh.extent, [0; 3], mesh.kind, Some(Arc::new(mesh)), Some(path))
         }
         None => {
@@ -156,19 +168,40 @@ pub(crate) fn validate_solid(t: RawSolid, base: &std::path::Path) -> Result<Soli
             return Err(SceneError::Range { key: "solid.lateral", value: format!("\"{other}\""), range });
         }
     };
-    let mut force = [0.0; 3];
-    if let Some(v) = &t.force {
-        let range = "an array of one finite number per component";
-        let value = || format!("[{}]", v.iter().map(|x| short(x.get())).collect::<Vec<_>>().join(", "));
-        if v.len() != dim || v.iter().any(|x| !x.get().is_finite()) {
-            return Err(SceneError::Range { key: "solid.force", value: value(), range });
+    let (mut force, mut body) = ([0.0; 3], None);
+    if let Some(o) = obstacle {
+        let (vars, consts) = variables(dim, extent);
+        let force = parse_body_force(t.force, dim, vars, &consts)?;
+        body = Some(BodySpec { obstacle: parse_obstacle(o, dim)?, clamped: t.clamped, force });
+    } else if let Some(v) = &t.force {
+        let range = "an array of one finite number per component (expressions: bodies with an [obstacle])";
+        let numbers: Vec<Option<f64>> =
+            v.iter().map(|x| if let RawField::Number(n) = x { Some(n.get()) } else { None }).collect();
+        if v.len() != dim || numbers.iter().any(|x| !x.is_some_and(f64::is_finite)) {
+            let shown = |x: &RawField| match x {
+                RawField::Number(n) => short(n.get()),
+                RawField::Expr(e) => format!("\"{e}\""),
+            };
+            let value = format!("[{}]", v.iter().map(shown).collect::<Vec<_>>().join(", "));
+            return Err(SceneError::Range { key: "solid.force", value, range });
         }
-        for (f, x) in force.iter_mut().zip(v) {
-            *f = x.get();
+        for (f, x) in force.iter_mut().zip(numbers) {
+            *f = x.unwrap_or(0.0);
         }
     }
-    let initial = parse_initial(t.initial, dim, extent)?;
-    let spec = SolidSpec { dim, extent, cells_per_axis: n, cells, lame, gap, lateral, force, initial, mesh_file, mesh };
+    let initial = match (&body, t.initial) {
+        (Some(_), None) => zero_initial(dim, extent)?,
+        (Some(_), Some(RawSolidInitial::Name(s))) => {
+            let range = "{ displacement = [...], velocity = [...] } (the paper's data are the box's)";
+            return Err(SceneError::Range { key: "solid.initial", value: format!("\"{s}\""), range });
+        }
+        (_, raw) => parse_initial(raw, dim, extent)?,
+    };
+    let spec =
+        SolidSpec { dim, extent, cells_per_axis: n, cells, lame, gap, lateral, force, initial, mesh_file, mesh, body };
+    if let Some(body) = &spec.body {
+        check_body(&spec, body)?;
+    }
     if let SolidInitial::Fields { displacement, velocity } = &spec.initial {
         let mesh = spec.mesh()?;
         for e in displacement.iter().chain(velocity) {
@@ -191,10 +224,8 @@ fn parse_initial(v: Option<RawSolidInitial>, dim: usize, extent: [f64; 3]) -> Re
         }
         Some(RawSolidInitial::Fields(f)) => f,
     };
-    let vars: &[&str] = if dim == 2 { &["x", "y"] } else { &["x", "y", "z"] };
-    let pi = std::f64::consts::PI;
-    let consts = [("L", extent[0]), ("H", extent[1]), ("D", extent[2]), ("pi", pi)];
-    let consts = if dim == 2 { &[consts[0], consts[1], consts[3]][..] } else { &consts[..] };
+    let (vars, consts) = variables(dim, extent);
+    let consts = &consts[..];
     let field = |key: &'static str, raw: Option<Vec<RawField>>| -> Result<Vec<Expr>, SceneError> {
         let Some(a) = raw else {
             return Ok((0..dim).map(|_| Expr::parse(key, "0", vars, consts).expect("0 parses")).collect());
@@ -217,6 +248,59 @@ fn parse_initial(v: Option<RawSolidInitial>, dim: usize, extent: [f64; 3]) -> Re
         displacement: field("solid.initial.displacement", fields.displacement)?,
         velocity: field("solid.initial.velocity", fields.velocity)?,
     })
+}
+
+/// The variables x, y[, z] and constants L, H[, D], pi of a solid's expressions.
+fn variables(dim: usize, extent: [f64; 3]) -> (&'static [&'static str], Vec<(&'static str, f64)>) {
+    let vars: &[&str] = if dim == 2 { &["x", "y"] } else { &["x", "y", "z"] };
+    let pi = std::f64::consts::PI;
+    let consts = [("L", extent[0]), ("H", extent[1]), ("D", extent[2]), ("pi", pi)];
+    (vars, if dim == 2 { vec![consts[0], consts[1], consts[3]] } else { consts.to_vec() })
+}
+
+/// A body's default initial data: u = v = 0.
+fn zero_initial(dim: usize, extent: [f64; 3]) -> Result<SolidInitial, SceneError> {
+    let zeros = || Some((0..dim).map(|_| RawField::Number(Number::Int(0))).collect());
+    parse_initial(
+        Some(RawSolidInitial::Fields(RawSolidFields { displacement: zeros(), velocity: zeros() })),
+        dim,
+        extent,
+    )
+}
+
+/// A body's checks at validation (exit 2, nothing written): its contact set, gaps and groups
+/// ([`crate::solid::body::contact`]), the size of its contact Schur complement, its force
+/// finite at the nodes at t = 0.
+fn check_body(spec: &SolidSpec, body: &BodySpec) -> Result<(), SceneError> {
+    let mesh = spec.mesh()?;
+    let contact = crate::solid::body::contact(&mesh, body)?;
+    check_contact_memory(contact.nodes.len())?;
+    let d = spec.dim;
+    for e in &body.force {
+        e.eval_at_nodes(mesh.points.iter().map(|p| [&p[..d], &[0.0][..]].concat())).map_err(SceneError::from)?;
+    }
+    Ok(())
+}
+
+/// The mesh of `solid.mesh` for a body: read at the edge, of the table's `dim`; any shape.
+fn body_file_mesh(t: &RawSolid, dim: usize, path: &std::path::Path) -> Result<Mesh, SceneError> {
+    let context = "solid.mesh (the mesh file gives the geometry)";
+    for (key, v) in [("solid.length", &t.length), ("solid.height", &t.height), ("solid.depth", &t.depth)] {
+        forbid(key, v, context)?;
+    }
+    for (key, v) in [("solid.nx", &t.nx), ("solid.ny", &t.ny), ("solid.nz", &t.nz)] {
+        forbid(key, v, context)?;
+    }
+    forbid("solid.cells", &t.cells, context)?;
+    let mesh = super::mesh_file::read("solid.mesh", path)?;
+    if mesh.dim != dim {
+        return Err(SceneError::Range {
+            key: "solid.mesh",
+            value: format!("\"{}\" (a {}D mesh)", path.display(), mesh.dim),
+            range: "a mesh of dimension solid.dim",
+        });
+    }
+    Ok(mesh)
 }
 
 /// The structured box of a `[solid]` table without `mesh`: extent, cells per axis, cell kind,
@@ -307,16 +391,26 @@ fn keys_of(dim: usize) -> &'static str {
     if dim == 2 { "solid.nx, solid.ny" } else { "solid.nx, solid.ny, solid.nz" }
 }
 
+/// The series columns of a solid (the body ones need an [obstacle]).
+const SOLID_SERIES_NAMES: &str = "any subset of u0, u_mean, lambda, contact_force, energy, l2_error, exact_u0, exact_lambda, pivots, and for bodies active_nodes, min_distance, momentum_x|y|z, mean_u_x|y|z";
+
 impl SceneGeometry for SolidSpec {
     const TABLE: &'static str = "solid";
-    const COLUMNS: &'static [Column] = &Column::PLATE;
-    const COLUMN_LIST: &'static str = SERIES_NAMES;
+    const COLUMNS: &'static [Column] = &Column::SOLID;
+    const COLUMN_LIST: &'static str = SOLID_SERIES_NAMES;
     const SIZE_KEYS: &'static str = "solid.nx, solid.ny[, solid.nz]";
     const VTU: bool = true;
 
     /// Free nodes (all but x = L) times the components, less the normal components a roller
     /// face removes.
     fn unknowns(&self) -> usize {
+        if let Some(body) = &self.body {
+            // Validated: the contact set builds (check_body).
+            let mesh = self.mesh().expect("a validated body has its mesh");
+            let clamped =
+                crate::solid::body::contact(&mesh, body).map_or(0, |c| c.clamped.iter().filter(|&&k| k).count());
+            return (mesh.n_nodes() - clamped) * self.dim;
+        }
         if let Some(mesh) = &self.mesh {
             let d = self.dim;
             let roller = self.lateral == Lateral::Roller;
@@ -344,11 +438,23 @@ impl SceneGeometry for SolidSpec {
     /// node is massless).
     fn contact_weight(&self, mass: &MassKind) -> Result<f64, SceneError> {
         let mesh: Mesh = self.mesh()?;
-        let weights = cell_weights(&mesh, mass)?;
-        Ok(layers(&mesh).iter().zip(&weights).filter(|(l, _)| **l == 0).map(|(_, w)| *w).fold(0.0, f64::max))
+        let (weights, layer) = match &self.body {
+            None => (cell_weights(&mesh, mass)?, layers(&mesh)),
+            Some(body) => {
+                let c = crate::solid::body::contact(&mesh, body)?;
+                (cell_weights_of(&mesh, mass, &c.contact, &c.clamped)?, layers_of(&mesh, &c.contact))
+            }
+        };
+        Ok(layer.iter().zip(&weights).filter(|(l, _)| **l == 0).map(|(_, w)| *w).fold(0.0, f64::max))
     }
 
     fn unavailable(&self, column: Column) -> Option<String> {
+        if column.is_body() && self.body.is_none() {
+            return Some("a body's columns need an [obstacle] (a body against a rigid plane)".into());
+        }
+        if column.component().is_some_and(|k| k >= self.dim) {
+            return Some("the z component of a 2D body".into());
+        }
         if column.needs_exact() && !self.is_plane_wave() {
             return Some(
                 "the exact solution (l2_error, exact_u0, exact_lambda) is a plane wave: x-only data, no force, and solid.lame_lambda = 0 or solid.lateral = \"roller\"".into(),
@@ -369,6 +475,11 @@ impl SceneGeometry for SolidSpec {
     }
 
     fn default_series(&self) -> Vec<Column> {
+        if self.body.is_some() {
+            let mut series = vec![Column::Energy, Column::ContactForce];
+            series.extend(Column::BODY.into_iter().filter(|c| c.component().is_none_or(|k| k < self.dim)));
+            return series;
+        }
         let mut series = vec![Column::U0, Column::UMean, Column::Lambda, Column::ContactForce, Column::Energy];
         if self.unavailable(Column::L2Error).is_none() {
             series.push(Column::L2Error);
@@ -399,15 +510,23 @@ impl SceneGeometry for SolidSpec {
             lame_lambda: f(self.lame.lambda),
             lame_mu: f(self.lame.mu),
             density: f(self.lame.density),
-            gap: f(self.gap),
-            lateral: Some(self.lateral.name().into()),
-            force: Some(self.force[..self.dim].iter().map(|&x| Number::Float(x)).collect()),
+            gap: f(self.gap).filter(|_| self.body.is_none()),
+            lateral: Some(self.lateral.name().into()).filter(|_| self.body.is_none()),
+            force: Some(match &self.body {
+                None => self.force[..self.dim].iter().map(|&x| RawField::Number(Number::Float(x))).collect(),
+                Some(b) => b.force.iter().map(|e| RawField::Expr(e.text().into())).collect(),
+            }),
             initial: Some(initial),
+            clamped: self.body.as_ref().and_then(|b| b.clamped.clone()),
         };
-        RawScene { solid: Some(solid), ..Default::default() }
+        let obstacle = self.body.as_ref().map(|b| raw_obstacle(&b.obstacle, self.dim));
+        RawScene { solid: Some(solid), obstacle, ..Default::default() }
     }
 
     fn header(&self, time: &TimeSpec) -> String {
+        if self.body.is_some() {
+            return format!("# Resolved body scene (every default filled in); {} steps.\n", time.steps);
+        }
         if self.mesh_file.is_some() {
             return format!(
                 "# Resolved solid scene (every default filled in); {} steps, mesh from a file.\n",

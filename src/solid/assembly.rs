@@ -145,6 +145,9 @@ pub struct SolidSystem {
     pub contact_nodes: Vec<usize>,
     /// `∫_{Γ_C} φ_c` per contact node (its share of the face area; they sum to |Γ_C|).
     pub contact_areas: Vec<f64>,
+    /// A body against a rigid plane: its frame and lumped masses (None: the box;
+    /// [`super::body_system`]). Unknowns are then components in the frame.
+    pub body: Option<super::body_system::BodyFrame>,
 }
 
 impl SolidSystem {
@@ -188,14 +191,37 @@ impl SolidSystem {
         let contact = contact_nodes.iter().map(|&v| dof_of[v * d].expect("x = 0 is not x = L")).collect();
         let system = ContactSystem::new(mass, stiffness, load, contact, gap);
         let contact_areas = contact_areas(&mesh, &contact_nodes);
-        Ok(Self { mesh, weights, lame, lateral, dofs, dof_of, system, mass_unit, contact_nodes, contact_areas })
+        Ok(Self {
+            mesh,
+            weights,
+            lame,
+            lateral,
+            dofs,
+            dof_of,
+            system,
+            mass_unit,
+            contact_nodes,
+            contact_areas,
+            body: None,
+        })
     }
 
-    /// The nodal interpolant of a vector field g(x) (component i of g at `x`) on the free
-    /// unknowns.
+    /// The nodal interpolant of a vector field g(x) (component i of g at `x`, world
+    /// components) on the free unknowns (a body's: in its frame, Rᵀ g).
     pub fn interpolate(&self, g: impl Fn(usize, [f64; 3]) -> f64) -> Vec<f64> {
         let d = self.mesh.dim;
-        self.dofs.iter().map(|&k| g(k % d, self.mesh.points[k / d])).collect()
+        let Some(frame) = &self.body else {
+            return self.dofs.iter().map(|&k| g(k % d, self.mesh.points[k / d])).collect();
+        };
+        let at = |node: usize| {
+            let p = self.mesh.points[node];
+            let mut w = [0.0; 3];
+            for (i, x) in w[..d].iter_mut().enumerate() {
+                *x = g(i, p);
+            }
+            super::body::to_frame(&frame.rot, w)
+        };
+        self.dofs.iter().map(|&k| at(k / d)[k % d]).collect()
     }
 
     /// Total mass `Σ_c w_c ρ |c| = ∫ ρ w_h` (per component).
@@ -203,10 +229,19 @@ impl SolidSystem {
         self.lame.density * crate::fem::layers::total_mass(&self.mesh, &self.weights)
     }
 
-    /// Values on all full indices (0 where eliminated), interleaved `node·d + component`.
+    /// Values on all full indices (0 where eliminated), interleaved `node·d + component`
+    /// (a body's rotated back to world components, R u').
     pub fn to_nodes(&self, u: &[f64], out: &mut [f64]) {
         for (g, k) in self.dof_of.iter().enumerate() {
             out[g] = k.map_or(0.0, |k| u[k]);
+        }
+        if let Some(frame) = &self.body {
+            let d = self.mesh.dim;
+            for node in out.chunks_mut(d) {
+                let mut w = [0.0; 3];
+                w[..d].copy_from_slice(node);
+                node.copy_from_slice(&super::body::from_frame(&frame.rot, w)[..d]);
+            }
         }
     }
 }

@@ -3,8 +3,9 @@
 //!
 //! - `u0`: the plain mean of u_x over the contact-face nodes (each node once); `contact_mean`
 //!   (the series' `u_mean`): `∫_{Γ_C} u_{h,x} / |Γ_C|`, as for plates;
-//! - `contact_measure` = `section` = `|Γ_C|` (H in 2D, H·D in 3D), so the driver's pressure is
-//!   the total contact reaction divided by the face area;
+//! - `contact_measure` = `section` = `|Γ_C|` (H in 2D, H·D in 3D; a body's contact area
+//!   `Σ_i a_i`), so the driver's pressure is the total contact reaction divided by it; for a
+//!   body `u0` and `u_mean` are the means of the normal displacement u_n;
 //! - `l2_error`: `‖u_h − u‖_{L²(Ω)^d}` against the plane wave `u = (u¹ᴰ(x, t), 0[, 0])`. The
 //!   transverse components are the quadratic form of the unit mass (exact). For u_x on a
 //!   structured Q1 mesh, u_h restricted to a line (y, z) fixed is the P1 function of x with the
@@ -20,7 +21,7 @@ use super::assembly::SolidSystem;
 use crate::bar::assembly::Bar;
 use crate::exact::Exact;
 use crate::linalg::sparse;
-use crate::problem::{Geometry, GeometryView};
+use crate::problem::{BodyStats, Geometry, GeometryView};
 use crate::system::ContactSystem;
 
 impl SolidSystem {
@@ -34,7 +35,12 @@ impl SolidSystem {
     /// `u_mean` (as for plates).
     pub fn contact_mean(&self, u: &[f64]) -> f64 {
         let s: f64 = self.system.contact.iter().zip(&self.contact_areas).map(|(&c, a)| a * u[c]).sum();
-        s / self.mesh.face_area()
+        s / self.contact_area()
+    }
+
+    /// `|Γ_C|`: the box's face x = 0, or a body's contact area `Σ_i a_i`.
+    pub fn contact_area(&self) -> f64 {
+        self.body.as_ref().map_or_else(|| self.mesh.face_area(), |b| b.contact_area)
     }
 
     /// `∫_Ω (u_{h,x} − u(x, t))² ` on a structured Q1 mesh (module docs); NaN otherwise.
@@ -106,11 +112,11 @@ impl GeometryView for SolidSystem {
     }
 
     fn section(&self) -> f64 {
-        self.mesh.face_area()
+        self.contact_area()
     }
 
     fn contact_measure(&self) -> f64 {
-        self.mesh.face_area()
+        self.contact_area()
     }
 
     fn contact(&self) -> &[usize] {
@@ -151,7 +157,7 @@ impl GeometryView for SolidSystem {
     /// largest transverse component, on structured meshes (0 otherwise).
     fn y_variation(&self, u: &[f64]) -> f64 {
         let (d, n1) = (self.mesh.dim, self.mesh.grid.map_or(0, |g| g[0] + 1));
-        if n1 == 0 {
+        if n1 == 0 || self.body.is_some() {
             return 0.0;
         }
         let mut worst: f64 = 0.0;
@@ -173,6 +179,20 @@ impl GeometryView for SolidSystem {
 
     fn nodal_values(&self, u: &[f64], out: &mut [f64]) {
         self.to_nodes(u, out)
+    }
+
+    /// A body's reports (`crate::solid::body_system`): reactions, distances, momentum, mean
+    /// displacement; None for the box.
+    fn body_stats(&self, u: &[f64], v: &[f64], lambda: &[f64]) -> Option<BodyStats> {
+        let (momentum, mean_u) = self.moments(u, v)?;
+        let s = &self.system;
+        let mut stats = BodyStats { contact_force: 0.0, active: 0, min_distance: f64::INFINITY, momentum, mean_u };
+        for ((&c, &lb), &l) in s.contact.iter().zip(&s.lower).zip(lambda) {
+            stats.contact_force -= l;
+            stats.active += usize::from(u[c] <= lb);
+            stats.min_distance = stats.min_distance.min(u[c] - lb);
+        }
+        Some(stats)
     }
 }
 

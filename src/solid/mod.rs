@@ -22,11 +22,14 @@
 //! transverse rows vanish on such fields (tests/solid.rs checks this to round-off).
 
 pub mod assembly;
+pub mod body;
+pub mod body_system;
 pub mod geometry;
 pub mod problem;
 pub mod spec;
 pub mod vtu;
 
 pub use assembly::{Lame, Lateral, SolidSystem};
+pub use body::{BodyContact, BodyError};
 pub use problem::{SolidError, SolidProblem};
-pub use spec::{SolidInitial, SolidSpec};
+pub use spec::{BodySpec, ContactSet, Obstacle, SolidInitial, SolidSpec};

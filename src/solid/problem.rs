@@ -9,7 +9,7 @@ use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::expr::Expr;
 use crate::fem::MeshError;
 use crate::fem::frames::VtuFrames;
-use crate::fem::layers::cell_weights;
+use crate::fem::layers::{cell_weights, cell_weights_of};
 use crate::mass::MassKind;
 use crate::material::{FarEnd, Material};
 use crate::problem::Problem;
@@ -28,8 +28,18 @@ impl SolidSpec {
     /// characteristics of the bar with density ρ and modulus λ + 2μ).
     pub fn problem(&self, mass: &MassKind, t_end: f64) -> Result<Problem<SolidSystem>, SolidError> {
         let mesh = self.mesh()?;
-        let weights = cell_weights(&mesh, mass).map_err(SolidAssemblyError::from)?;
-        let solid = SolidSystem::assemble(mesh, weights, self.lame, self.lateral, self.force, self.gap)?;
+        let solid = match &self.body {
+            None => {
+                let weights = cell_weights(&mesh, mass).map_err(SolidAssemblyError::from)?;
+                SolidSystem::assemble(mesh, weights, self.lame, self.lateral, self.force, self.gap)?
+            }
+            Some(body) => {
+                let contact = super::body::contact(&mesh, body)?;
+                let weights = cell_weights_of(&mesh, mass, &contact.contact, &contact.clamped)
+                    .map_err(SolidAssemblyError::from)?;
+                SolidSystem::assemble_body(mesh, weights, self.lame, body, contact)?
+            }
+        };
         let l = self.extent[0];
         let (u0, v0) = match &self.initial {
             SolidInitial::Paper => {
@@ -85,6 +95,8 @@ pub enum SolidError {
     Assembly(#[from] SolidAssemblyError),
     #[error("the plane-wave exact solution of this solid: {0}")]
     Exact(CharacteristicsError),
+    #[error(transparent)]
+    Body(#[from] super::body::BodyError),
 }
 
 /// The solid keys of `summary.json`.

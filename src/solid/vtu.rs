@@ -3,6 +3,11 @@
 //! contact nodes, 0 elsewhere), `displacement` and `velocity` (3-component vectors, z = 0 in 2D;
 //! 0 where eliminated), and the cell data `weight` (the mass redistribution). "Warp By Vector"
 //! with `displacement` shows the deformed solid.
+//!
+//! A body against a plane (`crate::solid::body`) writes its `contact_pressure` as the reaction
+//! over the node's share of the contact area, `R_i / a_i = −λ_i / a_i ≥ 0`, and a fourth point
+//! array `contact_state`: 1 on a contact node in contact (`R_i > 0` or `d_i ≤ 0`, with
+//! `d_i = n · u_i + g_i` from the written displacement), 0 elsewhere.
 
 use super::assembly::SolidSystem;
 use crate::fem::vtu::{Array, Grid, Layout, vtk_type, write_series};
@@ -18,10 +23,11 @@ fn to_3d(values: &[f64], d: usize, out: &mut Vec<f64>) {
 pub fn layout(solid: &SolidSystem) -> Layout {
     let mesh = &solid.mesh;
     let grid = Grid { points: &mesh.points, cells: &mesh.cells, verts: mesh.kind.verts(), kind: vtk_type(mesh.kind) };
-    let point_arrays = [("contact_pressure", 1), ("displacement", 3), ("velocity", 3)];
+    let point_arrays = [("contact_pressure", 1), ("displacement", 3), ("velocity", 3), ("contact_state", 1)];
+    let arrays = if solid.body.is_some() { 4 } else { 3 };
     Layout::new(
         &grid,
-        &point_arrays,
+        &point_arrays[..arrays],
         "displacement",
         &[Array { name: "weight", components: 1, values: &solid.weights }],
     )
@@ -34,22 +40,34 @@ fn point_arrays(solid: &SolidSystem, u: &[f64], v: &[f64], lambda: &[f64], array
     let mesh = &solid.mesh;
     let d = mesh.dim;
     assert!(u.len() == mesh.n_nodes() * d && v.len() == u.len() && lambda.len() == solid.contact_nodes.len());
-    arrays.resize(3, Vec::new());
+    arrays.resize(if solid.body.is_some() { 4 } else { 3 }, Vec::new());
     let pressure = &mut arrays[0];
     pressure.clear();
     pressure.resize(mesh.n_nodes(), 0.0);
+    let sign = if solid.body.is_some() { -1.0 } else { 1.0 };
     for ((&node, &l), &a) in solid.contact_nodes.iter().zip(lambda).zip(&solid.contact_areas) {
-        pressure[node] = l / a;
+        pressure[node] = sign * l / a;
     }
     to_3d(u, d, &mut arrays[1]);
     to_3d(v, d, &mut arrays[2]);
+    if let Some(frame) = &solid.body {
+        let state = &mut arrays[3];
+        state.clear();
+        state.resize(mesh.n_nodes(), 0.0);
+        let lower = &solid.system.lower;
+        for (k, (&node, &l)) in solid.contact_nodes.iter().zip(lambda).enumerate() {
+            let un: f64 = (0..d).map(|i| frame.rot[i][0] * u[node * d + i]).sum();
+            state[node] = if l < 0.0 || un - lower[k] <= 0.0 { 1.0 } else { 0.0 };
+        }
+    }
 }
 
 /// The `.vtu` of one frame ([`point_arrays`] for the arguments).
 pub fn vtu_bytes(solid: &SolidSystem, u: &[f64], v: &[f64], lambda: &[f64]) -> Vec<u8> {
     let mut arrays = Vec::new();
     point_arrays(solid, u, v, lambda, &mut arrays);
-    layout(solid).frame(&[&arrays[0], &arrays[1], &arrays[2]])
+    let refs: Vec<&[f64]> = arrays.iter().map(Vec::as_slice).collect();
+    layout(solid).frame(&refs)
 }
 
 /// Writes `frames` as `vtu/frame_NNNNN.vtu` and the collection `solid.pvd` into `dir`.
@@ -63,7 +81,8 @@ pub fn write_frames(
     let mut arrays = Vec::new();
     write_series(dir, "solid", &times, |k| {
         point_arrays(solid, &frames[k].u, &frames[k].v, &frames[k].lambda, &mut arrays);
-        layout.frame(&[&arrays[0], &arrays[1], &arrays[2]])
+        let refs: Vec<&[f64]> = arrays.iter().map(Vec::as_slice).collect();
+        layout.frame(&refs)
     })
 }
 

@@ -1,0 +1,278 @@
+//! A body of any shape against a rigid plane (issue 19): the contact nodes, their initial gaps
+//! and shares of the contact area, the clamped nodes, and the one rotation that makes the
+//! plane's normal the first axis.
+//!
+//! ```text
+//! obstacle: {x : n · (x − p) = 0}, n the unit normal pointing into the body, p a point of it;
+//! gap of node i:        g_i = n · (X_i − p)   (g_i < 0: the node starts inside, refused);
+//! normal displacement:  u_n,i = n · u_i,   d_i = u_n,i + g_i ≥ 0,   R_i ≥ 0,   d_i R_i = 0.
+//! ```
+//!
+//! - Contact nodes, `contact = "auto"`: every node (vertices and second-order edge nodes) of
+//!   every boundary facet (a facet of exactly one cell) whose outward unit normal n_f has
+//!   n_f · n < −0.01 (GetFEM's rule). n_f is computed from the facet's vertices (straight-sided
+//!   facets: the first `dim` vertices of a simplex facet, the first 2^(dim−1) of a tensor one —
+//!   a second-order kind lists its vertices first, then its edge nodes) and turned outward, away
+//!   from the mean of the cell's nodes. `contact = "<group>"`: the group's nodes.
+//! - A node both clamped and in the contact set is clamped (it leaves the contact set).
+//! - The node's share of the contact area, `a_i = ∫_{Γ_C} φ_i`, over the boundary facets whose
+//!   nodes are all contact nodes: |f|/k for each of the k vertices of a first-order facet; a
+//!   3-node (P2) segment gives 1/6, 1/6, 2/3, a 6-node (P2) triangle 0, 0, 0, 1/3, 1/3, 1/3.
+//! - The frame: one orthonormal R whose first column is n ([`rotation`]); the body is assembled
+//!   with coordinates X' = Rᵀ X and unknowns u' = Rᵀ u, so that component 0 of a contact node
+//!   is u_n with the bound u' ≥ −g_i, and everything reported is rotated back (u = R u'). With
+//!   n = e_x, R = I exactly. Linear isotropic elasticity is invariant under rotations, so the
+//!   stiffness and mass in X' are those of the body in X written in the rotated frame.
+
+use super::spec::{BodySpec, ContactSet};
+use crate::fem::Mesh;
+use std::collections::HashMap;
+use thiserror::Error;
+
+/// GetFEM's threshold: a boundary facet is in contact when n_f · n < −0.01.
+pub const AUTO_THRESHOLD: f64 = -0.01;
+
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum BodyError {
+    #[error("{key} = \"{group}\": the mesh has no physical group of this name (its groups: {known})")]
+    NoGroup { key: &'static str, group: String, known: String },
+    #[error("{key} = \"{group}\": the physical group has no node")]
+    EmptyGroup { key: &'static str, group: String },
+    #[error(
+        "obstacle.contact = \"auto\": no boundary facet has its outward normal n_f with n_f · obstacle.normal < −0.01 (the body has no face towards the plane)"
+    )]
+    NoAutoContact,
+    #[error(
+        "obstacle.contact = \"{group}\": every node of the group is clamped (solid.clamped = \"{clamped}\"), no contact node is left"
+    )]
+    AllClamped { group: String, clamped: String },
+    #[error(
+        "node {node} at ({at}) starts inside the obstacle: its gap obstacle.normal · (X − obstacle.point) = {gap:e} < 0"
+    )]
+    Inside { node: usize, at: String, gap: f64 },
+    #[error("obstacle.normal = [{0}]: must be finite and not zero (it is normalised)")]
+    Normal(String),
+}
+
+/// The contact data of a body on its mesh (module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyContact {
+    /// Contact nodes, sorted, clamped ones removed.
+    pub nodes: Vec<usize>,
+    /// g_i per contact node (≥ 0).
+    pub gaps: Vec<f64>,
+    /// a_i per contact node.
+    pub areas: Vec<f64>,
+    /// Mask over the nodes: clamped.
+    pub clamped: Vec<bool>,
+    /// Mask over the nodes: contact (after the clamped ones left).
+    pub contact: Vec<bool>,
+}
+
+/// The unit normal of `normal` (first `dim` entries), refused if zero or not finite.
+pub fn unit_normal(normal: &[f64], dim: usize) -> Result<[f64; 3], BodyError> {
+    let norm = normal.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if normal.len() != dim || !norm.is_finite() || norm == 0.0 {
+        let shown = normal.iter().map(|x| crate::scene::short(*x)).collect::<Vec<_>>().join(", ");
+        return Err(BodyError::Normal(shown));
+    }
+    let mut n = [0.0; 3];
+    for (a, x) in n.iter_mut().zip(normal) {
+        // A unit normal is kept as given (e_x stays e_x bit for bit).
+        *a = if norm == 1.0 { *x } else { x / norm };
+    }
+    Ok(n)
+}
+
+/// An orthonormal R (columns r_k, `R[row][col]`) with first column n and det R = 1; R = I for
+/// n = e_x. 2D: the rotation [[n_x, −n_y], [n_y, n_x]]. 3D: the Householder reflection
+/// H = I − 2 v vᵀ/(vᵀv), v = n − e_x (H e_x = n), with its third column negated (det = +1).
+pub fn rotation(n: [f64; 3], dim: usize) -> [[f64; 3]; 3] {
+    let mut r = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    if n == [1.0, 0.0, 0.0] {
+        return r;
+    }
+    if dim == 2 {
+        r[0] = [n[0], -n[1], 0.0];
+        r[1] = [n[1], n[0], 0.0];
+        return r;
+    }
+    let v = [n[0] - 1.0, n[1], n[2]];
+    let vv: f64 = v.iter().map(|x| x * x).sum();
+    for (i, row) in r.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            *x -= 2.0 * v[i] * v[j] / vv;
+            if j == 2 {
+                *x = -*x;
+            }
+        }
+    }
+    r
+}
+
+/// Rᵀ x.
+pub fn to_frame(r: &[[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
+    let mut y = [0.0; 3];
+    for (j, yj) in y.iter_mut().enumerate() {
+        *yj = r[0][j] * x[0] + r[1][j] * x[1] + r[2][j] * x[2];
+    }
+    y
+}
+
+/// R x.
+pub fn from_frame(r: &[[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
+    let mut y = [0.0; 3];
+    for (i, yi) in y.iter_mut().enumerate() {
+        *yi = r[i][0] * x[0] + r[i][1] * x[1] + r[i][2] * x[2];
+    }
+    y
+}
+
+/// The nodes of a group, refused if missing or empty (naming `key`).
+fn group<'m>(mesh: &'m Mesh, key: &'static str, name: &str) -> Result<&'m [usize], BodyError> {
+    match mesh.groups.get(name) {
+        None => Err(BodyError::NoGroup {
+            key,
+            group: name.into(),
+            known: if mesh.groups.is_empty() {
+                "none".into()
+            } else {
+                mesh.groups.keys().map(|k| format!("\"{k}\"")).collect::<Vec<_>>().join(", ")
+            },
+        }),
+        Some(v) if v.is_empty() => Err(BodyError::EmptyGroup { key, group: name.into() }),
+        Some(v) => Ok(v),
+    }
+}
+
+/// Vertices of a facet of this mesh's kind (module docs).
+fn facet_vertices(mesh: &Mesh) -> usize {
+    if mesh.kind.is_tensor() { 1 << (mesh.dim - 1) } else { mesh.dim }
+}
+
+/// The boundary facets: (cell, local facet index) of every facet of exactly one cell.
+pub fn boundary_facets(mesh: &Mesh) -> Vec<(usize, usize)> {
+    let (facets, k) = (mesh.kind.data().facets, facet_vertices(mesh));
+    let mut count: HashMap<[usize; 4], (usize, usize, usize)> = HashMap::with_capacity(mesh.n_cells() * facets.len());
+    for c in 0..mesh.n_cells() {
+        let v = mesh.cell(c);
+        for (f, local) in facets.iter().enumerate() {
+            let mut key = [usize::MAX; 4];
+            for (slot, &a) in key.iter_mut().zip(&local[..k]) {
+                *slot = v[a];
+            }
+            key.sort_unstable();
+            count.entry(key).or_insert((0, c, f)).0 += 1;
+        }
+    }
+    let mut out: Vec<(usize, usize)> = count.into_values().filter(|e| e.0 == 1).map(|e| (e.1, e.2)).collect();
+    out.sort_unstable();
+    out
+}
+
+/// The outward unit normal and the measure of facet `f` of cell `c`, from its vertices.
+pub fn facet_normal(mesh: &Mesh, c: usize, f: usize) -> ([f64; 3], f64) {
+    let local = mesh.kind.data().facets[f];
+    let v = mesh.cell(c);
+    let p = |a: usize| mesh.points[v[local[a]]];
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let cross =
+        |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    // The area vector: |n| is the facet's measure (a quadrilateral face: half the cross product
+    // of its diagonals, exact for planar faces).
+    let area = match (mesh.dim, facet_vertices(mesh)) {
+        (2, _) => {
+            let t = sub(p(1), p(0));
+            [t[1], -t[0], 0.0]
+        }
+        (_, 3) => cross(sub(p(1), p(0)), sub(p(2), p(0))).map(|x| 0.5 * x),
+        _ => cross(sub(p(2), p(0)), sub(p(3), p(1))).map(|x| 0.5 * x),
+    };
+    let measure = area.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut n = area.map(|x| x / measure);
+    // Outward: away from the mean of the cell's nodes.
+    let k = v.len() as f64;
+    let centre = (0..3).map(|a| v.iter().map(|&w| mesh.points[w][a]).sum::<f64>() / k).collect::<Vec<_>>();
+    let out: f64 = (0..3).map(|a| n[a] * (p(0)[a] - centre[a])).sum();
+    if out < 0.0 {
+        n = n.map(|x| -x);
+    }
+    (n, measure)
+}
+
+/// `∫_f φ_i / |f|` for the nodes of a facet with `nodes` nodes (module docs).
+fn shares(nodes: usize, vertices: usize) -> Vec<f64> {
+    match (nodes, vertices) {
+        (3, 2) => vec![1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0],
+        (6, 3) => vec![0.0, 0.0, 0.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0],
+        _ => vec![1.0 / nodes as f64; nodes],
+    }
+}
+
+/// The contact nodes, gaps, areas and clamped nodes of a body on `mesh` (world coordinates;
+/// module docs). Every node is checked against the plane: one with a negative gap is refused.
+pub fn contact(mesh: &Mesh, body: &BodySpec) -> Result<BodyContact, BodyError> {
+    let n_nodes = mesh.n_nodes();
+    let (normal, point) = (body.obstacle.normal, body.obstacle.point);
+    let gap = |v: usize| (0..3).map(|a| normal[a] * (mesh.points[v][a] - point[a])).sum::<f64>();
+    if let Some(node) = (0..n_nodes).find(|&v| gap(v) < 0.0) {
+        let at = mesh.points[node][..mesh.dim].iter().map(|x| crate::scene::short(*x)).collect::<Vec<_>>();
+        return Err(BodyError::Inside { node, at: at.join(", "), gap: gap(node) });
+    }
+    let mut clamped = vec![false; n_nodes];
+    if let Some(name) = &body.clamped {
+        for &v in group(mesh, "solid.clamped", name)? {
+            clamped[v] = true;
+        }
+    }
+    let mut contact = vec![false; n_nodes];
+    let facets = boundary_facets(mesh);
+    let data = mesh.kind.data();
+    match &body.obstacle.contact {
+        ContactSet::Auto => {
+            for &(c, f) in &facets {
+                let (nf, _) = facet_normal(mesh, c, f);
+                if (0..3).map(|a| nf[a] * normal[a]).sum::<f64>() < AUTO_THRESHOLD {
+                    for &a in data.facets[f] {
+                        contact[mesh.cell(c)[a]] = true;
+                    }
+                }
+            }
+            if !contact.iter().any(|&x| x) {
+                return Err(BodyError::NoAutoContact);
+            }
+        }
+        ContactSet::Group(name) => {
+            for &v in group(mesh, "obstacle.contact", name)? {
+                contact[v] = true;
+            }
+        }
+    }
+    for (c, k) in contact.iter_mut().zip(&clamped) {
+        *c &= !k;
+    }
+    let nodes: Vec<usize> = (0..n_nodes).filter(|&v| contact[v]).collect();
+    if nodes.is_empty() {
+        let group = match &body.obstacle.contact {
+            ContactSet::Group(g) => g.clone(),
+            ContactSet::Auto => "auto".into(),
+        };
+        return Err(BodyError::AllClamped { group, clamped: body.clamped.clone().unwrap_or_default() });
+    }
+    let mut slot = vec![usize::MAX; n_nodes];
+    for (k, &v) in nodes.iter().enumerate() {
+        slot[v] = k;
+    }
+    let mut areas = vec![0.0; nodes.len()];
+    for &(c, f) in &facets {
+        let on: Vec<usize> = data.facets[f].iter().map(|&a| mesh.cell(c)[a]).collect();
+        if on.iter().all(|&v| contact[v]) {
+            let (_, measure) = facet_normal(mesh, c, f);
+            for (&v, s) in on.iter().zip(shares(on.len(), facet_vertices(mesh))) {
+                areas[slot[v]] += s * measure;
+            }
+        }
+    }
+    let gaps = nodes.iter().map(|&v| gap(v)).collect();
+    Ok(BodyContact { nodes, gaps, areas, clamped, contact })
+}

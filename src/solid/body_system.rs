@@ -1,0 +1,178 @@
+//! The contact system of a body against a rigid plane ([`super::body`] for the definitions):
+//! assembled in the frame X' = Rᵀ X whose first axis is the plane's normal, so that the contact
+//! unknown of a node is component 0 with the bound `u'_0 ≥ −g_i`.
+//!
+//! ```text
+//! M_(a,i),(b,j) = δ_ij ρ Σ_c w_c ∫_c φ_a φ_b          (weighted, w from the contact layers),
+//! S as for the box (isotropic: the same in any orthonormal frame),
+//! F_(a,i)(t) = Σ_b (∫_Ω φ_a φ_b) f'_i(X_b, t),  f' = Rᵀ f,
+//! ```
+//!
+//! the load of the nodal interpolant of the force per unit volume, `∫_Ω I_h f · v`: neither
+//! multiplied by ρ nor weighted (exact for f affine in x on P1 and Q1 parallelogram cells, in
+//! particular for gravity). All components of the clamped nodes are eliminated; no other node
+//! is constrained (a free body has none).
+//!
+//! What the reports need, over all nodes (clamped rows included, where V = 0):
+//! `P_k = 1ᵀ M V_k = Σ_b m_b v_b,k` with `m_b = Σ_a M_ab` (the weighted lumped mass), and the
+//! mean displacement `ū_k = Σ_b m¹_b u_b,k / |Ω|` with the unweighted, ρ = 1 lumped mass m¹
+//! (both computed in the frame and rotated back by R).
+
+use super::assembly::{SolidAssemblyError, SolidSystem, assemble};
+use super::body::{BodyContact, from_frame, rotation, to_frame};
+use super::spec::BodySpec;
+use crate::expr::Expr;
+use crate::fem::Mesh;
+use crate::linalg::sparse;
+use crate::material::Lame;
+use crate::system::{ContactSystem, Forcing};
+use std::sync::Arc;
+
+/// The frame and the lumped masses of a body (module docs).
+#[derive(Debug, Clone)]
+pub struct BodyFrame {
+    /// R (`R[row][col]`), first column the plane's normal.
+    pub rot: [[f64; 3]; 3],
+    /// `m_b = ρ Σ_c w_c ∫_c φ_b` per node.
+    pub lumped: Vec<f64>,
+    /// `m¹_b = ∫_Ω φ_b` per node.
+    pub lumped_unit: Vec<f64>,
+    /// `|Ω|`.
+    pub volume: f64,
+    /// `|Γ_C| = Σ_i a_i`.
+    pub contact_area: f64,
+}
+
+/// The load `F(t)` on the free unknowns (module docs): scalar unit-mass triplets (node a, node
+/// b, ∫ φ_a φ_b), the free index of (a, i), the rotation and the force expressions.
+struct BodyLoad {
+    unit: Vec<(usize, usize, f64)>,
+    dof_of: Vec<Option<usize>>,
+    rot: [[f64; 3]; 3],
+    force: Vec<Expr>,
+    points: Vec<[f64; 3]>,
+    dim: usize,
+}
+
+impl BodyLoad {
+    /// F(t) into `out` (free unknowns).
+    fn at(&self, t: f64, out: &mut [f64]) {
+        let d = self.dim;
+        let mut args = [0.0; 4];
+        let f: Vec<[f64; 3]> = self
+            .points
+            .iter()
+            .map(|p| {
+                args[..d].copy_from_slice(&p[..d]);
+                args[d] = t;
+                let mut w = [0.0; 3];
+                for (k, e) in self.force.iter().enumerate() {
+                    w[k] = e.eval(&args[..d + 1]);
+                }
+                to_frame(&self.rot, w)
+            })
+            .collect();
+        out.fill(0.0);
+        for &(a, b, m) in &self.unit {
+            for (i, fb) in f[b][..d].iter().enumerate() {
+                if let Some(k) = self.dof_of[a * d + i] {
+                    out[k] += m * fb;
+                }
+            }
+        }
+    }
+}
+
+impl SolidSystem {
+    /// Assembles a body (module docs) on `mesh` (world coordinates) with validated cell
+    /// `weights` and its contact data.
+    pub fn assemble_body(
+        mesh: Mesh,
+        weights: Vec<f64>,
+        lame: Lame,
+        body: &BodySpec,
+        contact: BodyContact,
+    ) -> Result<Self, SolidAssemblyError> {
+        let d = mesh.dim;
+        let rot = rotation(body.obstacle.normal, d);
+        let mut frame_mesh = mesh.clone();
+        for p in frame_mesh.points.iter_mut() {
+            *p = to_frame(&rot, *p);
+        }
+        let (mass_all, stiff_all) = assemble(&frame_mesh, &weights, &lame)?;
+        let unit = Lame { density: 1.0, ..lame };
+        let (unit_all, _) = assemble(&frame_mesh, &vec![1.0; mesh.n_cells()], &unit)?;
+        let dofs: Vec<usize> = (0..mesh.n_nodes() * d).filter(|&g| !contact.clamped[g / d]).collect();
+        let mut dof_of = vec![None; mesh.n_nodes() * d];
+        for (k, &g) in dofs.iter().enumerate() {
+            dof_of[g] = Some(k);
+        }
+        let (mut lumped, mut lumped_unit) = (vec![0.0; mesh.n_nodes()], vec![0.0; mesh.n_nodes()]);
+        for (i, j, v) in sparse::triplets(&mass_all) {
+            if i % d == 0 && j % d == 0 {
+                lumped[j / d] += v;
+            }
+        }
+        let scalar_unit: Vec<(usize, usize, f64)> = sparse::triplets(&unit_all)
+            .filter(|(i, j, _)| i % d == 0 && j % d == 0)
+            .map(|(i, j, v)| (i / d, j / d, v))
+            .collect();
+        for &(_, b, v) in &scalar_unit {
+            lumped_unit[b] += v;
+        }
+        let load = BodyLoad {
+            unit: scalar_unit,
+            dof_of: dof_of.clone(),
+            rot,
+            force: body.force.clone(),
+            points: mesh.points.clone(),
+            dim: d,
+        };
+        let mut f0 = vec![0.0; dofs.len()];
+        load.at(0.0, &mut f0);
+        let transient = body.force.iter().any(|e| e.depends_on("t"));
+        let mass = sparse::principal(&mass_all, &dofs, "mass")?;
+        let stiffness = sparse::principal(&stiff_all, &dofs, "stiffness")?;
+        let mass_unit = sparse::principal(&unit_all, &dofs, "mass")?;
+        let unknowns = contact.nodes.iter().map(|&v| dof_of[v * d].expect("contact nodes are not clamped")).collect();
+        let mut system = ContactSystem::new(mass, stiffness, f0, unknowns, 0.0);
+        // 0 − g, not −g: no −0.0 bound (as the box's 0 − gap).
+        system.lower = contact.gaps.iter().map(|&g| 0.0 - g).collect();
+        if transient {
+            system = system.with_forcing(Forcing(Arc::new(move |t, out: &mut [f64]| load.at(t, out))));
+        }
+        let frame = BodyFrame {
+            rot,
+            lumped,
+            volume: lumped_unit.iter().sum(),
+            lumped_unit,
+            contact_area: contact.areas.iter().sum(),
+        };
+        Ok(Self {
+            mesh,
+            weights,
+            lame,
+            lateral: super::Lateral::Free,
+            dofs,
+            dof_of,
+            system,
+            mass_unit,
+            contact_nodes: contact.nodes,
+            contact_areas: contact.areas,
+            body: Some(frame),
+        })
+    }
+
+    /// Momentum `P = 1ᵀ M V` and mean displacement `ū` (module docs), world components.
+    pub fn moments(&self, u: &[f64], v: &[f64]) -> Option<([f64; 3], [f64; 3])> {
+        let frame = self.body.as_ref()?;
+        let d = self.mesh.dim;
+        let (mut p, mut m) = ([0.0; 3], [0.0; 3]);
+        for (k, &g) in self.dofs.iter().enumerate() {
+            let (node, comp) = (g / d, g % d);
+            p[comp] += frame.lumped[node] * v[k];
+            m[comp] += frame.lumped_unit[node] * u[k];
+        }
+        Some((from_frame(&frame.rot, p), from_frame(&frame.rot, m.map(|x| x / frame.volume))))
+    }
+}

@@ -1,0 +1,134 @@
+//! The pure-Rust gmsh reader against meshio, on files gmsh wrote (`python/meshes/generate.py
+//! --fixtures`: a curved P2 disc and a tetra10 sphere, each in MSH 2.2 and 4.1, ASCII and
+//! binary, with meshio's reading stored beside them), and the body meshes built from them.
+
+use massredist::fem::{Cell, Mesh};
+use massredist::scene::gmsh::{GmshFile, parse};
+use massredist::scene::mesh_file::{MeshFileError, read, read_body};
+use serde_json::Value;
+use std::path::PathBuf;
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes").join(name)
+}
+
+const FORMATS: [&str; 4] = ["22a", "22b", "41a", "41b"];
+
+/// meshio's reading (generate.py's `meshio_view`).
+fn meshio(name: &str) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(fixture(&format!("{name}.meshio.json"))).unwrap()).unwrap()
+}
+
+/// Our reading equals meshio's: the same block types with the same node indices (meshio maps
+/// gmsh's tetra10 to VTK order as we do), the same group node sets, and the points to 1e-15
+/// of the size: gmsh's ASCII prints %.16g, so its binary files differ from its ASCII ones in the
+/// last bit (exact for the ASCII files, which meshio's reading came from).
+fn assert_as_meshio(ours: &GmshFile, theirs: &Value, exact: bool, what: &str) {
+    let pts: Vec<f64> = theirs["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|p| p.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+        .collect();
+    assert_eq!(ours.points.len(), pts.len(), "{what}");
+    let worst = ours.points.iter().zip(&pts).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(if exact { worst == 0.0 } else { worst <= 1e-15 * 40.0 }, "{what}: points differ by {worst}");
+    let blocks: Vec<(String, Vec<i64>)> = theirs["blocks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|b| {
+            let cells =
+                b[1].as_array().unwrap().iter().flat_map(|c| c.as_array().unwrap().iter().map(|v| v.as_i64().unwrap()));
+            (b[0].as_str().unwrap().to_string(), cells.collect())
+        })
+        .collect();
+    let ours_blocks: Vec<(String, Vec<i64>)> = ours.blocks.iter().map(|b| (b.0.clone(), b.1.clone())).collect();
+    assert_eq!(ours_blocks, blocks, "{what}");
+    let groups = theirs["groups"].as_object().unwrap();
+    assert_eq!(ours.groups.len(), groups.len(), "{what}");
+    for (name, nodes) in groups {
+        let nodes: Vec<usize> = nodes.as_array().unwrap().iter().map(|v| v.as_u64().unwrap() as usize).collect();
+        assert_eq!(ours.groups[name], nodes, "{what}: group {name}");
+    }
+}
+
+/// mutations, as run: `Cell::gmsh_order` of tetra10 the identity -> the sphere's blocks differ
+/// from meshio's (and the edge-node check below fails); the binary 4.1 entities' newline skip
+/// removed -> the 41b files are refused (Syntax in $Entities).
+#[test]
+fn four_formats_read_as_meshio_reads_them_and_give_one_body_mesh() {
+    for (name, kind, dim) in [("disc_p2", Cell::Triangle6, 2), ("sphere_tet10", Cell::Tet10, 3)] {
+        let theirs = meshio(&format!("{name}_22a"));
+        let mut meshes: Vec<Mesh> = Vec::new();
+        for f in FORMATS {
+            let path = fixture(&format!("{name}_{f}.msh"));
+            let ours = parse(&std::fs::read(&path).unwrap()).unwrap();
+            assert_as_meshio(&ours, &theirs, f.ends_with('a'), &format!("{name}_{f}"));
+            let m = read_body("solid.mesh", &path, dim).unwrap();
+            assert_eq!(m.kind, kind);
+            meshes.push(m);
+        }
+        for m in &meshes[1..] {
+            assert_eq!((&m.cells, &m.groups), (&meshes[0].cells, &meshes[0].groups), "{name}");
+            let worst = m
+                .points
+                .iter()
+                .flatten()
+                .zip(meshes[0].points.iter().flatten())
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(worst <= 40.0 * 1e-15, "{name}: {worst}");
+        }
+        let m = &meshes[0];
+        // The group "bottom" is the one node at the origin.
+        assert_eq!(m.groups["bottom"].len(), 1);
+        assert!(m.points[m.groups["bottom"][0]].iter().all(|x| x.abs() <= 1e-12));
+        // Every edge node lies near its edge's midpoint (VTK edges): within a quarter of the
+        // edge (boundary edges bulge by their sagitta, far less at these sizes). A swapped
+        // tetra10 pair would sit half an edge away.
+        let edges: &[[usize; 2]] =
+            if dim == 2 { &[[0, 1], [1, 2], [2, 0]] } else { &[[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]] };
+        for c in 0..m.n_cells() {
+            let p = m.cell_points(c);
+            for (e, &[a, b]) in edges.iter().enumerate() {
+                let mid: Vec<f64> = (0..3).map(|k| 0.5 * (p[a][k] + p[b][k])).collect();
+                let off = (0..3).map(|k| (p[dim + 1 + e][k] - mid[k]).powi(2)).sum::<f64>().sqrt();
+                let len = (0..3).map(|k| (p[a][k] - p[b][k]).powi(2)).sum::<f64>().sqrt();
+                assert!(off <= 0.25 * len, "{name} cell {c} edge {e}: {off} from the midpoint of {len}");
+            }
+        }
+    }
+}
+
+/// The disc of radius 20: P1 (inscribed polygon) has less area than π R², P2 (parabolic
+/// sides through three points of the circle) is within 1e-4 relative at h = 8 (its error is
+/// O(h⁴/R⁴)); the sphere's P2 volume likewise within 1e-2 (coarse: h = R).
+#[test]
+fn curved_p2_bodies_measure_nearly_the_exact_shape() {
+    let area = std::f64::consts::PI * 400.0;
+    let p1 = read_body("solid.mesh", &fixture("disc_p1.msh"), 2).unwrap();
+    let p2 = read_body("solid.mesh", &fixture("disc_p2_41b.msh"), 2).unwrap();
+    let (a1, a2) = (p1.total_measure(), p2.total_measure());
+    assert!(a1 < area && (a2 - area).abs() < 1e-4 * area && (a2 - area).abs() < (a1 - area).abs(), "{a1} {a2} {area}");
+    let vol = 4.0 / 3.0 * std::f64::consts::PI * 8000.0;
+    let s = read_body("solid.mesh", &fixture("sphere_tet10_22b.msh"), 3).unwrap();
+    assert!((s.total_measure() - vol).abs() < 1e-2 * vol, "{}", s.total_measure());
+    let top = &read_body("solid.mesh", &fixture("half_disc_p2.msh"), 2).unwrap();
+    assert!(top.groups["top"].iter().all(|&v| (top.points[v][1] - 20.0).abs() <= 1e-12));
+    let hemi = read_body("solid.mesh", &fixture("hemisphere_tet.msh"), 3).unwrap();
+    assert!(hemi.groups["top"].iter().all(|&v| (hemi.points[v][2] - 20.0).abs() <= 1e-12));
+    assert_eq!(hemi.kind, Cell::Tet);
+}
+
+/// The wrong dimension and a box scene's mesh of P2 cells are refused by name.
+#[test]
+fn wrong_dimension_and_p2_boxes_are_refused() {
+    let err = read_body("solid.mesh", &fixture("disc_p2_22a.msh"), 3).unwrap_err();
+    assert!(matches!(err, MeshFileError::Dimension { found: 2, dim: 3, kind: "triangle6", .. }), "{err}");
+    let err = read("solid.mesh", &fixture("disc_p2_22a.msh")).unwrap_err();
+    assert!(err.to_string().contains("triangle6 cells in a box mesh"), "{err}");
+    // The box fixture still reads, without Python.
+    let m = read("plate.mesh", &fixture("square_4x3_tri.msh")).unwrap();
+    assert_eq!(m.kind, Cell::Triangle);
+}
