@@ -19,7 +19,34 @@ CELL_TYPES = {
     (2, 4): "quadrilateral",
     (3, 4): "tetrahedron",
     (3, 8): "hexahedron",
+    (2, 6): "triangle6",
+    (3, 10): "tetra10",
 }
+
+# Second-order cells: input node order VTK's (meshio's "triangle6", "tetra10"; the Rust crate's
+# ``src/fem/cell.rs``): the vertices, then the midside nodes of the edges (0,1), (1,2), (2,0)
+# [triangle6] or (0,1), (1,2), (0,2), (0,3), (1,3), (2,3) [tetra10].
+P2_BASE = {"triangle6": "triangle", "tetra10": "tetrahedron"}
+
+
+def grundmann_moller(n, s):
+    """``(points (k, n), weights (k,))`` of the Grundmann–Möller rule of degree 2s + 1 on the
+    reference n-simplex {x >= 0, sum x <= 1} (SIAM J. Numer. Anal. 15 (1978), Theorem 4):
+    sum_i (-1)^i 2^(-2s) (d+n-2i)^d / (i! (d+n-i)!) sum_{|b| = s-i} f((2b + 1)/(d + n - 2i)),
+    b in N^(n+1), the point's coordinates the last n barycentric ones. Written here from the
+    paper, independently of the Rust rule (``src/fem/quadrature.rs``) it is compared with."""
+    from itertools import product
+    from math import factorial
+    d = 2 * s + 1
+    points, weights = [], []
+    for i in range(s + 1):
+        denom = d + n - 2 * i
+        w = (-1) ** i * denom ** d / (factorial(i) * factorial(d + n - i) * 4 ** s)
+        for b in product(range(s - i + 1), repeat=n + 1):
+            if sum(b) == s - i:
+                points.append([(2 * bk + 1) / denom for bk in b[1:]])
+                weights.append(w)
+    return np.array(points), np.array(weights)
 
 
 def normalize(points, cells, weights):

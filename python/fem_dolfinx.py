@@ -4,6 +4,7 @@ scalar (``assemble``) and for elastic solids (``assemble_elastic``, see ``fem_co
 Import this module only after ``OMPI_MCA_ess_singleton_isolated=1`` is in the environment, or
 Open MPI starts an ``orted`` daemon (the Rust bridge and gen_fixtures.py both set it).
 """
+import logging
 import threading
 
 import numpy as np
@@ -14,7 +15,7 @@ from dolfinx import fem, mesh
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from fem_common import csr_triplets, interleaved_rows, normalize, permuted_csr
+from fem_common import P2_BASE, csr_triplets, grundmann_moller, interleaved_rows, normalize, permuted_csr
 
 # dolfinx 0.5's JIT (ffcx + cffi) compiles a new form with gcc into a shared cache folder; two
 # threads compiling the same form at once race on its object file ("ld: cannot find
@@ -34,6 +35,11 @@ _INPUT_TO_DOLFINX = {
     "quadrilateral": [0, 1, 3, 2],
     "tetrahedron": [0, 1, 2, 3],
     "hexahedron": [0, 1, 3, 2, 4, 5, 7, 6],
+    # P2: dolfinx lists the edge nodes by the edges opposite the vertices, (1,2), (0,2), (0,1)
+    # [tetrahedron: (2,3), (1,3), (1,2), (0,3), (0,2), (0,1)]; ours are VTK's (``fem_common``):
+    # dolfinx's node k is our node map[k] (dolfinx's own ``perm_vtk`` for these cells).
+    "triangle6": [0, 1, 2, 4, 5, 3],
+    "tetra10": [0, 1, 2, 3, 9, 8, 5, 7, 6, 4],
 }
 
 
@@ -67,9 +73,11 @@ def assemble(points, cells, weights):
 
 
 def _mesh_and_weight(points, cells, weights):
-    """The dolfinx mesh of the normalised input and the DG0 weight function on it."""
+    """The dolfinx mesh of the normalised input and the DG0 weight function on it (P2 cells: a
+    quadratic, isoparametric geometry)."""
     points, cells, weights, cell_type = normalize(points, cells, weights)
-    domain = ufl.Mesh(ufl.VectorElement("Lagrange", cell_type, 1))
+    degree = 2 if cell_type in P2_BASE else 1
+    domain = ufl.Mesh(ufl.VectorElement("Lagrange", P2_BASE.get(cell_type, cell_type), degree))
     msh = mesh.create_mesh(MPI.COMM_SELF, cells[:, _INPUT_TO_DOLFINX[cell_type]], points, domain)
     W = fem.FunctionSpace(msh, ("DG", 0))
     w = fem.Function(W)
@@ -82,6 +90,21 @@ def _mesh_and_weight(points, cells, weights):
 # Quadrature degree 2: exact for both forms on affine cells and boxes (a tensor Gauss rule with
 # 2 points per direction on quadrilaterals and hexahedra).
 _DX = ufl.dx(metadata={"quadrature_degree": 2})
+
+
+# UFL's form signature applies str() to the custom rule's arrays and warns each time; the
+# signature only keys the JIT cache, and the full-precision arrays go to ffcx (its
+# ``QuadratureRule``), so the warning is silenced.
+logging.getLogger("UFL").setLevel(logging.ERROR)
+
+
+def _dx_p2(d):
+    """P2: the degree-5 Grundmann–Möller rule (``fem_common.grundmann_moller``), the rule of the
+    Rust element, so that curved (isoparametric) cells, where no rule is exact for the
+    stiffness, compare to round-off too; on straight-sided cells it is exact for both forms."""
+    points, weights = grundmann_moller(d, 2)
+    return ufl.dx(metadata={"quadrature_rule": "custom", "quadrature_degree": 5,
+                            "quadrature_points": points, "quadrature_weights": weights})
 
 
 def _assemble(points, cells, weights):
@@ -121,7 +144,10 @@ def _assemble_elastic(points, cells, weights, lam, mu, rho):
     """
     msh, w, n = _mesh_and_weight(points, cells, weights)
     d = msh.geometry.dim
-    V = fem.VectorFunctionSpace(msh, ("Lagrange", 1))
+    degree = msh.geometry.cmap.degree
+    dx = _dx_p2(d) if degree == 2 else _DX
+    # P2: the dofs sit at the geometry's nodes, at the same local positions (both P2 Lagrange).
+    V = fem.VectorFunctionSpace(msh, ("Lagrange", degree))
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
     lam_, mu_, rho_ = (fem.Constant(msh, PETSc.ScalarType(c)) for c in (lam, mu, rho))
 
@@ -138,7 +164,7 @@ def _assemble_elastic(points, cells, weights, lam, mu, rho):
         raise ValueError(f"dolfinx kept {len(vertex_of_block)} of {n} vertices")
     row_of = interleaved_rows(vertex_of_block, d)
     out = {"n": n * d}
-    forms = (("mass", rho_ * w * ufl.inner(u, v) * _DX), ("stiffness", ufl.inner(sigma(u), eps(v)) * _DX))
+    forms = (("mass", rho_ * w * ufl.inner(u, v) * dx), ("stiffness", ufl.inner(sigma(u), eps(v)) * dx))
     for name, form in forms:
         matrix = dolfinx.fem.petsc.assemble_matrix(fem.form(form))
         matrix.assemble()

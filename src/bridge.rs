@@ -215,8 +215,9 @@ pub fn assemble_elastic_file(
     })
 }
 
-/// `(dim, vertices per cell)` of triangles, quadrilaterals, tetrahedra and hexahedra.
-const SOLID_CELLS: [(usize, usize); 4] = [(2, 3), (2, 4), (3, 4), (3, 8)];
+/// `(dim, nodes per cell)` of triangles, quadrilaterals, tetrahedra, hexahedra, triangle6 and
+/// tetra10.
+const SOLID_CELLS: [(usize, usize); 6] = [(2, 3), (2, 4), (3, 4), (3, 8), (2, 6), (3, 10)];
 
 /// A mesh as flat arrays: `dim` coordinates per vertex, `verts_per_cell` vertex indices per cell.
 #[derive(Debug, Clone, PartialEq)]

@@ -33,6 +33,10 @@ use crate::scene::{Formulation, SchemeSpec};
 use crate::solid::Lame;
 use serde::Serialize;
 
+#[path = "crosscheck_p2.rs"]
+mod p2;
+pub use p2::p2_cases;
+
 /// One line of the report.
 #[derive(Debug, Clone, Serialize)]
 pub struct CaseReport {
@@ -112,7 +116,7 @@ pub struct MatrixCase {
     pub stiffness: Vec<f64>,
 }
 
-fn seeded_weights(m: usize, seed: u64) -> Vec<f64> {
+pub(crate) fn seeded_weights(m: usize, seed: u64) -> Vec<f64> {
     // xorshift64: a fixed, documented sequence of weights in [0.5, 2], w_0 = 0.
     let mut s = seed;
     (0..m)
@@ -405,11 +409,12 @@ fn scratch_path(name: &str, extension: &str) -> std::path::PathBuf {
     std::env::temp_dir().join(format!("massredist-crosscheck-{}-{k}-{name}.{extension}", std::process::id()))
 }
 
-/// Every matrix case of `massredist crosscheck`: the plate's ([`cases_2d`]) and the solid's
-/// ([`solid_cases`]).
+/// Every matrix case of `massredist crosscheck`: the plate's ([`cases_2d`]), the solid's
+/// ([`solid_cases`]) and the P2 bodies' ([`p2_cases`]).
 pub fn matrix_cases() -> Result<Vec<MatrixCase>, BridgeError> {
     let mut cases = cases_2d();
     cases.extend(solid_cases()?);
+    cases.extend(p2_cases());
     Ok(cases)
 }
 
@@ -419,9 +424,9 @@ pub const SOLID_LAME: Lame = Lame { lambda: 0.8, mu: 0.3, density: 1.7 };
 /// The elastic solid cases: structured triangle, quadrilateral, tetrahedron and hexahedron meshes
 /// of boxes with unequal sides, cell-layer masses (mod1–3) and seeded random per-cell weights, and
 /// three meshio cases: jittered triangle (gmsh `.msh`), tetrahedron (`.vtu`) and hexahedron
-/// (non-uniform grid, gmsh `.msh`) meshes written with
-/// meshio and read back through it on both sides ([`crate::scene::mesh_file::read`] here,
-/// `python/crosscheck.py::assemble_elastic_file` there). Fails only if the bridge does (writing
+/// (non-uniform grid, gmsh `.msh`) meshes written with meshio and read back on both sides
+/// ([`crate::scene::mesh_file::read`] here: the pure-Rust gmsh reader for `.msh`, meshio for
+/// `.vtu`; `python/crosscheck.py::assemble_elastic_file` there, through meshio). Fails only if the bridge does (writing
 /// the files); panics only on a bug in these fixed, valid cases.
 pub fn solid_cases() -> Result<Vec<MatrixCase>, BridgeError> {
     use crate::fem::layers::cell_weights;
@@ -483,7 +488,7 @@ pub fn solid_cases() -> Result<Vec<MatrixCase>, BridgeError> {
 /// move keeps every triangle and Kuhn tetrahedron positively sized (their heights are ≥ h/√3).
 /// Hexahedra must stay boxes: there each interior grid plane t moves as a whole, by
 /// 0.15 h sin(7 t/h) (a non-uniform grid).
-fn jittered(mut mesh: crate::fem::Mesh) -> crate::fem::Mesh {
+pub(crate) fn jittered(mut mesh: crate::fem::Mesh) -> crate::fem::Mesh {
     let h = mesh.h();
     if mesh.kind.is_tensor() {
         let ext = mesh.extent;

@@ -475,7 +475,7 @@ fn a_body_frame_holds_its_reaction_pressure_and_contact_state() {
     assert!(touching > 0, "some frame in contact");
 }
 
-/// The independent numpy implementation (python/independent/body_cn.py: its own mesh, P1
+/// The independent numpy implementation (python/independent/body_p1.py: its own mesh, P1
 /// assembly, layers, Newmark with massless rows, contact in world coordinates with an LCP solved
 /// by enumeration) agrees with the binary's summary keys to 1e-7 (measured: 4e-10, the standard
 /// mass with massive contact nodes; 1e-13 for mod1 and mod3). Live: Debian's python with numpy.
@@ -484,7 +484,7 @@ fn a_body_frame_holds_its_reaction_pressure_and_contact_state() {
 #[cfg(feature = "python")]
 #[test]
 fn an_independent_numpy_implementation_agrees_in_every_summary_key() {
-    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("python/independent/body_cn.py");
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("python/independent/body_p1.py");
     let o = std::process::Command::new("/usr/bin/python3")
         .arg(script)
         .arg(env!("CARGO_BIN_EXE_massredist"))

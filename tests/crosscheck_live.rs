@@ -18,8 +18,8 @@ fn every_case_agrees_with_both_backends() {
         let scalar_2d = report.cases.iter().filter(|c| c.backend == backend && c.dim == 2 && c.physics == "scalar");
         assert_eq!(scalar_2d.count(), cases_2d().len(), "{backend}: every 2D plate case");
         // The solids: triangle, quad and meshio triangle in 2D; tet, hex, meshio tet and meshio
-        // hex in 3D.
-        for (dim, count) in [(2, 3), (3, 4)] {
+        // hex in 3D; P2 straight and curved in both (crosscheck::p2_cases).
+        for (dim, count) in [(2, 5), (3, 6)] {
             let elastic =
                 report.cases.iter().filter(|c| c.backend == backend && c.dim == dim && c.physics == "elastic");
             assert_eq!(elastic.count(), count, "{backend}: every {dim}D elastic case");

@@ -172,6 +172,35 @@ impl Mesh {
         if self.kind.is_quadratic() { self.check_edge_nodes() } else { Ok(()) }
     }
 
+    /// The straight-sided P2 mesh of a triangle or tetrahedron mesh: a node at the midpoint of
+    /// every edge (numbered after the vertices, in order of first appearance), cells
+    /// triangle6 / tetra10 with [`super::cell`]'s edge order; the groups kept (vertices only).
+    /// Other kinds: `MeshError::Kind`.
+    pub fn quadratic(&self) -> Result<Mesh, MeshError> {
+        let (kind, edges): (Cell, &[[usize; 2]]) = match self.kind {
+            Cell::Triangle => (Cell::Triangle6, &[[0, 1], [1, 2], [2, 0]]),
+            Cell::Tet => (Cell::Tet10, &[[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]]),
+            other => return Err(MeshError::Kind { kind: other.name(), dim: self.dim, allowed: "triangle, tet" }),
+        };
+        let mut points = self.points.clone();
+        let mut node_of: std::collections::HashMap<[usize; 2], usize> = std::collections::HashMap::new();
+        let mut cells = Vec::with_capacity(self.n_cells() * kind.verts());
+        for c in 0..self.n_cells() {
+            let v = self.cell(c);
+            cells.extend_from_slice(v);
+            for &[a, b] in edges {
+                let key = [v[a].min(v[b]), v[a].max(v[b])];
+                let node = *node_of.entry(key).or_insert_with(|| {
+                    let (p, q) = (self.points[v[a]], self.points[v[b]]);
+                    points.push(std::array::from_fn(|k| 0.5 * (p[k] + q[k])));
+                    points.len() - 1
+                });
+                cells.push(node);
+            }
+        }
+        Ok(Mesh { kind, points, cells, grid: None, ..self.clone() })
+    }
+
     /// P2: every cell with the edge (a, b) has the same node on it.
     fn check_edge_nodes(&self) -> Result<(), MeshError> {
         let edges: &[[usize; 2]] =

@@ -174,20 +174,7 @@ pub(crate) fn validate_solid(
         let force = parse_body_force(t.force, dim, vars, &consts)?;
         body = Some(BodySpec { obstacle: parse_obstacle(o, dim)?, clamped: t.clamped, force });
     } else if let Some(v) = &t.force {
-        let range = "an array of one finite number per component (expressions: bodies with an [obstacle])";
-        let numbers: Vec<Option<f64>> =
-            v.iter().map(|x| if let RawField::Number(n) = x { Some(n.get()) } else { None }).collect();
-        if v.len() != dim || numbers.iter().any(|x| !x.is_some_and(f64::is_finite)) {
-            let shown = |x: &RawField| match x {
-                RawField::Number(n) => short(n.get()),
-                RawField::Expr(e) => format!("\"{e}\""),
-            };
-            let value = format!("[{}]", v.iter().map(shown).collect::<Vec<_>>().join(", "));
-            return Err(SceneError::Range { key: "solid.force", value, range });
-        }
-        for (f, x) in force.iter_mut().zip(numbers) {
-            *f = x.unwrap_or(0.0);
-        }
+        force = box_force(v, dim)?;
     }
     let initial = match (&body, t.initial) {
         (Some(_), None) => zero_initial(dim, extent)?,
@@ -248,6 +235,26 @@ fn parse_initial(v: Option<RawSolidInitial>, dim: usize, extent: [f64; 3]) -> Re
         displacement: field("solid.initial.displacement", fields.displacement)?,
         velocity: field("solid.initial.velocity", fields.velocity)?,
     })
+}
+
+/// A box's `solid.force`: one finite number per component (expressions need an [obstacle]).
+fn box_force(v: &[RawField], dim: usize) -> Result<[f64; 3], SceneError> {
+    let range = "an array of one finite number per component (expressions: bodies with an [obstacle])";
+    let numbers: Vec<Option<f64>> =
+        v.iter().map(|x| if let RawField::Number(n) = x { Some(n.get()) } else { None }).collect();
+    if v.len() != dim || numbers.iter().any(|x| !x.is_some_and(f64::is_finite)) {
+        let shown = |x: &RawField| match x {
+            RawField::Number(n) => short(n.get()),
+            RawField::Expr(e) => format!("\"{e}\""),
+        };
+        let value = format!("[{}]", v.iter().map(shown).collect::<Vec<_>>().join(", "));
+        return Err(SceneError::Range { key: "solid.force", value, range });
+    }
+    let mut force = [0.0; 3];
+    for (f, x) in force.iter_mut().zip(numbers) {
+        *f = x.unwrap_or(0.0);
+    }
+    Ok(force)
 }
 
 /// The variables x, y[, z] and constants L, H[, D], pi of a solid's expressions.

@@ -1,4 +1,4 @@
-"""An independent implementation of small P1 body scenes (issue 19) in numpy, against the
+"""An independent implementation of small P1 body scenes (Crank-Nicolson and backward Euler) (issue 19) in numpy, against the
 `massredist` binary's summary keys.
 
 Nothing of massredist is used but its command line: the mesh, the P1 plane-strain assembly, the
@@ -10,12 +10,13 @@ written here from the definitions (README, "A body of any shape against a rigid 
   node, the reaction mu >= 0 along n, the step's LCP  d = q + W mu >= 0, mu >= 0, d.mu = 0
   (W = sigma B K^-1 B^T) solved by enumerating the active sets (a handful of nodes);
 - Newmark(1/4, 1/2) on the massive unknowns, the massless ones quasi-static with
-  v = (u^{n+1} - u^n)/dt, a = 0 (the scheme's definition for massless rows);
+  v = (u^{n+1} - u^n)/dt, a = 0 (the scheme's definition for massless rows); backward Euler
+  U^{n+1} = U^n + dt V^{n+1}, V^{n+1} = V^n + dt A^{n+1} (every unknown);
 - energy 1/2 V.M V + 1/2 U.S U - F.U, momentum 1^T M V (weighted), mean displacement
   1^T M_std U / |Omega|, min_distance, final_active_nodes (d_i <= 1e-12: the LCP here puts an
   active node at d = 0 up to round-off), max_contact_force = max sum mu.
 
-Usage: /usr/bin/python3 python/independent/body_cn.py MASSREDIST_BINARY
+Usage: /usr/bin/python3 python/independent/body_p1.py MASSREDIST_BINARY
 Exits 1 if a summary key differs by more than 1e-7 (relative to max(1, |value|)).
 """
 import itertools
@@ -37,6 +38,13 @@ CASES = [
     dict(name="clamped-tilted-mod1", L=1.0, H=1.0, nx=3, ny=3, lam=2.0, mu=1.0, rho=1.5, force=(0.0, 0.0),
          vel=(0.0, -0.5), normal=(0.1, 1.0), point=(0.0, -0.02), contact="ymin", clamped="ymax",
          mass="mod1", dt=0.01, end=0.5),
+    # Backward Euler on the first two.
+    dict(name="drop-mod3-be", L=1.0, H=0.5, nx=4, ny=2, lam=1.0, mu=1.0, rho=1.0, force=(0.0, -2.0),
+         vel=(0.0, -1.0), normal=(0.0, 1.0), point=(0.0, -0.05), contact="auto", clamped=None,
+         mass="mod3", dt=0.01, end=0.6, scheme="backward-euler"),
+    dict(name="clamped-tilted-mod1-be", L=1.0, H=1.0, nx=3, ny=3, lam=2.0, mu=1.0, rho=1.5, force=(0.0, 0.0),
+         vel=(0.0, -0.5), normal=(0.1, 1.0), point=(0.0, -0.02), contact="ymin", clamped="ymax",
+         mass="mod1", dt=0.01, end=0.5, scheme="backward-euler"),
     # The same with the standard mass and gravity.
     dict(name="clamped-tilted-standard", L=1.0, H=1.0, nx=3, ny=3, lam=2.0, mu=1.0, rho=1.5, force=(0.3, -1.0),
          vel=(0.0, -0.5), normal=(0.1, 1.0), point=(0.0, -0.02), contact="ymin", clamped="ymax",
@@ -135,12 +143,13 @@ def simulate(c):
     massless = np.diag(Mf) == 0
     massive = ~massless
     dt, beta, gamma = c["dt"], 0.25, 0.5
+    euler = c.get("scheme") == "backward-euler"
     steps = round(c["end"] / dt)
     U = np.zeros(len(free))
     V = np.tile(np.array(c["vel"]), nn)[free]
     A = np.zeros(len(free))
     A[massive] = np.linalg.solve(Mf[np.ix_(massive, massive)], (Ff - Sf @ U)[massive])
-    sigma = beta * dt * dt
+    sigma = dt * dt if euler else beta * dt * dt
     K = Mf + sigma * Sf
     Kinv = np.linalg.inv(K)
     W = sigma * B @ Kinv @ B.T
@@ -168,6 +177,8 @@ def simulate(c):
         report.t = step * dt
         pred = U + dt * V + (0.5 - beta) * dt * dt * A
         pred[massless] = U[massless] + dt * V[massless]
+        if euler:
+            pred = U + dt * V
         rhs = Mf @ pred + sigma * Ff
         Ufree = Kinv @ rhs
         q = B @ Ufree + g
@@ -177,6 +188,8 @@ def simulate(c):
         Vnew = V + dt * ((1 - gamma) * A + gamma * Anew)
         Vnew[massless] = (Unew[massless] - U[massless]) / dt
         Anew[massless] = 0.0
+        if euler:
+            Vnew = (Unew - U) / dt
         U, V, A = Unew, Vnew, Anew
         report(U, V, mu)
     return rep
@@ -209,7 +222,7 @@ def scene_text(c):
     if c["clamped"]:
         lines.append(f'clamped = "{c["clamped"]}"')
     lines += ["[obstacle]", f"normal = [{fmt(c['normal'])}]", f"point = [{fmt(c['point'])}]", f'contact = "{c["contact"]}"',
-              "[mass]", f'kind = "{c["mass"]}"', "[scheme]", 'kind = "crank-nicolson"', "[time]", f"dt = {c['dt']!r}",
+              "[mass]", f'kind = "{c["mass"]}"', "[scheme]", f'kind = "{c.get("scheme", "crank-nicolson")}"', "[time]", f"dt = {c['dt']!r}",
               f"end = {c['end']!r}"]
     return "\n".join(lines) + "\n"
 
