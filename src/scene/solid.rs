@@ -299,7 +299,7 @@ fn body_file_mesh(t: &RawSolid, dim: usize, path: &std::path::Path) -> Result<Me
         forbid(key, v, context)?;
     }
     forbid("solid.cells", &t.cells, context)?;
-    let mesh = super::mesh_file::read("solid.mesh", path)?;
+    let mesh = super::mesh_file::read_body("solid.mesh", path, dim)?;
     if mesh.dim != dim {
         return Err(SceneError::Range {
             key: "solid.mesh",
