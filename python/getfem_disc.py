@@ -174,6 +174,38 @@ def complementarity(u, lam, nodes, contact, normal, point):
     return float(d.min()), float(lam.max()) if len(lam) else 0.0, float(np.abs(d * lam).max())
 
 
+def newmark(md, ind_rhs, mkf, massless, initial, args, state):
+    """Newmark (β, γ) on MUⁿ, MVⁿ, MAⁿ (module docs), each step solved by GetFEM's model (the
+    inertia and the right-hand side as explicit bricks); returns Uⁿ, Newton iterations and
+    ``state(u, λ)`` per step."""
+    M, K, F = mkf
+    u0, v0 = initial
+    beta, gamma, dt = args.beta, args.gamma, args.dt
+    mu, mv = spmv(M, u0), spmv(M, v0)
+    ma = F - spmv(K, u0)
+    ma[massless] = 0.0  # massredist's convention (module docs)
+    ncontact = len(np.asarray(md.variable("lambda_n")).ravel())
+    history, newton, comp = [u0.tolist()], [], [state(u0, np.zeros(ncontact))]
+    c = dt * dt * (0.5 - beta)
+    noisy = ["noisy"] if args.noisy else []
+    for step in range(1, args.steps + 1):
+        pred = mu + dt * mv + c * ma
+        md.set_private_rhs(ind_rhs, pred / (beta * dt * dt))
+        nit, converged = md.solve("max_res", args.max_res, "max_iter", 50, "lsolver", "mumps", *noisy)
+        if not converged:
+            raise RuntimeError(f"step {step}: GetFEM's Newton did not reach max_res {args.max_res} in 50 iterations")
+        u = np.asarray(md.variable("u")).ravel()
+        lam = np.asarray(md.variable("lambda_n")).ravel()
+        mu_new = spmv(M, u)
+        ma_new = (mu_new - pred) / (beta * dt * dt)
+        mv = mv + dt * ((1.0 - gamma) * ma + gamma * ma_new)
+        mu, ma = mu_new, ma_new
+        history.append(u.tolist())
+        newton.append(int(nit))
+        comp.append(state(u, lam))
+    return history, newton, comp
+
+
 def run(args):
     mesh, degree = load(args.mesh)
     normal = np.asarray(args.normal, dtype=float)
@@ -208,26 +240,8 @@ def run(args):
     massless = diagonal(M) == 0.0
     u0 = np.zeros(n)
     v0 = np.tile(np.asarray(args.velocity, dtype=float), n // 2)
-    mu, mv = spmv(M, u0), spmv(M, v0)
-    ma = F - spmv(K, u0)
-    ma[massless] = 0.0  # massredist's convention (module docs)
-    history, newton, comp = [u0.tolist()], [], [list(complementarity(u0, np.zeros(len(contact)), nodes, contact, normal, args.point))]
-    c = dt * dt * (0.5 - beta)
-    for step in range(1, args.steps + 1):
-        pred = mu + dt * mv + c * ma
-        md.set_private_rhs(ind_rhs, pred / (beta * dt * dt))
-        nit, converged = md.solve("max_res", args.max_res, "max_iter", 50, "lsolver", "mumps", *(["noisy"] if args.noisy else []))
-        if not converged:
-            raise RuntimeError(f"step {step}: GetFEM's Newton did not reach max_res {args.max_res} in 50 iterations")
-        u = np.asarray(md.variable("u")).ravel()
-        lam = np.asarray(md.variable("lambda_n")).ravel()
-        mu_new = spmv(M, u)
-        ma_new = (mu_new - pred) / (beta * dt * dt)
-        mv = mv + dt * ((1.0 - gamma) * ma + gamma * ma_new)
-        mu, ma = mu_new, ma_new
-        history.append(u.tolist())
-        newton.append(int(nit))
-        comp.append(list(complementarity(u, lam, nodes, contact, normal, args.point)))
+    state = lambda u, lam: list(complementarity(u, lam, nodes, contact, normal, args.point))  # noqa: E731
+    history, newton, comp = newmark(md, ind_rhs, (M, K, F), massless, (u0, v0), args, state)
     cells = []
     for cv in mesh.cvid():
         pids = mesh.pid_from_cvid(cv)[0]
