@@ -326,7 +326,12 @@ pub fn compare(
 /// ([`Agreement::relative`], tolerance [`TOL`]). A case that cannot run fails, its error on
 /// stderr.
 pub fn case_reports() -> Vec<super::CaseReport> {
-    let dir = std::env::temp_dir().join(format!("massredist-crosscheck-getfem-{}", std::process::id()));
+    // A folder per call: callers may run in parallel threads (tests); one GetFEM run at a time.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let _one = ONE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let dir = std::env::temp_dir().join(format!("massredist-crosscheck-getfem-{}-{call}", std::process::id()));
     let reports = CASES
         .iter()
         .map(|case| {
