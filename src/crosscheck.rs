@@ -295,6 +295,7 @@ pub fn run(tamper: Option<&Tamper>, matrix_cases: &[MatrixCase]) -> Result<Repor
             });
         }
     }
+    cases.extend(getfem::case_reports()); // GetFEM as a live peer (src/crosscheck_getfem.rs)
     Ok(Report { cases, versions })
 }
 
@@ -534,3 +535,7 @@ fn written_and_read_back(
     let _ = std::fs::remove_file(&path);
     read
 }
+
+/// GetFEM as a live peer (issue 19, item 6): src/crosscheck_getfem.rs.
+#[path = "crosscheck_getfem.rs"]
+pub mod getfem;

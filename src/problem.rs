@@ -156,6 +156,15 @@ pub struct Problem<G> {
 }
 
 impl<G: Geometry> Problem<G> {
+    /// The geometry as the method-class builder takes it ([`crate::schemes::methods`]).
+    fn parts(&self) -> crate::schemes::methods::GeometryParts<'_, G::Matrix, impl FnOnce() -> Option<Vec<f64>> + '_> {
+        crate::schemes::methods::GeometryParts {
+            system: self.system.system(),
+            name: self.system.name(),
+            lumped_mass: || self.system.lumped_mass(),
+        }
+    }
+
     /// Builds the scheme of a scene on this problem with exact contact (factors its matrices
     /// once).
     pub fn scheme(&self, spec: &SchemeSpec, dt: f64) -> Result<Box<dyn Scheme>, SchemeError> {
@@ -169,9 +178,9 @@ impl<G: Geometry> Problem<G> {
         Ok(match *spec {
             // The method classes and contact laws of issue 20: one builder.
             SchemeSpec::CentralDifference | SchemeSpec::MoreauJean { .. } => {
-                crate::schemes::methods::build(&self.system, spec, law, dt, u, v)?
+                crate::schemes::methods::build(self.parts(), spec, law, dt, u, v)?
             }
-            _ if *law != ContactLaw::Exact => crate::schemes::methods::build(&self.system, spec, law, dt, u, v)?,
+            _ if *law != ContactLaw::Exact => crate::schemes::methods::build(self.parts(), spec, law, dt, u, v)?,
             SchemeSpec::CrankNicolson { formulation: Formulation::Full } => {
                 Box::new(Newmark::crank_nicolson(s, dt, u, v)?)
             }

@@ -4,30 +4,40 @@
 
 use super::penalty_implicit::{Implicit, PenaltyImplicit};
 use super::{Beta, CentralDifference, Formulation, Gamma, MoreauJean, Scheme, SchemeError, SchemeSpec};
+use crate::contact::Backend;
 use crate::contact::law::ContactLaw;
-use crate::problem::Geometry;
+use crate::system::ContactSystem;
 
-/// Builds `spec` with `law` on `geometry`, from the data (u, v).
-pub fn build<G: Geometry>(
-    geometry: &G,
+/// What the builder needs of a geometry: its name (for messages) and its lumped mass (row sums
+/// over all nodes before Dirichlet removal), computed only for central differences. Passed as
+/// data so that `schemes` does not depend on `problem` (which calls [`build`]).
+pub struct GeometryParts<'a, A, L: FnOnce() -> Option<Vec<f64>>> {
+    pub system: &'a ContactSystem<A>,
+    pub name: &'static str,
+    pub lumped_mass: L,
+}
+
+/// Builds `spec` with `law` on a geometry, from the data (u, v).
+pub fn build<A: Backend, L: FnOnce() -> Option<Vec<f64>>>(
+    geometry: GeometryParts<'_, A, L>,
     spec: &SchemeSpec,
     law: &ContactLaw,
     dt: f64,
     u: Vec<f64>,
     v: Vec<f64>,
 ) -> Result<Box<dyn Scheme>, SchemeError> {
-    let system = geometry.system();
+    let system = geometry.system;
     match *spec {
         _ if matches!(law, ContactLaw::Nitsche { .. }) => Err(SchemeError::Unsupported {
             key: "contact.method = \"nitsche\"",
-            geometry: geometry.name(),
+            geometry: geometry.name,
             reason: "Nitsche contact is not built yet (issue 20): use exact or penalty",
         }),
         SchemeSpec::CentralDifference => {
-            let Some(lumped) = geometry.lumped_mass() else {
+            let Some(lumped) = (geometry.lumped_mass)() else {
                 return Err(SchemeError::Unsupported {
                     key: "scheme.kind = \"central-difference\"",
-                    geometry: geometry.name(),
+                    geometry: geometry.name,
                     reason: "its lumped mass (row sums over all nodes before Dirichlet removal) is not built yet (bars and plates have one)",
                 });
             };
@@ -37,7 +47,7 @@ pub fn build<G: Geometry>(
             if *law != ContactLaw::Exact {
                 return Err(SchemeError::Unsupported {
                     key: "contact.method",
-                    geometry: geometry.name(),
+                    geometry: geometry.name,
                     reason: "Moreau–Jean has its own impact law: use contact.method = \"exact\"",
                 });
             }
@@ -56,7 +66,7 @@ pub fn build<G: Geometry>(
         }
         _ => Err(SchemeError::Unsupported {
             key: "contact.method = \"penalty\"",
-            geometry: geometry.name(),
+            geometry: geometry.name,
             reason: "the penalty law is built for crank-nicolson, newmark and backward-euler (full formulation) and central-difference; this scheme's contact treatment is its own",
         }),
     }

@@ -26,25 +26,8 @@ use crate::linalg::sparse::{self, SpMat, SparseError};
 use crate::system::ContactSystem;
 use thiserror::Error;
 
+pub use super::spec::Lateral;
 pub use crate::material::Lame;
-
-/// The condition on the faces other than x = 0 and x = L.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Lateral {
-    /// Traction-free.
-    Free,
-    /// u·n = 0 (the normal component eliminated), tangential traction-free.
-    Roller,
-}
-
-impl Lateral {
-    pub fn name(self) -> &'static str {
-        match self {
-            Lateral::Free => "free",
-            Lateral::Roller => "roller",
-        }
-    }
-}
 
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SolidAssemblyError {
@@ -147,7 +130,7 @@ pub struct SolidSystem {
     pub contact_areas: Vec<f64>,
     /// A body against a rigid plane: its frame and lumped masses (None: the box;
     /// [`super::body_system`]). Unknowns are then components in the frame.
-    pub body: Option<super::body_system::BodyFrame>,
+    pub body: Option<super::body::BodyFrame>,
 }
 
 impl SolidSystem {

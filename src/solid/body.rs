@@ -276,3 +276,18 @@ pub fn contact(mesh: &Mesh, body: &BodySpec) -> Result<BodyContact, BodyError> {
     let gaps = nodes.iter().map(|&v| gap(v)).collect();
     Ok(BodyContact { nodes, gaps, areas, clamped, contact })
 }
+
+/// The frame and the lumped masses of a body (`super::body_system`'s module docs).
+#[derive(Debug, Clone)]
+pub struct BodyFrame {
+    /// R (`R[row][col]`), first column the plane's normal.
+    pub rot: [[f64; 3]; 3],
+    /// `m_b = ρ Σ_c w_c ∫_c φ_b` per node.
+    pub lumped: Vec<f64>,
+    /// `m¹_b = ∫_Ω φ_b` per node.
+    pub lumped_unit: Vec<f64>,
+    /// `|Ω|`.
+    pub volume: f64,
+    /// `|Γ_C| = Σ_i a_i`.
+    pub contact_area: f64,
+}

@@ -19,6 +19,7 @@
 //! (both computed in the frame and rotated back by R).
 
 use super::assembly::{SolidAssemblyError, SolidSystem, assemble};
+pub use super::body::BodyFrame;
 use super::body::{BodyContact, from_frame, rotation, to_frame};
 use super::spec::BodySpec;
 use crate::expr::Expr;
@@ -27,21 +28,6 @@ use crate::linalg::sparse;
 use crate::material::Lame;
 use crate::system::{ContactSystem, Forcing};
 use std::sync::Arc;
-
-/// The frame and the lumped masses of a body (module docs).
-#[derive(Debug, Clone)]
-pub struct BodyFrame {
-    /// R (`R[row][col]`), first column the plane's normal.
-    pub rot: [[f64; 3]; 3],
-    /// `m_b = ρ Σ_c w_c ∫_c φ_b` per node.
-    pub lumped: Vec<f64>,
-    /// `m¹_b = ∫_Ω φ_b` per node.
-    pub lumped_unit: Vec<f64>,
-    /// `|Ω|`.
-    pub volume: f64,
-    /// `|Γ_C| = Σ_i a_i`.
-    pub contact_area: f64,
-}
 
 /// The load `F(t)` on the free unknowns (module docs): scalar unit-mass triplets (node a, node
 /// b, ∫ φ_a φ_b), the free index of (a, i), the rotation and the force expressions.

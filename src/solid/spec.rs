@@ -40,9 +40,27 @@
 //! contact = "auto"         # or a group name
 //! ```
 
-use super::assembly::{Lame, Lateral};
 use crate::expr::Expr;
 use crate::fem::mesh::{Cell, Mesh, MeshError};
+use crate::material::Lame;
+
+/// The condition on the faces other than x = 0 and x = L.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Lateral {
+    /// Traction-free.
+    Free,
+    /// u·n = 0 (the normal component eliminated), tangential traction-free.
+    Roller,
+}
+
+impl Lateral {
+    pub fn name(self) -> &'static str {
+        match self {
+            Lateral::Free => "free",
+            Lateral::Roller => "roller",
+        }
+    }
+}
 
 /// The initial data of a solid.
 #[derive(Debug, Clone, PartialEq)]
