@@ -66,6 +66,11 @@ pub struct DivergenceWatch {
     load_energy: f64,
     /// `E_ref`, set by the first state shown (t_0).
     reference: Option<f64>,
+    /// For a body the static solve of `E_F` cannot hold (a free body: `S_rr` singular), the
+    /// free-flight scale `(F_mᵀ M_mm⁻¹ F_m, N)`: at state 1, t_1 = Δt gives the horizon
+    /// T = N Δt and `E_ref` becomes at least `½ T² F_mᵀ M_mm⁻¹ F_m`, the kinetic energy the load
+    /// gives the free body over the run ([`DivergenceWatch::with_free_flight`]).
+    free_flight: Option<(f64, usize)>,
 }
 
 /// What [`DivergenceWatch::judge`] says of a state.
@@ -82,7 +87,14 @@ pub enum Verdict {
 impl DivergenceWatch {
     /// `load_energy`: `E_F = ½ F_rᵀ S_rr⁻¹ F_r` (0 without load).
     pub fn new(criterion: &DivergenceCriterion, load_energy: f64) -> Self {
-        Self { factor: criterion.energy_factor, load_energy, reference: None }
+        Self { factor: criterion.energy_factor, load_energy, reference: None, free_flight: None }
+    }
+
+    /// The same watch for a body whose static load energy does not exist (type docs): `rate` is
+    /// `F_mᵀ M_mm⁻¹ F_m`, `steps` the run's N.
+    pub fn with_free_flight(mut self, rate: f64, steps: usize) -> Self {
+        self.free_flight = Some((rate, steps));
+        self
     }
 
     /// Judges state `step` at `time` by its energy (the first finite one sets `E_ref`).
@@ -92,6 +104,10 @@ impl DivergenceWatch {
             return Verdict::Hidden(diverged(DivergenceReason::NonFiniteEnergy));
         }
         let factor = self.factor;
+        if let (1, Some((rate, steps)), Some(reference)) = (step, self.free_flight, self.reference) {
+            let horizon = steps as f64 * time;
+            self.reference = Some(reference.max(0.5 * horizon * horizon * rate));
+        }
         match self.reference {
             None => self.reference = Some(energy.abs().max(self.load_energy)),
             Some(reference) if energy.abs() > factor * reference => {
@@ -244,11 +260,31 @@ pub fn integrate_watched<G: Geometry>(
     drive(problem, scheme, steps, Some(criterion), observers)
 }
 
-/// `E_F = ½ F_rᵀ S_rr⁻¹ F_r` of [`DivergenceCriterion`] (0 without load; 0 if the solve fails,
-/// which leaves `|E⁰|` as the reference).
-fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> f64 {
+/// The watch of a run of `steps` steps: `E_F = ½ F_rᵀ S_rr⁻¹ F_r` of [`DivergenceCriterion`]
+/// (0 without load), or, where that solve fails (a free body, whose S_rr is singular), the
+/// free-flight scale of [`DivergenceWatch::with_free_flight`].
+fn watch_of<A: SymMatrix>(criterion: &DivergenceCriterion, s: &ContactSystem<A>, steps: usize) -> DivergenceWatch {
+    match load_energy(s) {
+        Some(e) => DivergenceWatch::new(criterion, e),
+        None => DivergenceWatch::new(criterion, 0.0).with_free_flight(free_flight_rate(s), steps),
+    }
+}
+
+/// `F_mᵀ M_mm⁻¹ F_m` over the unknowns with mass (0 if that solve fails too).
+fn free_flight_rate<A: SymMatrix>(s: &ContactSystem<A>) -> f64 {
+    let massive: Vec<usize> = (0..s.n()).filter(|&i| !s.massless[i]).collect();
+    let f: Vec<f64> = massive.iter().map(|&i| s.load[i]).collect();
+    let mut a = f.clone();
+    match s.mass.solve_principal(&massive, &mut a, "mass") {
+        Ok(()) => a.iter().zip(&f).map(|(x, y)| x * y).sum(),
+        Err(_) => 0.0,
+    }
+}
+
+/// `E_F = ½ F_rᵀ S_rr⁻¹ F_r` (0 without load; None if the solve fails).
+fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> Option<f64> {
     if s.load.iter().all(|&f| f == 0.0) {
-        return 0.0;
+        return Some(0.0);
     }
     let mut held = vec![false; s.n()];
     for &c in &s.contact {
@@ -258,8 +294,8 @@ fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> f64 {
     let f: Vec<f64> = rest.iter().map(|&i| s.load[i]).collect();
     let mut u = f.clone();
     match s.stiffness.solve_principal(&rest, &mut u, "stiffness") {
-        Ok(()) => 0.5 * u.iter().zip(&f).map(|(a, b)| a * b).sum::<f64>(),
-        Err(_) => 0.0,
+        Ok(()) => Some(0.5 * u.iter().zip(&f).map(|(a, b)| a * b).sum::<f64>()),
+        Err(_) => None,
     }
 }
 
@@ -275,7 +311,7 @@ fn drive<G: Geometry>(
     let cadence: Vec<usize> = observers.iter().map(|o| o.every().max(1)).collect();
     let needs: Vec<Needs> = observers.iter().map(|o| o.needs()).collect();
     let geometry: &dyn GeometryView = &problem.system;
-    let mut watch = criterion.map(|c| DivergenceWatch::new(c, load_energy(problem.system.system())));
+    let mut watch = criterion.map(|c| watch_of(c, problem.system.system(), steps));
     let lower = &problem.system.system().lower;
     let mut diagnostics = problem.system.diagnostics();
     let mut show = |scheme: &dyn Scheme, observers: &mut [&mut dyn Observer]| -> Option<Divergence> {
