@@ -32,6 +32,7 @@ mod config;
 pub mod elastic_table;
 mod experiments;
 mod figures;
+pub mod mesh_scope;
 mod periods;
 pub mod plate_table;
 mod rebound;
@@ -95,7 +96,8 @@ pub struct Outcome {
 /// per figure `<stem>.png`, `<stem>.svg`, `<stem>.csv`; `table-T*.csv`, `table-long-T*.csv`,
 /// `table-2d.csv`, `table-2d-elastic.csv` (the elastic candidates, [`elastic_table`]),
 /// `summaries.json`, `report.md`; for the rebounding bar `rebound-u0.png`,
-/// `.svg`, `.csv` and `rebound.csv`. `progress` is advanced once per case and per figure (pass
+/// `.svg`, `.csv` and `rebound.csv`; the scope of "mod3 is best" `mesh-scope.png`, `.svg`, `.csv`
+/// ([`mesh_scope`]). `progress` is advanced once per case and per figure (pass
 /// `ProgressBar::hidden()` for none).
 pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Result<Outcome, ReproduceError> {
     for &t in &config.horizons {
@@ -106,23 +108,25 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     }
     config.steps("rebound end", REBOUND_END)?;
     let n_cases = (cases(config).len() + rebound_cases().len()) as u64;
-    let n_figures = 2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len() + 1;
+    let n_figures = 2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len() + 2;
     progress.set_length(n_cases + n_figures as u64);
     progress.set_message("running");
     let results = compute(config, &|| progress.inc(1))?;
     let rebound = compute_rebound(config, &|| progress.inc(1))?;
+    let scope = mesh_scope::mesh_scope(config)?;
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
+    let scope_figure = mesh_scope::scope_figure(config, &scope);
     let tables = tables::result_tables(config, &results);
     // The scalar plates run one after another; the elastic candidates in parallel beside them.
     let (table2d, elastic) =
         rayon::join(|| plate_2d_errors(config), || elastic_table::elastic_table(!config.full_2d_sweep));
-    let files = file_names(config, &figures, &tables, &rebound_figure, table2d.is_some());
-    let report = report_markdown(config, &results, &rebound, &files, table2d.as_ref(), &elastic);
+    let files = file_names(config, &figures, &tables, &[&rebound_figure, &scope_figure], table2d.is_some());
+    let report = report_markdown(config, &results, &rebound, &scope, &files, table2d.as_ref(), &elastic);
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
-        figures.par_iter().chain([&rebound_figure]).try_for_each(|f| -> std::io::Result<()> {
+        figures.par_iter().chain([&rebound_figure, &scope_figure]).try_for_each(|f| -> std::io::Result<()> {
             f.write(tmp)?;
             progress.inc(1);
             Ok(())
@@ -141,19 +145,19 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
 }
 
 /// The files [`reproduce`] writes, in the order of [`Outcome::files`]: figures, tables, events,
-/// the rebounding bar's figure and table, `table-2d.csv`, `table-2d-elastic.csv`, `summaries.json`, `report.md`, and
+/// the rebounding bar's figure, the mesh-scope figure ([`mesh_scope`]), the rebounding bar's table, `table-2d.csv`, `table-2d-elastic.csv`, `summaries.json`, `report.md`, and
 /// `table-2d-sweep.csv` if the 2D runs gave one.
 fn file_names(
     config: &Config,
     figures: &[FigureFile],
     tables: &[(String, Vec<&CaseResult>)],
-    rebound_figure: &FigureFile,
+    extra_figures: &[&FigureFile],
     with_2d_sweep: bool,
 ) -> Vec<String> {
     let mut files: Vec<String> = figures.iter().flat_map(FigureFile::file_names).collect();
     files.extend(tables.iter().map(|(n, _)| n.clone()));
     files.extend(config.horizons.iter().map(|&end| tables::events_file(end)));
-    files.extend(rebound_figure.file_names());
+    files.extend(extra_figures.iter().flat_map(|f| f.file_names()));
     files.push(REBOUND_TABLE.into());
     files.extend([
         "table-2d.csv".to_string(),

@@ -6,6 +6,7 @@ use super::claims::growth_band;
 use super::elastic_table::{ElasticRow, elastic_section};
 use super::experiments::massless_contact;
 use super::figures::{energy_stem, solution_stem};
+use super::mesh_scope::{ScopeEntry, scope_section};
 use super::periods::DRIFT_FACTOR;
 use super::rebound::Rebound;
 use super::rebound_report::rebound_section;
@@ -17,12 +18,14 @@ use crate::output::fmt_f64;
 use crate::scene::Column;
 use std::fmt::Write as _;
 
-/// `report.md`: configuration, tables, one paragraph per figure, the claims, the 2D table (scalar
+/// `report.md`: configuration, tables, the claims, the scope of "mod3 is best" over meshes and
+/// horizons ([`super::mesh_scope`]), one paragraph per figure, the 2D table (scalar
 /// plates, then elastic solids), the rebounding bar (beyond the paper).
 pub fn report_markdown(
     config: &Config,
     results: &[CaseResult],
     rebound: &Rebound,
+    scope: &[ScopeEntry],
     files: &[String],
     table2d: Option<&Table2d>,
     elastic: &[ElasticRow],
@@ -30,6 +33,7 @@ pub fn report_markdown(
     let mut s = intro(config);
     s.push_str(&results_tables(config, results));
     s.push_str(&claims(config, results));
+    s.push_str(&scope_section(config, scope));
     s.push_str(&figure_sections(config, results));
     s.push_str(&table_2d(table2d));
     s.push_str(&elastic_section(elastic, table2d));
