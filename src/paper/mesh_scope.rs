@@ -16,7 +16,6 @@
 
 use super::band;
 use super::figures::{FigureFile, mass_style};
-use super::tables::sig;
 use super::{Config, Experiment, ReproduceError};
 use crate::driver::{Needs, Observer, Sample, integrate};
 use crate::mass::MassKind;
@@ -189,7 +188,7 @@ pub(super) fn scope_figure(config: &Config, entries: &[ScopeEntry]) -> FigureFil
                 fmt_f64(lo),
                 fmt_f64(hi),
                 x.errors.len().to_string(),
-                agreed_digits(&x.errors).to_string(),
+                band::agreed_digits(&x.errors.iter().map(|&e| Some(e)).collect::<Vec<_>>()).to_string(),
             ]
         })
         .collect();
@@ -200,11 +199,6 @@ pub(super) fn scope_figure(config: &Config, entries: &[ScopeEntry]) -> FigureFil
         rows,
         periods: None,
     }
-}
-
-/// The number of significant digits (at most 16) on which all runs agree; 0 if not even one.
-fn agreed_digits(values: &[f64]) -> usize {
-    (1..=16).rev().find(|&d| values.iter().all(|&v| sig(v, d) == sig(values[0], d))).unwrap_or(0)
 }
 
 /// Per scheme, the meshes where mod3 is [`best`] at `end` (among the w_0 = 0 masses only if

@@ -47,8 +47,8 @@ pub use experiments::{Case, Experiment, Purpose, cases, masses};
 pub use figures::{exact_lambda_polyline, exact_u0_polyline};
 pub use periods::{DRIFT_FACTOR, PeriodEnergy};
 pub use rebound::{
-    BarMotion, ExactRebound, REBOUND_BAR, REBOUND_END, REBOUND_WINDOW, Rebound, ReboundResult, compute_rebound,
-    exact_rebound, rebound_cases, rebound_scene_text, run_rebound,
+    BarMotion, ExactRebound, REBOUND_BAR, REBOUND_DV, REBOUND_END, REBOUND_WINDOW, Rebound, ReboundCopy, ReboundResult,
+    compute_rebound, exact_rebound, rebound_cases, rebound_scene_text, rebound_sensitive, run_rebound,
 };
 pub use rebound_report::{REBOUND_COLUMNS, REBOUND_FIGURE, REBOUND_TABLE};
 pub use report::report_markdown;
