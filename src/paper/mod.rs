@@ -35,6 +35,7 @@ mod figures;
 pub mod mesh_scope;
 mod periods;
 pub mod plate_table;
+pub mod ps_growth;
 mod rebound;
 mod rebound_report;
 mod report;
@@ -114,6 +115,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let results = compute(config, &|| progress.inc(1))?;
     let rebound = compute_rebound(config, &|| progress.inc(1))?;
     let scope = mesh_scope::mesh_scope(config)?;
+    let ps = ps_growth::ps_growth(config)?;
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
@@ -123,7 +125,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let (table2d, elastic) =
         rayon::join(|| plate_2d_errors(config), || elastic_table::elastic_table(!config.full_2d_sweep));
     let files = file_names(config, &figures, &tables, &[&rebound_figure, &scope_figure], table2d.is_some());
-    let report = report_markdown(config, &results, &rebound, &scope, &files, table2d.as_ref(), &elastic);
+    let report = report_markdown(config, &results, &rebound, (&scope, &ps), &files, table2d.as_ref(), &elastic);
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
         figures.par_iter().chain([&rebound_figure, &scope_figure]).try_for_each(|f| -> std::io::Result<()> {

@@ -8,6 +8,7 @@ use super::experiments::massless_contact;
 use super::figures::{energy_stem, solution_stem};
 use super::mesh_scope::{ScopeEntry, scope_section};
 use super::periods::DRIFT_FACTOR;
+use super::ps_growth::{PsGrowth, ps_section};
 use super::rebound::Rebound;
 use super::rebound_report::rebound_section;
 use super::runs::{CaseResult, energy_floor, events, groups, period_growth, runs_of, variation_after_impact};
@@ -19,13 +20,14 @@ use crate::scene::Column;
 use std::fmt::Write as _;
 
 /// `report.md`: configuration, tables, the claims, the scope of "mod3 is best" over meshes and
-/// horizons ([`super::mesh_scope`]), one paragraph per figure, the 2D table (scalar
+/// horizons ([`super::mesh_scope`]), Paoli–Schatzman's growth against Δt/h
+/// ([`super::ps_growth`]), one paragraph per figure, the 2D table (scalar
 /// plates, then elastic solids), the rebounding bar (beyond the paper).
 pub fn report_markdown(
     config: &Config,
     results: &[CaseResult],
     rebound: &Rebound,
-    scope: &[ScopeEntry],
+    (scope, ps): (&[ScopeEntry], &PsGrowth),
     files: &[String],
     table2d: Option<&Table2d>,
     elastic: &[ElasticRow],
@@ -34,6 +36,7 @@ pub fn report_markdown(
     s.push_str(&results_tables(config, results));
     s.push_str(&claims(config, results));
     s.push_str(&scope_section(config, scope));
+    s.push_str(&ps_section(config, ps));
     s.push_str(&figure_sections(config, results));
     s.push_str(&table_2d(table2d));
     s.push_str(&elastic_section(elastic, table2d));
