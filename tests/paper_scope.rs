@@ -1,6 +1,7 @@
 //! The sections of `massredist reproduce` that answer issue 22's questions about the paper's
 //! claims: the scope of "mod3 is best" over meshes and horizons (`paper::mesh_scope`) and
-//! Paoli–Schatzman's energy growth against Δt/h on its half-step energy (`paper::ps_growth`).
+//! Paoli–Schatzman's energy growth against Δt/h on its half-step energy (`paper::ps_growth`);
+//! the Table 1 lead at Δt = h/2, T = 2 (`paper::table2d_lead`).
 
 use massredist::paper::{self, Config};
 
@@ -64,5 +65,36 @@ fn the_half_step_energy_is_conserved_before_impact_and_dt_h_diverges() {
     // Over one period at the paper's Δt the half-step energy does not move before the impact.
     for (m, moves) in &ps.moves {
         assert_eq!(moves[1][0], (0, 0), "{}", m.name());
+    }
+}
+
+/// The Table 1 lead: its (1−x)/2 row is the plate code's error for the same set-up
+/// (`plate_table::linf_l2_error`, built from `PaperPlate`, not from scene text), the (1−x)/4 row is
+/// exactly half of it (gap 0 and f = 0: the problem and Crank–Nicolson's contact step are
+/// positively homogeneous), and the sensitivity curve at Δt = h/2, T = 2 (the 1D bar with h =
+/// 0.05) gives the same errors. Broken on purpose: writing u⁰ = (1-x)/2 for both rows in
+/// `lead_rows` fails the halving assertion.
+#[test]
+fn the_table_1_lead_is_the_plate_s_error_and_halves_with_u0() {
+    use massredist::fem::Cell;
+    use massredist::mass::MassKind;
+    use massredist::scene::SchemeSpec;
+    use paper::table2d_lead::{LEAD_DT, LEAD_END, lead_rows, sensitivity};
+    let [half, quarter] = lead_rows();
+    let (half, quarter) = (half.unwrap(), quarter.unwrap());
+    let curve = sensitivity().into_iter().find(|(dt, _)| *dt == LEAD_DT).unwrap().1;
+    let at_end = curve.iter().find(|(t, _)| (t - LEAD_END).abs() < 1e-9).unwrap().1;
+    for (k, m) in [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3].iter().enumerate() {
+        let plate =
+            paper::plate_table::linf_l2_error(Cell::Quad, 20, m, &SchemeSpec::CRANK_NICOLSON, LEAD_DT, LEAD_END)
+                .unwrap();
+        // Same mesh and data by two constructions (closed-form initial data vs the expression
+        // (1-x)/2): equal up to the rounding of the interpolated U⁰, a few ulps amplified by
+        // 80 steps.
+        assert!((half[k] - plate).abs() <= 1e-12 * plate, "{}: {} vs {plate}", m.name(), half[k]);
+        // Halving u⁰ halves U⁰ exactly (a power of two), and every later operation scales.
+        assert!((quarter[k] - 0.5 * half[k]).abs() <= 1e-12 * half[k], "{}", m.name());
+        // The 1D bar with h = 0.05 is the Q1 plate with y-independent data (tests/plate.rs).
+        assert!((at_end[k] - plate).abs() <= 1e-10 * plate, "{}: 1D {} vs 2D {plate}", m.name(), at_end[k]);
     }
 }

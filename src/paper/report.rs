@@ -21,13 +21,14 @@ use std::fmt::Write as _;
 
 /// `report.md`: configuration, tables, the claims, the scope of "mod3 is best" over meshes and
 /// horizons ([`super::mesh_scope`]), Paoli–Schatzman's growth against Δt/h
-/// ([`super::ps_growth`]), one paragraph per figure, the 2D table (scalar
+/// ([`super::ps_growth`]), one paragraph per figure, the 2D table with its best lead
+/// ([`super::table2d_lead`]), the 2D table (scalar
 /// plates, then elastic solids), the rebounding bar (beyond the paper).
 pub fn report_markdown(
     config: &Config,
     results: &[CaseResult],
     rebound: &Rebound,
-    (scope, ps): (&[ScopeEntry], &PsGrowth),
+    (scope, ps, lead): (&[ScopeEntry], &PsGrowth, &str),
     files: &[String],
     table2d: Option<&Table2d>,
     elastic: &[ElasticRow],
@@ -39,6 +40,7 @@ pub fn report_markdown(
     s.push_str(&ps_section(config, ps));
     s.push_str(&figure_sections(config, results));
     s.push_str(&table_2d(table2d));
+    s.push_str(lead);
     s.push_str(&elastic_section(elastic, table2d));
     s.push_str(&rebound_section(config, rebound));
     s.push_str("\n## Files\n\n");
