@@ -68,3 +68,31 @@ fn crank_nicolson_and_hybrid_with_mod3_rebound_at_plus_one_and_impact_on_time() 
         assert!(shift.abs() <= config.dt * (1.0 + 1e-9), "{e:?}: impact shift {shift}");
     }
 }
+
+#[test]
+fn the_chattering_rebound_row_is_rerun_from_perturbed_velocities() {
+    // Crank–Nicolson with the standard mass chatters: `run_rebound` reruns it from v⁰ changed by
+    // ±1e-13 and ±2e-13 (the report then shows bands). Each rerun is an independent `run_scene`
+    // of the section's scene with `velocity = "-1-2e-13"` etc., to the last bit, and the five
+    // errors spread by far more than round-off (so the unperturbed digits are no result).
+    // Mutation check: ignoring `dv` in the scene text makes every rerun the unperturbed run and
+    // fails the first assertion.
+    let config = Config::paper();
+    let r = paper::run_rebound(&config, Experiment::CrankNicolson, &MassKind::Standard).unwrap();
+    assert_eq!(r.copies.len(), paper::REBOUND_DV.len());
+    let base = paper::rebound_scene_text(&config, Experiment::CrankNicolson, &MassKind::Standard);
+    for (dv, copy) in paper::REBOUND_DV.iter().zip(&r.copies) {
+        let text = base.replace("velocity = \"-1\"", &format!("velocity = \"-1{dv:+e}\""));
+        assert_ne!(text, base);
+        let scene = BarScene::from_toml(&text).unwrap();
+        let run = massredist::run::run_scene(&scene, &mut []).unwrap();
+        assert_eq!(copy.summary.linf_l2_error, run.summary.linf_l2_error, "dv = {dv:e}");
+    }
+    let errors: Vec<f64> = r.over_runs(|s, _, _, _| s.linf_l2_error.unwrap());
+    let (lo, hi) = errors.iter().fold((f64::INFINITY, 0.0_f64), |(a, b), &e| (a.min(e), b.max(e)));
+    // Round-off alone would move a 4-digit error by ~1e-12; the chatter moves it by tens of %.
+    assert!(hi / lo > 1.1, "{errors:?}");
+    // No other case is rerun.
+    let mod3 = paper::run_rebound(&config, Experiment::CrankNicolson, &MassKind::Mod3).unwrap();
+    assert!(mod3.copies.is_empty());
+}

@@ -93,6 +93,18 @@ pub fn stable_digits(values: &[Option<f64>], digits: usize) -> String {
     format!("{}–{}", sig(lo, 2), sig(hi, 2))
 }
 
+/// The number of significant digits (at most 16) on which all `values` agree; 0 if not even
+/// the first, or if some have a value and others not. All absent: 16.
+pub fn agreed_digits(values: &[Option<f64>]) -> usize {
+    let Some(first) = values.first() else { return 16 };
+    if values.iter().any(|v| v.is_some() != first.is_some()) {
+        return 0;
+    }
+    let v: Vec<f64> = values.iter().flatten().copied().collect();
+    let Some(&x) = v.first() else { return 16 };
+    (1..=16).rev().find(|&d| v.iter().all(|&y| sig(y, d) == sig(x, d))).unwrap_or(0)
+}
+
 /// (min, max) of the values.
 pub fn band(values: &[f64]) -> (f64, f64) {
     values.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)))
@@ -110,6 +122,10 @@ mod tests {
         assert_eq!(stable_digits(&[Some(2.0e13), Some(5.0e4)], 3), "50000–2.0e13");
         assert_eq!(stable_digits(&[None, Some(1.0)], 3), "varies");
         assert_eq!(stable_digits(&[None, None], 3), "—");
+        assert_eq!(agreed_digits(&[Some(0.104112), Some(0.104113)]), 5);
+        assert_eq!(agreed_digits(&[Some(0.5), Some(0.5)]), 16);
+        assert_eq!(agreed_digits(&[Some(0.41), Some(0.52)]), 0);
+        assert_eq!(agreed_digits(&[None, Some(1.0)]), 0);
     }
 
     #[test]

@@ -133,20 +133,23 @@ pub(super) fn clamped_range(data: (f64, f64), exact: (f64, f64)) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// "standard: min −24.9" if some values lie outside `range`, else None.
-pub(super) fn off_scale(label: &str, values: &[f64], range: (f64, f64)) -> Option<String> {
+/// "standard: min −24.9" if some values lie outside `range`, else None. For a round-off
+/// sensitive run (`sensitive`: its extremes change with a 1e-13 perturbation of the initial state)
+/// only which side it leaves, with no digits: "standard: above (round-off sensitive)".
+pub(super) fn off_scale(label: &str, values: &[f64], range: (f64, f64), sensitive: bool) -> Option<String> {
     let (lo, hi) = values
         .iter()
         .filter(|v| v.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
     let mut notes = Vec::new();
     if lo < range.0 {
-        notes.push(format!("min {}", sig(lo, 3)));
+        notes.push(if sensitive { "below".to_string() } else { format!("min {}", sig(lo, 3)) });
     }
     if hi > range.1 {
-        notes.push(format!("max {}", sig(hi, 3)));
+        notes.push(if sensitive { "above".to_string() } else { format!("max {}", sig(hi, 3)) });
     }
-    (!notes.is_empty()).then(|| format!("{label} {}", notes.join(", ")))
+    let tail = if sensitive { " (round-off sensitive)" } else { "" };
+    (!notes.is_empty()).then(|| format!("{label} {}{tail}", notes.join(", ")))
 }
 
 /// Colour index of a mass, the same in every figure.
@@ -189,7 +192,7 @@ fn solution_figure(config: &Config, group: &[&CaseResult]) -> FigureFile {
             .iter()
             .map(|r| {
                 let v = r.col(col);
-                notes.extend(off_scale(r.case.mass.name(), &v, y_range));
+                notes.extend(off_scale(r.case.mass.name(), &v, y_range, !r.copies.is_empty()));
                 Curve {
                     label: r.case.mass.name().into(),
                     points: points(&r.series.times(), &v),
@@ -333,7 +336,7 @@ fn long_energy_panel(config: &Config, group: &[&CaseResult], end: f64) -> Panel 
     let mut raw: Vec<Curve> = group
         .iter()
         .map(|r| {
-            notes.extend(off_scale(r.case.mass.name(), &r.col(Column::Energy), y_range));
+            notes.extend(off_scale(r.case.mass.name(), &r.col(Column::Energy), y_range, !r.copies.is_empty()));
             energy_curve(r)
         })
         .collect();

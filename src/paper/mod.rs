@@ -32,13 +32,16 @@ mod config;
 pub mod elastic_table;
 mod experiments;
 mod figures;
+pub mod mesh_scope;
 mod periods;
 pub mod plate_table;
+pub mod ps_growth;
 mod rebound;
 mod rebound_report;
 mod report;
 mod runs;
 mod table2d;
+pub mod table2d_lead;
 mod tables;
 
 pub use config::Config;
@@ -46,8 +49,8 @@ pub use experiments::{Case, Experiment, Purpose, cases, masses};
 pub use figures::{exact_lambda_polyline, exact_u0_polyline};
 pub use periods::{DRIFT_FACTOR, PeriodEnergy};
 pub use rebound::{
-    BarMotion, ExactRebound, REBOUND_BAR, REBOUND_END, REBOUND_WINDOW, Rebound, ReboundResult, compute_rebound,
-    exact_rebound, rebound_cases, rebound_scene_text, run_rebound,
+    BarMotion, ExactRebound, REBOUND_BAR, REBOUND_DV, REBOUND_END, REBOUND_WINDOW, Rebound, ReboundCopy, ReboundResult,
+    compute_rebound, exact_rebound, rebound_cases, rebound_scene_text, rebound_sensitive, run_rebound,
 };
 pub use rebound_report::{REBOUND_COLUMNS, REBOUND_FIGURE, REBOUND_TABLE};
 pub use report::report_markdown;
@@ -95,7 +98,9 @@ pub struct Outcome {
 /// per figure `<stem>.png`, `<stem>.svg`, `<stem>.csv`; `table-T*.csv`, `table-long-T*.csv`,
 /// `table-2d.csv`, `table-2d-elastic.csv` (the elastic candidates, [`elastic_table`]),
 /// `summaries.json`, `report.md`; for the rebounding bar `rebound-u0.png`,
-/// `.svg`, `.csv` and `rebound.csv`. `progress` is advanced once per case and per figure (pass
+/// `.svg`, `.csv` and `rebound.csv`; the scope of "mod3 is best" `mesh-scope.png`, `.svg`, `.csv`
+/// ([`mesh_scope`]); the Table 1 lead's sensitivity `table-2d-lead.png`, `.svg`, `.csv`
+/// ([`table2d_lead`]). `progress` is advanced once per case and per figure (pass
 /// `ProgressBar::hidden()` for none).
 pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Result<Outcome, ReproduceError> {
     for &t in &config.horizons {
@@ -106,27 +111,43 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     }
     config.steps("rebound end", REBOUND_END)?;
     let n_cases = (cases(config).len() + rebound_cases().len()) as u64;
-    let n_figures = 2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len() + 1;
+    let n_figures = 2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len() + 3;
     progress.set_length(n_cases + n_figures as u64);
     progress.set_message("running");
     let results = compute(config, &|| progress.inc(1))?;
     let rebound = compute_rebound(config, &|| progress.inc(1))?;
+    let scope = mesh_scope::mesh_scope(config)?;
+    let ps = ps_growth::ps_growth(config)?;
+    let (lead, sensitivity) = (table2d_lead::lead_rows(), table2d_lead::sensitivity());
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
+    let scope_figure = mesh_scope::scope_figure(config, &scope);
+    let lead_figure = table2d_lead::lead_figure(&sensitivity);
     let tables = tables::result_tables(config, &results);
     // The scalar plates run one after another; the elastic candidates in parallel beside them.
     let (table2d, elastic) =
         rayon::join(|| plate_2d_errors(config), || elastic_table::elastic_table(!config.full_2d_sweep));
-    let files = file_names(config, &figures, &tables, &rebound_figure, table2d.is_some());
-    let report = report_markdown(config, &results, &rebound, &files, table2d.as_ref(), &elastic);
+    let files =
+        file_names(config, &figures, &tables, &[&rebound_figure, &scope_figure, &lead_figure], table2d.is_some());
+    let report = report_markdown(
+        config,
+        &results,
+        &rebound,
+        (&scope, &ps, &table2d_lead::lead_section(&lead, &sensitivity)),
+        &files,
+        table2d.as_ref(),
+        &elastic,
+    );
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
-        figures.par_iter().chain([&rebound_figure]).try_for_each(|f| -> std::io::Result<()> {
-            f.write(tmp)?;
-            progress.inc(1);
-            Ok(())
-        })?;
+        figures.par_iter().chain([&rebound_figure, &scope_figure, &lead_figure]).try_for_each(
+            |f| -> std::io::Result<()> {
+                f.write(tmp)?;
+                progress.inc(1);
+                Ok(())
+            },
+        )?;
         tables::write_tables(tmp, config, &results, &tables)?;
         let header = REBOUND_COLUMNS.map(String::from);
         tables::write_csv(&tmp.join(REBOUND_TABLE), &header, &rebound_report::rebound_csv_rows(&rebound))?;
@@ -141,19 +162,20 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
 }
 
 /// The files [`reproduce`] writes, in the order of [`Outcome::files`]: figures, tables, events,
-/// the rebounding bar's figure and table, `table-2d.csv`, `table-2d-elastic.csv`, `summaries.json`, `report.md`, and
+/// the rebounding bar's figure, the mesh-scope figure ([`mesh_scope`]), the Table 1 lead's figure
+/// ([`table2d_lead`]), the rebounding bar's table, `table-2d.csv`, `table-2d-elastic.csv`, `summaries.json`, `report.md`, and
 /// `table-2d-sweep.csv` if the 2D runs gave one.
 fn file_names(
     config: &Config,
     figures: &[FigureFile],
     tables: &[(String, Vec<&CaseResult>)],
-    rebound_figure: &FigureFile,
+    extra_figures: &[&FigureFile],
     with_2d_sweep: bool,
 ) -> Vec<String> {
     let mut files: Vec<String> = figures.iter().flat_map(FigureFile::file_names).collect();
     files.extend(tables.iter().map(|(n, _)| n.clone()));
     files.extend(config.horizons.iter().map(|&end| tables::events_file(end)));
-    files.extend(rebound_figure.file_names());
+    files.extend(extra_figures.iter().flat_map(|f| f.file_names()));
     files.push(REBOUND_TABLE.into());
     files.extend([
         "table-2d.csv".to_string(),

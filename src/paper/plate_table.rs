@@ -104,8 +104,9 @@ fn row(judged: bool, cells: Cell, scheme: &SchemeSpec, mass: &MassKind, dt: f64,
 /// The paper's 2D table for the judged configuration (3 rows, `judged = true`), then the sweep
 /// cells × scheme × Δt × T × mass (`judged = false`). `quick` keeps the sweep small:
 /// {quad, triangle} × {CN, hybrid} × {0.01} × {3}; otherwise
-/// {quad, triangle} × {CN, backward Euler, hybrid} × {0.05, 0.02, 0.01, 0.005} × {1, 3, 10}
-/// (T = 1 stops just before the first impact, T = 10 covers three impacts).
+/// {quad, triangle} × {CN, backward Euler, hybrid} × {0.05, 0.025, 0.02, 0.01, 0.005} × {1, 2, 3, 10}
+/// (T = 1 stops just before the first impact, T = 2 ends the first contact phase, T = 10 covers
+/// three impacts; Δt = 0.025 = h/2 and T = 2 hold the best lead, `table2d_lead`).
 pub fn table_2d(quick: bool) -> Vec<Row> {
     let cn = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
     let masses = [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3];
@@ -113,7 +114,11 @@ pub fn table_2d(quick: bool) -> Vec<Row> {
     let (schemes, dts, ends): (Vec<SchemeSpec>, &[f64], &[f64]) = if quick {
         (vec![cn.clone(), SchemeSpec::Hybrid], &[0.01], &[3.0])
     } else {
-        (vec![cn.clone(), SchemeSpec::BackwardEuler, SchemeSpec::Hybrid], &[0.05, 0.02, 0.01, 0.005], &[1.0, 3.0, 10.0])
+        (
+            vec![cn.clone(), SchemeSpec::BackwardEuler, SchemeSpec::Hybrid],
+            &[0.05, 0.025, 0.02, 0.01, 0.005],
+            &[1.0, 2.0, 3.0, 10.0],
+        )
     };
     for cells in [Cell::Quad, Cell::Triangle] {
         for scheme in &schemes {

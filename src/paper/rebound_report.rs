@@ -3,11 +3,13 @@
 //! exact solution by characteristics) and the report section with its verdict. Pure: strings
 //! and figure data from the results.
 
+use super::band;
 use super::figures::{FigureFile, clamped_range, dx_dt, grid_rows, mass_style, off_scale, points};
 use super::rebound::{REBOUND_END, REBOUND_WINDOW, Rebound, ReboundResult};
 use super::tables::{leading_cells, opt, shift, sig, time};
 use super::{Config, Experiment};
 use crate::mass::MassKind;
+use crate::observe::Summary;
 use crate::output::fmt_f64;
 use crate::plot::{self, Curve, Panel, Style};
 use std::fmt::Write as _;
@@ -76,21 +78,26 @@ fn event(t: Option<f64>, shift_: Option<f64>, dt: f64) -> String {
     t.map_or("—".into(), |t| format!("{} ({})", time(t, dt), shift(shift_, dt)))
 }
 
-/// The section's table in Markdown.
+/// The section's table in Markdown. A round-off sensitive row (one with reruns) shows each value
+/// with the digits its five runs share, else their band ([`band::stable_digits`]).
 fn rebound_table(config: &Config, rb: &Rebound) -> String {
     let mut s = String::from(
         "| scheme | mass | L∞(0,T;L²) error | max \\|u_0 − u(0,t)\\| | L²(0,T) error of λ | E(0) | E min | E max | E final | first impact (shift) | first release (shift) | last contact (shift) | contact episodes | rebound velocity | status |\n",
     );
     s.push_str(&"|---".repeat(15));
     s.push_str("|\n");
-    let dt = config.dt;
     for r in &rb.runs {
-        let m = &r.summary;
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-            r.experiment.title(),
-            r.mass.name(),
+        let _ = writeln!(s, "| {} | {} | {} |", r.experiment.title(), r.mass.name(), row_cells(config, r).join(" | "));
+    }
+    s
+}
+
+/// The cells of a row of [`rebound_table`] after scheme and mass.
+fn row_cells(config: &Config, r: &ReboundResult) -> Vec<String> {
+    let dt = config.dt;
+    let m = &r.summary;
+    if r.copies.is_empty() {
+        return vec![
             opt(m.linf_l2_error, 4),
             opt(m.max_contact_error, 4),
             opt(m.l2_lambda_error, 4),
@@ -101,12 +108,54 @@ fn rebound_table(config: &Config, rb: &Rebound) -> String {
             event(m.first_impact_time, m.impact_time_shift, dt),
             event(m.first_release_time, m.release_time_shift, dt),
             event(r.last_contact_time, r.last_contact_shift, dt),
-            r.contact_episodes,
+            r.contact_episodes.to_string(),
             opt(r.rebound_velocity, 4),
-            if r.failure.is_some() { "**non-finite**" } else { "ok" },
-        );
+            status(r),
+        ];
     }
-    s
+    let num = |f: &dyn Fn(&Summary) -> Option<f64>, d: usize| band::stable_digits(&r.over_runs(|s, _, _, _| f(s)), d);
+    // An event time: the grid time if all runs agree, else their band (no shift).
+    let at = |v: Vec<Option<f64>>, first: String| {
+        if v.iter().all(|x| *x == v[0]) {
+            return first;
+        }
+        let (lo, hi) = band::band(&v.iter().flatten().copied().collect::<Vec<_>>());
+        format!("{}–{}", time(lo, dt), time(hi, dt))
+    };
+    let episodes = r.over_runs(|_, _, n, _| n as f64);
+    let (lo, hi) = band::band(&episodes);
+    vec![
+        num(&|s| s.linf_l2_error, 4),
+        num(&|s| s.max_contact_error, 4),
+        num(&|s| s.l2_lambda_error, 4),
+        num(&|s| Some(s.energy_initial), 6),
+        num(&|s| Some(s.energy_min), 6),
+        num(&|s| Some(s.energy_max), 6),
+        num(&|s| Some(s.energy_final), 6),
+        at(r.over_runs(|s, _, _, _| s.first_impact_time), event(m.first_impact_time, m.impact_time_shift, dt)),
+        at(r.over_runs(|s, _, _, _| s.first_release_time), event(m.first_release_time, m.release_time_shift, dt)),
+        at(r.over_runs(|_, t, _, _| t), event(r.last_contact_time, r.last_contact_shift, dt)),
+        if lo == hi { r.contact_episodes.to_string() } else { format!("{lo}–{hi}") },
+        band::stable_digits(&r.over_runs(|_, _, _, v| v), 4),
+        status(r),
+    ]
+}
+
+/// "ok" or "**non-finite**"; for a row with reruns, how many and by how much v⁰ changed.
+fn status(r: &ReboundResult) -> String {
+    let base = if r.failure.is_some() { "**non-finite**" } else { "ok" };
+    if r.copies.is_empty() {
+        return base.into();
+    }
+    format!("{base}; {} runs from v⁰ changed by 0, ±1e-13, ±2e-13: round-off sensitive, bands", r.copies.len() + 1)
+}
+
+/// The L∞(0,T;L²) error of a run as the report shows it: with the digits all its runs share.
+fn shown_error(r: &ReboundResult) -> String {
+    if r.failure.is_some() {
+        return sig(f64::INFINITY, 4);
+    }
+    band::stable_digits(&r.over_runs(|s, _, _, _| s.linf_l2_error), 4)
 }
 
 /// The L∞(0,T;L²) error a ranking uses: infinite for a run that failed or has none.
@@ -120,7 +169,7 @@ fn scheme_line(rb: &Rebound, e: Experiment) -> Option<(String, Vec<&ReboundResul
     let mut ranked: Vec<&ReboundResult> = rb.runs.iter().filter(|r| r.experiment == e).collect();
     ranked.sort_by(|a, b| error_of(a).total_cmp(&error_of(b)));
     ranked.first()?;
-    let list: Vec<String> = ranked.iter().map(|r| format!("{} {}", r.mass.name(), sig(error_of(r), 4))).collect();
+    let list: Vec<String> = ranked.iter().map(|r| format!("{} {}", r.mass.name(), shown_error(r))).collect();
     let v_exact = rb.exact.rebound_velocity;
     let closest = ranked
         .iter()
@@ -148,9 +197,9 @@ fn verdict(rb: &Rebound) -> String {
         if best.mass == MassKind::Mod3 {
             wins.push(e.title().to_string());
         } else {
-            let mod3 = ranked.iter().find(|r| r.mass == MassKind::Mod3).map_or(f64::NAN, |r| error_of(r));
-            let (m, err) = (best.mass.name(), sig(error_of(best), 4));
-            loses.push(format!("{} ({m} {err} against mod3 {})", e.title(), sig(mod3, 4)));
+            let mod3 = ranked.iter().find(|r| r.mass == MassKind::Mod3).map_or("none".into(), |r| shown_error(r));
+            let (m, err) = (best.mass.name(), shown_error(best));
+            loses.push(format!("{} ({m} {err} against mod3 {mod3})", e.title()));
         }
     }
     s.push('\n');
@@ -221,7 +270,11 @@ fn chatter_note(rb: &Rebound) -> String {
         .runs
         .iter()
         .filter(|r| r.contact_episodes > 1)
-        .map(|r| format!("{} {} ({})", r.experiment.title(), r.mass.name(), r.contact_episodes))
+        .map(|r| {
+            let (lo, hi) = band::band(&r.over_runs(|_, _, n, _| n as f64));
+            let n = if lo == hi { r.contact_episodes.to_string() } else { format!("{lo}–{hi} over its runs") };
+            format!("{} {} ({n})", r.experiment.title(), r.mass.name())
+        })
         .collect();
     if chatter.is_empty() {
         return String::new();
@@ -250,7 +303,12 @@ fn panel(what: &str, y_label: &str, exact: Vec<(f64, f64)>, curves: Vec<(&MassKi
         .into_iter()
         .map(|(m, pts)| {
             let values: Vec<f64> = pts.iter().map(|p| p.1).collect();
-            notes.extend(off_scale(m.name(), &values, y_range));
+            notes.extend(off_scale(
+                m.name(),
+                &values,
+                y_range,
+                super::rebound::rebound_sensitive(Experiment::CrankNicolson, m),
+            ));
             Curve { label: m.name().into(), points: pts, style: mass_style(m) }
         })
         .collect();

@@ -6,7 +6,9 @@ use super::claims::growth_band;
 use super::elastic_table::{ElasticRow, elastic_section};
 use super::experiments::massless_contact;
 use super::figures::{energy_stem, solution_stem};
+use super::mesh_scope::{ScopeEntry, scope_section};
 use super::periods::DRIFT_FACTOR;
+use super::ps_growth::{PsGrowth, ps_section};
 use super::rebound::Rebound;
 use super::rebound_report::rebound_section;
 use super::runs::{CaseResult, energy_floor, events, groups, period_growth, runs_of, variation_after_impact};
@@ -17,12 +19,16 @@ use crate::output::fmt_f64;
 use crate::scene::Column;
 use std::fmt::Write as _;
 
-/// `report.md`: configuration, tables, one paragraph per figure, the claims, the 2D table (scalar
+/// `report.md`: configuration, tables, the claims, the scope of "mod3 is best" over meshes and
+/// horizons ([`super::mesh_scope`]), Paoli–Schatzman's growth against Δt/h
+/// ([`super::ps_growth`]), one paragraph per figure, the 2D table with its best lead
+/// ([`super::table2d_lead`]), the 2D table (scalar
 /// plates, then elastic solids), the rebounding bar (beyond the paper).
 pub fn report_markdown(
     config: &Config,
     results: &[CaseResult],
     rebound: &Rebound,
+    (scope, ps, lead): (&[ScopeEntry], &PsGrowth, &str),
     files: &[String],
     table2d: Option<&Table2d>,
     elastic: &[ElasticRow],
@@ -30,8 +36,11 @@ pub fn report_markdown(
     let mut s = intro(config);
     s.push_str(&results_tables(config, results));
     s.push_str(&claims(config, results));
+    s.push_str(&scope_section(config, scope));
+    s.push_str(&ps_section(config, ps));
     s.push_str(&figure_sections(config, results));
     s.push_str(&table_2d(table2d));
+    s.push_str(lead);
     s.push_str(&elastic_section(elastic, table2d));
     s.push_str(&rebound_section(config, rebound));
     s.push_str("\n## Files\n\n");

@@ -102,6 +102,29 @@ fn sweep_section(rows: &[Row]) -> String {
             r.end
         );
     }
+    let ranked = paper_ranking(rows);
+    let mut ends: Vec<f64> = rows.iter().filter(|r| !r.judged).map(|r| r.end).collect();
+    ends.sort_by(f64::total_cmp);
+    ends.dedup();
+    let per_end: Vec<String> = ends
+        .iter()
+        .map(|&t| {
+            let of_t = rows.iter().filter(|r| !r.judged && r.end == t && r.mass == "mod1").count();
+            let at: Vec<&(String, f64)> = ranked.iter().filter(|(_, e)| *e == t).collect();
+            // The T = 3 rows are the judged horizon's: list them; the others only counted.
+            let list = if t == 3.0 && !at.is_empty() {
+                format!(" ({})", at.iter().map(|(c, _)| c.as_str()).collect::<Vec<_>>().join("; "))
+            } else {
+                String::new()
+            };
+            format!("T = {t}: {} of {of_t}{list}", at.len())
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "\nSweep configurations (cells, scheme, Δt) with the paper's ranking mod3 < mod2 < mod1, per T: {} (all in `table-2d-sweep.csv`).",
+        per_end.join("; ")
+    );
     if let Some((group, factor)) = crate::paper::plate_table::best_single_configuration(rows) {
         let r = group[0];
         let vals: Vec<String> =
@@ -118,6 +141,28 @@ fn sweep_section(rows: &[Row]) -> String {
         );
     }
     s
+}
+
+/// The sweep configurations (cells, scheme, Δt, T) whose errors rank mod3 < mod2 < mod1, as the
+/// paper's do, with their T: ("quad crank-nicolson Δt = 0.025", 2).
+fn paper_ranking(rows: &[Row]) -> Vec<(String, f64)> {
+    let sweep: Vec<&Row> = rows.iter().filter(|r| !r.judged).collect();
+    let mut out = Vec::new();
+    for r in sweep.iter().filter(|r| r.mass == "mod1") {
+        let get = |m: &str| {
+            sweep
+                .iter()
+                .find(|q| q.mass == m && q.cells == r.cells && q.scheme == r.scheme && q.dt == r.dt && q.end == r.end)
+                .and_then(|q| q.linf_l2_error)
+        };
+        if let (Some(e1), Some(e2), Some(e3)) = (get("mod1"), get("mod2"), get("mod3"))
+            && e3 < e2
+            && e2 < e1
+        {
+            out.push((format!("{} {} Δt = {}", r.cells, r.scheme, r.dt), r.end));
+        }
+    }
+    out
 }
 
 /// The rows of `table-2d-sweep.csv`: every run of the sweep, the judged ones included.

@@ -41,8 +41,12 @@ pub fn horizon_tag(end: f64) -> String {
     if end.fract() == 0.0 && end.abs() < 1e15 { format!("T{}", end as i64) } else { format!("T{end}") }
 }
 
-/// Header of the result tables (report.md and the table CSVs).
-pub const TABLE_COLUMNS: [&str; 13] = [
+/// Header of the result table CSVs. The last two say how far a row's digits are results:
+/// `perturbed_runs` is 5 for a round-off sensitive case (rerun from U⁰ perturbed by ≤ 1e-13,
+/// [`super::band`]) and 1 otherwise; `agreed_digits` is, for the former, the fewest significant
+/// digits on which its five runs agree over the row's numbers (the rest of the 16 are one run's
+/// round-off), empty for the latter.
+pub const TABLE_COLUMNS: [&str; 15] = [
     "scheme",
     "mass",
     "end",
@@ -56,6 +60,8 @@ pub const TABLE_COLUMNS: [&str; 13] = [
     "energy_final",
     "impact_time_shift",
     "release_time_shift",
+    "perturbed_runs",
+    "agreed_digits",
 ];
 
 /// Header of the per-period contact events CSVs (`events-T*.csv`).
@@ -99,10 +105,32 @@ fn table_csv_rows(rows: &[&CaseResult]) -> Vec<Vec<String>> {
                 fmt_f64(s.energy_final),
                 o(s.impact_time_shift),
                 o(s.release_time_shift),
+                (r.copies.len() + 1).to_string(),
+                agreed_digits_of(r).map_or(String::new(), |d| d.to_string()),
             ]);
             row
         })
         .collect()
+}
+
+/// The fewest significant digits on which the runs of a rerun case agree over the numbers of its
+/// CSV row (errors, energies, shifts); None for a case without reruns.
+fn agreed_digits_of(r: &CaseResult) -> Option<usize> {
+    if r.copies.is_empty() {
+        return None;
+    }
+    let columns: [&dyn Fn(&Summary) -> Option<f64>; 9] = [
+        &|s| s.linf_l2_error,
+        &|s| s.linf_l2_error_relative,
+        &|s| s.max_contact_error,
+        &|s| s.l2_lambda_error,
+        &|s| Some(s.energy_min),
+        &|s| Some(s.energy_max),
+        &|s| Some(s.energy_final),
+        &|s| s.impact_time_shift,
+        &|s| s.release_time_shift,
+    ];
+    columns.iter().map(|f| super::band::agreed_digits(&r.over_runs(f))).min()
 }
 
 /// The rows of an events CSV ([`EVENT_COLUMNS`]): one per case and period.

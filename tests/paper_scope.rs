@@ -1,0 +1,100 @@
+//! The sections of `massredist reproduce` that answer issue 22's questions about the paper's
+//! claims: the scope of "mod3 is best" over meshes and horizons (`paper::mesh_scope`) and
+//! Paoli–Schatzman's energy growth against Δt/h on its half-step energy (`paper::ps_growth`);
+//! the Table 1 lead at Δt = h/2, T = 2 (`paper::table2d_lead`).
+
+use massredist::paper::{self, Config};
+
+/// The mesh-scope entries at the paper's mesh and horizon (m = 6, T = 3) are the L∞(0,T;L²)
+/// errors of the paper's runs (`run_case`, through `SummaryObserver`: another observer of the
+/// same state), the T = 2 error is at most the T = 3 one (a max over fewer steps), and every
+/// entry has five runs. Broken on purpose: reading T = 2 as `t_n ≤ 0.9·T` (so that T = 3 stops at
+/// 2.7) fails the first assertion.
+#[test]
+fn mesh_scope_at_the_paper_s_mesh_is_the_table_s_error() {
+    use paper::mesh_scope::{SCOPE_ENDS, mesh_scope};
+    let config = Config::paper();
+    let entries = mesh_scope(&config).unwrap();
+    for x in entries.iter().filter(|x| x.elements == 6 && x.end == 3.0) {
+        let case =
+            paper::Case { experiment: x.experiment, mass: x.mass.clone(), end: 3.0, purpose: paper::Purpose::Figures };
+        let table = paper::run_case(&config, &case).unwrap().summary.linf_l2_error.unwrap();
+        // Same states, same exact L² pass: equal to the last bit.
+        assert_eq!(x.value(), table, "{} {}", x.experiment.slug(), x.mass.name());
+    }
+    for x in &entries {
+        assert_eq!(x.errors.len(), 5);
+        if x.end == SCOPE_ENDS[0] {
+            let later = entries
+                .iter()
+                .find(|y| {
+                    y.end == SCOPE_ENDS[1]
+                        && y.experiment == x.experiment
+                        && y.mass == x.mass
+                        && y.elements == x.elements
+                })
+                .unwrap();
+            assert!(x.value() <= later.value());
+        }
+    }
+}
+
+/// Paoli–Schatzman with β = ¼ conserves the half-step energy without contact: before the first
+/// impact it stays at E^{3/2} to round-off in every growth run (all masses, Δt = h, h/4, h/8, five
+/// runs each), which is what makes it the measure of growth. And with Δt = h every run of every
+/// mass is stopped by the divergence rule (the expected failure the section reports). Broken on
+/// purpose: Σ = (U^{n+1} − Uⁿ)/2 instead of the sum in `HalfStep` fails the first assertion
+/// (drift of order 1).
+#[test]
+fn the_half_step_energy_is_conserved_before_impact_and_dt_h_diverges() {
+    use paper::ps_growth::{PS_DT_DIVISORS, ps_growth};
+    let ps = ps_growth(&Config::paper()).unwrap();
+    assert_eq!(ps.growth.len(), 4 * PS_DT_DIVISORS.len());
+    for g in &ps.growth {
+        assert_eq!(g.runs.len(), 5);
+        for r in &g.runs {
+            // A sum of O(m) = 7 products per step over at most ~50 pre-impact steps: 1e-12 of E₀
+            // is ample for round-off and far below any scheme error.
+            assert!(r.pre_impact_drift < 1e-12, "{} h/{}: {r:?}", g.mass.name(), g.divisor);
+            assert!(r.max_ratio >= 1.0 - 1e-12, "the maximum includes E₀ itself");
+        }
+        if g.divisor == 1 {
+            assert!(g.runs.iter().all(|r| r.diverged), "{} at Δt = h: {:?}", g.mass.name(), g.runs);
+        }
+    }
+    // Over one period at the paper's Δt the half-step energy does not move before the impact.
+    for (m, moves) in &ps.moves {
+        assert_eq!(moves[1][0], (0, 0), "{}", m.name());
+    }
+}
+
+/// The Table 1 lead: its (1−x)/2 row is the plate code's error for the same set-up
+/// (`plate_table::linf_l2_error`, built from `PaperPlate`, not from scene text), the (1−x)/4 row is
+/// exactly half of it (gap 0 and f = 0: the problem and Crank–Nicolson's contact step are
+/// positively homogeneous), and the sensitivity curve at Δt = h/2, T = 2 (the 1D bar with h =
+/// 0.05) gives the same errors. Broken on purpose: writing u⁰ = (1-x)/2 for both rows in
+/// `lead_rows` fails the halving assertion.
+#[test]
+fn the_table_1_lead_is_the_plate_s_error_and_halves_with_u0() {
+    use massredist::fem::Cell;
+    use massredist::mass::MassKind;
+    use massredist::scene::SchemeSpec;
+    use paper::table2d_lead::{LEAD_DT, LEAD_END, lead_rows, sensitivity};
+    let [half, quarter] = lead_rows();
+    let (half, quarter) = (half.unwrap(), quarter.unwrap());
+    let curve = sensitivity().into_iter().find(|(dt, _)| *dt == LEAD_DT).unwrap().1;
+    let at_end = curve.iter().find(|(t, _)| (t - LEAD_END).abs() < 1e-9).unwrap().1;
+    for (k, m) in [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3].iter().enumerate() {
+        let plate =
+            paper::plate_table::linf_l2_error(Cell::Quad, 20, m, &SchemeSpec::CRANK_NICOLSON, LEAD_DT, LEAD_END)
+                .unwrap();
+        // Same mesh and data by two constructions (closed-form initial data vs the expression
+        // (1-x)/2): equal up to the rounding of the interpolated U⁰, a few ulps amplified by
+        // 80 steps.
+        assert!((half[k] - plate).abs() <= 1e-12 * plate, "{}: {} vs {plate}", m.name(), half[k]);
+        // Halving u⁰ halves U⁰ exactly (a power of two), and every later operation scales.
+        assert!((quarter[k] - 0.5 * half[k]).abs() <= 1e-12 * half[k], "{}", m.name());
+        // The 1D bar with h = 0.05 is the Q1 plate with y-independent data (tests/plate.rs).
+        assert!((at_end[k] - plate).abs() <= 1e-10 * plate, "{}: 1D {} vs 2D {plate}", m.name(), at_end[k]);
+    }
+}
