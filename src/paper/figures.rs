@@ -192,7 +192,7 @@ fn solution_figure(config: &Config, group: &[&CaseResult]) -> FigureFile {
             .iter()
             .map(|r| {
                 let v = r.col(col);
-                notes.extend(off_scale(r.case.mass.name(), &v, y_range, !r.copies.is_empty()));
+                notes.extend(off_scale(r.case.mass.name(), &v, y_range, r.sensitive()));
                 Curve {
                     label: r.case.mass.name().into(),
                     points: points(&r.series.times(), &v),
@@ -336,7 +336,7 @@ fn long_energy_panel(config: &Config, group: &[&CaseResult], end: f64) -> Panel 
     let mut raw: Vec<Curve> = group
         .iter()
         .map(|r| {
-            notes.extend(off_scale(r.case.mass.name(), &r.col(Column::Energy), y_range, !r.copies.is_empty()));
+            notes.extend(off_scale(r.case.mass.name(), &r.col(Column::Energy), y_range, r.sensitive()));
             energy_curve(r)
         })
         .collect();

@@ -37,6 +37,13 @@ impl CaseResult {
         self.series.column(c).unwrap_or_default()
     }
 
+    /// Whether this run's extremes may change with a 1e-13 perturbation of its initial state:
+    /// it was rerun from perturbed states (`copies`), or it has the standard mass, which chatters
+    /// after its first impact (the guide's chaotic digits; figure notes give no digits for it).
+    pub(super) fn sensitive(&self) -> bool {
+        !self.copies.is_empty() || self.case.mass == crate::mass::MassKind::Standard
+    }
+
     /// `value` of this run's summary, then of each perturbed copy's.
     pub(super) fn over_runs<T>(&self, value: impl Fn(&Summary) -> T) -> Vec<T> {
         std::iter::once(&self.summary).chain(self.copies.iter().map(|c| &c.summary)).map(value).collect()
