@@ -64,6 +64,13 @@ fn expected_files(config: &Config) -> BTreeSet<String> {
         out.insert(format!("{REBOUND_FIGURE}.{ext}"));
     }
     out.insert(REBOUND_TABLE.into());
+    // The bodies section (tests/bodies_reproduce.rs checks its numbers).
+    for stem in [paper::BODIES_ENERGY, paper::BODIES_DROP] {
+        for ext in ["png", "svg", "csv"] {
+            out.insert(format!("{stem}.{ext}"));
+        }
+    }
+    out.insert(paper::BODIES_TABLE.into());
     out
 }
 

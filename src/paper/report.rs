@@ -18,7 +18,8 @@ use crate::scene::Column;
 use std::fmt::Write as _;
 
 /// `report.md`: configuration, tables, one paragraph per figure, the claims, the 2D table (scalar
-/// plates, then elastic solids), the rebounding bar (beyond the paper).
+/// plates, then elastic solids), the rebounding bar and `bodies` (the bodies section,
+/// [`super::bodies_report`]), both beyond the paper.
 pub fn report_markdown(
     config: &Config,
     results: &[CaseResult],
@@ -26,6 +27,7 @@ pub fn report_markdown(
     files: &[String],
     table2d: Option<&Table2d>,
     elastic: &[ElasticRow],
+    bodies: &str,
 ) -> String {
     let mut s = intro(config);
     s.push_str(&results_tables(config, results));
@@ -34,6 +36,7 @@ pub fn report_markdown(
     s.push_str(&table_2d(table2d));
     s.push_str(&elastic_section(elastic, table2d));
     s.push_str(&rebound_section(config, rebound));
+    s.push_str(bodies);
     s.push_str("\n## Files\n\n");
     for f in files {
         let _ = writeln!(s, "- `{f}`");
