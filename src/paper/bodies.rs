@@ -16,8 +16,9 @@
 //!   `min_distance`.
 //! - **Drop**: the disc [`DROP_GAP`] above the plane, moving down at [`DROP_SPEED`], no force,
 //!   Crank–Nicolson with every mass: first impact, contact duration (first release − first
-//!   impact) and the rebound velocity P_y(T)/(ρ|Ω|) (momentum over mass: the centre-of-mass
-//!   velocity after release, constant in free flight) against the mesh size.
+//!   impact) and the rebound velocity P_y(T)/(1ᵀM1) (momentum over the redistributed mass's
+//!   total: the velocity of its centre of mass after release, constant in free flight) against
+//!   the mesh size. 1ᵀM1 = ρ|Ω| but for mod1, which drops layer 0's mass.
 //!
 //! Round-off: every run is repeated from an initial velocity perturbed by
 //! [`PERTURBATION`] (absolute on the rest disc, whose V⁰ = 0; relative on the drop), and the
@@ -135,7 +136,7 @@ pub struct BodyResult {
     pub contact_force: Vec<f64>,
     pub active: Vec<f64>,
     pub momentum_y: Vec<f64>,
-    /// ρ|Ω| (the total mass, the same for every redistribution).
+    /// 1ᵀM1, the total of the redistributed mass (ρ|Ω| but for mod1).
     pub mass_total: f64,
     pub metrics: Metrics,
     /// The same metrics from the perturbed initial velocity.
@@ -187,7 +188,9 @@ fn run_one(
         .map_err(|source| ReproduceError::Scene { case: name.clone(), source })?;
     let run = run_scene(&scene, &mut []).map_err(|source: RunError| ReproduceError::Run { case: name, source })?;
     let col = |c: Column| run.series.column(c).unwrap_or_default();
-    let volume = run.problem.system.body.as_ref().map_or(f64::NAN, |b| b.volume);
+    // 1ᵀM1 of the redistributed mass, Σ_b ρ Σ_c w_c ∫_c φ_b: ρ|Ω| for the standard mass, mod2
+    // and mod3; less for mod1, which drops layer 0's mass.
+    let volume = run.problem.system.body.as_ref().map_or(f64::NAN, |b| b.lumped.iter().sum());
     let series = [
         run.series.times(),
         col(Column::Energy),
