@@ -27,8 +27,7 @@ fn the_quick_set_has_every_scheme_and_mass_at_rest_and_every_mass_dropped() {
 fn contact_at_rest_is_exact_the_min_distance_is_zero() {
     // The disc starts touching (g = 0 at the node (0, 0)); the exact solver sets u_n = −g on the
     // active nodes, so d = u_n + g is exactly 0 there, never negative: min_distance == 0 with no
-    // tolerance, in the run and its perturbed copy. mutation: `point = [0.0, 1e-9]` in
-    // body_scene_text for the rest bench (the disc then starts 1e-9 above) -> min_distance > 0, fails.
+    // tolerance, in the run and its perturbed copy.
     for r in results().iter().filter(|r| r.case.bench == Bench::Rest) {
         assert_eq!(r.metrics.min_distance, 0.0, "{}", r.case.name());
         assert_eq!(r.perturbed.min_distance, 0.0, "{}", r.case.name());
@@ -42,7 +41,7 @@ fn backward_euler_never_increases_the_energy() {
     // work ≥ 0) ≤ 0 for BE under a constant force; the measured largest step is about −6e-4
     // (far from round-off), so the bound is 0 itself. mutation: the rest runs given
     // Crank–Nicolson's scheme table whatever their experiment (in body_scene_text) -> the
-    // "backward-euler" runs reach ΔE ≈ +2e-5 > 0, fails.
+    // "backward-euler" standard run reaches ΔE = +14.9 > 0, fails (tried).
     let be: Vec<&BodyResult> = results().iter().filter(|r| r.case.experiment == Experiment::BackwardEuler).collect();
     assert_eq!(be.len(), 4);
     for r in be {
