@@ -110,6 +110,8 @@ impl DivergenceWatch {
         }
         match self.reference {
             None => self.reference = Some(energy.abs().max(self.load_energy)),
+            // E_ref = 0 (a body at rest with E⁰ = 0 whose E_F solve fails: a free body) gives no
+            // scale: only the non-finite test applies (else every step after the first diverged).
             Some(reference) if energy.abs() > factor * reference => {
                 return Verdict::Last(diverged(DivergenceReason::EnergyFactor { energy, reference, factor }));
             }

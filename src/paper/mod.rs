@@ -27,6 +27,8 @@
 //! typed in.
 
 mod band;
+pub mod bodies;
+mod bodies_report;
 mod claims;
 mod config;
 pub mod elastic_table;
@@ -44,6 +46,7 @@ mod table2d;
 pub mod table2d_lead;
 mod tables;
 
+pub use bodies_report::{BODIES_COLUMNS, BODIES_DROP, BODIES_ENERGY, BODIES_TABLE};
 pub use config::Config;
 pub use experiments::{Case, Experiment, Purpose, cases, masses};
 pub use figures::{exact_lambda_polyline, exact_u0_polyline};
@@ -88,6 +91,8 @@ pub struct Outcome {
     pub results: Vec<CaseResult>,
     /// The rebounding bar's runs (beyond the paper).
     pub rebound: Rebound,
+    /// The bodies section's runs (beyond the paper, [`bodies`]).
+    pub bodies: Vec<bodies::BodyResult>,
     /// File names written into the output directory, report.md last.
     pub files: Vec<String>,
     pub report: String,
@@ -110,7 +115,8 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         config.steps("long_ends", t)?;
     }
     config.steps("rebound end", REBOUND_END)?;
-    let n_cases = (cases(config).len() + rebound_cases().len()) as u64;
+    let quick = !config.full_2d_sweep;
+    let n_cases = (cases(config).len() + rebound_cases().len() + bodies::body_cases(quick).len()) as u64;
     let n_figures = 2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len() + 3;
     progress.set_length(n_cases + n_figures as u64);
     progress.set_message("running");
@@ -119,17 +125,24 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let scope = mesh_scope::mesh_scope(config)?;
     let ps = ps_growth::ps_growth(config)?;
     let (lead, sensitivity) = (table2d_lead::lead_rows(), table2d_lead::sensitivity());
+    let bodies = bodies::compute_bodies(quick, &|| progress.inc(1))?;
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
     let scope_figure = mesh_scope::scope_figure(config, &scope);
     let lead_figure = table2d_lead::lead_figure(&sensitivity);
+    let body_figures = bodies_report::bodies_figures(&bodies);
     let tables = tables::result_tables(config, &results);
     // The scalar plates run one after another; the elastic candidates in parallel beside them.
     let (table2d, elastic) =
         rayon::join(|| plate_2d_errors(config), || elastic_table::elastic_table(!config.full_2d_sweep));
-    let files =
+    let mut files =
         file_names(config, &figures, &tables, &[&rebound_figure, &scope_figure, &lead_figure], table2d.is_some());
+    // The bodies section's files go before summaries.json (always written, so always found).
+    let at = files.iter().position(|f| f == "summaries.json").unwrap_or(files.len());
+    let body_files = body_figures.iter().flat_map(FigureFile::file_names).chain([BODIES_TABLE.to_string()]);
+    files.splice(at..at, body_files);
+    let bodies_md = bodies_report::bodies_section(&bodies);
     let report = report_markdown(
         config,
         &results,
@@ -138,10 +151,11 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         &files,
         table2d.as_ref(),
         &elastic,
+        &bodies_md,
     );
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
-        figures.par_iter().chain([&rebound_figure, &scope_figure, &lead_figure]).try_for_each(
+        figures.par_iter().chain([&rebound_figure, &scope_figure, &lead_figure]).chain(&body_figures).try_for_each(
             |f| -> std::io::Result<()> {
                 f.write(tmp)?;
                 progress.inc(1);
@@ -153,12 +167,14 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         tables::write_csv(&tmp.join(REBOUND_TABLE), &header, &rebound_report::rebound_csv_rows(&rebound))?;
         table2d::write_csvs(tmp, table2d.as_ref())?;
         elastic_table::write_elastic_csv(tmp, &elastic)?;
+        let header = BODIES_COLUMNS.map(String::from);
+        tables::write_csv(&tmp.join(BODIES_TABLE), &header, &bodies_report::bodies_csv_rows(&bodies))?;
         std::fs::write(tmp.join("summaries.json"), summaries_json(config, &results)?)?;
         std::fs::write(tmp.join("report.md"), &report)
     })
     .map_err(|e| ReproduceError::Io { dir, source: std::io::Error::other(e) })?;
     progress.set_message("done");
-    Ok(Outcome { results, rebound, files, report })
+    Ok(Outcome { results, rebound, bodies, files, report })
 }
 
 /// The files [`reproduce`] writes, in the order of [`Outcome::files`]: figures, tables, events,

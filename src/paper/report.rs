@@ -23,7 +23,8 @@ use std::fmt::Write as _;
 /// horizons ([`super::mesh_scope`]), Paoli–Schatzman's growth against Δt/h
 /// ([`super::ps_growth`]), one paragraph per figure, the 2D table with its best lead
 /// ([`super::table2d_lead`]), the 2D table (scalar
-/// plates, then elastic solids), the rebounding bar (beyond the paper).
+/// plates, then elastic solids), the rebounding bar and `bodies` (the bodies section,
+/// [`super::bodies_report`]), both beyond the paper.
 pub fn report_markdown(
     config: &Config,
     results: &[CaseResult],
@@ -32,6 +33,7 @@ pub fn report_markdown(
     files: &[String],
     table2d: Option<&Table2d>,
     elastic: &[ElasticRow],
+    bodies: &str,
 ) -> String {
     let mut s = intro(config);
     s.push_str(&results_tables(config, results));
@@ -43,6 +45,7 @@ pub fn report_markdown(
     s.push_str(lead);
     s.push_str(&elastic_section(elastic, table2d));
     s.push_str(&rebound_section(config, rebound));
+    s.push_str(bodies);
     s.push_str("\n## Files\n\n");
     for f in files {
         let _ = writeln!(s, "- `{f}`");

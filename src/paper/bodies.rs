@@ -1,0 +1,239 @@
+//! Beyond the paper: an elastic body against a rigid plane (issue 19, item 5), GetFEM's disc of
+//! `interface/tests/matlab-octave/demo_dynamic_contact.m`.
+//!
+//! The disc: radius R = 20 centred at (0, 20), λ = μ = 20, ρ = 1, P2 triangles (gmsh meshes
+//! `fixtures/meshes/disc_p2_22a.msh` (h = 8), `disc_p2_h4.msh`, `disc_p2_h2.msh`, made by
+//! `python/meshes/shapes.py`), a free body, contact nodes by GetFEM's rule (`contact = "auto"`)
+//! on the plane y = 0, Δt = 0.01. Two benchmarks:
+//!
+//! - **At rest**: the disc at rest touching the plane at (0, 0) under the volume force
+//!   f = (0, −0.1) up to T = [`REST_END`] (the full run; [`REST_END_QUICK`] in `--quick`), for
+//!   Crank–Nicolson, backward Euler and the hybrid scheme with every mass each allows. Per run:
+//!   the energy drift Eᴺ − E⁰ and max_n |Eⁿ − E⁰| (E⁰ = 0: U⁰ = V⁰ = 0; the energy
+//!   Eⁿ = ½VMV + ½UKU − F·U is conserved by the continuous problem), the contact-force
+//!   oscillation TV = Σ_n |Σ_i R_iⁿ⁺¹ − Σ_i R_iⁿ| (total variation of the total contact force),
+//!   the number of contact episodes (maximal runs of steps with some node in contact) and
+//!   `min_distance`.
+//! - **Drop**: the disc [`DROP_GAP`] above the plane, moving down at [`DROP_SPEED`], no force,
+//!   Crank–Nicolson with every mass: first impact, contact duration (first release − first
+//!   impact) and the rebound velocity P_y(T)/(1ᵀM1) (momentum over the redistributed mass's
+//!   total: the velocity of its centre of mass after release, constant in free flight) against
+//!   the mesh size. 1ᵀM1 = ρ|Ω| but for mod1, which drops layer 0's mass.
+//!
+//! Round-off: every run is repeated from an initial velocity perturbed by
+//! [`PERTURBATION`] (absolute on the rest disc, whose V⁰ = 0; relative on the drop), and the
+//! report keeps only the digits both runs share ([`super::band::stable_digits`]).
+
+use super::ReproduceError;
+use super::experiments::Experiment;
+use crate::mass::MassKind;
+use crate::observe::{Column, Summary};
+use crate::run::{RunError, run_scene};
+use crate::scene::{AnyScene, Scene, SceneGeometry};
+use crate::solid::SolidSpec;
+use rayon::prelude::*;
+
+/// Final time of the rest benchmark (GetFEM's T = 40) and of its quick form.
+pub const REST_END: f64 = 40.0;
+pub const REST_END_QUICK: f64 = 4.0;
+/// Final time of the drop: impact at 0.5, release near t = 16 (measured: 16.27 for mod3, h = 8),
+/// free flight after it.
+pub const DROP_END: f64 = 24.0;
+/// The drop's initial height above the plane and downward speed.
+pub const DROP_GAP: f64 = 0.5;
+pub const DROP_SPEED: f64 = 1.0;
+/// Time step of every run (GetFEM's).
+pub const DT: f64 = 0.01;
+/// Perturbation of the initial velocity of each run's copy.
+pub const PERTURBATION: f64 = 1e-13;
+
+/// The meshes: (nominal gmsh size h, file under `fixtures/meshes/`), coarsest first.
+pub const MESHES: [(f64, &str); 3] = [(8.0, "disc_p2_22a.msh"), (4.0, "disc_p2_h4.msh"), (2.0, "disc_p2_h2.msh")];
+
+/// Which benchmark a run belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bench {
+    Rest,
+    Drop,
+}
+
+/// One run: benchmark, scheme, mass, mesh (index into [`MESHES`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyCase {
+    pub bench: Bench,
+    pub experiment: Experiment,
+    pub mass: MassKind,
+    pub mesh: usize,
+}
+
+impl BodyCase {
+    pub fn name(&self) -> String {
+        let b = if self.bench == Bench::Rest { "disc-rest" } else { "disc-drop" };
+        format!("{b} / h = {} / {} / {}", MESHES[self.mesh].0, self.experiment.slug(), self.mass.name())
+    }
+}
+
+/// The runs: at rest, CN, BE and hybrid × their masses on every mesh (`quick`: the coarsest
+/// only); the drop, CN × every mass on every mesh (`quick`: the coarsest).
+pub fn body_cases(quick: bool) -> Vec<BodyCase> {
+    let schemes = [Experiment::CrankNicolson, Experiment::BackwardEuler, Experiment::Hybrid];
+    let rest_meshes = if quick { 1 } else { MESHES.len() };
+    let drop_meshes = if quick { 1 } else { MESHES.len() };
+    let mut out = Vec::new();
+    for mesh in 0..rest_meshes {
+        for e in schemes {
+            out.extend(e.masses().into_iter().map(|mass| BodyCase { bench: Bench::Rest, experiment: e, mass, mesh }));
+        }
+    }
+    for mesh in 0..drop_meshes {
+        out.extend(Experiment::CrankNicolson.masses().into_iter().map(|mass| BodyCase {
+            bench: Bench::Drop,
+            experiment: Experiment::CrankNicolson,
+            mass,
+            mesh,
+        }));
+    }
+    out
+}
+
+/// The scene of a case as TOML text (mesh path relative to `fixtures/meshes/`); `perturbed`
+/// adds [`PERTURBATION`] to the initial downward velocity (times 1 + x/40, not uniform). The
+/// divergence criterion is off in effect (factor 1e300): E⁰ is 0 or, perturbed, ~1e-24, which
+/// gives it no scale (the first step's energy, ~0.1, would stop the run).
+pub fn body_scene_text(case: &BodyCase, end: f64, perturbed: bool) -> String {
+    let (fy, v0, point) = match case.bench {
+        Bench::Rest => ("-0.1", 0.0, 0.0),
+        Bench::Drop => ("0", -DROP_SPEED, -DROP_GAP),
+    };
+    let dv = if perturbed { format!(" - {PERTURBATION:e} * (1 + x/40)") } else { String::new() };
+    format!(
+        "[solid]\ndim = 2\nmesh = \"{}\"\nlame_lambda = 20.0\nlame_mu = 20.0\ndensity = 1.0\n\
+         force = [\"0\", \"{fy}\"]\ninitial = {{ displacement = [\"0\", \"0\"], velocity = [\"0\", \"{v0:?}{dv}\"] }}\n\
+         [obstacle]\nnormal = [0.0, 1.0]\npoint = [0.0, {point:?}]\ncontact = \"auto\"\n\
+         [mass]\nkind = \"{}\"\n[scheme]\n{}\n[time]\ndt = {DT:?}\nend = {end:?}\n\
+         [output]\nseries = [\"energy\", \"contact_force\", \"active_nodes\", \"min_distance\", \"momentum_y\"]\n\
+         divergence_factor = 1e300\n",
+        MESHES[case.mesh].1,
+        case.mass.name(),
+        toml::to_string(&case.experiment.spec()).expect("a scheme always serialises").trim_end(),
+    )
+}
+
+/// The folder of the benchmark meshes (the crate's `fixtures/meshes/`).
+pub fn mesh_dir() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join("meshes")
+}
+
+/// What one run gives (and its perturbed copy's summary numbers).
+#[derive(Debug, Clone)]
+pub struct BodyResult {
+    pub case: BodyCase,
+    pub end: f64,
+    pub summary: Summary,
+    /// Recorded every step: t, energy, total contact force, active nodes, P_y.
+    pub t: Vec<f64>,
+    pub energy: Vec<f64>,
+    pub contact_force: Vec<f64>,
+    pub active: Vec<f64>,
+    pub momentum_y: Vec<f64>,
+    /// 1ᵀM1, the total of the redistributed mass (ρ|Ω| but for mod1).
+    pub mass_total: f64,
+    pub metrics: Metrics,
+    /// The same metrics from the perturbed initial velocity.
+    pub perturbed: Metrics,
+}
+
+/// The per-run numbers of the section.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Metrics {
+    pub drift: f64,
+    pub max_energy_deviation: f64,
+    /// max_n (Eⁿ⁺¹ − Eⁿ) (≤ round-off for backward Euler, whose energy cannot increase).
+    pub max_energy_increase: f64,
+    pub force_variation: f64,
+    pub episodes: usize,
+    pub min_distance: f64,
+    pub first_impact: Option<f64>,
+    pub first_release: Option<f64>,
+    pub rebound_velocity: f64,
+}
+
+/// The metrics of a run from its series (`t`, E, Σ R, active nodes, P_y) and summary.
+pub fn metrics(energy: &[f64], force: &[f64], active: &[f64], momentum_y: &[f64], mass: f64, s: &Summary) -> Metrics {
+    let e0 = energy.first().copied().unwrap_or(0.0);
+    let on: Vec<bool> = active.iter().map(|&a| a > 0.0).collect();
+    Metrics {
+        drift: energy.last().copied().unwrap_or(e0) - e0,
+        max_energy_deviation: energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max),
+        max_energy_increase: energy.windows(2).map(|w| w[1] - w[0]).fold(f64::NEG_INFINITY, f64::max),
+        force_variation: force.windows(2).map(|w| (w[1] - w[0]).abs()).sum(),
+        episodes: on.iter().enumerate().filter(|&(n, &c)| c && (n == 0 || !on[n - 1])).count(),
+        min_distance: s.body.as_ref().map_or(f64::NAN, |b| b.min_distance),
+        first_impact: s.first_impact_time,
+        first_release: s.first_release_time,
+        rebound_velocity: momentum_y.last().copied().unwrap_or(f64::NAN) / mass,
+    }
+}
+
+/// One run of `case` to `end` (and `perturbed`): the summary, the series and the metrics.
+fn run_one(
+    case: &BodyCase,
+    end: f64,
+    perturbed: bool,
+) -> Result<(Summary, f64, [Vec<f64>; 5], Metrics), ReproduceError> {
+    let name = case.name();
+    let text = body_scene_text(case, end, perturbed);
+    let scene: Scene<SolidSpec> = AnyScene::from_toml_at(&text, &mesh_dir())
+        .and_then(SolidSpec::from_any)
+        .map_err(|source| ReproduceError::Scene { case: name.clone(), source })?;
+    let run = run_scene(&scene, &mut []).map_err(|source: RunError| ReproduceError::Run { case: name, source })?;
+    let col = |c: Column| run.series.column(c).unwrap_or_default();
+    // 1ᵀM1 of the redistributed mass, Σ_b ρ Σ_c w_c ∫_c φ_b: ρ|Ω| for the standard mass, mod2
+    // and mod3; less for mod1, which drops layer 0's mass.
+    let volume = run.problem.system.body.as_ref().map_or(f64::NAN, |b| b.lumped.iter().sum());
+    let series = [
+        run.series.times(),
+        col(Column::Energy),
+        col(Column::ContactForce),
+        col(Column::ActiveNodes),
+        col(Column::Momentum(1)),
+    ];
+    let m = metrics(&series[1], &series[2], &series[3], &series[4], volume, &run.summary);
+    Ok((run.summary, volume, series, m))
+}
+
+/// Runs `case` and its perturbed copy.
+pub fn run_body(case: &BodyCase, quick: bool) -> Result<BodyResult, ReproduceError> {
+    let end = match case.bench {
+        Bench::Rest if quick => REST_END_QUICK,
+        Bench::Rest => REST_END,
+        Bench::Drop => DROP_END,
+    };
+    let (summary, volume, [t, energy, contact_force, active, momentum_y], metrics) = run_one(case, end, false)?;
+    let perturbed = run_one(case, end, true)?.3;
+    Ok(BodyResult {
+        case: case.clone(),
+        end,
+        summary,
+        t,
+        energy,
+        contact_force,
+        active,
+        momentum_y,
+        mass_total: volume,
+        metrics,
+        perturbed,
+    })
+}
+
+/// Every run of [`body_cases`] in parallel, `done` after each.
+pub fn compute_bodies(quick: bool, done: &(dyn Fn() + Sync)) -> Result<Vec<BodyResult>, ReproduceError> {
+    body_cases(quick)
+        .par_iter()
+        .map(|c| {
+            let r = run_body(c, quick);
+            done();
+            r
+        })
+        .collect()
+}

@@ -1,0 +1,210 @@
+//! The bodies section's outputs ([`super::bodies`]): `bodies.csv` (one row per run), the
+//! figures `bodies-energy` (energy over time of the disc at rest, one panel per scheme, finest
+//! mesh run) and `bodies-drop` (centre-of-mass velocity P_y/(1ᵀM1) of the dropped disc, one
+//! panel per mesh), and the report section. Pure: strings and figure data from the results.
+
+use super::band::stable_digits;
+use super::bodies::{Bench, BodyResult, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION};
+use super::experiments::Experiment;
+use super::figures::{FigureFile, grid_rows, mass_style, off_scale, points};
+use crate::mass::MassKind;
+use crate::output::fmt_f64;
+use crate::plot::{self, Curve, Figure, Panel};
+use std::fmt::Write as _;
+
+/// The section's table file and figure stems.
+pub const BODIES_TABLE: &str = "bodies.csv";
+pub const BODIES_ENERGY: &str = "bodies-energy";
+pub const BODIES_DROP: &str = "bodies-drop";
+
+/// Header of `bodies.csv`.
+pub const BODIES_COLUMNS: [&str; 16] = [
+    "bench",
+    "h",
+    "scheme",
+    "mass",
+    "end",
+    "energy_drift",
+    "max_energy_deviation",
+    "max_energy_increase",
+    "contact_force_variation",
+    "contact_episodes",
+    "min_distance",
+    "max_contact_force",
+    "first_impact_time",
+    "first_release_time",
+    "contact_duration",
+    "rebound_velocity",
+];
+
+fn bench_name(b: Bench) -> &'static str {
+    if b == Bench::Rest { "rest" } else { "drop" }
+}
+
+fn duration(m: &Metrics) -> Option<f64> {
+    m.first_impact.zip(m.first_release).map(|(a, b)| b - a)
+}
+
+/// The rows of `bodies.csv`, full precision (the unperturbed runs).
+pub(super) fn bodies_csv_rows(results: &[BodyResult]) -> Vec<Vec<String>> {
+    let o = |x: Option<f64>| x.map_or(String::new(), fmt_f64);
+    results
+        .iter()
+        .map(|r| {
+            let m = &r.metrics;
+            vec![
+                bench_name(r.case.bench).into(),
+                fmt_f64(MESHES[r.case.mesh].0),
+                r.case.experiment.slug().into(),
+                r.case.mass.name().into(),
+                fmt_f64(r.end),
+                fmt_f64(m.drift),
+                fmt_f64(m.max_energy_deviation),
+                fmt_f64(m.max_energy_increase),
+                fmt_f64(m.force_variation),
+                m.episodes.to_string(),
+                fmt_f64(m.min_distance),
+                o(r.summary.body.as_ref().map(|b| b.max_contact_force)),
+                o(m.first_impact),
+                o(m.first_release),
+                o(duration(m)),
+                fmt_f64(m.rebound_velocity),
+            ]
+        })
+        .collect()
+}
+
+/// A panel of one curve per run of `runs`, y from `y`.
+fn panel(title: String, y_label: &str, runs: &[&BodyResult], y: impl Fn(&BodyResult) -> Vec<f64>) -> Panel {
+    let curves: Vec<Curve> = runs
+        .iter()
+        .map(|r| Curve {
+            label: r.case.mass.name().into(),
+            points: points(&r.t, &y(r)),
+            style: mass_style(&r.case.mass),
+        })
+        .collect();
+    // The range of the w_0 = 0 masses' curves when there are some (the standard mass with CN
+    // chatters to E ~ 1e4, which would flatten them); a curve leaving it is named in the title.
+    let massless = curves.iter().filter(|c| c.label != MassKind::Standard.name());
+    let values = |c: &Curve| c.points.iter().map(|p| p.1).collect::<Vec<f64>>();
+    let range = match massless.clone().count() {
+        0 => plot::data_range(curves.iter().flat_map(values), 0.05),
+        _ => plot::data_range(massless.flat_map(values), 0.05),
+    };
+    // The standard mass chatters: its extremes change with a 1e-13 perturbation (no digits).
+    let notes: Vec<String> = curves
+        .iter()
+        .filter_map(|c| off_scale(&c.label, &values(c), range, c.label == MassKind::Standard.name()))
+        .collect();
+    let title = if notes.is_empty() { title } else { format!("{title}; off-scale: {}", notes.join("; ")) };
+    Panel { title, x_label: "t".into(), y_label: y_label.into(), curves, x_range: None, y_range: Some(range) }
+}
+
+/// A figure of `panels` (one row of up to 3) with the CSV of `runs`' `y` columns behind it.
+fn figure(
+    stem: &str,
+    title: String,
+    panels: Vec<Panel>,
+    runs: &[&BodyResult],
+    y: impl Fn(&BodyResult) -> Vec<f64>,
+) -> FigureFile {
+    let times = runs.iter().map(|r| r.t.clone()).max_by_key(Vec::len).unwrap_or_default();
+    let mut header = vec!["t".to_string()];
+    header.extend(runs.iter().map(|r| r.case.name().replace(" / ", "_").replace(" = ", "")));
+    let columns: Vec<Vec<f64>> = runs.iter().map(|r| y(r)).collect();
+    let figure = Figure { title, columns: panels.len().min(3), panels, panel_size: (620, 480) };
+    FigureFile { stem: stem.into(), figure, header, rows: grid_rows(&times, &columns), periods: None }
+}
+
+/// `bodies-energy` (rest, finest mesh run, a panel per scheme) and `bodies-drop` (a panel per mesh).
+pub(super) fn bodies_figures(results: &[BodyResult]) -> Vec<FigureFile> {
+    let finest = |b: Bench| results.iter().filter(|r| r.case.bench == b).map(|r| r.case.mesh).max().unwrap_or(0);
+    let rest_mesh = finest(Bench::Rest);
+    let rest: Vec<&BodyResult> =
+        results.iter().filter(|r| r.case.bench == Bench::Rest && r.case.mesh == rest_mesh).collect();
+    let schemes = [Experiment::CrankNicolson, Experiment::BackwardEuler, Experiment::Hybrid];
+    let panels = schemes
+        .iter()
+        .map(|&e| {
+            let runs: Vec<&BodyResult> = rest.iter().copied().filter(|r| r.case.experiment == e).collect();
+            panel(format!("energy Eⁿ, {}", e.title()), "E", &runs, |r| r.energy.clone())
+        })
+        .collect();
+    let title = format!("GetFEM's disc at rest on the plane, P2, h = {}, Δt = {}", MESHES[rest_mesh].0, fmt_f64(DT));
+    let energy = figure(BODIES_ENERGY, title, panels, &rest, |r| r.energy.clone());
+    let drops: Vec<&BodyResult> = results.iter().filter(|r| r.case.bench == Bench::Drop).collect();
+    let velocity = |r: &BodyResult| r.momentum_y.iter().map(|p| p / r.mass_total).collect::<Vec<f64>>();
+    let meshes = (0..=finest(Bench::Drop)).filter(|&k| drops.iter().any(|r| r.case.mesh == k));
+    let panels = meshes
+        .map(|k| {
+            let runs: Vec<&BodyResult> = drops.iter().copied().filter(|r| r.case.mesh == k).collect();
+            panel(format!("P_y/(1ᵀM1), h = {}", MESHES[k].0), "v̄_y", &runs, velocity)
+        })
+        .collect();
+    let title = format!("Disc dropped at {} from {} above the plane, Crank–Nicolson", DROP_SPEED, DROP_GAP);
+    vec![energy, figure(BODIES_DROP, title, panels, &drops, velocity)]
+}
+
+/// A number both runs (unperturbed and perturbed) agree on, to at most 4 digits.
+fn stable(r: &BodyResult, f: impl Fn(&Metrics) -> Option<f64>) -> String {
+    stable_digits(&[f(&r.metrics), f(&r.perturbed)], 4)
+}
+
+/// A count both runs agree on, else both.
+fn count(a: usize, b: usize) -> String {
+    if a == b { a.to_string() } else { format!("{a} / {b}") }
+}
+
+/// The report section: the rest table, the drop table, the figures.
+pub(super) fn bodies_section(results: &[BodyResult]) -> String {
+    let mut s = format!(
+        "\n## Bodies against a rigid plane: GetFEM's disc (beyond the paper)\n\n\
+         Disc of radius 20 centred at (0, 20), λ = μ = 20, ρ = 1, P2 triangles (gmsh, nominal size h), free body, contact nodes by GetFEM's rule \
+         on y = 0, Δt = {}. Each run is repeated from an initial velocity perturbed by {PERTURBATION:e}; numbers keep only the digits both runs share \
+         (a band min–max if they share fewer than two). E⁰ = 0 (U⁰ = V⁰ = 0); drift = Eᴺ − E⁰; TV(ΣR) = Σ_n |ΣR^{{n+1}} − ΣR^n|; episodes = maximal runs of steps \
+         with a node in contact. The hybrid scheme is defined for w_0 = 0 masses only (no standard mass). (`{BODIES_TABLE}`)\n\n\
+         ### At rest under f = (0, −0.1)\n\n\
+         | h | T | scheme | mass | drift Eᴺ − E⁰ | max \\|Eⁿ − E⁰\\| | max ΔE | TV(ΣR) | episodes | min_distance |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        fmt_f64(DT)
+    );
+    for r in results.iter().filter(|r| r.case.bench == Bench::Rest) {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            fmt_f64(MESHES[r.case.mesh].0),
+            fmt_f64(r.end),
+            r.case.experiment.title(),
+            r.case.mass.name(),
+            stable(r, |m| Some(m.drift)),
+            stable(r, |m| Some(m.max_energy_deviation)),
+            stable(r, |m| Some(m.max_energy_increase)),
+            stable(r, |m| Some(m.force_variation)),
+            count(r.metrics.episodes, r.perturbed.episodes),
+            stable(r, |m| Some(m.min_distance)),
+        );
+    }
+    let _ = write!(
+        s,
+        "\n![{BODIES_ENERGY}]({BODIES_ENERGY}.png)\n\n### Dropped at {DROP_SPEED} from {DROP_GAP} above the plane (no force), Crank–Nicolson\n\n\
+         Rebound velocity = P_y(T)/(1ᵀM1), the velocity of the centre of the redistributed mass after release (constant in free flight; \
+         +{DROP_SPEED} for an elastic rebound that keeps no vibration energy; 1ᵀM1 = ρ|Ω| but for mod1, which drops layer 0's mass).\n\n\
+         | h | mass | first impact | first release | contact duration | rebound velocity | episodes | min_distance |\n|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in results.iter().filter(|r| r.case.bench == Bench::Drop) {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            fmt_f64(MESHES[r.case.mesh].0),
+            r.case.mass.name(),
+            stable(r, |m| m.first_impact),
+            stable(r, |m| m.first_release),
+            stable(r, duration),
+            stable(r, |m| Some(m.rebound_velocity)),
+            count(r.metrics.episodes, r.perturbed.episodes),
+            stable(r, |m| Some(m.min_distance)),
+        );
+    }
+    let _ = writeln!(s, "\n![{BODIES_DROP}]({BODIES_DROP}.png)");
+    s
+}

@@ -1,0 +1,110 @@
+//! The bodies section of `massredist reproduce` (`paper::bodies`, issue 19 item 5) on its quick
+//! set (GetFEM's disc at rest, h = 8, T = 4, CN / BE / hybrid × masses; the dropped disc, h = 8,
+//! CN × masses, T = 24): the properties its numbers must have, whatever they are —
+//! exact complementarity, momentum balance in free flight, backward Euler's dissipation, the
+//! rebound velocity bounded by the energy — and the metrics' definitions on hand-made series.
+
+use massredist::mass::MassKind;
+use massredist::paper::Experiment;
+use massredist::paper::bodies::{Bench, BodyResult, DROP_GAP, DROP_SPEED, compute_bodies, metrics};
+use std::sync::OnceLock;
+
+fn results() -> &'static [BodyResult] {
+    static R: OnceLock<Vec<BodyResult>> = OnceLock::new();
+    R.get_or_init(|| compute_bodies(true, &|| {}).expect("the quick bodies runs"))
+}
+
+#[test]
+fn the_quick_set_has_every_scheme_and_mass_at_rest_and_every_mass_dropped() {
+    let r = results();
+    let rest = r.iter().filter(|x| x.case.bench == Bench::Rest).count();
+    let drop = r.iter().filter(|x| x.case.bench == Bench::Drop).count();
+    // CN and BE with 4 masses, hybrid with the 3 of w_0 = 0; the drop with CN's 4.
+    assert_eq!((rest, drop), (11, 4));
+}
+
+#[test]
+fn contact_at_rest_is_exact_the_min_distance_is_zero() {
+    // The disc starts touching (g = 0 at the node (0, 0)); the exact solver sets u_n = −g on the
+    // active nodes, so d = u_n + g is exactly 0 there, never negative: min_distance == 0 with no
+    // tolerance, in the run and its perturbed copy.
+    for r in results().iter().filter(|r| r.case.bench == Bench::Rest) {
+        assert_eq!(r.metrics.min_distance, 0.0, "{}", r.case.name());
+        assert_eq!(r.perturbed.min_distance, 0.0, "{}", r.case.name());
+        assert_eq!(r.metrics.first_impact, Some(0.0), "{}: a node on the plane is in contact at t_0", r.case.name());
+    }
+}
+
+#[test]
+fn backward_euler_never_increases_the_energy() {
+    // E^{n+1} − E^n = −½(V^{n+1}−V^n)ᵀM(V^{n+1}−V^n) − ½(U^{n+1}−U^n)ᵀK(U^{n+1}−U^n) − (contact
+    // work ≥ 0) ≤ 0 for BE under a constant force; the measured largest step is about −6e-4
+    // (far from round-off), so the bound is 0 itself. mutation: the rest runs given
+    // Crank–Nicolson's scheme table whatever their experiment (in body_scene_text) -> the
+    // "backward-euler" standard run reaches ΔE = +14.9 > 0, fails (tried).
+    let be: Vec<&BodyResult> = results().iter().filter(|r| r.case.experiment == Experiment::BackwardEuler).collect();
+    assert_eq!(be.len(), 4);
+    for r in be {
+        let up = r.energy.windows(2).map(|w| w[1] - w[0]).fold(f64::NEG_INFINITY, f64::max);
+        assert!(up <= 0.0, "{}: largest step increase {up}", r.case.name());
+        assert_eq!(up, r.metrics.max_energy_increase);
+    }
+}
+
+#[test]
+fn the_drop_keeps_its_momentum_until_impact_then_rebounds_below_its_energy() {
+    for r in results().iter().filter(|r| r.case.bench == Bench::Drop) {
+        let name = r.case.name();
+        let total = r.mass_total;
+        // Free flight without force: P(t) = P(0) = −(1ᵀM1) v⁰ (1ᵀK = 0 for a free body), every
+        // step before the first impact at t = gap/v⁰; 1e-12 relative: a few hundred steps of
+        // round-off in sums of ~1000 nodal terms. mutation: mass_total = |Ω| for every mass (as
+        // first written) -> mod1's P(0) = −977 ≠ −1257, fails.
+        let p0 = -DROP_SPEED * total;
+        assert!((r.momentum_y[0] - p0).abs() <= 1e-12 * total, "{name}: P(0) = {}", r.momentum_y[0]);
+        let impact = r.metrics.first_impact.expect("the disc meets the plane");
+        assert!((impact - DROP_GAP / DROP_SPEED).abs() <= 0.0101, "{name}: impact at {impact}");
+        for (t, p) in r.t.iter().zip(&r.momentum_y).take_while(|(t, _)| **t < impact) {
+            assert!((p - p0).abs() <= 1e-12 * total, "{name}: P({t}) = {p}");
+        }
+        // Cauchy–Schwarz in the M inner product: P²/(2·1ᵀM1) ≤ ½VᵀMV ≤ E (K ≥ 0, no force),
+        // so the rebound velocity is at most √(2E/1ᵀM1) (1e-12 relative: round-off of E).
+        let e = *r.energy.last().unwrap();
+        let v = r.metrics.rebound_velocity;
+        assert!(0.5 * total * v * v <= e * (1.0 + 1e-12), "{name}: rebound {v} above the energy {e}");
+        // Contact only pushes: the body leaves upwards.
+        assert!(v > 0.0, "{name}: rebound velocity {v}");
+    }
+}
+
+#[test]
+fn the_mod_masses_release_once_the_standard_mass_chatters() {
+    // The w_0 = 0 masses give one contact episode; the standard mass with CN chatters (many),
+    // the difference the paper's §4 shows on the bar, here on the disc.
+    for r in results().iter().filter(|r| r.case.bench == Bench::Drop) {
+        let m = &r.metrics;
+        if r.case.mass == MassKind::Standard {
+            assert!(m.episodes > 10, "{}: {} episodes", r.case.name(), m.episodes);
+        } else {
+            assert_eq!(m.episodes, 1, "{}", r.case.name());
+            assert!(m.first_release.is_some(), "{}: released before T", r.case.name());
+        }
+    }
+}
+
+#[test]
+fn the_metrics_follow_their_definitions_on_a_hand_made_series() {
+    // E = 0, −1, −0.5, −2: drift −2, max |E − E⁰| 2, max ΔE +0.5; ΣR = 0, 3, 1, 4: TV 3 + 2 + 3 = 8;
+    // active 1, 0, 2, 2: episodes 2 (steps 0 and 2–3); P_y(T) = 6 over mass 3: velocity 2.
+    let summary = results()[0].summary.clone();
+    let m = metrics(
+        &[0.0, -1.0, -0.5, -2.0],
+        &[0.0, 3.0, 1.0, 4.0],
+        &[1.0, 0.0, 2.0, 2.0],
+        &[0.0, 1.0, 2.0, 6.0],
+        3.0,
+        &summary,
+    );
+    assert_eq!((m.drift, m.max_energy_deviation, m.max_energy_increase), (-2.0, 2.0, 0.5));
+    assert_eq!((m.force_variation, m.episodes, m.rebound_velocity), (8.0, 2, 2.0));
+}
