@@ -181,12 +181,18 @@ def run(scene, folder, channel, comm=MPI.COMM_WORLD):
     engine.json and the fields into ``folder`` (massredist's temporary run folder). Returns the
     exit code: 0, or 3 if massredist stopped the run or a state was not finite."""
     started = time.perf_counter()
-    p = Problem(scene, comm)
-    bar = exact_mod.plane_wave(scene)
-    # A solid on simplices has no exact L² error (src/solid/geometry.rs: NaN, not integrated).
-    integrates = not (scene.solid and scene.cells in ("triangle", "tet"))
-    want_l2 = bar is not None and integrates and (scene.summary_l2 or "l2_error" in scene.series)
-    sampler = Sampler(p, bar, want_l2)
+    if scene.body:
+        # A body against a plane: massredist's mesh, weights and contact set (engine.body).
+        from .body import BodyProblem, BodySampler
+        p = BodyProblem(scene, f"{folder}/body.json", comm)
+        sampler = BodySampler(p)
+    else:
+        p = Problem(scene, comm)
+        bar = exact_mod.plane_wave(scene)
+        # A solid on simplices has no exact L² error (src/solid/geometry.rs: NaN, not integrated).
+        integrates = not (scene.solid and scene.cells in ("triangle", "tet"))
+        want_l2 = bar is not None and integrates and (scene.summary_l2 or "l2_error" in scene.series)
+        sampler = Sampler(p, bar, want_l2)
     s = schemes.make(p)
     setup = time.perf_counter() - started
     channel.send("head", h=p.h, total_mass=p.total_mass, unknowns=int(p.n_free), load_energy=load_energy(p))
