@@ -246,7 +246,7 @@ pub fn integrate_watched<G: Geometry>(
 
 /// `E_F = ½ F_rᵀ S_rr⁻¹ F_r` of [`DivergenceCriterion`] (0 without load; 0 if the solve fails,
 /// which leaves `|E⁰|` as the reference).
-fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> f64 {
+pub(crate) fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> f64 {
     if s.load.iter().all(|&f| f == 0.0) {
         return 0.0;
     }

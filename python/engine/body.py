@@ -61,6 +61,7 @@ class BodyProblem:
         # Held: every component of the clamped nodes (local blocks, ghosts included).
         clamped = np.zeros(comm.bcast(len(points) if comm.rank == 0 else 0, root=0), bool)
         clamped[np.array(data["clamped"], dtype=np.int64)] = True
+        self.load_energy = float(data["load_energy"])
         held_blocks = np.flatnonzero(clamped[node]).astype(np.int32)
         self.bcs = [fem.dirichletbc(np.zeros(d, PETSc.ScalarType), held_blocks, V)] if len(held_blocks) else []
         hb = held_blocks[held_blocks < imap.size_local]

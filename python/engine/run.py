@@ -104,6 +104,9 @@ def load_energy(p):
     """``E_F = ½ F_rᵀ S_rr⁻¹ F_r`` over the unknowns off Γ_C (src/driver.rs), 0 without load."""
     if p.F.norm(PETSc.NormType.INFINITY) == 0.0:
         return 0.0
+    if getattr(p, "load_energy", None) is not None:
+        # A body: the Rust run's E_F (src/engine/body.rs: for a free body S_rr is singular).
+        return p.load_energy
     start = p.S.getOwnershipRange()[0]
     held = np.union1d(p.contact, p.dirichlet).astype(np.int32) + start
     s = p.S.copy()

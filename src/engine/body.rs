@@ -35,6 +35,10 @@ struct BodyData {
     u0: Vec<f64>,
     v0: Vec<f64>,
     force: Vec<f64>,
+    /// `E_F` of the Rust run's divergence rule (src/driver.rs `load_energy`): for a free body
+    /// S_rr is singular (the tangential translations) and its value is the factorisation's
+    /// round-off, which no other solver reproduces; the engine's rule uses this one.
+    load_energy: f64,
 }
 
 /// The axis k and sign s of a normal `n = s e_k` (None for any other normal).
@@ -68,8 +72,10 @@ pub fn refusal(spec: &SolidSpec) -> Option<String> {
 }
 
 /// `body.json` of a body scene (None for the box), with `|Γ_C|`, `L` and h for the observers.
-pub fn data(spec: &SolidSpec, mass: &MassKind) -> Result<Option<(String, [f64; 3])>, String> {
+pub fn data(spec: &SolidSpec, mass: &MassKind, t_end: f64) -> Result<Option<(String, [f64; 3])>, String> {
     let Some(b) = spec.body.as_ref() else { return Ok(None) };
+    let problem = spec.problem(mass, t_end).map_err(|e| e.to_string())?;
+    let load_energy = crate::driver::load_energy(crate::problem::Geometry::system(&problem.system));
     let (axis, sign) = axis_of(b.obstacle.normal, spec.dim).ok_or("obstacle.normal")?;
     let mesh = spec.mesh().map_err(|e| e.to_string())?;
     let contact = body::contact(&mesh, b).map_err(|e| e.to_string())?;
@@ -112,6 +118,7 @@ pub fn data(spec: &SolidSpec, mass: &MassKind) -> Result<Option<(String, [f64; 3
         u0,
         v0,
         force,
+        load_energy,
         points: mesh.points,
     };
     serde_json::to_string(&data).map(|j| Some((j, out))).map_err(|e| e.to_string())

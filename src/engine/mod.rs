@@ -156,7 +156,7 @@ pub trait EngineGeometry: crate::run::GeometrySpec {
     fn streamed(&self, head: &Head) -> StreamedGeometry;
     /// Data the engine reads besides the scene (`body.json` of a body, [`body`]), and the
     /// measures `[|Γ_C|, L, h]` the observers then read; None for the other geometries.
-    fn engine_data(&self, _mass: &crate::mass::MassKind) -> Result<Option<(String, [f64; 3])>, String> {
+    fn engine_data(&self, _mass: &crate::mass::MassKind, _t_end: f64) -> Result<Option<(String, [f64; 3])>, String> {
         Ok(None)
     }
 }
@@ -211,8 +211,8 @@ impl EngineGeometry for SolidSpec {
         }
     }
 
-    fn engine_data(&self, mass: &crate::mass::MassKind) -> Result<Option<(String, [f64; 3])>, String> {
-        body::data(self, mass)
+    fn engine_data(&self, mass: &crate::mass::MassKind, t_end: f64) -> Result<Option<(String, [f64; 3])>, String> {
+        body::data(self, mass, t_end)
     }
 }
 
@@ -233,7 +233,7 @@ pub fn run<G: EngineGeometry>(scene: &Scene<G>, out: OutputDir, ranks: usize) ->
     let staging = out.staging().to_path_buf();
     let scene_file = staging.join("scene.resolved.toml");
     std::fs::write(&scene_file, &resolved).map_err(EngineError::Output)?;
-    let data = scene.geometry.engine_data(&scene.mass).map_err(EngineError::Scene)?;
+    let data = scene.geometry.engine_data(&scene.mass, scene.time.end).map_err(EngineError::Scene)?;
     if let Some((json, _)) = &data {
         std::fs::write(staging.join("body.json"), json).map_err(EngineError::Output)?;
     }
