@@ -20,7 +20,8 @@ from dolfinx.fem import petsc as fpetsc
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .problem import _assembled, _stiffness_form
+from . import layers
+from .problem import _TO_DOLFINX, _assembled, _stiffness_form
 
 
 class BodyProblem:
@@ -34,8 +35,8 @@ class BodyProblem:
         self.bs, self.axis, self.sign = d, k, s
         points = np.array(data["points"], dtype=float)[:, :d]
         points[:, k] *= s
-        nv = d + 1
-        cells = np.array(data["cells"], dtype=np.int64).reshape(-1, nv)
+        nv = len(_TO_DOLFINX[data["cell"]])
+        cells = np.array(data["cells"], dtype=np.int64).reshape(-1, nv)[:, _TO_DOLFINX[data["cell"]]]
         domain = ufl.Mesh(ufl.VectorElement("Lagrange", data["cell"], 1))
         if comm.rank == 0:
             arr_c, arr_x = cells, points
@@ -47,11 +48,11 @@ class BodyProblem:
         w = fem.Function(W)
         tdim = msh.topology.dim
         ncells = msh.topology.index_map(tdim).size_local + msh.topology.index_map(tdim).num_ghosts
-        weights = np.array(data["weights"], dtype=float)
+        weights = layers.perturbed(np.array(data["weights"], dtype=float))
         w.x.array[W.dofmap.list.array.reshape(ncells)] = weights[np.asarray(msh.topology.original_cell_index)]
         imap = V.dofmap.index_map
         self.n_owned = imap.size_local * d
-        # The input node of every local block (a P1 dof and a geometry node share their place).
+        # The input node of every local block (a P1 or Q1 dof and a geometry node share their place).
         geo = msh.geometry.dofmap.array.reshape(-1, nv)
         dofs = V.dofmap.list.array.reshape(len(geo), -1)
         node = np.empty(imap.size_local + imap.num_ghosts, np.int64)

@@ -16,7 +16,7 @@ use serde::Serialize;
 #[derive(Serialize)]
 struct BodyData {
     dim: usize,
-    /// "triangle" | "tetrahedron" (P1).
+    /// "triangle" | "tetrahedron" | "quadrilateral" | "hexahedron" (P1, Q1; our vertex order).
     cell: &'static str,
     points: Vec<[f64; 3]>,
     cells: Vec<usize>,
@@ -63,10 +63,11 @@ pub fn refusal(spec: &SolidSpec) -> Option<String> {
         return Some("solid.force: the fenicsx engine runs forces that do not depend on t only".into());
     }
     match spec.mesh() {
-        Ok(m) if matches!(m.kind, Cell::Triangle | Cell::Tet) => None,
-        Ok(m) => {
-            Some(format!("solid.mesh: the fenicsx engine runs P1 bodies (triangle, tetra) only, not {:?}", m.kind))
-        }
+        Ok(m) if matches!(m.kind, Cell::Triangle | Cell::Tet | Cell::Quad | Cell::Hex) => None,
+        Ok(m) => Some(format!(
+            "solid.mesh: the fenicsx engine runs P1 and Q1 bodies (triangle, tetra, quad, hexahedron) only, not {:?}",
+            m.kind
+        )),
         Err(e) => Some(e.to_string()),
     }
 }
@@ -103,7 +104,12 @@ pub fn data(spec: &SolidSpec, mass: &MassKind, t_end: f64) -> Result<Option<(Str
     let out = [section, mesh.extent[0], mesh.h()];
     let data = BodyData {
         dim: d,
-        cell: if d == 2 { "triangle" } else { "tetrahedron" },
+        cell: match mesh.kind {
+            Cell::Quad => "quadrilateral",
+            Cell::Hex => "hexahedron",
+            _ if d == 2 => "triangle",
+            _ => "tetrahedron",
+        },
         cells: mesh.cells.clone(),
         weights,
         density: spec.lame.density,
