@@ -52,6 +52,56 @@ pub fn solid_scene(dim: usize, cells: &str, scheme: &str, mass: &str, extra: &st
     )
 }
 
+/// The series of a body run (issue 19): the reports of src/observe.rs for bodies.
+const BODY_SERIES: &str = "[output]\nseries = [\"u0\", \"u_mean\", \"lambda\", \"contact_force\", \"energy\", \
+     \"active_nodes\", \"min_distance\", \"momentum_x\", \"momentum_y\", \"mean_u_x\", \"mean_u_y\"]\n";
+
+/// A shipped body mesh (scenes/body-gmsh/), by absolute path: the scene files of these cases
+/// are written elsewhere.
+pub fn body_mesh(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join("body-gmsh").join(name).display().to_string()
+}
+
+/// The P1 disc of scenes/body-gmsh/disc.msh (radius 1, lowest point y = 0.05), free, λ = μ = 20,
+/// mod3, Δt = 0.01, T = 0.5, against the plane through `point` with normal `normal` (2D
+/// arrays), pulled towards it by `force` (two expressions): it hits the plane at t ≈ 0.32 for a
+/// unit force along the normal, so every run has steps before and during the contact.
+pub fn disc_scene(scheme: &str, normal: &str, point: &str, force: &str) -> String {
+    format!(
+        "[solid]\ndim = 2\nmesh = \"{}\"\nlame_lambda = 20.0\nlame_mu = 20.0\nforce = {force}\n\
+         initial = {{ displacement = [\"0\", \"0\"], velocity = [\"0\", \"0\"] }}\n\
+         [obstacle]\nnormal = {normal}\npoint = {point}\ncontact = \"auto\"\n[mass]\nkind = \"mod3\"\n\
+         [scheme]\nkind = \"{scheme}\"\n[time]\ndt = 0.01\nend = 0.5\n{BODY_SERIES}",
+        body_mesh("disc.msh")
+    )
+}
+
+/// The Q1 block of scenes/body-gmsh/block.msh clamped on its group "top", its group "bottom"
+/// 0.02 above y = 0 and moving down (scenes/body-gmsh/body-block-clamped-top.toml, T = 0.5).
+pub fn clamped_block_scene(scheme: &str) -> String {
+    format!(
+        "[solid]\ndim = 2\nmesh = \"{}\"\nlame_lambda = 2.0\nlame_mu = 1.0\n\
+         initial = {{ displacement = [\"0\", \"0\"], velocity = [\"0\", \"-0.5*(y-0.02)\"] }}\n\
+         clamped = \"top\"\n[obstacle]\nnormal = [0.0, 1.0]\npoint = [0.0, 0.0]\ncontact = \"bottom\"\n\
+         [mass]\nkind = \"mod3\"\n[scheme]\nkind = \"{scheme}\"\n[time]\ndt = 0.01\nend = 0.5\n{BODY_SERIES}",
+        body_mesh("block.msh")
+    )
+}
+
+/// A free P1 tetrahedral cube (3 × 3 × 3 × 6 cells, side 0.5) 0.05 above z = 0, moving down
+/// and sideways under the force (0, 0, −2): it touches the plane at t ≈ 0.05.
+pub fn tet_body_scene(scheme: &str) -> String {
+    format!(
+        "[solid]\ndim = 3\nlength = 0.5\nheight = 0.5\ndepth = 0.5\nnx = 3\nny = 3\nnz = 3\ncells = \"tet\"\n\
+         lame_lambda = 1.0\nlame_mu = 1.0\nforce = [\"0\", \"0\", \"-2\"]\n\
+         initial = {{ displacement = [\"0\", \"0\", \"0\"], velocity = [\"0.1\", \"0\", \"-1\"] }}\n\
+         [obstacle]\nnormal = [0.0, 0.0, 1.0]\npoint = [0.0, 0.0, -0.05]\ncontact = \"auto\"\n\
+         [mass]\nkind = \"mod3\"\n[scheme]\nkind = \"{scheme}\"\n[time]\ndt = 0.01\nend = 0.3\n\
+         [output]\nseries = [\"u0\", \"u_mean\", \"contact_force\", \"energy\", \"active_nodes\", \
+         \"min_distance\", \"momentum_x\", \"momentum_z\", \"mean_u_x\", \"mean_u_z\"]\n"
+    )
+}
+
 /// Runs `massredist run SCENE --out OUT` (Rust, or the engine on `ranks`) with `bin`; `env`
 /// is added to the process's environment. Returns OUT or the failure with its stderr.
 pub fn run(
@@ -141,14 +191,20 @@ pub fn difference(a: &Path, b: &Path) -> Result<f64, String> {
     Ok(worst)
 }
 
-/// The largest difference of the numbers in two summary values (a number, or an object of them
-/// such as `divergence`); an error naming `key` if anything else differs.
+/// The largest difference of the numbers in two summary values (a number, an array or an object
+/// of them such as `divergence`); an error naming `key` if anything else differs.
 fn value_difference(key: &str, a: &serde_json::Value, b: &serde_json::Value) -> Result<f64, String> {
     use serde_json::Value;
     match (a, b) {
         (Value::Number(x), Value::Number(y)) => {
             Ok((x.as_f64().unwrap_or(f64::NAN) - y.as_f64().unwrap_or(f64::NAN)).abs())
         }
+        // A body's vectors (final_momentum, final_mean_displacement), entry by entry.
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => x
+            .iter()
+            .zip(y)
+            .enumerate()
+            .try_fold(0.0_f64, |w, (i, (u, v))| Ok(w.max(value_difference(&format!("{key}[{i}]"), u, v)?))),
         (Value::Object(x), Value::Object(y)) if x.keys().eq(y.keys()) => {
             x.iter().try_fold(0.0_f64, |w, (k, v)| Ok(w.max(value_difference(&format!("{key}.{k}"), v, &y[k])?)))
         }
@@ -176,8 +232,15 @@ pub fn cases() -> Vec<TrajectoryCase> {
         case("solid 2D triangle hybrid mod3 roller", solid_scene(2, "triangle", "hybrid", "mod3", ROLLER)),
         case("solid 3D hex backward-euler mod1", solid_scene(3, "hex", "backward-euler", "mod1", "")),
         case("solid 3D tet crank-nicolson mod2", solid_scene(3, "tet", "crank-nicolson", "mod2", "lame_lambda = 0.25")),
+        case("body P1 disc drop crank-nicolson mod3", disc_scene("crank-nicolson", "[0.0, 1.0]", "[0.0, 0.0]", DOWN)),
+        case("body P1 disc -e_x hybrid mod3", disc_scene("hybrid", "[-1.0, 0.0]", "[2.05, 0.0]", "[\"1\", \"0\"]")),
+        case("body Q1 block clamped backward-euler", clamped_block_scene("backward-euler")),
+        case("body 3D P1 tet crank-nicolson mod3", tet_body_scene("crank-nicolson")),
     ]
 }
+
+/// Gravity along −y, per unit volume.
+pub const DOWN: &str = "[\"0\", \"-1\"]";
 
 /// A solid that is not a plane wave: λ > 0, roller lateral faces, data varying in y.
 pub const ROLLER: &str = "lame_lambda = 0.3\nlateral = \"roller\"\n\
