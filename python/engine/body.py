@@ -24,6 +24,11 @@ from . import layers
 from .problem import _TO_DOLFINX, _assembled, _stiffness_form
 
 
+# Our P2 node order (vertices, then the edges (0,1), (1,2), (0,2)[, (0,3), (1,3), (2,3)], VTK's)
+# to dolfinx's (vertices, then edge k opposite … : its edges sorted by their reference numbering).
+_P2_TO_DOLFINX = {"triangle": [0, 1, 2, 4, 5, 3], "tetrahedron": [0, 1, 2, 3, 9, 8, 5, 7, 6, 4]}
+
+
 class BodyProblem:
     """What the schemes (engine.schemes) and :class:`BodySampler` need, on this rank."""
 
@@ -35,15 +40,17 @@ class BodyProblem:
         self.bs, self.axis, self.sign = d, k, s
         points = np.array(data["points"], dtype=float)[:, :d]
         points[:, k] *= s
-        nv = len(_TO_DOLFINX[data["cell"]])
-        cells = np.array(data["cells"], dtype=np.int64).reshape(-1, nv)[:, _TO_DOLFINX[data["cell"]]]
-        domain = ufl.Mesh(ufl.VectorElement("Lagrange", data["cell"], 1))
+        self.degree = deg = int(data["degree"])
+        order = _TO_DOLFINX[data["cell"]] if deg == 1 else _P2_TO_DOLFINX[data["cell"]]
+        nv = len(order)
+        cells = np.array(data["cells"], dtype=np.int64).reshape(-1, nv)[:, order]
+        domain = ufl.Mesh(ufl.VectorElement("Lagrange", data["cell"], deg))
         if comm.rank == 0:
             arr_c, arr_x = cells, points
         else:
             arr_c, arr_x = np.empty((0, nv), np.int64), np.empty((0, d))
         self.msh = msh = mesh.create_mesh(comm, arr_c, arr_x, domain)
-        self.V = V = fem.VectorFunctionSpace(msh, ("Lagrange", 1))
+        self.V = V = fem.VectorFunctionSpace(msh, ("Lagrange", deg))
         W = fem.FunctionSpace(msh, ("DG", 0))
         w = fem.Function(W)
         tdim = msh.topology.dim
@@ -52,7 +59,7 @@ class BodyProblem:
         w.x.array[W.dofmap.list.array.reshape(ncells)] = weights[np.asarray(msh.topology.original_cell_index)]
         imap = V.dofmap.index_map
         self.n_owned = imap.size_local * d
-        # The input node of every local block (a P1 or Q1 dof and a geometry node share their place).
+        # The input node of every local block (a dof and a geometry node share their place: the field's element is the coordinate element).
         geo = msh.geometry.dofmap.array.reshape(-1, nv)
         dofs = V.dofmap.list.array.reshape(len(geo), -1)
         node = np.empty(imap.size_local + imap.num_ghosts, np.int64)
@@ -84,7 +91,9 @@ class BodyProblem:
     def _assemble(self, data, w):
         scene, V, d = self.scene, self.V, self.bs
         u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
-        dx = ufl.dx(metadata={"quadrature_degree": 2})
+        # Exact for the mass (degree 2p) and stiffness (2p − 2) on straight cells, as the Rust
+        # assembly (src/fem/quadrature.rs: degree 5 for P2); curved P2 cells differ by the rules.
+        dx = ufl.dx(metadata={"quadrature_degree": 2 * self.degree})
         rho = float(data["density"])
         scene.lame_lambda, scene.lame_mu = float(data["lame_lambda"]), float(data["lame_mu"])
         mass_w = rho * w * ufl.inner(u, v) * dx

@@ -16,8 +16,10 @@ use serde::Serialize;
 #[derive(Serialize)]
 struct BodyData {
     dim: usize,
-    /// "triangle" | "tetrahedron" | "quadrilateral" | "hexahedron" (P1, Q1; our vertex order).
+    /// "triangle" | "tetrahedron" | "quadrilateral" | "hexahedron" (our node order).
     cell: &'static str,
+    /// 1 (P1, Q1) or 2 (triangle6, tetra10: the coordinate element and the field are P2).
+    degree: usize,
     points: Vec<[f64; 3]>,
     cells: Vec<usize>,
     weights: Vec<f64>,
@@ -63,11 +65,7 @@ pub fn refusal(spec: &SolidSpec) -> Option<String> {
         return Some("solid.force: the fenicsx engine runs forces that do not depend on t only".into());
     }
     match spec.mesh() {
-        Ok(m) if matches!(m.kind, Cell::Triangle | Cell::Tet | Cell::Quad | Cell::Hex) => None,
-        Ok(m) => Some(format!(
-            "solid.mesh: the fenicsx engine runs P1 and Q1 bodies (triangle, tetra, quad, hexahedron) only, not {:?}",
-            m.kind
-        )),
+        Ok(_) => None,
         Err(e) => Some(e.to_string()),
     }
 }
@@ -115,6 +113,7 @@ pub fn data(spec: &SolidSpec, mass: &MassKind, t_end: f64) -> Result<Option<(Str
         density: spec.lame.density,
         lame_lambda: spec.lame.lambda,
         lame_mu: spec.lame.mu,
+        degree: if mesh.kind.is_quadratic() { 2 } else { 1 },
         axis,
         sign,
         contact_nodes: contact.nodes,
