@@ -102,6 +102,47 @@ pub fn tet_body_scene(scheme: &str) -> String {
     )
 }
 
+/// A P2 (triangle6) rectangle (0, 1) × (0.05, 0.55) as a gmsh 2.2 file: `nx × ny` squares, each
+/// cut along its diagonal from (x_i, y_j) into two counter-clockwise triangles; the nodes are the
+/// grid of half the spacing (every one a vertex or a midside node).
+pub fn p2_rectangle_msh(nx: usize, ny: usize) -> String {
+    let (cols, rows) = (2 * nx + 1, 2 * ny + 1);
+    let id = |i: usize, j: usize| j * cols + i + 1;
+    let mut s = format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n{}\n", cols * rows);
+    for j in 0..rows {
+        for i in 0..cols {
+            let (x, y) = (i as f64 / (2 * nx) as f64, 0.05 + 0.5 * j as f64 / (2 * ny) as f64);
+            s += &format!("{} {x:?} {y:?} 0\n", id(i, j));
+        }
+    }
+    s += &format!("$EndNodes\n$Elements\n{}\n", 2 * nx * ny);
+    let mid = |a: (usize, usize), b: (usize, usize)| id((a.0 + b.0) / 2, (a.1 + b.1) / 2);
+    let mut k = 0;
+    for j in 0..ny {
+        for i in 0..nx {
+            let (p00, p10, p11, p01) = ((2 * i, 2 * j), (2 * i + 2, 2 * j), (2 * i + 2, 2 * j + 2), (2 * i, 2 * j + 2));
+            for [a, b, c] in [[p00, p10, p11], [p00, p11, p01]] {
+                k += 1;
+                let (va, vb, vc) = (id(a.0, a.1), id(b.0, b.1), id(c.0, c.1));
+                let (m0, m1, m2) = (mid(a, b), mid(b, c), mid(c, a));
+                s += &format!("{k} 9 2 1 1 {va} {vb} {vc} {m0} {m1} {m2}\n");
+            }
+        }
+    }
+    s + "$EndElements\n"
+}
+
+/// A free P2 rectangle ([`p2_rectangle_msh`] as `rect6.msh` next to the scene), 0.05 above y = 0,
+/// thrown down and sideways under gravity: it hits the plane at t ≈ 0.1.
+pub fn p2_rectangle_scene(scheme: &str) -> String {
+    format!(
+        "[solid]\ndim = 2\nmesh = \"rect6.msh\"\nlame_lambda = 20.0\nlame_mu = 20.0\nforce = {DOWN}\n\
+         initial = {{ displacement = [\"0\", \"0\"], velocity = [\"0.1\", \"-0.5\"] }}\n\
+         [obstacle]\nnormal = [0.0, 1.0]\npoint = [0.0, 0.0]\ncontact = \"auto\"\n[mass]\nkind = \"mod3\"\n\
+         [scheme]\nkind = \"{scheme}\"\n[time]\ndt = 0.01\nend = 0.5\n{BODY_SERIES}"
+    )
+}
+
 /// Runs `massredist run SCENE --out OUT` (Rust, or the engine on `ranks`) with `bin`; `env`
 /// is added to the process's environment. Returns OUT or the failure with its stderr.
 pub fn run(
@@ -236,6 +277,7 @@ pub fn cases() -> Vec<TrajectoryCase> {
         case("body P1 disc -e_x hybrid mod3", disc_scene("hybrid", "[-1.0, 0.0]", "[2.05, 0.0]", "[\"1\", \"0\"]")),
         case("body Q1 block clamped backward-euler", clamped_block_scene("backward-euler")),
         case("body 3D P1 tet crank-nicolson mod3", tet_body_scene("crank-nicolson")),
+        case("body P2 rectangle crank-nicolson mod3", p2_rectangle_scene("crank-nicolson")),
     ]
 }
 
@@ -265,11 +307,14 @@ pub fn run_all(bin: &Path, dir: &Path) -> Vec<TrajectoryReport> {
         .enumerate()
         .map(|(k, c)| {
             let scene = dir.join(format!("case{k}.toml"));
-            let result = std::fs::write(&scene, &c.scene).map_err(|e| e.to_string()).and_then(|()| {
-                let rust = run(bin, &scene, &dir.join(format!("case{k}-rust")), None, &[])?;
-                let eng = run(bin, &scene, &dir.join(format!("case{k}-fenicsx")), Some(c.ranks), &[])?;
-                difference(&rust, &eng)
-            });
+            // The P2 body's mesh file, next to the scene (p2_rectangle_scene).
+            let mesh = std::fs::write(dir.join("rect6.msh"), p2_rectangle_msh(4, 2)).map_err(|e| e.to_string());
+            let result =
+                mesh.and_then(|()| std::fs::write(&scene, &c.scene).map_err(|e| e.to_string())).and_then(|()| {
+                    let rust = run(bin, &scene, &dir.join(format!("case{k}-rust")), None, &[])?;
+                    let eng = run(bin, &scene, &dir.join(format!("case{k}-fenicsx")), Some(c.ranks), &[])?;
+                    difference(&rust, &eng)
+                });
             let (max_abs_diff, error) = match result {
                 Ok(d) => (Some(d), None),
                 Err(e) => (None, Some(e)),

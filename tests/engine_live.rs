@@ -457,3 +457,14 @@ fn an_oblique_plane_is_refused_by_name() {
     assert!(err.contains("obstacle.normal") && err.contains("coordinate axis"), "{err}");
     assert!(!out.exists());
 }
+
+/// A P2 (triangle6) body: dolfinx's P2 coordinate element and field against the Rust P2
+/// assembly, on 1 and 2 ranks (the mesh's straight cells: both quadratures are exact).
+// mutation: the triangle6 node order unpermuted (`"triangle": [0, 1, 2, 3, 4, 5]` in body.py)
+//   -> fails: the engine run exits with status 1 (dolfinx cannot build that mesh).
+#[test]
+fn body_p2_rectangle_agrees_with_rust_on_1_and_2_ranks() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("rect6.msh"), traj::p2_rectangle_msh(4, 2)).unwrap();
+    body_case(dir.path(), "p2", traj::p2_rectangle_scene("crank-nicolson"), &[1, 2]);
+}
