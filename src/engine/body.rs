@@ -128,3 +128,21 @@ pub fn data(spec: &SolidSpec, mass: &MassKind, t_end: f64) -> Result<Option<(Str
     };
     serde_json::to_string(&data).map(|j| Some((j, out))).map_err(|e| e.to_string())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::axis_of;
+
+    /// ±e_k gives (k, ±1); anything else, including a normal with a component beyond `dim` or
+    /// a unit vector off the axes, none.
+    // mutation: `&& normal[k].abs() == 1.0` dropped -> [0.5, 0.0] is taken as +e_x, fails.
+    #[test]
+    fn only_coordinate_axes_are_bounds() {
+        assert_eq!(axis_of([0.0, 1.0, 0.0], 2), Some((1, 1.0)));
+        assert_eq!(axis_of([-1.0, 0.0, 0.0], 2), Some((0, -1.0)));
+        assert_eq!(axis_of([0.0, 0.0, -1.0], 3), Some((2, -1.0)));
+        assert_eq!(axis_of([0.6, 0.8, 0.0], 2), None);
+        assert_eq!(axis_of([0.5, 0.0, 0.0], 2), None);
+        assert_eq!(axis_of([0.0, 0.0, 1.0], 2), None);
+    }
+}

@@ -183,7 +183,8 @@ impl EngineGeometry for PlateSpec {
     }
 }
 
-/// Solids: structured meshes of every cell kind; `solid.mesh` files not yet.
+/// Solids: structured boxes of every cell kind (a box from a `solid.mesh` file not yet), and
+/// bodies against an axis plane ([`body`]).
 impl EngineGeometry for SolidSpec {
     fn engine_refusal(&self) -> Option<String> {
         if self.body.is_some() {
