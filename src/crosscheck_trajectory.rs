@@ -52,6 +52,97 @@ pub fn solid_scene(dim: usize, cells: &str, scheme: &str, mass: &str, extra: &st
     )
 }
 
+/// The series of a body run (issue 19): the reports of src/observe.rs for bodies.
+const BODY_SERIES: &str = "[output]\nseries = [\"u0\", \"u_mean\", \"lambda\", \"contact_force\", \"energy\", \
+     \"active_nodes\", \"min_distance\", \"momentum_x\", \"momentum_y\", \"mean_u_x\", \"mean_u_y\"]\n";
+
+/// A shipped body mesh (scenes/body-gmsh/), by absolute path: the scene files of these cases
+/// are written elsewhere.
+pub fn body_mesh(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join("body-gmsh").join(name).display().to_string()
+}
+
+/// The P1 disc of scenes/body-gmsh/disc.msh (radius 1, lowest point y = 0.05), free, λ = μ = 20,
+/// mod3, Δt = 0.01, T = 0.5, against the plane through `point` with normal `normal` (2D
+/// arrays), pulled towards it by `force` (two expressions): it hits the plane at t ≈ 0.32 for a
+/// unit force along the normal, so every run has steps before and during the contact.
+pub fn disc_scene(scheme: &str, normal: &str, point: &str, force: &str) -> String {
+    format!(
+        "[solid]\ndim = 2\nmesh = \"{}\"\nlame_lambda = 20.0\nlame_mu = 20.0\nforce = {force}\n\
+         initial = {{ displacement = [\"0\", \"0\"], velocity = [\"0\", \"0\"] }}\n\
+         [obstacle]\nnormal = {normal}\npoint = {point}\ncontact = \"auto\"\n[mass]\nkind = \"mod3\"\n\
+         [scheme]\nkind = \"{scheme}\"\n[time]\ndt = 0.01\nend = 0.5\n{BODY_SERIES}",
+        body_mesh("disc.msh")
+    )
+}
+
+/// The Q1 block of scenes/body-gmsh/block.msh clamped on its group "top", its group "bottom"
+/// 0.02 above y = 0 and moving down (scenes/body-gmsh/body-block-clamped-top.toml, T = 0.5).
+pub fn clamped_block_scene(scheme: &str) -> String {
+    format!(
+        "[solid]\ndim = 2\nmesh = \"{}\"\nlame_lambda = 2.0\nlame_mu = 1.0\n\
+         initial = {{ displacement = [\"0\", \"0\"], velocity = [\"0\", \"-0.5*(y-0.02)\"] }}\n\
+         clamped = \"top\"\n[obstacle]\nnormal = [0.0, 1.0]\npoint = [0.0, 0.0]\ncontact = \"bottom\"\n\
+         [mass]\nkind = \"mod3\"\n[scheme]\nkind = \"{scheme}\"\n[time]\ndt = 0.01\nend = 0.5\n{BODY_SERIES}",
+        body_mesh("block.msh")
+    )
+}
+
+/// A free P1 tetrahedral cube (3 × 3 × 3 × 6 cells, side 0.5) 0.05 above z = 0, moving down
+/// and sideways under the force (0, 0, −2): it touches the plane at t ≈ 0.05.
+pub fn tet_body_scene(scheme: &str) -> String {
+    format!(
+        "[solid]\ndim = 3\nlength = 0.5\nheight = 0.5\ndepth = 0.5\nnx = 3\nny = 3\nnz = 3\ncells = \"tet\"\n\
+         lame_lambda = 1.0\nlame_mu = 1.0\nforce = [\"0\", \"0\", \"-2\"]\n\
+         initial = {{ displacement = [\"0\", \"0\", \"0\"], velocity = [\"0.1\", \"0\", \"-1\"] }}\n\
+         [obstacle]\nnormal = [0.0, 0.0, 1.0]\npoint = [0.0, 0.0, -0.05]\ncontact = \"auto\"\n\
+         [mass]\nkind = \"mod3\"\n[scheme]\nkind = \"{scheme}\"\n[time]\ndt = 0.01\nend = 0.3\n\
+         [output]\nseries = [\"u0\", \"u_mean\", \"contact_force\", \"energy\", \"active_nodes\", \
+         \"min_distance\", \"momentum_x\", \"momentum_z\", \"mean_u_x\", \"mean_u_z\"]\n"
+    )
+}
+
+/// A P2 (triangle6) rectangle (0, 1) × (0.05, 0.55) as a gmsh 2.2 file: `nx × ny` squares, each
+/// cut along its diagonal from (x_i, y_j) into two counter-clockwise triangles; the nodes are the
+/// grid of half the spacing (every one a vertex or a midside node).
+pub fn p2_rectangle_msh(nx: usize, ny: usize) -> String {
+    let (cols, rows) = (2 * nx + 1, 2 * ny + 1);
+    let id = |i: usize, j: usize| j * cols + i + 1;
+    let mut s = format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n{}\n", cols * rows);
+    for j in 0..rows {
+        for i in 0..cols {
+            let (x, y) = (i as f64 / (2 * nx) as f64, 0.05 + 0.5 * j as f64 / (2 * ny) as f64);
+            s += &format!("{} {x:?} {y:?} 0\n", id(i, j));
+        }
+    }
+    s += &format!("$EndNodes\n$Elements\n{}\n", 2 * nx * ny);
+    let mid = |a: (usize, usize), b: (usize, usize)| id((a.0 + b.0) / 2, (a.1 + b.1) / 2);
+    let mut k = 0;
+    for j in 0..ny {
+        for i in 0..nx {
+            let (p00, p10, p11, p01) = ((2 * i, 2 * j), (2 * i + 2, 2 * j), (2 * i + 2, 2 * j + 2), (2 * i, 2 * j + 2));
+            for [a, b, c] in [[p00, p10, p11], [p00, p11, p01]] {
+                k += 1;
+                let (va, vb, vc) = (id(a.0, a.1), id(b.0, b.1), id(c.0, c.1));
+                let (m0, m1, m2) = (mid(a, b), mid(b, c), mid(c, a));
+                s += &format!("{k} 9 2 1 1 {va} {vb} {vc} {m0} {m1} {m2}\n");
+            }
+        }
+    }
+    s + "$EndElements\n"
+}
+
+/// A free P2 rectangle ([`p2_rectangle_msh`] as `rect6.msh` next to the scene), 0.05 above y = 0,
+/// thrown down and sideways under gravity: it hits the plane at t ≈ 0.1.
+pub fn p2_rectangle_scene(scheme: &str) -> String {
+    format!(
+        "[solid]\ndim = 2\nmesh = \"rect6.msh\"\nlame_lambda = 20.0\nlame_mu = 20.0\nforce = {DOWN}\n\
+         initial = {{ displacement = [\"0\", \"0\"], velocity = [\"0.1\", \"-0.5\"] }}\n\
+         [obstacle]\nnormal = [0.0, 1.0]\npoint = [0.0, 0.0]\ncontact = \"auto\"\n[mass]\nkind = \"mod3\"\n\
+         [scheme]\nkind = \"{scheme}\"\n[time]\ndt = 0.01\nend = 0.5\n{BODY_SERIES}"
+    )
+}
+
 /// Runs `massredist run SCENE --out OUT` (Rust, or the engine on `ranks`) with `bin`; `env`
 /// is added to the process's environment. Returns OUT or the failure with its stderr.
 pub fn run(
@@ -141,14 +232,20 @@ pub fn difference(a: &Path, b: &Path) -> Result<f64, String> {
     Ok(worst)
 }
 
-/// The largest difference of the numbers in two summary values (a number, or an object of them
-/// such as `divergence`); an error naming `key` if anything else differs.
+/// The largest difference of the numbers in two summary values (a number, an array or an object
+/// of them such as `divergence`); an error naming `key` if anything else differs.
 fn value_difference(key: &str, a: &serde_json::Value, b: &serde_json::Value) -> Result<f64, String> {
     use serde_json::Value;
     match (a, b) {
         (Value::Number(x), Value::Number(y)) => {
             Ok((x.as_f64().unwrap_or(f64::NAN) - y.as_f64().unwrap_or(f64::NAN)).abs())
         }
+        // A body's vectors (final_momentum, final_mean_displacement), entry by entry.
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => x
+            .iter()
+            .zip(y)
+            .enumerate()
+            .try_fold(0.0_f64, |w, (i, (u, v))| Ok(w.max(value_difference(&format!("{key}[{i}]"), u, v)?))),
         (Value::Object(x), Value::Object(y)) if x.keys().eq(y.keys()) => {
             x.iter().try_fold(0.0_f64, |w, (k, v)| Ok(w.max(value_difference(&format!("{key}.{k}"), v, &y[k])?)))
         }
@@ -176,8 +273,16 @@ pub fn cases() -> Vec<TrajectoryCase> {
         case("solid 2D triangle hybrid mod3 roller", solid_scene(2, "triangle", "hybrid", "mod3", ROLLER)),
         case("solid 3D hex backward-euler mod1", solid_scene(3, "hex", "backward-euler", "mod1", "")),
         case("solid 3D tet crank-nicolson mod2", solid_scene(3, "tet", "crank-nicolson", "mod2", "lame_lambda = 0.25")),
+        case("body P1 disc drop crank-nicolson mod3", disc_scene("crank-nicolson", "[0.0, 1.0]", "[0.0, 0.0]", DOWN)),
+        case("body P1 disc -e_x hybrid mod3", disc_scene("hybrid", "[-1.0, 0.0]", "[2.05, 0.0]", "[\"1\", \"0\"]")),
+        case("body Q1 block clamped backward-euler", clamped_block_scene("backward-euler")),
+        case("body 3D P1 tet crank-nicolson mod3", tet_body_scene("crank-nicolson")),
+        case("body P2 rectangle crank-nicolson mod3", p2_rectangle_scene("crank-nicolson")),
     ]
 }
+
+/// Gravity along −y, per unit volume.
+pub const DOWN: &str = "[\"0\", \"-1\"]";
 
 /// A solid that is not a plane wave: λ > 0, roller lateral faces, data varying in y.
 pub const ROLLER: &str = "lame_lambda = 0.3\nlateral = \"roller\"\n\
@@ -202,11 +307,14 @@ pub fn run_all(bin: &Path, dir: &Path) -> Vec<TrajectoryReport> {
         .enumerate()
         .map(|(k, c)| {
             let scene = dir.join(format!("case{k}.toml"));
-            let result = std::fs::write(&scene, &c.scene).map_err(|e| e.to_string()).and_then(|()| {
-                let rust = run(bin, &scene, &dir.join(format!("case{k}-rust")), None, &[])?;
-                let eng = run(bin, &scene, &dir.join(format!("case{k}-fenicsx")), Some(c.ranks), &[])?;
-                difference(&rust, &eng)
-            });
+            // The P2 body's mesh file, next to the scene (p2_rectangle_scene).
+            let mesh = std::fs::write(dir.join("rect6.msh"), p2_rectangle_msh(4, 2)).map_err(|e| e.to_string());
+            let result =
+                mesh.and_then(|()| std::fs::write(&scene, &c.scene).map_err(|e| e.to_string())).and_then(|()| {
+                    let rust = run(bin, &scene, &dir.join(format!("case{k}-rust")), None, &[])?;
+                    let eng = run(bin, &scene, &dir.join(format!("case{k}-fenicsx")), Some(c.ranks), &[])?;
+                    difference(&rust, &eng)
+                });
             let (max_abs_diff, error) = match result {
                 Ok(d) => (Some(d), None),
                 Err(e) => (None, Some(e)),

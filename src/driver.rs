@@ -110,8 +110,6 @@ impl DivergenceWatch {
         }
         match self.reference {
             None => self.reference = Some(energy.abs().max(self.load_energy)),
-            // E_ref = 0 (a body at rest with E⁰ = 0 whose E_F solve fails: a free body) gives no
-            // scale: only the non-finite test applies (else every step after the first diverged).
             Some(reference) if energy.abs() > factor * reference => {
                 return Verdict::Last(diverged(DivergenceReason::EnergyFactor { energy, reference, factor }));
             }
@@ -281,6 +279,13 @@ fn free_flight_rate<A: SymMatrix>(s: &ContactSystem<A>) -> f64 {
         Ok(()) => a.iter().zip(&f).map(|(x, y)| x * y).sum(),
         Err(_) => 0.0,
     }
+}
+
+/// The reference load energy of a run up to `t_end` whose states are stepped elsewhere (the
+/// FEniCSx engine's bodies): `E_F`, or for a free body the free-flight scale
+/// `½ t_end² F_mᵀ M_mm⁻¹ F_m` that [`DivergenceWatch::with_free_flight`] gives a run stepped here.
+pub(crate) fn reference_load_energy<A: SymMatrix>(s: &ContactSystem<A>, t_end: f64) -> f64 {
+    load_energy(s).unwrap_or_else(|| 0.5 * t_end * t_end * free_flight_rate(s))
 }
 
 /// `E_F = ½ F_rᵀ S_rr⁻¹ F_r` (0 without load; None if the solve fails).

@@ -376,3 +376,95 @@ fn sigterm_to_an_engine_run_stops_the_engine() {
     assert!(!staging.exists(), "the next run removed the partial folder {}", staging.display());
     assert!(out.join("summary.json").is_file());
 }
+
+/// A body against a plane (issue 19 item 6): the engine's run of `text` on each of `ranks`
+/// agrees with the Rust run to [`TOL`] in every series column and summary key (the body's
+/// included), its complementarity record holds (u_c ≥ −g_i, λ ≤ 0, product 0), and the body
+/// touched the plane (a positive reaction).
+fn body_case(dir: &Path, name: &str, text: String, ranks: &[usize]) -> Vec<PathBuf> {
+    let s = scene_file(dir, name, text);
+    let rust = run(&s, &dir.join(format!("{name}-rust")), None, None);
+    let force = json(&rust.join("summary.json"))["max_contact_force"].as_f64();
+    assert!(force.is_some_and(|f| f > 0.0), "{name}: the body must touch the plane: {force:?}");
+    ranks
+        .iter()
+        .map(|&n| {
+            let eng = run(&s, &dir.join(format!("{name}-{n}")), Some(n), None);
+            let d = difference(&rust, &eng);
+            assert!(d <= TOL, "{} vs Rust: {d:e} > {TOL:e}", eng.display());
+            let e = json(&eng.join("engine.json"));
+            let get = |k: &str| e[k].as_f64().unwrap_or_else(|| panic!("engine.json {k}: {:?}", e[k]));
+            assert!(get("min_gap") >= 0.0 && get("max_lambda") <= 0.0, "{}", eng.display());
+            assert_eq!(get("max_complementarity_product"), 0.0, "{}", eng.display());
+            eng
+        })
+        .collect()
+}
+
+// mutation: the body's contact bound without the gap (`self.lb = 0.0 * gaps[idx]` in body.py)
+//   -> fails with "disc-1 vs Rust: 1.3e1 > 1e-6".
+#[test]
+fn body_p1_disc_crank_nicolson_agrees_with_rust_on_1_and_2_ranks() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = traj::disc_scene("crank-nicolson", "[0.0, 1.0]", "[0.0, 0.0]", traj::DOWN);
+    let runs = body_case(dir.path(), "disc", scene, &[1, 2]);
+    let d = difference(&runs[0], &runs[1]);
+    assert!(d <= TOL, "disc: 1 rank vs 2 ranks: {d:e} > {TOL:e}");
+}
+
+/// Backward Euler and the hybrid scheme, the normals −e_y and −e_x (upper bounds, run
+/// reflected), a clamped Q1 body and a 3D P1 body, on 2 ranks.
+#[test]
+fn body_schemes_normals_clamped_and_3d_agree_with_rust_on_2_ranks() {
+    let dir = tempfile::tempdir().unwrap();
+    let up = "[\"0\", \"1\"]";
+    body_case(dir.path(), "neg-y-be", traj::disc_scene("backward-euler", "[0.0, -1.0]", "[0.0, 2.1]", up), &[2]);
+    let right = "[\"1\", \"0.3\"]";
+    body_case(dir.path(), "neg-x-hybrid", traj::disc_scene("hybrid", "[-1.0, 0.0]", "[2.05, 0.0]", right), &[2]);
+    body_case(dir.path(), "clamped", traj::clamped_block_scene("backward-euler"), &[2]);
+    body_case(dir.path(), "tet", traj::tet_body_scene("crank-nicolson"), &[2]);
+}
+
+/// A 1 % error in one cell weight (disc cell 100, weight > 0) on the engine side only moves the
+/// trajectory far beyond [`TOL`].
+#[test]
+fn a_wrong_weight_on_the_engine_side_fails_the_body_cross_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene_file(dir.path(), "disc", traj::disc_scene("crank-nicolson", "[0.0, 1.0]", "[0.0, 0.0]", traj::DOWN));
+    let rust = run(&s, &dir.path().join("rust"), None, None);
+    let eng = run(&s, &dir.path().join("eng"), Some(1), Some("100:1.01"));
+    let d = difference(&rust, &eng);
+    assert!(d > 100.0 * TOL, "a 1% weight error must show: difference {d:e}");
+}
+
+/// A plane whose normal is not a coordinate axis: exit 2, naming obstacle.normal, no folder.
+#[test]
+fn an_oblique_plane_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let s =
+        scene_file(dir.path(), "oblique", traj::disc_scene("crank-nicolson", "[0.6, 0.8]", "[0.0, 0.0]", traj::DOWN));
+    let out = dir.path().join("out");
+    let o = Command::new(bin())
+        .arg("run")
+        .arg(&s)
+        .arg("--out")
+        .arg(&out)
+        .args(["--engine", "fenicsx", "--ranks", "1"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("obstacle.normal") && err.contains("coordinate axis"), "{err}");
+    assert!(!out.exists());
+}
+
+/// A P2 (triangle6) body: dolfinx's P2 coordinate element and field against the Rust P2
+/// assembly, on 1 and 2 ranks (the mesh's straight cells: both quadratures are exact).
+// mutation: the triangle6 node order unpermuted (`"triangle": [0, 1, 2, 3, 4, 5]` in body.py)
+//   -> fails: the engine run exits with status 1 (dolfinx cannot build that mesh).
+#[test]
+fn body_p2_rectangle_agrees_with_rust_on_1_and_2_ranks() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("rect6.msh"), traj::p2_rectangle_msh(4, 2)).unwrap();
+    body_case(dir.path(), "p2", traj::p2_rectangle_scene("crank-nicolson"), &[1, 2]);
+}

@@ -104,6 +104,9 @@ def load_energy(p):
     """``E_F = ½ F_rᵀ S_rr⁻¹ F_r`` over the unknowns off Γ_C (src/driver.rs), 0 without load."""
     if p.F.norm(PETSc.NormType.INFINITY) == 0.0:
         return 0.0
+    if getattr(p, "load_energy", None) is not None:
+        # A body: the Rust run's E_F (src/engine/body.rs: for a free body S_rr is singular).
+        return p.load_energy
     start = p.S.getOwnershipRange()[0]
     held = np.union1d(p.contact, p.dirichlet).astype(np.int32) + start
     s = p.S.copy()
@@ -181,12 +184,18 @@ def run(scene, folder, channel, comm=MPI.COMM_WORLD):
     engine.json and the fields into ``folder`` (massredist's temporary run folder). Returns the
     exit code: 0, or 3 if massredist stopped the run or a state was not finite."""
     started = time.perf_counter()
-    p = Problem(scene, comm)
-    bar = exact_mod.plane_wave(scene)
-    # A solid on simplices has no exact L² error (src/solid/geometry.rs: NaN, not integrated).
-    integrates = not (scene.solid and scene.cells in ("triangle", "tet"))
-    want_l2 = bar is not None and integrates and (scene.summary_l2 or "l2_error" in scene.series)
-    sampler = Sampler(p, bar, want_l2)
+    if scene.body:
+        # A body against a plane: massredist's mesh, weights and contact set (engine.body).
+        from .body import BodyProblem, BodySampler
+        p = BodyProblem(scene, f"{folder}/body.json", comm)
+        sampler = BodySampler(p)
+    else:
+        p = Problem(scene, comm)
+        bar = exact_mod.plane_wave(scene)
+        # A solid on simplices has no exact L² error (src/solid/geometry.rs: NaN, not integrated).
+        integrates = not (scene.solid and scene.cells in ("triangle", "tet"))
+        want_l2 = bar is not None and integrates and (scene.summary_l2 or "l2_error" in scene.series)
+        sampler = Sampler(p, bar, want_l2)
     s = schemes.make(p)
     setup = time.perf_counter() - started
     channel.send("head", h=p.h, total_mass=p.total_mass, unknowns=int(p.n_free), load_energy=load_energy(p))

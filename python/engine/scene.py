@@ -55,6 +55,8 @@ class Scene:
     lame_lambda: float = 0.0
     lame_mu: float = 0.5
     lateral: str = "free"   # "free" | "roller"
+    # A body against a plane (an [obstacle] table): its data are in body.json (engine.body).
+    body: bool = False
 
     @property
     def solid(self):
@@ -86,7 +88,9 @@ def parse(text):
     p, m, s, t, o = (raw.get(k, {}) for k in ("plate", "mass", "scheme", "time", "output"))
     if "solid" in raw:
         p = raw["solid"]
-    if "mesh" in p:
+    if "obstacle" in raw and "solid" in raw:
+        p = raw["solid"]
+    elif "mesh" in p:
         raise SceneError("plate.mesh: mesh files are not run by the engine yet (structured plates only)")
     kind = s.get("kind", "crank-nicolson")
     if kind not in SCHEMES:
@@ -102,6 +106,8 @@ def parse(text):
                   every=int(o.get("every", 1)), summary_l2=bool(o.get("summary_l2", True)),
                   vtu_every=int(vtu_every) if vtu_every else None,
                   divergence_factor=float(o.get("divergence_factor", 1e6)), raw=raw)
+    if "obstacle" in raw:
+        return _body(p, common)
     if "solid" in raw:
         return _solid(p, common)
     return Scene(
@@ -141,6 +147,16 @@ def _solid(p, common):
         field="vector", dim=dim, depth=float(p.get("depth", 1.0)) if dim == 3 else 0.0,
         nz=int(p.get("nz", 20)) if dim == 3 else 0, lame_lambda=float(p.get("lame_lambda", 0.0)),
         lame_mu=float(p.get("lame_mu", 0.5)), lateral=lateral, **common)
+
+
+def _body(p, common):
+    """A body :class:`Scene`: the mesh, weights, contact set, initial fields and force are in
+    body.json (written by massredist, read by engine.body); the table gives the dimension."""
+    dim = int(p.get("dim", 2))
+    return Scene(length=1.0, height=1.0, nx=1, ny=1, cells="body", density=float(p.get("density", 1.0)),
+                 modulus=math.nan, far_end="body", gap=0.0, initial="body", force=[0.0] * dim,
+                 field="vector", dim=dim, lame_lambda=float(p.get("lame_lambda", 0.0)),
+                 lame_mu=float(p.get("lame_mu", 0.5)), body=True, **common)
 
 
 # --- scene expressions (src/expr: x, y, L, H, pi; + - * / ^ **; sin cos tan exp log sqrt abs

@@ -29,7 +29,8 @@ class Step:
         self.u, self.v = problem.u0.copy(), problem.v0.copy()
         self.rhs, self.x = self.K.createVecLeft(), self.K.createVecLeft()
         nc = len(problem.contact)
-        self.lb = np.full(nc, 0.0 - problem.scene.gap)
+        # A body: −g_i per contact dof (engine.body); else the scene's one gap.
+        self.lb = problem.lb.copy() if hasattr(problem, "lb") else np.full(nc, 0.0 - problem.scene.gap)
         self.lam = np.zeros(nc)
         self.iterations = 0
         # Per step: (min_c u_c − lb_c, max λ_c, max |(u_c − lb_c) λ_c|, largest multiplier on an

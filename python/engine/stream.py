@@ -26,10 +26,20 @@ def _number(x):
 def encode(kind, fields):
     """One protocol line (with its newline): floats as numbers or non-finite strings, bools and
     ints as JSON."""
-    body = {"kind": kind}
+    return PREFIX + json.dumps({"kind": kind, **_values(fields)}) + "\n"
+
+
+def _values(fields):
+    """Numbers as in :func:`encode`; nested objects (a body's reports) and lists of numbers too."""
+    out = {}
     for k, v in fields.items():
-        body[k] = v if isinstance(v, (bool, int)) and not isinstance(v, float) else _number(v)
-    return PREFIX + json.dumps(body) + "\n"
+        if isinstance(v, dict):
+            out[k] = _values(v)
+        elif isinstance(v, (list, tuple)):
+            out[k] = [_number(x) for x in v]
+        else:
+            out[k] = v if isinstance(v, (bool, int)) and not isinstance(v, float) else _number(v)
+    return out
 
 
 def isolate_stdout():

@@ -28,6 +28,7 @@
 //! launcher), `MASSREDIST_PYTHON` (default `/usr/bin/python3`, Debian's, which sees dolfinx) and
 //! `MASSREDIST_ENGINE` (the entry point, default `python/fenicsx_engine.py` of this source tree).
 
+pub mod body;
 pub mod stream;
 
 use crate::driver::{DivergenceCriterion, DivergenceWatch, Observer};
@@ -153,6 +154,11 @@ pub trait EngineGeometry: crate::run::GeometrySpec {
     fn exact(&self, t_end: f64) -> Result<Option<Exact>, String>;
     /// The measures the observers read, with the engine's own mesh size.
     fn streamed(&self, head: &Head) -> StreamedGeometry;
+    /// Data the engine reads besides the scene (`body.json` of a body, [`body`]), and the
+    /// measures `[|Γ_C|, L, h]` the observers then read; None for the other geometries.
+    fn engine_data(&self, _mass: &crate::mass::MassKind, _t_end: f64) -> Result<Option<(String, [f64; 3])>, String> {
+        Ok(None)
+    }
 }
 
 impl EngineGeometry for PlateSpec {
@@ -172,15 +178,17 @@ impl EngineGeometry for PlateSpec {
             length: self.length,
             section: self.height,
             integrates: true,
+            body: Default::default(),
         }
     }
 }
 
-/// Solids: structured meshes of every cell kind; `solid.mesh` files not yet.
+/// Solids: structured boxes of every cell kind (a box from a `solid.mesh` file not yet), and
+/// bodies against an axis plane ([`body`]).
 impl EngineGeometry for SolidSpec {
     fn engine_refusal(&self) -> Option<String> {
         if self.body.is_some() {
-            return Some("[obstacle]: the fenicsx engine does not run bodies against a plane yet".into());
+            return body::refusal(self);
         }
         self.mesh_file.as_ref().map(|_| "solid.mesh: the fenicsx engine runs structured solids only (for now)".into())
     }
@@ -200,7 +208,12 @@ impl EngineGeometry for SolidSpec {
             length: l,
             section: if self.dim == 3 { h * d } else { h },
             integrates: self.cells.is_tensor(),
+            body: Default::default(),
         }
+    }
+
+    fn engine_data(&self, mass: &crate::mass::MassKind, t_end: f64) -> Result<Option<(String, [f64; 3])>, String> {
+        body::data(self, mass, t_end)
     }
 }
 
@@ -227,8 +240,12 @@ pub fn run<G: EngineGeometry>(scene: &Scene<G>, out: OutputDir, ranks: usize) ->
     let staging = out.staging().to_path_buf();
     let scene_file = staging.join("scene.resolved.toml");
     std::fs::write(&scene_file, &resolved).map_err(EngineError::Output)?;
+    let data = scene.geometry.engine_data(&scene.mass, scene.time.end).map_err(EngineError::Scene)?;
+    if let Some((json, _)) = &data {
+        std::fs::write(staging.join("body.json"), json).map_err(EngineError::Output)?;
+    }
     let mut child = Engine::start(ranks, &scene_file, &staging)?;
-    let consumed = consume(scene, exact.as_ref(), &staging, &mut child);
+    let consumed = consume(scene, exact.as_ref(), data.map(|d| d.1), &staging, &mut child);
     let status = child.finish()?;
     if let (Err(EngineError::Ended), false) = (&consumed, status.success()) {
         return Err(too_many_ranks(ranks).unwrap_or(EngineError::Failed { ranks, status: status.to_string() }));
@@ -252,6 +269,7 @@ pub fn run<G: EngineGeometry>(scene: &Scene<G>, out: OutputDir, ranks: usize) ->
 fn consume<G: EngineGeometry>(
     scene: &Scene<G>,
     exact: Option<&Exact>,
+    body: Option<[f64; 3]>,
     staging: &Path,
     child: &mut Engine,
 ) -> Result<(Head, Summary), EngineError> {
@@ -262,7 +280,11 @@ fn consume<G: EngineGeometry>(
         // The engine ended before its problem was set up (its message is on stderr).
         None => return Err(EngineError::Ended),
     };
-    let geometry = scene.geometry.streamed(&head);
+    let mut geometry = scene.geometry.streamed(&head);
+    // A body: its contact area, extent and mesh size as the Rust run reads them.
+    if let Some([section, length, h]) = body {
+        (geometry.section, geometry.length, geometry.h) = (section, length, h);
+    }
     let o = &scene.output;
     let mut summary = SummaryObserver::of_view(&geometry, exact, scene.time.steps, scene.time.dt, o.summary_l2);
     let mut series = match o.series.is_empty() {

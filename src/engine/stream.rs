@@ -24,7 +24,7 @@
 use crate::driver::ContactStats;
 use crate::driver::{Divergence, DivergenceReason, DivergenceWatch, Observer, Sample, Verdict};
 use crate::exact::Exact;
-use crate::problem::GeometryView;
+use crate::problem::{BodyStats, GeometryView};
 use crate::schemes::StateView;
 use serde::Deserialize;
 
@@ -85,6 +85,8 @@ pub struct Record {
     /// The step's solver iterations (SNES), in the place of a Rust run's pivots.
     pub iterations: usize,
     pub contact: ContactStats,
+    /// A body's reports (world components), absent for the other geometries.
+    pub body: Option<BodyStats>,
 }
 
 /// One protocol record.
@@ -124,11 +126,25 @@ enum Wire {
         max_lambda: Num,
         max_product: Num,
         touching: bool,
+        #[serde(default)]
+        body: Option<WireBody>,
     },
     NonFinite {
         n: usize,
         t: Num,
     },
+}
+
+/// A body's reports in a `sample` record: `{contact_force, active, min_distance, momentum,
+/// mean_u}` (the last two: 3 world components).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WireBody {
+    contact_force: Num,
+    active: usize,
+    min_distance: Num,
+    momentum: [Num; 3],
+    mean_u: [Num; 3],
 }
 
 /// Parses one line of the engine's standard output: None if it is not a protocol line (it is
@@ -159,6 +175,7 @@ pub fn parse(line: &str) -> Option<Result<Message, String>> {
             max_lambda,
             max_product,
             touching,
+            body,
         } => Message::Sample(Record {
             n,
             t: t.0,
@@ -172,6 +189,13 @@ pub fn parse(line: &str) -> Option<Result<Message, String>> {
             exact_interp_norm: exact_interp_norm.0,
             iterations,
             contact: ContactStats { min_u: min_u.0, max_lambda: max_lambda.0, max_product: max_product.0, touching },
+            body: body.map(|b| BodyStats {
+                contact_force: b.contact_force.0,
+                active: b.active,
+                min_distance: b.min_distance.0,
+                momentum: b.momentum.map(|x| x.0),
+                mean_u: b.mean_u.map(|x| x.0),
+            }),
         }),
         Wire::NonFinite { n, t } => Message::NonFinite { n, t: t.0 },
     }))
@@ -191,6 +215,8 @@ pub struct StreamedGeometry {
     pub section: f64,
     /// Whether the engine integrates the exact L² error (structured tensor cells, and plates).
     pub integrates: bool,
+    /// A body's reports of the state being shown (set by [`Observed::show`] on its copy).
+    pub body: Option<BodyStats>,
 }
 
 impl GeometryView for StreamedGeometry {
@@ -234,6 +260,9 @@ impl GeometryView for StreamedGeometry {
         0
     }
     fn nodal_values(&self, _u: &[f64], _out: &mut [f64]) {}
+    fn body_stats(&self, _u: &[f64], _v: &[f64], _lambda: &[f64]) -> Option<BodyStats> {
+        self.body
+    }
 }
 
 /// The reply to a `sample` record (python/engine/stream.py).
@@ -289,10 +318,11 @@ impl<'a> Observed<'a> {
             self.divergence = Some(d);
             return Reply::Hide;
         }
+        let geometry = StreamedGeometry { body: r.body, ..self.geometry.clone() };
         let state = StateView { n: r.n, t: r.t, u: &[], v: &[], lambda: &[] };
         let sample = Sample {
             state,
-            geometry: self.geometry,
+            geometry: &geometry,
             exact: self.exact,
             energy: r.energy,
             l2_error: r.l2_error,
