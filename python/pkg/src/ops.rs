@@ -55,24 +55,13 @@ impl Body for BarSystem {
     }
 }
 
-/// meshio's name of a cell kind.
-fn meshio_name(kind: massredist::fem::Cell) -> &'static str {
-    use massredist::fem::Cell;
-    match kind {
-        Cell::Triangle => "triangle",
-        Cell::Quad => "quad",
-        Cell::Tet => "tetra",
-        Cell::Hex => "hexahedron",
-    }
-}
-
 fn fem_mesh(mesh: &massredist::fem::Mesh) -> MeshArrays {
     MeshArrays {
         points: mesh.points.iter().flatten().copied().collect(),
         dim: mesh.dim,
         cells: mesh.cells.clone(),
         verts: mesh.kind.verts(),
-        kind: meshio_name(mesh.kind),
+        kind: mesh.kind.data().meshio,
     }
 }
 
