@@ -21,7 +21,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from . import layers
-from .problem import _TO_DOLFINX, _assembled, _stiffness_form
+from .problem import _TO_DOLFINX, Problem, _assembled, _stiffness_form
 
 
 # Our P2 node order (vertices, then the edges (0,1), (1,2), (0,2)[, (0,3), (1,3), (2,3)], VTK's)
@@ -130,22 +130,10 @@ class BodyProblem:
         a[:, self.axis] *= self.sign
         return vec
 
-    def lower(self, values):
-        """Bounds for the step QP: ``values`` on the contact dofs, −∞ elsewhere."""
-        xl = self.M.createVecLeft()
-        xl.set(PETSc.NINFINITY)
-        xl.getArray()[self.contact] = values
-        return xl
-
-    def energy(self, u, v):
-        """``½ VᵀMV + ½ UᵀSU − UᵀF`` (src/system.rs)."""
-        return 0.5 * _quad(self.M, v) + 0.5 * _quad(self.S, u) - u.dot(self.F)
-
-
-def _quad(mat, x):
-    y = mat.createVecLeft()
-    mat.mult(x, y)
-    return x.dot(y)
+    # The step QP's bounds and the discrete energy, as for the box (the same attributes M, S, F,
+    # contact): one definition, in problem.py.
+    lower = Problem.lower
+    energy = Problem.energy
 
 
 class BodySampler:
