@@ -215,7 +215,6 @@ fn spd_inverse(mut a: Vec<f64>, n: usize) -> Result<Vec<f64>, usize> {
 mod tests {
     use super::*;
     use crate::contact::Backend;
-    use crate::linalg::SymMatrix;
     use crate::linalg::tridiag::SymTridiag;
 
     /// On a tridiagonal K with contact node 0: the result solves `K U = r − σ λ e_0` with
