@@ -160,6 +160,14 @@ fn a_box_written_as_a_body_gives_the_box_numbers() {
                 .fold(f64::NEG_INFINITY, |m, &x| m.max(-x))
         );
         assert!(sa.body.is_none());
+        // summary.json: the box keeps its `gap` and `lateral`; a body has neither (its plane is
+        // [obstacle]). Mutation: always Some in SolidHead -> fails.
+        let ja: serde_json::Value =
+            serde_json::from_str(&massredist::run::summary_json(&boxed, &a.problem, sa)).unwrap();
+        let jb: serde_json::Value =
+            serde_json::from_str(&massredist::run::summary_json(&body, &b.problem, sb)).unwrap();
+        assert_eq!((ja["gap"].as_f64(), ja["lateral"].as_str()), (Some(gap), Some("free")));
+        assert!(jb.get("gap").is_none() && jb.get("lateral").is_none(), "{jb}");
     }
 }
 

@@ -111,11 +111,14 @@ pub struct SolidHead {
     #[serde(skip_serializing_if = "Option::is_none")]
     nz: Option<usize>,
     cells: &'static str,
-    lateral: &'static str,
+    /// The box's lateral faces and gap (absent for a body: its plane is `[obstacle]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lateral: Option<&'static str>,
     lame_lambda: f64,
     lame_mu: f64,
     density: f64,
-    gap: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gap: Option<f64>,
     initial: &'static str,
     /// `∫ ρ w_h` (per component).
     total_mass: f64,
@@ -139,7 +142,7 @@ impl GeometrySpec for SolidSpec {
 
     fn summary_head(scene: &Scene<Self>, totals: &Totals) -> SolidHead {
         let s = &scene.geometry;
-        let three = s.dim == 3;
+        let (three, boxed) = (s.dim == 3, s.body.is_none());
         SolidHead {
             dim: s.dim,
             height: s.extent[1],
@@ -148,11 +151,11 @@ impl GeometrySpec for SolidSpec {
             ny: s.cells_per_axis[1],
             nz: three.then_some(s.cells_per_axis[2]),
             cells: s.cells.name(),
-            lateral: s.lateral.name(),
+            lateral: boxed.then_some(s.lateral.name()),
             lame_lambda: s.lame.lambda,
             lame_mu: s.lame.mu,
             density: s.lame.density,
-            gap: s.gap,
+            gap: boxed.then_some(s.gap),
             initial: s.initial.name(),
             total_mass: totals.total_mass,
             unknowns: totals.unknowns,
