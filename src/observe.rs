@@ -530,26 +530,16 @@ impl Column {
         Column::MeanU(1),
         Column::MeanU(2),
     ];
-    /// The columns of a solid scene: a plate's, and a body's.
-    pub const SOLID: [Column; 17] = [
-        Column::U0,
-        Column::UMean,
-        Column::Lambda,
-        Column::ContactForce,
-        Column::Energy,
-        Column::L2Error,
-        Column::ExactU0,
-        Column::ExactLambda,
-        Column::Pivots,
-        Column::ActiveNodes,
-        Column::MinDistance,
-        Column::Momentum(0),
-        Column::Momentum(1),
-        Column::Momentum(2),
-        Column::MeanU(0),
-        Column::MeanU(1),
-        Column::MeanU(2),
-    ];
+    /// The columns of a solid scene: a plate's, then a body's.
+    pub const SOLID: [Column; 17] = {
+        let mut all = [Column::U0; 17];
+        let mut k = 0;
+        while k < 17 {
+            all[k] = if k < 9 { Column::PLATE[k] } else { Column::BODY[k - 9] };
+            k += 1;
+        }
+        all
+    };
 
     /// Whether only a body has this column.
     pub fn is_body(self) -> bool {
