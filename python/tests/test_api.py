@@ -77,7 +77,9 @@ def test_replace_removes_with_none_and_keeps_the_original():
 
 def test_callback_sees_every_kth_state():
     seen = []
-    run = mr.run(FIG11, callback=seen.append, every=50)
+    # The arrays are views refreshed in place: a state kept past its call is copied.
+    keep = lambda s: seen.append(s._replace(u=s.u.copy(), v=s.v.copy(), reaction=s.reaction.copy()))
+    run = mr.run(FIG11, callback=keep, every=50)
     assert [s.n for s in seen] == list(range(0, 301, 50))
     for s in seen:
         assert s.u.shape == (7, 1) and s.reaction.shape == (1,)
@@ -85,6 +87,24 @@ def test_callback_sees_every_kth_state():
         assert s.energy == run.series["energy"][s.n]
         assert s.u[0, 0] == run.series["u0"][s.n]
     np.testing.assert_array_equal(seen[-1].u, run.fields.u)
+
+
+def test_callback_arrays_are_read_only_views_refreshed_in_place():
+    arrays, u0 = [], []
+
+    def look(s):
+        arrays.append((s.u, s.v, s.reaction))
+        u0.append(s.u[0, 0])
+        with pytest.raises(ValueError, match="read-only"):
+            s.u[0, 0] = 1.0
+
+    run = mr.run(FIG11, callback=look, every=100)
+    # The same three arrays at every call ...
+    assert all(a[k] is arrays[0][k] for a in arrays for k in range(3))
+    # ... holding that call's state (u0 moves between the calls), and the last state after.
+    assert u0 == [run.series["u0"][n] for n in (0, 100, 200, 300)] and len(set(u0)) > 1
+    np.testing.assert_array_equal(arrays[0][0], run.fields.u)
+    np.testing.assert_array_equal(arrays[0][1], run.fields.v)
 
 
 def test_callback_exception_stops_the_run():

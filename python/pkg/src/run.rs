@@ -6,7 +6,8 @@
 //!   handlers (Ctrl-C raises `KeyboardInterrupt` there); an exception halts the run (the
 //!   driver takes no further step) and is raised once `run_scene` returns. Nothing is written
 //!   anywhere, so nothing is left half-written.
-//! - [`Callback`] calls a Python function every k steps with the state at the mesh nodes.
+//! - [`Callback`] calls a Python function every k steps with views of the state at the mesh
+//!   nodes (read-only arrays refreshed in place).
 
 use crate::errors::run_error;
 use crate::ops::{Body, put_mesh};
@@ -16,7 +17,7 @@ use massredist::observe::Status;
 use massredist::problem::GeometryView;
 use massredist::run::{GeometrySpec, run_scene, summary_json};
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::time::{Duration, Instant};
@@ -52,23 +53,62 @@ impl Observer for Interrupt {
 
 /// Calls `f(n, t, u, v, reaction, energy)` every `every` steps: u and v at the mesh nodes
 /// (n × components), the contact reactions λ_c in contact order; an exception halts the run.
+///
+/// The arrays are views of the run's state: the same three read-only numpy arrays at every
+/// call, refreshed in place (the nodal values are written straight into numpy's memory, no
+/// allocation per call). A caller who keeps a state copies it (`u.copy()`).
 struct Callback<'a> {
     f: &'a Py<PyAny>,
     every: usize,
     error: Option<PyErr>,
+    views: Option<Views>,
+}
+
+/// The three arrays a [`Callback`] hands out (see there).
+struct Views {
+    u: Py<PyArray2<f64>>,
+    v: Py<PyArray2<f64>>,
+    reaction: Py<PyArray1<f64>>,
+}
+
+impl Views {
+    /// Zeroed arrays of the state's shapes, flagged read-only for Python.
+    fn new(py: Python<'_>, shape: (usize, usize), contacts: usize) -> Self {
+        let u = PyArray2::<f64>::zeros(py, [shape.0, shape.1], false);
+        let v = PyArray2::<f64>::zeros(py, [shape.0, shape.1], false);
+        let reaction = PyArray1::<f64>::zeros(py, contacts, false);
+        // Only Python is refused writes: this module writes through `as_slice_mut`.
+        let (u, v) = (u.readwrite().make_nonwriteable(), v.readwrite().make_nonwriteable());
+        let reaction = reaction.readwrite().make_nonwriteable();
+        Views {
+            u: u.as_unbound().clone_ref(py),
+            v: v.as_unbound().clone_ref(py),
+            reaction: reaction.as_unbound().clone_ref(py),
+        }
+    }
 }
 
 impl Callback<'_> {
-    fn call(&self, s: &Sample) -> PyResult<()> {
+    fn call(&mut self, s: &Sample) -> PyResult<()> {
         let shape = (s.geometry.n_nodes(), s.geometry.components());
-        let n = shape.0 * shape.1;
-        let (mut u, mut v) = (vec![0.0; n], vec![0.0; n]);
-        s.geometry.nodal_values(s.state.u, &mut u);
-        s.geometry.nodal_values(s.state.v, &mut v);
         Python::attach(|py| {
-            let u = Array2::from_shape_vec(shape, u).expect("n × components").into_pyarray(py);
-            let v = Array2::from_shape_vec(shape, v).expect("n × components").into_pyarray(py);
-            let reaction = PyArray1::from_slice(py, s.state.lambda);
+            let stale = self.views.as_ref().is_none_or(|w| w.reaction.bind(py).len() != s.state.lambda.len());
+            if stale {
+                self.views = Some(Views::new(py, shape, s.state.lambda.len()));
+            }
+            let w = self.views.as_ref().expect("set above");
+            let (u, v, reaction) = (w.u.bind(py), w.v.bind(py), w.reaction.bind(py));
+            // SAFETY: the arrays are C-contiguous and were allocated by `Views::new`; the GIL is
+            // held, so no Python code reads them while they are written, and no Rust borrow of
+            // them is alive (numpy's own borrow flags are not needed for that).
+            unsafe {
+                let (u, v) = (u.as_slice_mut().expect("contiguous"), v.as_slice_mut().expect("contiguous"));
+                u.fill(0.0);
+                v.fill(0.0);
+                s.geometry.nodal_values(s.state.u, u);
+                s.geometry.nodal_values(s.state.v, v);
+                reaction.as_slice_mut().expect("contiguous").copy_from_slice(s.state.lambda);
+            }
             self.f.call1(py, (s.state.n, s.state.t, u, v, reaction, s.energy))?;
             Ok(())
         })
@@ -110,7 +150,7 @@ where
 {
     let mut interrupt = Interrupt { steps: 0, last: Instant::now(), error: None };
     let result = py.detach(|| {
-        let mut callback = callback.map(|f| Callback { f, every: every.max(1), error: None });
+        let mut callback = callback.map(|f| Callback { f, every: every.max(1), error: None, views: None });
         let mut extra: Vec<&mut dyn Observer> = vec![&mut interrupt];
         if let Some(c) = callback.as_mut() {
             extra.push(c);

@@ -125,7 +125,11 @@ def check(scene: SceneLike) -> dict[str, Any]:
 
 
 class State(NamedTuple):
-    """The state a :func:`run` callback receives every ``every`` steps (copies: keep them)."""
+    """The state a :func:`run` callback receives every ``every`` steps.
+
+    ``u``, ``v`` and ``reaction`` are views of the run's state: the same read-only arrays at
+    every call, refreshed in place before it (no allocation per call). Copy what you keep:
+    ``kept.append(state.u.copy())``."""
 
     n: int
     """The step number (t = n Δt)."""

@@ -77,7 +77,10 @@ def run(
     callback: Callable[[int, float, np.ndarray, np.ndarray, np.ndarray, float], Any] | None = None,
     every: int = 1,
 ) -> dict[str, Any]:
-    """A run: status, summary_json, columns, series, t, u, v, reaction and the mesh."""
+    """A run: status, summary_json, columns, series, t, u, v, reaction and the mesh.
+
+    ``callback(n, t, u, v, reaction, energy)`` receives views: the same read-only arrays at
+    every call, refreshed in place."""
 
 def operators(scene: Scene) -> dict[str, Any]:
     """The assembled operators (CSR triples) and the mesh."""
