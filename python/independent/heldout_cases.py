@@ -1,0 +1,202 @@
+"""Held-out body scenes (issue 19, first "Done when"): generated here (meshes by heldout_meshes,
+not shipped in scenes/), run by the `massredist` binary and by heldout_body, and compared key by
+key: every numeric key of the body's summary.json.
+
+Usage: /usr/bin/python3 python/independent/heldout_cases.py MASSREDIST_BINARY [--keep DIR] [NAME...]
+Prints one line per key and exits 1 if any key differs by more than 1e-7 of its scale (the
+scale of each key is printed with it and explained in `SCALES`).
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import heldout_body  # noqa: E402
+import heldout_fem  # noqa: E402
+import heldout_meshes as hm  # noqa: E402
+import scene_toml  # noqa: E402
+
+
+def disc_mesh(order, gap, half=False):
+    centre = (0.0, 1.0 + gap)
+    pts, tris = hm.disc(1.0, centre, 3, half=half)
+    if order == 2:
+        pts, tris = hm.to_p2(pts, tris, hm.on_circle(1.0, centre, hm.boundary_edge_keys(pts, tris)))
+    return (pts, tris, order), {"top": lambda p, c=centre[1]: abs(p[1] - c) < 1e-12}
+
+
+def rect_mesh():
+    pts, tris = hm.rectangle(1.0, 0.5, 4, 2)
+    pts, tris = hm.to_p2(pts, tris)
+    return (pts, tris, 2), {"xmax": lambda p: abs(p[0] - 1.0) < 1e-12, "ymin": lambda p: abs(p[1]) < 1e-12}
+
+
+def box_mesh(order):
+    """The box (0, 1) x (0, 1) x (0, 0.5); P2 mapped by x' = x + 0.05 sin(pi y) z,
+    y' = y + 0.05 sin(pi x) z, z' = z + 0.2 x z (0.5 - z): curved cells, planar bottom and top."""
+    pts, tets = hm.box_tets((1.0, 1.0, 0.5), 2)
+    if order == 2:
+        pts, tets = hm.to_p2(pts, tets)
+        x, y, z = pts.T.copy()
+        pts = np.column_stack([x + 0.05 * np.sin(np.pi * y) * z, y + 0.05 * np.sin(np.pi * x) * z, z + 0.2 * x * z * (0.5 - z)])
+    return (pts, tets, order), {"top": lambda p: abs(p[2] - 0.5) < 1e-12}
+
+
+def case(name, mesh, scheme, mass, rule, gap=0.0, normal=None, force=None, v0=None, u0=None, clamped=None,
+         contact="auto", lam=2.0, mu=1.0, rho=1.0, dt=0.01, end=0.3):
+    (pts, cells, order), groups = mesh
+    d = pts.shape[1]
+    normal = normal or [0.0] * (d - 1) + [1.0]
+    n = np.array(normal) / np.linalg.norm(normal)
+    # The plane `gap` below the lowest node along n (point = X_low - gap n).
+    low = pts[np.argmin(pts @ n)]
+    point = [float(x) for x in low - gap * n]
+    return dict(name=name, mesh=(pts, cells, order), groups=groups, scheme=scheme, mass=mass, rule=rule,
+                normal=normal, point=point, force=force or ["0"] * (d - 1) + ["-1"], u0=u0 or ["0"] * d,
+                v0=v0 or ["0"] * d, clamped=clamped, contact=contact, lam=lam, mu=mu, rho=rho, dt=dt, end=end)
+
+
+def cases():
+    disc2, disc2g, disc1g = disc_mesh(2, 0.0), disc_mesh(2, 0.03), disc_mesh(1, 0.03)
+    half2 = disc_mesh(2, 0.0, half=True)
+    tet10, tet4 = box_mesh(2), box_mesh(1)
+    return [
+        # Free P2 discs (curved boundary cells: the degree-5 Grundmann-Moller rule).
+        case("disc-p2-rest-cn-mod3-g", disc2, "crank-nicolson", "mod3", "gm5"),
+        case("disc-p2-drop-cn-mod1", disc2g, "crank-nicolson", "mod1", "gm5", gap=0.025, force=["0", "0"], v0=["0", "-1"], lam=20.0, mu=10.0, end=1.0),
+        case("disc-p2-drop-be-mod2-g-tilted", disc2g, "backward-euler", "mod2", "gm5", gap=0.02, normal=[0.2, 1.0],
+             v0=["0.1", "-1"], end=0.4),
+        case("disc-p2-drop-hybrid-mod3-g", disc2g, "hybrid", "mod3", "gm5", gap=0.03, v0=["0", "-1"], end=0.4),
+        case("disc-p2-rest-hybrid-mod1-gx", disc2, "hybrid", "mod1", "gm5", force=["0", "-1 - 0.5*x"],
+             u0=["0", "0.01*x*x"]),
+        case("disc-p2-drop-cn-standard-g", disc2g, "crank-nicolson", "standard", "gm5", gap=0.03, v0=["0", "-1"]),
+        # Free P1 discs (any rule is exact: the collapsed Gauss one).
+        case("disc-p1-drop-cn-standard-g", disc1g, "crank-nicolson", "standard", "gauss", gap=0.03, v0=["0", "-1"], end=0.4),
+        case("disc-p1-drop-hybrid-mod2", disc1g, "hybrid", "mod2", "gauss", gap=0.025, force=["0", "0"], v0=["0.2", "-1"], lam=20.0, mu=10.0, end=1.3),
+        # Half discs clamped on their flat top ("top"), curved bottom touching the floor.
+        case("halfdisc-p2-clamped-cn-mod1-t", half2, "crank-nicolson", "mod1", "gm5", force=["0", "-2*sin(10*t)"],
+             v0=["0", "-0.3"], clamped="top", end=0.4),
+        case("halfdisc-p2-clamped-be-standard-g", half2, "backward-euler", "standard", "gm5", gap=0.01,
+             v0=["0", "-0.5"], clamped="top"),
+        case("halfdisc-p2-clamped-hybrid-mod3-t", half2, "hybrid", "mod3", "gm5", force=["0.2*t", "-1"], clamped="top"),
+        # A straight-sided P2 rectangle (the collapsed Gauss rule: exact), clamped on xmax.
+        case("rect-p2-clamped-be-mod3-tilted", rect_mesh(), "backward-euler", "mod3", "gauss", gap=0.02,
+             normal=[0.1, 1.0], force=["0", "0"], v0=["0", "-1"], clamped="xmax", contact="ymin"),
+        case("rect-p2-clamped-cn-mod2-g", rect_mesh(), "crank-nicolson", "mod2", "gauss", gap=0.01,
+             v0=["0", "-1"], clamped="xmax", contact="ymin"),
+        # 3D: curved tetra10 (Grundmann-Moller), straight tetra (collapsed Gauss).
+        case("tet10-drop-cn-mod3-g-tilted", tet10, "crank-nicolson", "mod3", "gm5", gap=0.02, normal=[0.1, 0.05, 1.0],
+             v0=["0", "0", "-1"], end=0.2),
+        case("tet10-clamped-hybrid-mod2-g", tet10, "hybrid", "mod2", "gm5", gap=0.01, v0=["0", "0", "-1"],
+             clamped="top", end=0.2),
+        case("tet10-clamped-be-standard", tet10, "backward-euler", "standard", "gm5", gap=0.01, force=["0", "0", "0"],
+             v0=["0", "0", "-1"], clamped="top", end=0.2),
+        case("tet4-drop-be-mod1", tet4, "backward-euler", "mod1", "gauss", gap=0.02, force=["0", "0", "0"],
+             v0=["0", "0", "-1"], end=0.3),
+        case("tet4-drop-hybrid-mod3-g", tet4, "hybrid", "mod3", "gauss", gap=0.02, v0=["0", "0", "-1"], end=0.3),
+    ]
+
+
+def scene_text(c, mesh_file):
+    s = lambda v: ", ".join(f'"{x}"' for x in v)
+    lines = ["[solid]", f"dim = {c['mesh'][0].shape[1]}", f'mesh = "{mesh_file}"', f"lame_lambda = {c['lam']!r}",
+             f"lame_mu = {c['mu']!r}", f"density = {c['rho']!r}", f"force = [{s(c['force'])}]",
+             f"initial = {{ displacement = [{s(c['u0'])}], velocity = [{s(c['v0'])}] }}"]
+    return "\n".join(lines + scene_toml.body_tail(c, c["scheme"])) + "\n"
+
+
+def scales(mine, ours):
+    """The scale each key is measured against (|difference| <= 1e-7 scale):
+    - energies and energy increments: the largest |E^n| of the run (an increment is a difference
+      of energies: relative to itself it would measure round-off, e.g. CN's 1e-16 steps);
+    - displacements (final_u0, min_u0, final_u_mean, min_distance, mean displacement): the
+      largest displacement key of the run, at least 1e-3 (the gaps are 0.01 - 0.03);
+    - reactions (max/final contact force, max_lambda): max_contact_force, at least 1e-3;
+      the complementarity product: that times the displacement scale;
+    - momentum: its largest component, at least 1e-3 x total_mass;
+    - total_mass, h: themselves (relative); times and counts: exact (1e-7 absolute)."""
+    E = max(abs(mine["energy_max"]), abs(mine["energy_min"]), 1e-300)
+    U = max(1e-3, abs(mine["min_u0"]), abs(mine["final_u0"]), abs(mine["final_u_mean"]),
+            max(abs(x) for x in mine["final_mean_displacement"]))
+    R = max(1e-3, abs(mine["max_contact_force"]))
+    P = max(1e-3 * mine["total_mass"], max(abs(x) for x in mine["final_momentum"]))
+    out = {k: E for k in ("energy_initial", "energy_final", "energy_min", "energy_max", "energy_max_increase",
+                          "energy_max_increase_after_first")}
+    out.update({k: U for k in ("final_u0", "min_u0", "final_u_mean", "min_distance", "final_mean_displacement",
+                               "max_y_variation")})
+    out.update(max_contact_force=R, final_contact_force=R, max_lambda=R, max_complementarity_product=R * U,
+               final_momentum=P, total_mass=mine["total_mass"], h=mine["h"])
+    return out
+
+
+def compare(c, mine, ours):
+    """Lines and the worst scaled difference of every key (energy_max_increase_step: the other
+    side's step must be a step whose increment here equals the largest within 1e-7 E)."""
+    sc = scales(mine, ours)
+    worst, lines = 0.0, []
+    for key, value in mine.items():
+        if key == "energy_increments":
+            continue
+        theirs = ours[key]
+        if key == "energy_max_increase_step":
+            inc = mine["energy_increments"]
+            diff = abs(inc[theirs - 1] - inc.max()) / sc["energy_max"] if 1 <= theirs <= len(inc) else math.inf
+            scale_txt = "E (its increment)"
+        elif value is None or theirs is None:
+            diff = 0.0 if value is None and theirs is None else math.inf
+            scale_txt = "null"
+        else:
+            a, b = np.atleast_1d(np.array(value, float)), np.atleast_1d(np.array(theirs, float))
+            s = sc.get(key, 1.0)
+            diff = float(np.max(np.abs(a - b))) / s
+            scale_txt = f"{s:.3g}" if key in sc else "exact"
+        worst = max(worst, diff)
+        flag = "" if diff <= 1e-7 else "   <-- DISAGREES"
+        show = lambda v: json.dumps(v if not isinstance(v, float) else float(f"{v:.12g}"))
+        lines.append(f"{c['name']:34s} {key:32s} numpy {show(value)[:40]:>40s}  massredist {show(theirs)[:40]:>40s}"
+                     f"  scale {scale_txt:>9s}  {diff:.1e}{flag}")
+    # Keys of the summary not checked here, said once per case.
+    skipped = sorted(set(ours) - set(mine))
+    return worst, lines, skipped
+
+
+def main(argv):
+    binary = argv[1]
+    keep = argv[argv.index("--keep") + 1] if "--keep" in argv else None
+    names = [a for a in argv[2:] if not a.startswith("--") and a != keep]
+    heldout_fem.check_rules()
+    worst = 0.0
+    with tempfile.TemporaryDirectory() as tmp:
+        root = keep or tmp
+        os.makedirs(root, exist_ok=True)
+        for c in cases():
+            if names and c["name"] not in names:
+                continue
+            pts, cells, order = c["mesh"]
+            msh = os.path.join(root, c["name"] + ".msh")
+            hm.write_msh(msh, pts, cells, order, c["groups"])
+            path = os.path.join(root, c["name"] + ".toml")
+            with open(path, "w") as f:
+                f.write(scene_text(c, os.path.basename(msh)))
+            out = os.path.join(root, c["name"])
+            r = subprocess.run([binary, "run", path, "--out", out], capture_output=True, text=True)
+            if r.returncode != 0:
+                print(f"{c['name']}: massredist failed ({r.returncode}): {r.stderr}")
+                return 1
+            ours = json.load(open(os.path.join(out, "summary.json")))
+            mine = heldout_body.summary(c)
+            w, lines, skipped = compare(c, mine, ours)
+            worst = max(worst, w)
+            print("\n".join(lines))
+            print(f"{c['name']:34s} not compared: {', '.join(skipped)}")
+    print(f"largest scaled difference: {worst:.2e} (limit 1e-7)")
+    return 0 if worst <= 1e-7 else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,13 @@
+"""The TOML tables a body scene ends with (issue 19), shared by the independent scripts:
+`clamped` (if any), [obstacle], [mass], [scheme], [time]."""
+
+
+def body_tail(c, scheme):
+    """Lines from solid.clamped to the end, for a case dict with normal, point, contact,
+    clamped, mass, dt, end."""
+    fmt = lambda v: ", ".join(repr(float(x)) for x in v)
+    lines = [f'clamped = "{c["clamped"]}"'] if c["clamped"] else []
+    lines += ["[obstacle]", f"normal = [{fmt(c['normal'])}]", f"point = [{fmt(c['point'])}]", f'contact = "{c["contact"]}"',
+              "[mass]", f'kind = "{c["mass"]}"', "[scheme]", f'kind = "{scheme}"', "[time]", f"dt = {c['dt']!r}",
+              f"end = {c['end']!r}"]
+    return lines
