@@ -50,6 +50,13 @@ fn independent(script: &str) -> String {
 /// Measured: 4.7e-9 (the P1 disc with the standard mass and CN, whose contact chatters: its
 /// reactions are ill-conditioned), 4.1e-10 (the P2 one), the 16 others 1.2e-13 – 1.4e-12.
 /// About 10 s.
+/// mutations, as run (the script on the mutated debug binary, each reverted): P2 segment shares
+/// 1/4, 1/4, 1/2 in body.rs -> final_u_mean off by 9.4e-3 in the 9 curved P2 disc cases; the
+/// hybrid's midpoint load at t_{n+1} (not t_{n+½}) -> the half disc with f(t) off by 1.6e-3 in
+/// 11 keys; the hybrid's midpoint contact rows bounded by lb (not (u_Cⁿ + lb)/2) -> all 6 hybrid
+/// cases off by up to 9.3e-4; "auto" taking the facets' vertices only (no edge nodes) -> all 12
+/// P2 "auto" cases disagree (contact sets differ); tetra10 read in gmsh order without the 8↔9
+/// swap -> the binary refuses the tetra10 meshes as tangled (the script exits 1).
 #[test]
 fn held_out_bodies_agree_with_an_independent_implementation_in_every_summary_key() {
     let text = independent("heldout_cases.py");
