@@ -188,12 +188,20 @@ def summary(case):
                max_y_variation=0.0, max_contact_force=-np.inf, min_distance=np.inf, min_u0=np.inf,
                max_lambda=-np.inf, max_complementarity_product=0.0, first_impact_time=None, first_release_time=None)
     energies = []
+    series = {k: [] for k in ("contact_force", "active_nodes", "min_distance")}
+    axes = "xyz"[:d]
     for k, (U, V, mu) in enumerate(states):
         t = k * dt
         un = B @ U
         dist = un + g
         touching = dist <= 1e-12  # the LCP puts an active node at d = 0 up to round-off
         energies.append(0.5 * V @ M @ V + 0.5 * U @ S @ U - sys["load"](t) @ U)
+        series["contact_force"].append(mu.sum())
+        series["active_nodes"].append(int(touching.sum()))
+        series["min_distance"].append(dist.min())
+        for i, x in enumerate(axes):
+            series.setdefault(f"momentum_{x}", []).append((sys["lumped"] * V)[sys["comp"] == i].sum())
+            series.setdefault(f"mean_u_{x}", []).append((sys["lumped1"] * U)[sys["comp"] == i].sum() / sys["volume"])
         rep["max_contact_force"] = max(rep["max_contact_force"], mu.sum())
         rep["min_distance"] = min(rep["min_distance"], dist.min())
         rep["min_u0"] = min(rep["min_u0"], un.min())
@@ -212,5 +220,5 @@ def summary(case):
     dE = np.diff(E)
     rep.update(energy_initial=E[0], energy_final=E[-1], energy_min=E.min(), energy_max=E.max(),
                energy_max_increase=dE.max(), energy_max_increase_step=int(np.argmax(dE)) + 1,
-               energy_max_increase_after_first=dE[1:].max(), energy_increments=dE)
+               energy_max_increase_after_first=dE[1:].max(), energy_increments=dE, series=dict(series, energy=E))
     return rep
