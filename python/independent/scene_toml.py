@@ -8,6 +8,7 @@ def body_tail(c, scheme):
     fmt = lambda v: ", ".join(repr(float(x)) for x in v)
     lines = [f'clamped = "{c["clamped"]}"'] if c["clamped"] else []
     lines += ["[obstacle]", f"normal = [{fmt(c['normal'])}]", f"point = [{fmt(c['point'])}]", f'contact = "{c["contact"]}"',
-              "[mass]", f'kind = "{c["mass"]}"', "[scheme]", f'kind = "{scheme}"', "[time]", f"dt = {c['dt']!r}",
+              "[mass]", f'kind = "{c["mass"]}"'] + ([f"weights = [{fmt(c['weights'])}]"] if c.get("weights") is not None else []) + [
+              "[scheme]", f'kind = "{scheme}"', "[time]", f"dt = {c['dt']!r}",
               f"end = {c['end']!r}"]
     return lines
