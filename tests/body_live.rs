@@ -34,8 +34,9 @@ fn independent(script: &str) -> String {
 /// Held-out bodies (issue 19, first "Done when"): `python/independent/heldout_cases.py`
 /// generates 20 scenes not shipped in `scenes/` (its own ring meshes of a disc and a half disc,
 /// P1 and curved P2; a straight P2 rectangle; a box of tetra and curved tetra10; written as
-/// MSH 2.2 with one unused node), runs this binary on each and its own numpy code
-/// (`heldout_fem.py`, `heldout_body.py`: P2 shape functions, the isoparametric map, the
+/// MSH 2.2 with every other cell mirrored and one unused node), runs this binary on each and
+/// its own numpy code (`heldout_fem.py`, `heldout_body.py`: P2 shape functions, the
+/// isoparametric map, the
 /// degree-5 Grundmann–Möller rule from its formula on curved cells and a collapsed Gauss rule
 /// on straight ones, layers and mass weights, contact in world coordinates by an LCP,
 /// Crank–Nicolson, backward Euler and the hybrid scheme) and compares every numeric key of the
@@ -62,7 +63,9 @@ fn independent(script: &str) -> String {
 /// 11 keys; the hybrid's midpoint contact rows bounded by lb (not (u_Cⁿ + lb)/2) -> all 6 hybrid
 /// cases off by up to 9.3e-4; "auto" taking the facets' vertices only (no edge nodes) -> all 12
 /// P2 "auto" cases disagree (contact sets differ); tetra10 read in gmsh order without the 8↔9
-/// swap -> the binary refuses the tetra10 meshes as tangled (the script exits 1).
+/// swap -> the binary refuses the tetra10 meshes as tangled (the script exits 1); the mirror of
+/// tetra10 in body_mesh.rs without its 8↔9 swap -> the binary refuses the mirrored cells (an
+/// edge with two nodes).
 #[test]
 fn held_out_bodies_agree_with_an_independent_implementation_in_every_summary_key() {
     let text = independent("heldout_cases.py");

@@ -146,9 +146,21 @@ def boundary_edge_keys(pts, cells):
     return keys
 
 
+def mirrored(cell, n, order):
+    """The same cell with its vertices 1 and 2 swapped (negative orientation), its edge nodes
+    re-listed in gmsh order for the new vertex order."""
+    perm = [0, 2, 1] + ([3] if n == 3 else [])
+    out = [cell[p] for p in perm]
+    if order == 2:
+        edge_node = {frozenset(e): cell[n + 1 + k] for k, e in enumerate(EDGES[n])}
+        out += [edge_node[frozenset((perm[i], perm[j]))] for i, j in EDGES[n]]
+    return out
+
+
 def write_msh(path, pts, cells, order, groups):
-    """MSH 2.2 ASCII: the cells (physical group "body"), each group's boundary facets, and one
-    unused node at the end. `groups`: name -> predicate on a point."""
+    """MSH 2.2 ASCII: the cells (physical group "body"; every other one mirrored: the binary
+    re-orders such cells), each group's boundary facets, and one unused node at the end.
+    `groups`: name -> predicate on a point."""
     d = pts.shape[1]
     cell_type = {(2, 1): 2, (2, 2): 9, (3, 1): 4, (3, 2): 11}[(d, order)]
     facet_type = {(2, 1): 1, (2, 2): 8, (3, 1): 2, (3, 2): 9}[(d, order)]
@@ -159,7 +171,7 @@ def write_msh(path, pts, cells, order, groups):
     lines += [f"{i + 1} {p[0]!r} {p[1]!r} {p[2] if d == 3 else 0.0!r}" for i, p in enumerate(pts)]
     lines.append(f"{len(pts) + 1} 1e3 1e3 {1e3 if d == 3 else 0.0!r}")
     lines.append("$EndNodes")
-    elems = [(cell_type, 1, c) for c in cells]
+    elems = [(cell_type, 1, mirrored(c, d, order) if k % 2 else c) for k, c in enumerate(cells)]
     facets = boundary_facets(cells, d, order)
     for k, (name, pred) in enumerate(groups.items()):
         for _, _, nodes, _ in facets:
