@@ -53,7 +53,7 @@ def build(case):
     pts, cells, order = case["mesh"]
     d = pts.shape[1]
     nn = len(pts)
-    rule = fem.grundmann_moller(d) if case["rule"] == "gm5" else fem.collapsed_gauss(d)
+    rule = {"gm5": fem.grundmann_moller, "gauss": fem.collapsed_gauss, "tensor": fem.tensor_gauss}[case["rule"]](d)
     n = np.array(case["normal"], float)
     n /= np.linalg.norm(n)
     gap_all = (pts - np.array(case["point"])) @ n

@@ -47,6 +47,16 @@ def box_mesh(order):
     return (pts, tets, order), {"top": lambda p: abs(p[2] - 0.5) < 1e-12}
 
 
+def q1_mesh(d):
+    """Parallelograms (4 x 2, shear 0.3) or parallelepipeds (2^3, shear 0.2): Q1 cells on which
+    a Gauss rule integrates mass and stiffness exactly."""
+    if d == 2:
+        pts, cells = hm.parallelograms(1.0, 0.5, 4, 2, 0.3)
+        return (pts, cells, "q1"), {"top": lambda p: abs(p[1] - 0.5) < 1e-12}
+    pts, cells = hm.parallelepipeds((1.0, 1.0, 0.5), 2, 0.2)
+    return (pts, cells, "q1"), {"top": lambda p: abs(p[2] - 0.5) < 1e-12}
+
+
 def case(name, mesh, scheme, mass, rule, gap=0.0, normal=None, force=None, v0=None, u0=None, clamped=None,
          contact="auto", lam=2.0, mu=1.0, rho=1.0, dt=0.01, end=0.3):
     (pts, cells, order), groups = mesh
@@ -103,6 +113,14 @@ def cases():
         case("tet4-drop-be-mod1", tet4, "backward-euler", "mod1", "gauss", gap=0.025, force=["0", "0", "0"],
              v0=["0", "0", "-1"], end=0.3),
         case("tet4-drop-hybrid-mod3-g", tet4, "hybrid", "mod3", "gauss", gap=0.02, v0=["0", "0", "-1"], end=0.3),
+        # Q1: parallelogram quadrangles and parallelepiped hexahedra (tensor Gauss: exact).
+        case("quad-drop-cn-mod3-g-tilted", q1_mesh(2), "crank-nicolson", "mod3", "tensor", gap=0.025, normal=[0.1, 1.0],
+             v0=["0", "-1"]),
+        case("quad-clamped-hybrid-mod1", q1_mesh(2), "hybrid", "mod1", "tensor", gap=0.01, force=["0", "0"],
+             v0=["0", "-1"], clamped="top"),
+        case("hex-drop-be-mod2-g", q1_mesh(3), "backward-euler", "mod2", "tensor", gap=0.025, v0=["0", "0", "-1"], end=0.2),
+        case("hex-clamped-hybrid-mod3-g-tilted", q1_mesh(3), "hybrid", "mod3", "tensor", gap=0.01, normal=[0.0, 0.1, 1.0],
+             v0=["0", "0", "-1"], clamped="top", end=0.2),
     ]
 
 

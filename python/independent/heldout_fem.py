@@ -84,7 +84,9 @@ def check_rules():
 
 
 def shape(n, order, xi):
-    """Values (k,) and reference gradients (k, n) of the P1 or P2 shape functions at xi."""
+    """Values (k,) and reference gradients (k, n) of the P1, P2 or Q1 shape functions at xi."""
+    if order == "q1":
+        return tensor_shape(n, xi)
     lam = np.concatenate([[1 - xi.sum()], xi])
     dlam = np.vstack([-np.ones(n), np.eye(n)])
     if order == 1:
@@ -95,6 +97,34 @@ def shape(n, order, xi):
         phi.append(4 * lam[i] * lam[j])
         grad.append(4 * (lam[j] * dlam[i] + lam[i] * dlam[j]))
     return np.array(phi), np.array(grad)
+
+
+QUAD_CORNERS = {2: [(0, 0), (1, 0), (1, 1), (0, 1)],
+                3: [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]}
+QUAD_FACETS = {2: [[0, 1], [1, 2], [2, 3], [3, 0]],
+               3: [[0, 1, 2, 3], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]}
+
+
+def tensor_shape(n, xi):
+    """Q1 on [0, 1]^n, corners in gmsh order (quadrangle counter-clockwise; hexahedron: the face
+    zeta = 0 counter-clockwise, then zeta = 1): phi_a = prod_k (c_k xi_k + (1 - c_k)(1 - xi_k))."""
+    phi, grad = [], []
+    for c in QUAD_CORNERS[n]:
+        f = [xi[k] if c[k] else 1 - xi[k] for k in range(n)]
+        df = [1.0 if c[k] else -1.0 for k in range(n)]
+        phi.append(np.prod(f))
+        grad.append([df[k] * np.prod([f[j] for j in range(n) if j != k]) for k in range(n)])
+    return np.array(phi), np.array(grad)
+
+
+def tensor_gauss(n, m=4):
+    """Gauss-Legendre, m points per direction on [0, 1]^n: exact on parallelogram and
+    parallelepiped Q1 cells for the mass (degree 2 per variable) and the stiffness."""
+    x, w = np.polynomial.legendre.leggauss(m)
+    x, w = (x + 1) / 2, w / 2
+    grid = np.array(np.meshgrid(*[x] * n, indexing="ij")).reshape(n, -1).T
+    wts = np.prod(np.array(np.meshgrid(*[w] * n, indexing="ij")).reshape(n, -1), axis=0)
+    return grid, wts
 
 
 def element(X, order, lam, mu, rule):
@@ -121,19 +151,22 @@ def element(X, order, lam, mu, rule):
 
 
 def facets_of(n, order):
-    """Local facets: (vertex indices, all node indices) of each facet of the reference cell."""
+    """Local facets: (vertex indices, all node indices, the cell's vertices whose mean lies
+    inside the cell, off the facet) of each facet of the reference cell."""
+    if order == "q1":
+        return [(f, f, list(range(len(QUAD_CORNERS[n])))) for f in QUAD_FACETS[n]]
     out = []
     for opposite in range(n + 1):
         verts = [v for v in range(n + 1) if v != opposite]
         nodes = list(verts)
         if order == 2:
             nodes += [n + 1 + e for e, (i, j) in enumerate(EDGES[n]) if i in verts and j in verts]
-        out.append((verts, nodes, opposite))
+        out.append((verts, nodes, [opposite]))
     return out
 
 
 def boundary_facets(cells, n, order):
-    """(cell index, vertex nodes, all nodes, opposite vertex node) of each facet of one cell."""
+    """(cell index, vertex nodes, all nodes, interior nodes) of each facet of one cell."""
     seen = {}
     for c, cell in enumerate(cells):
         for verts, nodes, opp in facets_of(n, order):
@@ -142,18 +175,18 @@ def boundary_facets(cells, n, order):
     return [v[0] for v in seen.values() if len(v) == 1]
 
 
-def facet_normal(pts, verts, opposite):
-    """Outward unit normal and measure of a straight facet through its vertices (the normal
-    points away from the cell's opposite vertex)."""
+def facet_normal(pts, verts, inside):
+    """Outward unit normal and measure of a straight (planar) facet through its vertices
+    (triangle or parallelogram faces; the normal points away from the mean of `inside`)."""
     p = pts[verts]
     if len(verts) == 2:
         t = p[1] - p[0]
         a = np.array([t[1], -t[0]])
     else:
-        a = 0.5 * np.cross(p[1] - p[0], p[2] - p[0])
+        a = (0.5 if len(verts) == 3 else 1.0) * np.cross(p[1] - p[0], p[-1] - p[0])
     meas = np.linalg.norm(a)
     nrm = a / meas
-    if nrm @ (p[0] - pts[opposite]) < 0:
+    if nrm @ (p[0] - pts[inside].mean(axis=0)) < 0:
         nrm = -nrm
     return nrm, meas
 

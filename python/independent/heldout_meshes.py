@@ -75,6 +75,27 @@ def rectangle(length, height, nx, ny):
     return pts, np.array(tris)
 
 
+def parallelograms(length, height, nx, ny, shear):
+    """Q1 cells of the rectangle (0, L) x (0, H) sheared by x -> x + shear y (parallelograms)."""
+    pts = np.array([[length * i / nx + shear * height * j / ny, height * j / ny] for j in range(ny + 1) for i in range(nx + 1)])
+    node = lambda i, j: j * (nx + 1) + i
+    return pts, np.array([[node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)] for j in range(ny) for i in range(nx)])
+
+
+def parallelepipeds(extent, n, shear):
+    """Q1 hexahedra of the box of n^3 cells sheared by x -> x + shear z (gmsh order)."""
+    a = [np.linspace(0, e, n + 1) for e in extent]
+    pts = np.array([[a[0][i] + shear * a[2][k], a[1][j], a[2][k]] for k in range(n + 1) for j in range(n + 1) for i in range(n + 1)])
+    node = lambda i, j, k: (k * (n + 1) + j) * (n + 1) + i
+    hexes = []
+    for k in range(n):
+        for j in range(n):
+            for i in range(n):
+                face = lambda kk: [node(i, j, kk), node(i + 1, j, kk), node(i + 1, j + 1, kk), node(i, j + 1, kk)]
+                hexes.append(face(k) + face(k + 1))
+    return pts, np.array(hexes)
+
+
 def box_tets(extent, n):
     """P1 box (0, a) x (0, b) x (0, c) of n^3 cubes, 6 Kuhn tetrahedra each (conforming)."""
     a = [np.linspace(0, e, n + 1) for e in extent]
@@ -149,6 +170,8 @@ def boundary_edge_keys(pts, cells):
 def mirrored(cell, n, order):
     """The same cell with its vertices 1 and 2 swapped (negative orientation), its edge nodes
     re-listed in gmsh order for the new vertex order."""
+    if order == "q1":
+        return [cell[p] for p in ([0, 3, 2, 1] if n == 2 else [4, 5, 6, 7, 0, 1, 2, 3])]
     perm = [0, 2, 1] + ([3] if n == 3 else [])
     out = [cell[p] for p in perm]
     if order == 2:
@@ -162,8 +185,8 @@ def write_msh(path, pts, cells, order, groups):
     re-orders such cells), each group's boundary facets, and one unused node at the end.
     `groups`: name -> predicate on a point."""
     d = pts.shape[1]
-    cell_type = {(2, 1): 2, (2, 2): 9, (3, 1): 4, (3, 2): 11}[(d, order)]
-    facet_type = {(2, 1): 1, (2, 2): 8, (3, 1): 2, (3, 2): 9}[(d, order)]
+    cell_type = {(2, 1): 2, (2, 2): 9, (3, 1): 4, (3, 2): 11, (2, "q1"): 3, (3, "q1"): 5}[(d, order)]
+    facet_type = {(2, 1): 1, (2, 2): 8, (3, 1): 2, (3, 2): 9, (2, "q1"): 1, (3, "q1"): 3}[(d, order)]
     names = ["body"] + list(groups)
     lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(names)), f'{d} 1 "body"']
     lines += [f'{d - 1} {k + 2} "{g}"' for k, g in enumerate(groups)]
