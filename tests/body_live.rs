@@ -46,7 +46,7 @@ fn independent(script: &str) -> String {
 /// displacement) at every t_n. A key added to the summary fails this test until it is checked
 /// here too. Covered: free discs at rest and dropped, clamped half discs, a
 /// clamped rectangle, free and clamped boxes; P1, P2 and Q1 in 2D, tetra, tetra10 and hexahedra
-/// in 3D; CN, BE, hybrid; with and without gravity, a force depending on x and one on t;
+/// in 3D; CN, BE, hybrid; with and without gravity, forces depending on x, y, z and t;
 /// standard, mod1, mod2, mod3 and GetFEM's singular mass as custom weights; axis and tilted
 /// normals; initial displacements; impacts and releases.
 ///

@@ -95,8 +95,8 @@ def cases():
         # Half discs clamped on their flat top ("top"), curved bottom touching the floor.
         case("halfdisc-p2-clamped-cn-mod1-t", half2, "crank-nicolson", "mod1", "gm5", force=["0", "-2*sin(10*t)"],
              v0=["0", "-0.3"], clamped="top", end=0.4),
-        case("halfdisc-p2-clamped-be-standard-g", half2, "backward-euler", "standard", "gm5", gap=0.01,
-             v0=["0", "-0.5"], clamped="top"),
+        case("halfdisc-p2-clamped-be-standard-gt", half2, "backward-euler", "standard", "gm5", gap=0.01,
+             force=["0.3*cos(5*t)", "-1"], v0=["0", "-0.5"], clamped="top"),
         case("halfdisc-p2-clamped-hybrid-mod3-t", half2, "hybrid", "mod3", "gm5", force=["0.2*t", "-1"], clamped="top"),
         # A straight-sided P2 rectangle (the collapsed Gauss rule: exact), clamped on xmax.
         case("rect-p2-clamped-be-mod3-tilted", rect_mesh(), "backward-euler", "mod3", "gauss", gap=0.02,
@@ -104,8 +104,8 @@ def cases():
         case("rect-p2-clamped-cn-mod2-g", rect_mesh(), "crank-nicolson", "mod2", "gauss", gap=0.01,
              v0=["0", "-1"], clamped="xmax", contact="ymin"),
         # 3D: curved tetra10 (Grundmann-Moller), straight tetra (collapsed Gauss).
-        case("tet10-drop-cn-mod3-g-tilted", tet10, "crank-nicolson", "mod3", "gm5", gap=0.02, normal=[0.1, 0.05, 1.0],
-             v0=["0", "0", "-1"], end=0.2),
+        case("tet10-drop-cn-mod3-gyz-tilted", tet10, "crank-nicolson", "mod3", "gm5", gap=0.02, normal=[0.1, 0.05, 1.0],
+             force=["0", "0.1*z", "-1 - 0.2*y"], v0=["0", "0", "-1"], end=0.2),
         case("tet10-clamped-hybrid-mod2-g", tet10, "hybrid", "mod2", "gm5", gap=0.01, v0=["0", "0", "-1"],
              clamped="top", end=0.2),
         case("tet10-clamped-be-standard", tet10, "backward-euler", "standard", "gm5", gap=0.01, force=["0", "0", "0"],
