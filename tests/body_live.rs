@@ -32,7 +32,7 @@ fn independent(script: &str) -> String {
 }
 
 /// Held-out bodies (issue 19, first "Done when"): `python/independent/heldout_cases.py`
-/// generates 24 scenes not shipped in `scenes/` (its own ring meshes of a disc and a half disc,
+/// generates 25 scenes not shipped in `scenes/` (its own ring meshes of a disc and a half disc,
 /// P1 and curved P2; a straight P2 rectangle; a box of tetra and curved tetra10; parallelogram
 /// quadrangles and parallelepiped hexahedra; written as MSH 2.2 with every other cell mirrored
 /// and one unused node), runs this binary on each and its own numpy code (`heldout_fem.py`,
@@ -44,18 +44,19 @@ fn independent(script: &str) -> String {
 /// scene echoed, the mesh's bounding box, null where a body has no exact solution), and the
 /// body's default series (energy, contact force, active nodes, min_distance, momentum, mean
 /// displacement) at every t_n. A key added to the summary fails this test until it is checked
-/// here too. Covered: free discs at rest and dropped, clamped half discs, a
-/// clamped rectangle, free and clamped boxes; P1, P2 and Q1 in 2D, tetra, tetra10 and hexahedra
-/// in 3D; CN, BE, hybrid; with and without gravity, forces depending on x, y, z and t;
+/// here too. Covered: free discs at rest and dropped, clamped half discs, a clamped rectangle,
+/// free and clamped boxes; P1, P2 and Q1 in 2D, tetra, tetra10 and hexahedra in 3D; CN,
+/// Newmark(0.3, 0.6), BE, hybrid; with and without gravity, forces depending on x, y, z and t;
 /// standard, mod1, mod2, mod3 and GetFEM's singular mass as custom weights; axis and tilted
-/// normals; initial displacements; impacts and releases.
+/// normals; initial displacements; massless P2 edge nodes inside the contact layer; impacts
+/// and releases.
 ///
 /// Tolerance: every key within 1e-7 of its scale (`scales` in the script: energies against the
 /// run's largest |E|, displacements against the largest displacement key, reactions against
 /// `max_contact_force`, momentum against its largest component, counts and times exactly).
 /// Measured (summary and series): 4.7e-9 and 2.8e-9 (the P1 and P2 discs with the standard mass
 /// and CN, whose contact chatters: their reactions are ill-conditioned), 1.4e-10 (the singular
-/// mass), the 21 others below 3e-12. Times and counts are compared exactly: the cases avoid
+/// mass), the 22 others below 3e-12. Times and counts are compared exactly: the cases avoid
 /// landing exactly on the plane at a step (a gap of a whole number of free-flight steps), where
 /// the binary's test u ≤ −g, exact in exact arithmetic, goes either way by one rounding (seen:
 /// 0.03 vs 0.04 for the first impact with gap 0.03, 6 vs 9 active nodes with gap 0.02). About
@@ -73,10 +74,10 @@ fn independent(script: &str) -> String {
 #[test]
 fn held_out_bodies_agree_with_an_independent_implementation_in_every_summary_key() {
     let text = independent("heldout_cases.py");
-    // 24 cases, each with its summary keys and its series compared.
-    assert_eq!(text.matches(" final_momentum ").count(), 24, "{text}");
-    assert_eq!(text.matches(" series energy ").count(), 24, "{text}");
-    assert_eq!(text.matches("not compared: max_pivots, wall_seconds\n").count(), 24, "{text}");
+    // 25 cases, each with its summary keys and its series compared.
+    assert_eq!(text.matches(" final_momentum ").count(), 25, "{text}");
+    assert_eq!(text.matches(" series energy ").count(), 25, "{text}");
+    assert_eq!(text.matches("not compared: max_pivots, wall_seconds\n").count(), 25, "{text}");
     assert!(text.contains("largest scaled difference"), "{text}");
 }
 

@@ -121,8 +121,9 @@ def contact_solve(Kinv, B, rhs_free, sigma, bound):
     return X + sigma * Kinv @ (B.T @ mu), mu
 
 
-def newmark_or_euler(sys, dt, steps, euler):
-    """States (U, V, mu) at t_0 .. t_N for Crank-Nicolson (Newmark 1/4, 1/2) or backward Euler."""
+def newmark_or_euler(sys, dt, steps, euler, beta=0.25, gamma=0.5):
+    """States (U, V, mu) at t_0 .. t_N for Newmark(beta, gamma) (Crank-Nicolson: 1/4, 1/2) or
+    backward Euler."""
     M, S, B, g = sys["M"], sys["S"], sys["B"], sys["g"]
     massless = np.diag(M) == 0
     massive = ~massless
@@ -130,7 +131,6 @@ def newmark_or_euler(sys, dt, steps, euler):
     A = np.zeros(len(U))
     r = sys["load"](0.0) - S @ U
     A[massive] = np.linalg.solve(M[np.ix_(massive, massive)], r[massive])
-    beta, gamma = 0.25, 0.5
     sigma = dt * dt if euler else beta * dt * dt
     Kinv = np.linalg.inv(M + sigma * S)
     out = [(U, V, np.zeros(len(g)))]
@@ -188,7 +188,11 @@ def summary(case):
     sys = build(case)
     dt, steps = case["dt"], round(case["end"] / case["dt"])
     scheme = case["scheme"]
-    states = hybrid(sys, dt, steps) if scheme == "hybrid" else newmark_or_euler(sys, dt, steps, scheme == "backward-euler")
+    if scheme == "hybrid":
+        states = hybrid(sys, dt, steps)
+    else:
+        states = newmark_or_euler(sys, dt, steps, scheme == "backward-euler", case.get("beta") or 0.25,
+                                  case.get("gamma") or 0.5)
     M, S, B, g, a, d = sys["M"], sys["S"], sys["B"], sys["g"], sys["a"], sys["d"]
     rep = dict(total_mass=sys["total_mass"], unknowns=sys["unknowns"], h=sys["h"], steps=steps,
                max_y_variation=0.0, max_contact_force=-np.inf, min_distance=np.inf, min_u0=np.inf,

@@ -89,6 +89,8 @@ def cases():
         # GetFEM's singular mass as `custom` weights (0 on the cells with a contact facet).
         case("disc-p2-drop-cn-custom-g", disc2g, "crank-nicolson", "custom", "gm5", gap=0.025, v0=["0", "-1"]),
         case("disc-p1-rest-be-custom-g", disc_mesh(1, 0.0), "backward-euler", "custom", "gauss"),
+        dict(case("disc-p2-drop-newmark-mod2-g", disc2g, "newmark", "mod2", "gm5", gap=0.025, v0=["0", "-1"]),
+             beta=0.3, gamma=0.6),
         # Free P1 discs (any rule is exact: the collapsed Gauss one).
         case("disc-p1-drop-cn-standard-g", disc1g, "crank-nicolson", "standard", "gauss", gap=0.03, v0=["0", "-1"], end=0.4),
         case("disc-p1-drop-hybrid-mod2", disc1g, "hybrid", "mod2", "gauss", gap=0.025, force=["0", "0"], v0=["0.2", "-1"], lam=20.0, mu=10.0, end=1.3),

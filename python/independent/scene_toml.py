@@ -9,6 +9,7 @@ def body_tail(c, scheme):
     lines = [f'clamped = "{c["clamped"]}"'] if c["clamped"] else []
     lines += ["[obstacle]", f"normal = [{fmt(c['normal'])}]", f"point = [{fmt(c['point'])}]", f'contact = "{c["contact"]}"',
               "[mass]", f'kind = "{c["mass"]}"'] + ([f"weights = [{fmt(c['weights'])}]"] if c.get("weights") is not None else []) + [
-              "[scheme]", f'kind = "{scheme}"', "[time]", f"dt = {c['dt']!r}",
+              "[scheme]", f'kind = "{scheme}"'] + [f"{k} = {c[k]!r}" for k in ("beta", "gamma") if c.get(k) is not None] + [
+              "[time]", f"dt = {c['dt']!r}",
               f"end = {c['end']!r}"]
     return lines
