@@ -1,6 +1,9 @@
 """Held-out body scenes (issue 19, first "Done when"): generated here (meshes by heldout_meshes,
 not shipped in scenes/), run by the `massredist` binary and by heldout_body, and compared key by
-key: every numeric key of the body's summary.json.
+key: every key of the body's summary.json but max_pivots (the binary's LCP pivot count) and
+wall_seconds, and the default series of a body at every step. Keys computed here are compared
+within 1e-7 of their scale (`scales`); the rest (`bookkeeping`: the scene echoed, the bounding
+box, nulls) exactly.
 
 Usage: /usr/bin/python3 python/independent/heldout_cases.py MASSREDIST_BINARY [--keep DIR] [NAME...]
 Prints one line per key and exits 1 if any key differs by more than 1e-7 of its scale (the

@@ -1,5 +1,6 @@
 """Finite elements for the held-out body scenes (issue 19), written from the definitions only:
-P1 and P2 (isoparametric) triangles and tetrahedra, two quadrature rules, the element mass and
+P1 and P2 (isoparametric) triangles and tetrahedra, Q1 quadrangles and hexahedra (on
+parallelograms and parallelepipeds), three quadrature rules, the element mass and
 plane-strain / 3D stiffness, boundary facets with their outward normals, contact sets, the
 shares of the contact area, and the layer weights (standard, mod1, mod2, mod3).
 
@@ -20,7 +21,9 @@ Quadrature:
 - `gm5`: the Grundmann-Moller rule of degree 5 (A. Grundmann, H. M. Moller, SIAM J. Numer.
   Anal. 15 (1978), Theorem 4), computed here from its closed formula. On curved P2 cells the
   integrands are not polynomials (det J and J^-1 vary), the integrals depend on the rule, and
-  the issue/README fix the rule as degree-5 Grundmann-Moller: the held-out curved scenes use it.
+  the issue/README fix the rule as degree-5 Grundmann-Moller: the held-out curved scenes use it;
+- `tensor`: Gauss-Legendre with 4 points per direction on [0, 1]^n for Q1 cells, exact on
+  parallelograms and parallelepipeds (the only Q1 cells the held-out scenes have).
 """
 import math
 import itertools
