@@ -1,6 +1,6 @@
 """An independent implementation of a body against a rigid plane (issue 19, README "A body of
-any shape against a rigid plane"): assembly on P1/P2 meshes (heldout_fem), contact nodes, gaps,
-layers, load, Crank-Nicolson (Newmark 1/4, 1/2), backward Euler and the paper's hybrid scheme,
+any shape against a rigid plane"): assembly on P1/P2/Q1 meshes (heldout_fem), contact nodes, gaps,
+layers, load, Newmark(beta, gamma) (Crank-Nicolson: 1/4, 1/2), backward Euler and the paper's hybrid scheme,
 and every summary key of a body run. Dense numpy; world coordinates (no rotated frame): one
 contact row n^T per contact node, B U + g >= 0, reaction mu >= 0 along n, mu.(B U + g) = 0.
 
