@@ -29,6 +29,9 @@ import tempfile
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import scene_toml  # noqa: E402
+
 CASES = [
     # A free block dropped on y = 0 under gravity, contact "auto", mod3.
     dict(name="drop-mod3", L=1.0, H=0.5, nx=4, ny=2, lam=1.0, mu=1.0, rho=1.0, force=(0.0, -2.0),
@@ -219,11 +222,7 @@ def scene_text(c):
         f"force = [{fmt(c['force'])}]",
         f"initial = {{ displacement = [0, 0], velocity = [{fmt(c['vel'])}] }}",
     ]
-    if c["clamped"]:
-        lines.append(f'clamped = "{c["clamped"]}"')
-    lines += ["[obstacle]", f"normal = [{fmt(c['normal'])}]", f"point = [{fmt(c['point'])}]", f'contact = "{c["contact"]}"',
-              "[mass]", f'kind = "{c["mass"]}"', "[scheme]", f'kind = "{c.get("scheme", "crank-nicolson")}"', "[time]", f"dt = {c['dt']!r}",
-              f"end = {c['end']!r}"]
+    lines += scene_toml.body_tail(c, c.get("scheme", "crank-nicolson"))
     return "\n".join(lines) + "\n"
 
 
