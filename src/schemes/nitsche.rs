@@ -58,7 +58,7 @@ pub fn build<A: Backend, L: FnOnce() -> Option<Vec<f64>>>(
                 scheme: NAME,
                 key: ContactLaw::GAMMA0_KEY,
                 value: g,
-                range: "(1, ∞) (coercivity of the Nitsche term)",
+                range: ContactLaw::GAMMA0_RANGE,
             },
             NitscheShape::ContactCount(_) | NitscheShape::NotOneCell => SchemeError::Unsupported {
                 key,
@@ -113,7 +113,7 @@ impl<S: ContactSolver> RankOne<S> {
         let alpha = sigma * term.theta / term.gamma;
         let den = 1.0 - alpha * term.sigma_n(&b_inv_s);
         // den > 0 iff A = B − α ssᵀ is SPD (B SPD): true for γ₀ > 1 (module docs of contact::nitsche).
-        check_range(NAME, ContactLaw::GAMMA0_KEY, term.gamma / term.k, den > 0.0, "(1, ∞)")?;
+        check_range(NAME, ContactLaw::GAMMA0_KEY, term.gamma / term.k, den > 0.0, ContactLaw::GAMMA0_RANGE)?;
         Ok(Self { plain, floor, unused, term, coef: alpha / den, b_inv_s })
     }
 
