@@ -114,7 +114,8 @@ fn crank_nicolson_is_second_order_without_contact() {
 /// step, δ_n = 0 unless P changes sign, |δ_n| ≤ |p_n p_{n+1}|/2γ. Checked to 1e-13 (round-off
 /// on an energy of 1/8 over sums of ~80 terms) from step 2 on (step 1 starts from an A⁰ that a
 /// massless row does not satisfy), on the paper's bar, standard mass, γ₀ = 10 and 100, 300
-/// steps. The run has sign changes (some δ ≠ 0). (Mutation: the energy's `+ Φ(U)` dropped ->
+/// steps. The run has sign changes (some δ ≠ 0), and each step's closed-form λ is the root
+/// −[P(U^{n+1})]_+. (Mutation: the energy's `+ Φ(U)` dropped ->
 /// the ΔE + δ assertion fails.)
 #[test]
 fn energy_identity_of_theta_1_with_crank_nicolson() {
@@ -129,6 +130,10 @@ fn energy_identity_of_theta_1_with_crank_nicolson() {
         for n in 2..=300 {
             s.step().unwrap();
             let (e, pn) = (s.energy(), term.p(s.state().u));
+            // The closed-form step is the exact root: λ = −[p*]_+/(1 + c) is −[P(U^{n+1})]_+
+            // evaluated on the final state (round-off of P's ~γ-sized terms: 1e-9 absolute).
+            let lambda = s.state().lambda[0];
+            assert!((lambda - term.lambda(s.state().u)).abs() <= 1e-9, "step {n}: λ = {lambda}");
             let delta = s.last_defect();
             assert_eq!(delta, trapezoid_defect(p_old, pn, term.gamma));
             assert!((e - e_old + delta).abs() <= 1e-13, "γ₀ = {gamma0}, step {n}: ΔE + δ = {}", e - e_old + delta);
