@@ -18,9 +18,10 @@
 //! in 1D with no load at the contact node this row gives `u_0 = max(lb, u_1)` and N_1 = 0, so
 //! Nitsche then coincides with exact contact whatever θ and γ₀: tested). Both schemes start from
 //! the interpolated data; Verlet replaces a massless u⁰_0 by its quasi-static value (as central
-//! differences do). The energy reported is CHR's, `½V·MV + ½U·KU − F·U + Φ(U)` with
-//! `Φ = −(1/2γ)σ_n² + (1/2γ)[P]_+²` (M_L for Verlet); for θ ≠ 1 N is not ∇Φ and the same
-//! functional is reported without a conservation claim.
+//! differences do). The energy reported is CHR's `E^θ = ½V·MV + ½U·KU − F·U + θΦ(U)` with
+//! `Φ = −(1/2γ)σ_n² + (1/2γ)[P]_+²` (M_L for Verlet), θ-weighted as GetFEM's
+//! `demo_dynamic_contact_1D.py` (Renard, Chouly) computes it; N = ∇Φ only for θ = 1, so only
+//! then is a conservation claimed (the identity of [`NitscheNewmark`]).
 
 use super::methods::GeometryParts;
 use super::{Beta, Formulation, Gamma, Scheme, SchemeError, SchemeSpec, StateView, check_finite, check_range};
@@ -237,11 +238,11 @@ impl<A: Backend> NitscheNewmark<A> {
         }
     }
 
-    /// CHR's energy `½V·MV + ½U·KU − F·U + Φ(U)` (F of the last step's time).
+    /// CHR's energy `½V·MV + ½U·KU − F·U + θΦ(U)` (F of the last step's time).
     pub fn energy(&self) -> f64 {
         let work: f64 = self.u.iter().zip(&self.load).map(|(u, f)| u * f).sum();
         0.5 * self.mass.quad_form(&self.v) + 0.5 * self.stiffness.quad_form(&self.u) - work
-            + self.term.potential(&self.u)
+            + self.term.theta * self.term.potential(&self.u)
     }
 
     /// δ_n of the last step: for θ = 1, CN and a constant load, `E^{n+1} − Eⁿ = −δ_n` (struct docs).
@@ -426,11 +427,11 @@ impl<A: SymMatrix> NitscheVerlet<A> {
         (self.limit, self.lanczos_steps)
     }
 
-    /// `½V·M_L V + ½U·KU − F·U + Φ(U)`.
+    /// `½V·M_L V + ½U·KU − F·U + θΦ(U)`.
     pub fn energy(&self) -> f64 {
         let kinetic: f64 = self.v.iter().zip(&self.lumped).map(|(v, m)| m * v * v).sum();
         let work: f64 = self.u.iter().zip(&self.load).map(|(u, f)| u * f).sum();
-        0.5 * kinetic + 0.5 * self.stiffness.quad_form(&self.u) - work + self.term.potential(&self.u)
+        0.5 * kinetic + 0.5 * self.stiffness.quad_form(&self.u) - work + self.term.theta * self.term.potential(&self.u)
     }
 
     /// The massless contact node's closed form (struct docs).
