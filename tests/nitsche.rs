@@ -344,3 +344,30 @@ for n in range(steps):
     out.append(u.tolist())
 print(json.dumps({"getfem": gf.__version__ if hasattr(gf, '__version__') else "5.4", "u": out}))
 "#;
+
+/// Verlet at its Δt_c for θ = 0 and −1 (no stability proof claimed: the bound only dominates
+/// the symmetric parts of their tangents; docs of `NitscheVerlet`): measured bounded on the
+/// paper's bar (standard mass, m = 40, t ∈ [0, 3], γ₀ = 5 and 100): every |u| ≤ 0.51 (the exact
+/// solution's ≤ ½; observed 0.500) and E^θ within 10% of its start (observed at most 7.2%; for
+/// θ = 1 at most 4.8%). A blow-up fails both. (Mutation: the `2.0 * g` term dropped from the
+/// Lanczos operator -> Δt_c grows (ten-fold at γ₀ = 100) and the |u| bound fails.)
+#[test]
+fn verlet_at_its_limit_stays_bounded_for_theta_0_and_minus_1() {
+    use massredist::problem::Geometry;
+    let p = paper(40, 1.0);
+    let lumped = p.system.lumped_mass().unwrap();
+    let sys = &p.system.system;
+    for (theta, g0) in [(0.0, 5.0), (0.0, 100.0), (-1.0, 5.0), (-1.0, 100.0)] {
+        let term = NitscheTerm::new(&sys.stiffness, &[0], &[0.0], theta, g0).unwrap();
+        let build = |dt: f64| NitscheVerlet::new(sys, term, lumped.clone(), dt, p.u0.clone(), p.v0.clone());
+        let (limit, _) = build(1e-6).unwrap().stable_limit();
+        let mut s = build(limit).unwrap();
+        let e0 = s.energy();
+        for n in 0..(3.0 / limit) as usize {
+            s.step().unwrap();
+            let umax = s.state().u.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            assert!(umax <= 0.51, "θ = {theta}, γ₀ = {g0}, step {n}: |u| = {umax}");
+            assert!((s.energy() - e0).abs() <= 0.1 * e0, "θ = {theta}, γ₀ = {g0}, step {n}: E = {}", s.energy());
+        }
+    }
+}
