@@ -350,7 +350,7 @@ print(json.dumps({"getfem": gf.__version__ if hasattr(gf, '__version__') else "5
 /// paper's bar (standard mass, m = 40, t ∈ [0, 3], γ₀ = 5 and 100): every |u| ≤ 0.51 (the exact
 /// solution's ≤ ½; observed 0.500) and E^θ within 10% of its start (observed at most 7.2%; for
 /// θ = 1 at most 4.8%). A blow-up fails both. (Mutation: the `2.0 * g` term dropped from the
-/// Lanczos operator -> Δt_c grows (ten-fold at γ₀ = 100) and the |u| bound fails.)
+/// Lanczos operator -> Δt_c grows (ten-fold at γ₀ = 100) and the energy bound fails.)
 #[test]
 fn verlet_at_its_limit_stays_bounded_for_theta_0_and_minus_1() {
     use massredist::problem::Geometry;
