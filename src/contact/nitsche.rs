@@ -1,9 +1,10 @@
-//! Nitsche's contact term on the bar (Chouly–Hild–Renard, ESAIM M2AN 49(2), 2015, §2–3; the
+//! Nitsche's contact term on the bar (Chouly–Hild–Renard, ESAIM M2AN 49(2), 2015; the
 //! static method of Chouly–Hild, SIAM J. Numer. Anal. 51(2), 2013), at its contact point x = 0.
 //!
 //! **Sign conventions.** CHR write the condition on Γ_C as `u_n ≤ g`, `σ_n(u) ≤ 0`,
-//! `σ_n(u)(u_n − g) = 0` with n the outward normal, and a *small* parameter γ_CHR = γ₀ h. We use
-//! the *large* γ = 1/γ_CHR = γ₀ E/h (a stiffness, like the penalty; the issue's key), so that
+//! `σ_n(u)(u_n − g) = 0` with n the outward normal, and a *small* parameter γ_CHR proportional to
+//! h. We use the *large* γ = 1/γ_CHR = γ₀ E/h (a stiffness, like the penalty; the issue's key;
+//! GetFEM's `g_N = γ₀/h` for E = 1), so that
 //! CHR's `P_γ(u) = u_n − g − γ_CHR σ_n(u)` becomes, multiplied by γ (force units),
 //!
 //! ```text
@@ -16,7 +17,8 @@
 //! (E/h)(u_1 − u_0) = sᵀU` with `s = (E/h)(e_1 − e_0)`. With `q = γ e_0 + s`:
 //! `P(U) = −γ d − sᵀU = −qᵀU + γ lb` (lb = −gap).
 //!
-//! CHR's weak form (their (2.6)), `θ ∈ {1, 0, −1}`, in these units:
+//! CHR's weak form, `θ ∈ {1, 0, −1}`, in these units (GetFEM's `demo_dynamic_contact_1D.py`, by
+//! Renard and Chouly, assembles the same terms; `tests/nitsche.rs` steps it as a peer):
 //!
 //! ```text
 //! (ρü, v) + a(u, v) − (θ/γ) σ_n(u) σ_n(v) + (1/γ) [P(u)]_+ (γ v_n − θ σ_n(v)) = L(v)
@@ -35,8 +37,7 @@
 //!
 //! **Coercivity.** `K − (θ/γ)ssᵀ` changes the first cell's stiffness E/h into (E/h)(1 − θ/γ₀):
 //! positive iff γ₀ > θ. Every quasi-static or implicit row below is monotone for γ₀ > 1
-//! whatever θ, which is why [`NitscheTerm::new`] asks for γ₀ > 1 (CHR's well-posedness for
-//! θ ≠ −1 also needs γ₀ large enough).
+//! whatever θ, which is why [`NitscheTerm::new`] asks for γ₀ > 1.
 
 /// The Nitsche term of the bar: contact unknown `c`, its P1 neighbour `j`, `k = E/h`.
 #[derive(Debug, Clone, Copy, PartialEq)]

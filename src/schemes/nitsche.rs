@@ -2,7 +2,7 @@
 //! [`crate::contact::nitsche`] (Chouly–Hild–Renard, ESAIM M2AN 49(2) 481–502, 2015; signs and
 //! the units of γ = γ₀ E/h there), marched by
 //!
-//! - **Newmark(β, γ_N)**, Crank–Nicolson at (¼, ½) ([`NitscheNewmark`]; CHR §4), the contact term
+//! - **Newmark(β, γ_N)**, Crank–Nicolson at (¼, ½) ([`NitscheNewmark`]; CHR 2015), the contact term
 //!   at t_{n+1}, fully implicit, each step solved exactly in closed form;
 //! - **explicit Verlet** = central differences on the lumped mass ([`NitscheVerlet`];
 //!   Chouly–Renard, AMSES 5:31, 2018), the contact term at t_n.
@@ -10,10 +10,10 @@
 //! Built for bars only (one contact point whose σ_n comes from its P1 cell): plates and solids
 //! are refused in [`build`], naming `contact.method` and the geometry.
 //!
-//! **Choices where the papers leave room.** γ₀ defaults to 100 (`[contact]`; CHR's experiments
-//! use γ₀ of that order) and must exceed 1 here (the coercivity of `K − (θ/γ)ssᵀ` for θ = 1 and
+//! **Choices where the papers leave room.** γ₀ defaults to 100 (the issue's `[contact]`
+//! default; GetFEM's 1D demo uses 5) and must exceed 1 here (the coercivity of `K − (θ/γ)ssᵀ` for θ = 1 and
 //! the monotonicity of every contact row for all θ; [`crate::contact::nitsche`]); θ defaults to
-//! 1 (the symmetric variant, the only one with an energy). Every mass is allowed: the consistent
+//! 1 (the symmetric variant, the only one whose N is a gradient: it has a conserved energy). Every mass is allowed: the consistent
 //! standard one and the redistributed ones (a massless contact node makes its row quasi-static;
 //! in 1D with no load at the contact node this row gives `u_0 = max(lb, u_1)` and N_1 = 0, so
 //! Nitsche then coincides with exact contact whatever θ and γ₀: tested). Both schemes start from
@@ -328,7 +328,8 @@ impl<A: Backend> Scheme for NitscheNewmark<A> {
 /// `2|x_0 sᵀx| ≤ γx_0² + (sᵀx)²/γ` the symmetric part of each is ≤ B for every θ ∈ {1, 0, −1}.
 /// For θ = 1 the tangents are symmetric, so B bounds their λ_max in every contact state (the
 /// linearised step is stable); for θ = 0, −1 it bounds only their symmetric parts, and we claim
-/// no stability proof (nor do we read one in Chouly–Renard for them). With a massless contact
+/// no stability proof (we have not checked Chouly–Renard's analysis for them; measured bounded
+/// at Δt_c in `tests/nitsche.rs`). With a massless contact
 /// node the γ e_0e_0ᵀ term sits on a row outside I: the condensed stiffness is then ≤ B_II, whose
 /// only addition to K_II is (E/h)²/γ on node 1 (Δt_c within a factor (1 + 1/γ₀)^{1/2} of the
 /// exact-contact one). With a massive contact node the bound is of order
