@@ -271,14 +271,17 @@ fn central_differences_with_the_penalty() {
 }
 
 /// Refusals through the command line (exit 2, the key named): a non-positive penalty, Nitsche
-/// (not built), Moreau–Jean with a massless contact node, a dt above the stable limit.
+/// with a scheme it is not built for, Moreau–Jean with a massless contact node, a dt above the stable limit.
 #[test]
 fn refusals_exit_2_naming_the_key() {
     // h = 0.005 < dt = 0.01 = 2h/c (Δt_c ≈ h/c for the standard mass).
     let base = "[bar]\nlength = 1.0\nelements = 200\ninitial = \"paper\"\n[time]\ndt = 0.01\nend = 0.1\n";
     let cases = [
         ("[contact]\nmethod = \"penalty\"\npenalty = -1\n", vec!["contact.penalty = -1", "(0, ∞)"]),
-        ("[contact]\nmethod = \"nitsche\"\n", vec!["contact.method = \"nitsche\"", "not built"]),
+        (
+            "[scheme]\nkind = \"backward-euler\"\n[contact]\nmethod = \"nitsche\"\n",
+            vec!["contact.method = \"nitsche\"", "built for crank-nicolson"],
+        ),
         ("[mass]\nkind = \"mod1\"\n[scheme]\nkind = \"moreau-jean\"\n", vec!["mass.kind", "inertia"]),
         (
             "[mass]\nkind = \"standard\"\n[scheme]\nkind = \"central-difference\"\n",

@@ -8,7 +8,9 @@
 //!   by h: κ is a stiffness, force per length). Its energy `½ κ (d_i⁻)²` is part of the
 //!   reported energy.
 //! - [`ContactLaw::Nitsche`]: Nitsche's method (Chouly–Hild–Renard 2015), `θ ∈ {1, 0, −1}` and
-//!   `γ = γ₀ E / h`; not built yet (refused in one place, [`ContactLaw::check_built`]).
+//!   `γ = γ₀ E / h`; built for bars ([`crate::contact::nitsche`], [`crate::schemes::nitsche`]:
+//!   Newmark/CN and explicit Verlet, γ₀ > 1), refused elsewhere in one place
+//!   ([`crate::schemes::nitsche::build`]).
 
 use thiserror::Error;
 
@@ -19,7 +21,7 @@ pub enum ContactLaw {
     Exact,
     /// `R_i = penalty · max(0, −d_i)`, penalty > 0 and finite.
     Penalty { penalty: f64 },
-    /// Nitsche with `nitsche_theta` ∈ {1, 0, −1} and `nitsche_gamma0` > 0.
+    /// Nitsche with `nitsche_theta` ∈ {1, 0, −1} and `nitsche_gamma0` > 1.
     Nitsche { theta: i8, gamma0: f64 },
 }
 
@@ -40,7 +42,9 @@ impl ContactLaw {
     pub const THETA_KEY: &'static str = "contact.nitsche_theta";
     pub const THETA_RANGE: &'static str = "1 | 0 | -1";
     pub const GAMMA0_KEY: &'static str = "contact.nitsche_gamma0";
-    pub const GAMMA0_RANGE: &'static str = "(0, ∞)";
+    /// γ₀ > 1: the coercivity of Nitsche's term for θ = 1 and the monotonicity of its contact
+    /// rows for every θ ([`crate::contact::nitsche`]).
+    pub const GAMMA0_RANGE: &'static str = "(1, ∞)";
     /// The default `nitsche_gamma0`.
     pub const DEFAULT_GAMMA0: f64 = 100.0;
 
@@ -58,7 +62,7 @@ impl ContactLaw {
         if ![1.0, 0.0, -1.0].contains(&theta) {
             return Err(LawError { key: Self::THETA_KEY, value: theta, range: Self::THETA_RANGE });
         }
-        if !(gamma0.is_finite() && gamma0 > 0.0) {
+        if !(gamma0.is_finite() && gamma0 > 1.0) {
             return Err(LawError { key: Self::GAMMA0_KEY, value: gamma0, range: Self::GAMMA0_RANGE });
         }
         Ok(ContactLaw::Nitsche { theta: theta as i8, gamma0 })
@@ -106,6 +110,7 @@ mod tests {
         assert_eq!(ContactLaw::nitsche(-1.0, 100.0), Ok(ContactLaw::Nitsche { theta: -1, gamma0: 100.0 }));
         assert_eq!(ContactLaw::nitsche(0.5, 100.0).unwrap_err().key, "contact.nitsche_theta");
         assert_eq!(ContactLaw::nitsche(1.0, 0.0).unwrap_err().key, "contact.nitsche_gamma0");
+        assert!(ContactLaw::nitsche(1.0, 1.0).is_err() && ContactLaw::nitsche(1.0, 1.5).is_ok());
         assert_eq!(ContactLaw::default().method(), "exact");
     }
 

@@ -15,6 +15,7 @@
 
 pub mod law;
 pub mod lcp;
+pub mod nitsche;
 pub mod penalty;
 pub mod schur;
 

@@ -6,7 +6,7 @@
 //! method = "exact"              # exact | penalty | nitsche
 //! penalty = 1e4                 # penalty (required): R_i = penalty * max(0, -d_i), in (0, ∞)
 //! nitsche_theta = 1             # nitsche: 1 | 0 | -1 (default 1)
-//! nitsche_gamma0 = 100.0        # nitsche: gamma = gamma0 * E / h, in (0, ∞) (default 100)
+//! nitsche_gamma0 = 100.0        # nitsche: gamma = gamma0 * E / h, in (1, ∞) (default 100)
 //! ```
 //!
 //! A scene without the table, or with `method = "exact"` alone, is a scene of before the table

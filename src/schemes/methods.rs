@@ -28,11 +28,7 @@ pub fn build<A: Backend, L: FnOnce() -> Option<Vec<f64>>>(
 ) -> Result<Box<dyn Scheme>, SchemeError> {
     let system = geometry.system;
     match *spec {
-        _ if matches!(law, ContactLaw::Nitsche { .. }) => Err(SchemeError::Unsupported {
-            key: "contact.method = \"nitsche\"",
-            geometry: geometry.name,
-            reason: "Nitsche contact is not built yet (issue 20): use exact or penalty",
-        }),
+        _ if matches!(law, ContactLaw::Nitsche { .. }) => super::nitsche::build(geometry, spec, law, dt, u, v),
         SchemeSpec::CentralDifference => {
             let Some(lumped) = (geometry.lumped_mass)() else {
                 return Err(SchemeError::Unsupported {

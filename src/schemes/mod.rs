@@ -23,6 +23,7 @@ pub mod methods;
 pub mod moreau_jean;
 pub mod newmark;
 pub mod newmark_reduced;
+pub mod nitsche;
 pub mod paoli_schatzman;
 pub mod penalty_implicit;
 mod spec;
