@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// Column names of [`methods_csv`].
-pub const METHODS_COLUMNS: [&str; 20] = [
+pub const METHODS_COLUMNS: [&str; 21] = [
     "problem",
     "method",
     "class",
@@ -32,6 +32,7 @@ pub const METHODS_COLUMNS: [&str; 20] = [
     "energy_drift",
     "exact_impacts",
     "cpu_seconds",
+    "step_seconds",
 ];
 
 /// Every run as CSV: one row per copy (copy 0 is the unperturbed run); a diverged or failed run
@@ -53,12 +54,12 @@ pub fn methods_csv(results: &[MethodResult]) -> String {
             r.steps
         );
         if r.runs.is_empty() {
-            let _ = writeln!(s, "{head},0,{},,,,,,,,,{},", r.status, r.exact_impacts);
+            let _ = writeln!(s, "{head},0,{},,,,,,,,,{},,", r.status, r.exact_impacts);
         }
         for (k, m) in r.runs.iter().enumerate() {
             let _ = writeln!(
                 s,
-                "{head},{k},{},{},{},{},{},{},{},{},{},{},{}",
+                "{head},{k},{},{},{},{},{},{},{},{},{},{},{},{}",
                 r.status,
                 f(m.l2_error),
                 o(m.impact_error),
@@ -69,7 +70,8 @@ pub fn methods_csv(results: &[MethodResult]) -> String {
                 f(m.penetration),
                 f(m.energy_drift),
                 r.exact_impacts,
-                if k == 0 { f(r.cpu_seconds) } else { String::new() }
+                if k == 0 { f(r.cpu_seconds) } else { String::new() },
+                if k == 0 { f(r.step_seconds) } else { String::new() }
             );
         }
     }
@@ -95,20 +97,20 @@ pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> Strin
         let _ = writeln!(
             s,
             "### {} (m = {}, Δt = h/c or 0.9 Δt_c)\n\n\
-             | method | class | mass | cΔt/h | L∞(L²) rel. | impact err./D | duration err./D | rebound v̄/V₀ | force TV / exact | impulse / exact | penetration/L | energy drift ({impacts} impacts) | CPU s |\n\
-             |---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+             | method | class | mass | cΔt/h | L∞(L²) rel. | impact err./D | duration err./D | rebound v̄/V₀ | force TV / exact | impulse / exact | penetration/L | energy drift ({impacts} impacts) | CPU s | of which steps |\n\
+             |---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
             p.title, config.table_elements
         );
         for r in rows {
             let head = format!("| {} | {} | {} | {} ", r.method, r.class, r.mass, sig(r.courant, 3));
             if r.runs.is_empty() {
                 let why = r.failure.as_deref().unwrap_or("").replace('|', "/");
-                let _ = writeln!(s, "{head}| {} ({why}) | | | | | | | | |", r.status);
+                let _ = writeln!(s, "{head}| {} ({why}) | | | | | | | | | |", r.status);
                 continue;
             }
             let _ = writeln!(
                 s,
-                "{head}| {} | {} | {} | {} | {} | {} | {} | {} | {:.2e} |",
+                "{head}| {} | {} | {} | {} | {} | {} | {} | {} | {:.2e} | {:.2e} |",
                 cell(r, |m| Some(m.l2_error)),
                 cell(r, |m| m.impact_error),
                 cell(r, |m| m.duration_error),
@@ -117,7 +119,8 @@ pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> Strin
                 cell(r, |m| m.impulse),
                 cell(r, |m| Some(m.penetration)),
                 cell(r, |m| Some(m.energy_drift)),
-                r.cpu_seconds
+                r.cpu_seconds,
+                r.step_seconds
             );
         }
         let _ = writeln!(s);
@@ -214,9 +217,9 @@ where
             match ki {
                 0 => chart.draw_series(pts.iter().map(|&q| Circle::new(q, 3, style))).map_err(e)?,
                 1 => chart.draw_series(pts.iter().map(|&q| TriangleMarker::new(q, 4, style))).map_err(e)?,
-                2 => {
-                    chart.draw_series(pts.iter().map(|&q| Rectangle::new([q, q], style.stroke_width(6)))).map_err(e)?
-                }
+                2 => chart
+                    .draw_series(pts.iter().map(|&q| EmptyElement::at(q) + Rectangle::new([(-3, -3), (3, 3)], style)))
+                    .map_err(e)?,
                 _ => chart.draw_series(pts.iter().map(|&q| Cross::new(q, 4, colour.stroke_width(2)))).map_err(e)?,
             };
         }
@@ -266,7 +269,9 @@ pub fn methods_markdown(config: &MethodsConfig, results: &[MethodResult], figure
         "Every method class of issue 20 ({} methods × their masses) on four 1D problems with exact solutions by \
          characteristics; meshes m = {:?}, Δt = h/c (explicit runs: 0.9 Δt_c when the stable limit Δt_c is below h/c). \
          Penalty κ = factor · E/h (\"pen 1\", \"pen 100\"). D is the exact first contact's duration; the energy drift \
-         is (E(T) − E(0))/E(0) of each scheme's own energy. Standard-mass and Paoli–Schatzman runs are repeated from \
+         is (E(T) − E(0))/E(0) of each scheme's own energy. CPU time is set-up (factorisations; for central \
+         differences the stable limit: Lanczos, at most 300 steps, else the Gershgorin bound) and stepping, fastest of up \
+         to 3 runs; \"of which steps\" is the stepping alone. Standard-mass and Paoli–Schatzman runs are repeated from \
          4 perturbed U⁰ (|δ| ≤ 1e-13): their cells show only the digits all 5 runs share, else the band min–max \
          (src/paper/methods.rs documents every column).\n\n![work–precision]({figure})\n",
         METHODS.len(),
