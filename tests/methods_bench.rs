@@ -119,6 +119,35 @@ fn every_method_runs_and_the_table_matches_the_exact_solutions() {
     assert_eq!(csv.lines().next().unwrap(), METHODS_COLUMNS.join(","));
     assert_eq!(csv.lines().count() - 1, rs.iter().map(|r| r.runs.len().max(1)).sum::<usize>());
     assert!(rs.iter().all(|r| sensitive_label(r) == (r.runs.len() == 5)));
+    // The VM265 table states its exact values (impact at gap/V₀ = 4.946e-5 s, the published
+    // 5.0e-5 to two digits; contact 2L/c; force ρcV₀ = 29923 lbf on A = 1 in²).
+    assert!(
+        tables
+            .contains("impact at gap/V₀ = 4.946e-5, contact D = 2L/c = 9.866e-5, force ρcV₀ = 29923 per unit section"),
+        "{tables}"
+    );
+    // `bench --methods`' writer: every file, the CSV as computed, figures drawn.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = massredist::output::OutputDir::prepare(&tmp.path().join("m"), false, &[]).unwrap();
+    let report = massredist::bench::methods::MethodsReport {
+        environment: massredist::bench::env::Environment::detect(),
+        config: config.clone(),
+        results: rs.clone(),
+        seconds: 1.0,
+    };
+    massredist::bench::methods::write(dir, &report).unwrap();
+    for f in [
+        "methods.csv",
+        "methods.md",
+        "report.md",
+        "environment.json",
+        "methods-work-precision.png",
+        "methods-work-precision.svg",
+    ] {
+        let len = std::fs::metadata(tmp.path().join("m").join(f)).unwrap().len();
+        assert!(len > 1000 || f == "environment.json" && len > 0, "{f}: {len} bytes");
+    }
+    assert_eq!(std::fs::read_to_string(tmp.path().join("m/methods.csv")).unwrap(), csv);
 }
 
 /// The problem key of the table holding `line` (the last heading above it).

@@ -4,7 +4,7 @@
 //! one colour per method, one marker per mass). Formatting and drawing only.
 
 use super::band::{sig, stable_digits};
-use super::methods::{METHODS, MethodResult, MethodsConfig, Metrics, PROBLEMS};
+use super::methods::{METHODS, MethodResult, MethodsConfig, Metrics, PROBLEMS, Problem1d};
 use crate::output::fmt_f64;
 use plotters::prelude::*;
 use std::fmt::Write as _;
@@ -87,6 +87,33 @@ fn cell(r: &MethodResult, get: impl Fn(&Metrics) -> Option<f64>) -> String {
     stable_digits(&v, 3)
 }
 
+/// The exact values a problem's rows are measured against, in its units (by characteristics: a
+/// free rod at V₀ hits the wall at gap/V₀, stays for D = 2L/c under the force ρcV₀ per unit
+/// section, and leaves at V₀; the paper's bar, §4.1: contact on [L, 2L] of each period 3L/c).
+fn exact_values(p: &Problem1d) -> String {
+    let c = p.c();
+    match p.v0 {
+        Some(v0) => format!(
+            "Exact: impact at gap/V₀ = {}, contact D = 2L/c = {}, force ρcV₀ = {} per unit section, rebound V₀ = {} \
+             (L = {}, ρ = {}, E = {}, gap = {}).",
+            sig(p.gap / v0, 4),
+            sig(2.0 * p.length / c, 4),
+            sig(p.density * c * v0, 4),
+            sig(v0, 4),
+            sig(p.length, 4),
+            sig(p.density, 4),
+            sig(p.modulus, 4),
+            sig(p.gap, 4)
+        ),
+        None => format!(
+            "Exact (§4.1): contact on [L/c, 2L/c] = [{}, {}] of each period 3L/c, force −E/2 = {}.",
+            sig(p.length / c, 4),
+            sig(2.0 * p.length / c, 4),
+            sig(-p.modulus / 2.0, 4)
+        ),
+    }
+}
+
 /// One Markdown table per problem at `config.table_elements`.
 pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> String {
     let mut s = String::new();
@@ -96,10 +123,12 @@ pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> Strin
         let impacts = rows.first().map_or(0, |r| r.exact_impacts);
         let _ = writeln!(
             s,
-            "### {} (m = {}, Δt = h/c or 0.9 Δt_c)\n\n\
+            "### {} (m = {}, Δt = h/c or 0.9 Δt_c)\n\n{}\n\n\
              | method | class | mass | cΔt/h | L∞(L²) rel. | impact err./D | duration err./D | rebound v̄/V₀ | force TV / exact | impulse / exact | penetration/L | energy drift ({impacts} impacts) | CPU s | of which steps |\n\
              |---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
-            p.title, config.table_elements
+            p.title,
+            config.table_elements,
+            exact_values(p)
         );
         for r in rows {
             let head = format!("| {} | {} | {} | {} ", r.method, r.class, r.mass, sig(r.courant, 3));
