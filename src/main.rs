@@ -69,6 +69,9 @@ enum Command {
         /// python/bench_engine.py), then exit.
         #[arg(long, value_name = "CSV")]
         scaling_figure: Option<PathBuf>,
+        /// Only the comparison of the method classes (issue 20: src/paper/methods.rs) into DIR.
+        #[arg(long)]
+        methods: bool,
     },
 }
 
@@ -124,6 +127,18 @@ fn main() -> ExitCode {
             }
             Err(m) => fail(&csv, m, exit::FAILURE),
         },
+        Command::Bench { methods: true, out, force, .. } => {
+            let dir = match prepare(&out, force, &[]) {
+                Ok(d) => d,
+                Err(code) => return code,
+            };
+            let report = massredist::bench::methods::run();
+            if let Err(e) = massredist::bench::methods::write(dir, &report) {
+                return fail(&out, e.to_string(), exit::FAILURE);
+            }
+            eprintln!("{}: {} runs in {:.1} s; see report.md", out.display(), report.results.len(), report.seconds);
+            ExitCode::SUCCESS
+        }
         Command::Bench { quick, out, force, .. } => {
             let dir = match prepare(&out, force, &[]) {
                 Ok(d) => d,

@@ -75,6 +75,8 @@ fn expected_files(config: &Config) -> BTreeSet<String> {
         }
     }
     out.insert(paper::BODIES_TABLE.into());
+    // The method classes (tests/methods_bench.rs checks their numbers).
+    out.extend(paper::methods_report::METHODS_FILES.map(String::from));
     out
 }
 

@@ -35,6 +35,8 @@ pub mod elastic_table;
 mod experiments;
 mod figures;
 pub mod mesh_scope;
+pub mod methods;
+pub mod methods_report;
 mod periods;
 pub mod plate_table;
 pub mod ps_growth;
@@ -116,7 +118,11 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     }
     config.steps("rebound end", REBOUND_END)?;
     let quick = !config.full_2d_sweep;
-    let n_cases = (cases(config).len() + rebound_cases().len() + bodies::body_cases(quick).len()) as u64;
+    let methods_config = methods::MethodsConfig::reproduce();
+    let n_cases = (cases(config).len()
+        + rebound_cases().len()
+        + bodies::body_cases(quick).len()
+        + methods::cases(&methods_config).len()) as u64;
     let n_figures = 2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len() + 3;
     progress.set_length(n_cases + n_figures as u64);
     progress.set_message("running");
@@ -126,6 +132,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let ps = ps_growth::ps_growth(config)?;
     let (lead, sensitivity) = (table2d_lead::lead_rows(), table2d_lead::sensitivity());
     let bodies = bodies::compute_bodies(quick, &|| progress.inc(1))?;
+    let methods = methods::compute(&methods_config, &|| progress.inc(1));
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
@@ -142,6 +149,8 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let at = files.iter().position(|f| f == "summaries.json").unwrap_or(files.len());
     let body_files = body_figures.iter().flat_map(FigureFile::file_names).chain([BODIES_TABLE.to_string()]);
     files.splice(at..at, body_files);
+    let at = files.iter().position(|f| f == "summaries.json").unwrap_or(files.len());
+    files.splice(at..at, methods_report::METHODS_FILES.map(String::from));
     let bodies_md = bodies_report::bodies_section(&bodies);
     let report = report_markdown(
         config,
@@ -152,7 +161,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         table2d.as_ref(),
         &elastic,
         &bodies_md,
-    );
+    ) + &methods_report::methods_section(&methods_config, &methods);
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
         figures.par_iter().chain([&rebound_figure, &scope_figure, &lead_figure]).chain(&body_figures).try_for_each(
@@ -169,6 +178,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         elastic_table::write_elastic_csv(tmp, &elastic)?;
         let header = BODIES_COLUMNS.map(String::from);
         tables::write_csv(&tmp.join(BODIES_TABLE), &header, &bodies_report::bodies_csv_rows(&bodies))?;
+        methods_report::write_methods_files(tmp, &methods)?;
         std::fs::write(tmp.join("summaries.json"), summaries_json(config, &results)?)?;
         std::fs::write(tmp.join("report.md"), &report)
     })

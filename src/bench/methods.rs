@@ -1,0 +1,60 @@
+//! `massredist bench --methods`: the comparison of every method class of issue 20
+//! ([`crate::paper::methods`]) on the bench's meshes ([`MethodsConfig::bench`]), written as
+//! `methods.csv`, `methods.md` (tables and prose), the work–precision figure
+//! (`methods-work-precision.png`, `.svg`), `environment.json` and `report.md`. An edge: it times,
+//! runs and writes; the numbers come from the library.
+
+use crate::paper::methods::{MethodResult, MethodsConfig, cases, compute};
+use crate::paper::methods_report::{METHODS_FILES, methods_markdown, write_methods_files};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde::Serialize;
+
+/// Everything `bench --methods` measured.
+#[derive(Debug, Clone, Serialize)]
+pub struct MethodsReport {
+    pub environment: super::env::Environment,
+    pub config: MethodsConfig,
+    pub results: Vec<MethodResult>,
+    pub seconds: f64,
+}
+
+/// Runs the comparison (Rayon across runs).
+pub fn run() -> MethodsReport {
+    let started = std::time::Instant::now();
+    let environment = super::env::Environment::detect();
+    let config = MethodsConfig::bench();
+    let bar = ProgressBar::with_draw_target(Some(cases(&config).len() as u64), ProgressDrawTarget::stderr());
+    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} runs {elapsed_precise}").expect("valid template"));
+    let results = compute(&config, &|| bar.inc(1));
+    bar.finish_and_clear();
+    MethodsReport { environment, config, results, seconds: started.elapsed().as_secs_f64() }
+}
+
+/// Writes the files into `out` (prepared before computing; atomically).
+pub fn write(out: crate::output::OutputDir, r: &MethodsReport) -> Result<(), crate::output::OutputError> {
+    let e = &r.environment;
+    let body = methods_markdown(&r.config, &r.results, METHODS_FILES[1]);
+    let report = format!(
+        "# massredist bench --methods\n\nEnvironment: {} ({} logical CPUs), {}, {} build, massredist {} at {}{}, {} Rayon \
+         threads. Total time {:.1} s; {} runs (the runs of a case in parallel with others: CPU times are of one \
+         thread on a shared machine).\n\n{body}",
+        e.cpu,
+        e.logical_cpus,
+        e.rustc,
+        e.profile,
+        e.crate_version,
+        &e.git_commit[..e.git_commit.len().min(12)],
+        if e.git_dirty { " (uncommitted changes)" } else { "" },
+        e.rayon_threads,
+        r.seconds,
+        r.results.len()
+    );
+    out.commit(|tmp| {
+        write_methods_files(tmp, &r.results)?;
+        std::fs::write(tmp.join("methods.md"), &report)?;
+        std::fs::write(tmp.join("report.md"), &report)?;
+        let json = serde_json::to_string_pretty(&r.environment).expect("plain data serialises") + "\n";
+        std::fs::write(tmp.join("environment.json"), json)?;
+        Ok(())
+    })
+}
