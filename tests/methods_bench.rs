@@ -12,7 +12,8 @@ fn row<'a>(rs: &'a [MethodResult], problem: &str, method: &str, mass: &str) -> &
 }
 
 /// One run of the whole table at m = 50 (about 190 cases), checked against the exact solutions.
-/// (About 90 lines: one computation, checked column by column; split, each part would rerun it.)
+/// (About 130 lines: one computation, checked column by column and then written; split, each part
+/// would rerun it.)
 ///
 /// Mutations tried: the penalty not scaled by 1/h (`f * E / h` -> `f * E` in `scene_text`) ->
 /// "rebound-bar mod1: penetration 0.0101 against 0.0002"; the release test `u0 > lower` ->
