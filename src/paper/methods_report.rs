@@ -231,7 +231,7 @@ where
         let (x, y) = (span(&|q| q.0), span(&|q| q.1));
         let mut chart =
             crate::bench::report::log_log_chart(area, p.title, x, y, ("CPU time [s]", "relative L∞(L²) error"), false)?;
-        let mut labelled = [false; 16];
+        let mut labelled = vec![false; METHODS.len()];
         for (mi, ki, pts) in &ls {
             let (r, g, b) = COLOURS[mi % COLOURS.len()];
             let colour = RGBColor(r, g, b);
