@@ -20,6 +20,13 @@
 //!   total: the velocity of its centre of mass after release, constant in free flight) against
 //!   the mesh size. 1ᵀM1 = ρ|Ω| but for mod1, which drops layer 0's mass.
 //!
+//! - **Sphere drop**: the sphere of radius 20 centred at (0, 0, 20) (tetra10 meshes
+//!   [`SPHERE_MESHES`], `python/meshes/generate.py --fixtures`), the same material, free,
+//!   [`DROP_GAP`] above the plane z = 0 moving down at [`DROP_SPEED`], no force, Crank–Nicolson
+//!   with every mass, Δt = [`SPHERE_DT`] to T = [`SPHERE_END`]: the drop's table in 3D
+//!   (rebound velocity P_z(T)/(1ᵀM1)). Δt is twice the disc's to keep the set within about 20 s
+//!   on one core; the contact lasts about 19 (≈ 950 steps), so it is still well resolved.
+//!
 //! Round-off: every run is repeated from an initial velocity perturbed by
 //! [`PERTURBATION`] (absolute on the rest disc, whose V⁰ = 0; relative on the drop), and the
 //! report keeps only the digits both runs share ([`super::band::stable_digits`]).
@@ -49,12 +56,33 @@ pub const PERTURBATION: f64 = 1e-13;
 
 /// The meshes: (nominal gmsh size h, file under `fixtures/meshes/`), coarsest first.
 pub const MESHES: [(f64, &str); 3] = [(8.0, "disc_p2_22a.msh"), (4.0, "disc_p2_h4.msh"), (2.0, "disc_p2_h2.msh")];
+/// The sphere's tetra10 meshes (gmsh size h; 1485, 2121 and 2871 unknowns), coarsest first.
+pub const SPHERE_MESHES: [(f64, &str); 3] =
+    [(20.0, "sphere_tet10_22a.msh"), (16.0, "sphere_tet10_h16.msh"), (14.0, "sphere_tet10_h14.msh")];
+/// The sphere's time step and final time (release near t = 19.8 at h = 20, measured; free
+/// flight after it).
+pub const SPHERE_DT: f64 = 0.02;
+pub const SPHERE_END: f64 = 22.0;
 
 /// Which benchmark a run belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Bench {
     Rest,
     Drop,
+    /// The sphere dropped (3D).
+    Sphere,
+}
+
+impl Bench {
+    /// The benchmark's meshes (size h, file).
+    pub fn meshes(self) -> &'static [(f64, &'static str)] {
+        if self == Bench::Sphere { &SPHERE_MESHES } else { &MESHES }
+    }
+
+    /// Its time step.
+    pub fn dt(self) -> f64 {
+        if self == Bench::Sphere { SPHERE_DT } else { DT }
+    }
 }
 
 /// One run: benchmark, scheme, mass, mesh (index into [`MESHES`]).
@@ -68,13 +96,22 @@ pub struct BodyCase {
 
 impl BodyCase {
     pub fn name(&self) -> String {
-        let b = if self.bench == Bench::Rest { "disc-rest" } else { "disc-drop" };
-        format!("{b} / h = {} / {} / {}", MESHES[self.mesh].0, self.experiment.slug(), self.mass.name())
+        let b = match self.bench {
+            Bench::Rest => "disc-rest",
+            Bench::Drop => "disc-drop",
+            Bench::Sphere => "sphere-drop",
+        };
+        format!("{b} / h = {} / {} / {}", self.h(), self.experiment.slug(), self.mass.name())
+    }
+
+    /// The nominal mesh size.
+    pub fn h(&self) -> f64 {
+        self.bench.meshes()[self.mesh].0
     }
 }
 
 /// The runs: at rest, CN, BE and hybrid × their masses on every mesh (`quick`: the coarsest
-/// only); the drop, CN × every mass on every mesh (`quick`: the coarsest).
+/// only); the drop and the sphere, CN × every mass on every mesh (`quick`: the coarsest).
 pub fn body_cases(quick: bool) -> Vec<BodyCase> {
     let schemes = [Experiment::CrankNicolson, Experiment::BackwardEuler, Experiment::Hybrid];
     let rest_meshes = if quick { 1 } else { MESHES.len() };
@@ -85,13 +122,15 @@ pub fn body_cases(quick: bool) -> Vec<BodyCase> {
             out.extend(e.masses().into_iter().map(|mass| BodyCase { bench: Bench::Rest, experiment: e, mass, mesh }));
         }
     }
-    for mesh in 0..drop_meshes {
-        out.extend(Experiment::CrankNicolson.masses().into_iter().map(|mass| BodyCase {
-            bench: Bench::Drop,
-            experiment: Experiment::CrankNicolson,
-            mass,
-            mesh,
-        }));
+    for bench in [Bench::Drop, Bench::Sphere] {
+        for mesh in 0..drop_meshes {
+            out.extend(Experiment::CrankNicolson.masses().into_iter().map(|mass| BodyCase {
+                bench,
+                experiment: Experiment::CrankNicolson,
+                mass,
+                mesh,
+            }));
+        }
     }
     out
 }
@@ -101,9 +140,12 @@ pub fn body_cases(quick: bool) -> Vec<BodyCase> {
 /// divergence criterion is off in effect (factor 1e300): E⁰ is 0 or, perturbed, ~1e-24, which
 /// gives it no scale (the first step's energy, ~0.1, would stop the run).
 pub fn body_scene_text(case: &BodyCase, end: f64, perturbed: bool) -> String {
+    if case.bench == Bench::Sphere {
+        return sphere_scene_text(case, end, perturbed);
+    }
     let (fy, v0, point) = match case.bench {
         Bench::Rest => ("-0.1", 0.0, 0.0),
-        Bench::Drop => ("0", -DROP_SPEED, -DROP_GAP),
+        _ => ("0", -DROP_SPEED, -DROP_GAP),
     };
     let dv = if perturbed { format!(" - {PERTURBATION:e} * (1 + x/40)") } else { String::new() };
     format!(
@@ -114,6 +156,24 @@ pub fn body_scene_text(case: &BodyCase, end: f64, perturbed: bool) -> String {
          [output]\nseries = [\"energy\", \"contact_force\", \"active_nodes\", \"min_distance\", \"momentum_y\"]\n\
          divergence_factor = 1e300\n",
         MESHES[case.mesh].1,
+        case.mass.name(),
+        toml::to_string(&case.experiment.spec()).expect("a scheme always serialises").trim_end(),
+    )
+}
+
+/// The sphere's scene ([`body_scene_text`]; the same perturbation, along z).
+fn sphere_scene_text(case: &BodyCase, end: f64, perturbed: bool) -> String {
+    let dv = if perturbed { format!(" - {PERTURBATION:e} * (1 + x/40)") } else { String::new() };
+    format!(
+        "[solid]\ndim = 3\nmesh = \"{}\"\nlame_lambda = 20.0\nlame_mu = 20.0\ndensity = 1.0\n\
+         force = [\"0\", \"0\", \"0\"]\ninitial = {{ displacement = [\"0\", \"0\", \"0\"], velocity = [\"0\", \"0\", \"{:?}{dv}\"] }}\n\
+         [obstacle]\nnormal = [0.0, 0.0, 1.0]\npoint = [0.0, 0.0, {:?}]\ncontact = \"auto\"\n\
+         [mass]\nkind = \"{}\"\n[scheme]\n{}\n[time]\ndt = {SPHERE_DT:?}\nend = {end:?}\n\
+         [output]\nseries = [\"energy\", \"contact_force\", \"active_nodes\", \"min_distance\", \"momentum_z\"]\n\
+         divergence_factor = 1e300\n",
+        SPHERE_MESHES[case.mesh].1,
+        -DROP_SPEED,
+        -DROP_GAP,
         case.mass.name(),
         toml::to_string(&case.experiment.spec()).expect("a scheme always serialises").trim_end(),
     )
@@ -130,7 +190,7 @@ pub struct BodyResult {
     pub case: BodyCase,
     pub end: f64,
     pub summary: Summary,
-    /// Recorded every step: t, energy, total contact force, active nodes, P_y.
+    /// Recorded every step: t, energy, total contact force, active nodes, P_y (P_z for the sphere).
     pub t: Vec<f64>,
     pub energy: Vec<f64>,
     pub contact_force: Vec<f64>,
@@ -196,7 +256,7 @@ fn run_one(
         col(Column::Energy),
         col(Column::ContactForce),
         col(Column::ActiveNodes),
-        col(Column::Momentum(1)),
+        col(Column::Momentum(if case.bench == Bench::Sphere { 2 } else { 1 })),
     ];
     let m = metrics(&series[1], &series[2], &series[3], &series[4], volume, &run.summary);
     Ok((run.summary, volume, series, m))
@@ -208,6 +268,7 @@ pub fn run_body(case: &BodyCase, quick: bool) -> Result<BodyResult, ReproduceErr
         Bench::Rest if quick => REST_END_QUICK,
         Bench::Rest => REST_END,
         Bench::Drop => DROP_END,
+        Bench::Sphere => SPHERE_END,
     };
     let (summary, volume, [t, energy, contact_force, active, momentum_y], metrics) = run_one(case, end, false)?;
     let perturbed = run_one(case, end, true)?.3;
