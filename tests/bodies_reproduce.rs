@@ -112,3 +112,24 @@ fn the_metrics_follow_their_definitions_on_a_hand_made_series() {
     assert_eq!((m.drift, m.max_energy_deviation, m.max_energy_increase), (-2.0, 2.0, 0.5));
     assert_eq!((m.force_variation, m.episodes, m.rebound_velocity), (8.0, 2, 2.0));
 }
+
+#[test]
+fn the_impact_snapshot_is_the_state_of_largest_contact_force() {
+    // `bodies-impact` draws the 2D drop at its largest total contact force: the snapshot's force
+    // and time are those of the series' maximum (ΣR summed alike: 1e-12 relative for the order
+    // of the sum), its pressure is ≥ 0 (R_i ≥ 0, a_i > 0), sorted by x.
+    // mutation: the observer keeping every later state (the last) -> ΣR = 0 vs 5785, fails (tried).
+    for r in results().iter().filter(|r| r.case.bench != Bench::Rest) {
+        let name = r.case.name();
+        if r.case.bench == Bench::Sphere {
+            assert!(r.snapshot.is_none(), "{name}: 3D has no snapshot");
+            continue;
+        }
+        let s = r.snapshot.as_ref().expect("a 2D drop has a snapshot");
+        let (n, max) = r.contact_force.iter().enumerate().fold((0, 0.0), |b, (n, &f)| if f > b.1 { (n, f) } else { b });
+        assert!((s.contact_force - max).abs() <= 1e-12 * max, "{name}: {} vs {max}", s.contact_force);
+        assert_eq!(s.t, r.t[n], "{name}");
+        assert!(s.pressure.iter().all(|p| p.1 >= 0.0), "{name}");
+        assert!(s.pressure.windows(2).all(|w| w[0].0 <= w[1].0), "{name}: sorted by x");
+    }
+}

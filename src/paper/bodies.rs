@@ -24,8 +24,9 @@
 //!   [`SPHERE_MESHES`], `python/meshes/generate.py --fixtures`), the same material, free,
 //!   [`DROP_GAP`] above the plane z = 0 moving down at [`DROP_SPEED`], no force, Crank–Nicolson
 //!   with every mass, Δt = [`SPHERE_DT`] to T = [`SPHERE_END`]: the drop's table in 3D
-//!   (rebound velocity P_z(T)/(1ᵀM1)). Δt is twice the disc's to keep the set within about 20 s
-//!   on one core; the contact lasts about 19 (≈ 950 steps), so it is still well resolved.
+//!   (rebound velocity P_z(T)/(1ᵀM1)). Δt is twice the disc's to keep the set's cost down (the 24 runs,
+//!   perturbed copies included, took about 20 to 40 s on one loaded core); the contact lasts
+//!   about 19 (≈ 950 steps), so it is still well resolved.
 //!
 //! Round-off: every run is repeated from an initial velocity perturbed by
 //! [`PERTURBATION`] (absolute on the rest disc, whose V⁰ = 0; relative on the drop), and the
@@ -33,6 +34,7 @@
 
 use super::ReproduceError;
 use super::experiments::Experiment;
+use crate::driver::{Observer, Sample};
 use crate::mass::MassKind;
 use crate::observe::{Column, Summary};
 use crate::run::{RunError, run_scene};
@@ -201,6 +203,77 @@ pub struct BodyResult {
     pub metrics: Metrics,
     /// The same metrics from the perturbed initial velocity.
     pub perturbed: Metrics,
+    /// The 2D body at its largest total contact force (drawn by `bodies-impact`); None in 3D.
+    pub snapshot: Option<Snapshot>,
+}
+
+/// A 2D body's deformed mesh and contact pressure at one time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    pub t: f64,
+    /// Σ_i R_i then.
+    pub contact_force: f64,
+    /// Deformed node positions X + u.
+    pub points: Vec<[f64; 2]>,
+    /// Cell sides as node polylines (2 nodes, or 3 for P2: vertex, mid-side, vertex).
+    pub sides: Vec<Vec<usize>>,
+    /// (x_i + u_x,i, R_i/a_i) of the contact nodes, by x.
+    pub pressure: Vec<(f64, f64)>,
+}
+
+/// Keeps the state of largest total contact force (nodal u, λ).
+#[derive(Default)]
+struct PeakForce {
+    force: f64,
+    t: f64,
+    u: Vec<f64>,
+    lambda: Vec<f64>,
+}
+
+impl Observer for PeakForce {
+    fn observe(&mut self, sample: &Sample) {
+        // Σ_c λ_c ≤ 0 for a body: the total force is its opposite.
+        if -sample.contact_force > self.force {
+            self.force = -sample.contact_force;
+            self.t = sample.state.t;
+            self.u.resize(sample.geometry.n_nodes() * sample.geometry.components(), 0.0);
+            sample.geometry.nodal_values(sample.state.u, &mut self.u);
+            self.lambda.clear();
+            self.lambda.extend_from_slice(sample.state.lambda);
+        }
+    }
+}
+
+/// The snapshot of a 2D solid from its state of largest force ([`PeakForce`]).
+fn snapshot(solid: &crate::solid::assembly::SolidSystem, peak: &PeakForce) -> Option<Snapshot> {
+    let mesh = &solid.mesh;
+    if mesh.dim != 2 || peak.u.is_empty() {
+        return None;
+    }
+    let points: Vec<[f64; 2]> =
+        mesh.points.iter().enumerate().map(|(i, p)| [p[0] + peak.u[2 * i], p[1] + peak.u[2 * i + 1]]).collect();
+    let k = mesh.kind.verts();
+    let corners = mesh.kind.corners();
+    let sides = mesh
+        .cells
+        .chunks(k)
+        .flat_map(|c| {
+            (0..corners).map(move |j| {
+                let (a, b) = (c[j], c[(j + 1) % corners]);
+                // P2 (triangle6): the mid-side node of side j is node corners + j.
+                if k == 2 * corners { vec![a, c[corners + j], b] } else { vec![a, b] }
+            })
+        })
+        .collect();
+    let mut pressure: Vec<(f64, f64)> = solid
+        .contact_nodes
+        .iter()
+        .zip(&peak.lambda)
+        .zip(&solid.contact_areas)
+        .map(|((&i, &l), &a)| (points[i][0], -l / a))
+        .collect();
+    pressure.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Some(Snapshot { t: peak.t, contact_force: peak.force, points, sides, pressure })
 }
 
 /// The per-run numbers of the section.
@@ -236,17 +309,20 @@ pub fn metrics(energy: &[f64], force: &[f64], active: &[f64], momentum_y: &[f64]
 }
 
 /// One run of `case` to `end` (and `perturbed`): the summary, the series and the metrics.
+#[allow(clippy::type_complexity)]
 fn run_one(
     case: &BodyCase,
     end: f64,
     perturbed: bool,
-) -> Result<(Summary, f64, [Vec<f64>; 5], Metrics), ReproduceError> {
+) -> Result<(Summary, f64, [Vec<f64>; 5], Metrics, Option<Snapshot>), ReproduceError> {
     let name = case.name();
     let text = body_scene_text(case, end, perturbed);
     let scene: Scene<SolidSpec> = AnyScene::from_toml_at(&text, &mesh_dir())
         .and_then(SolidSpec::from_any)
         .map_err(|source| ReproduceError::Scene { case: name.clone(), source })?;
-    let run = run_scene(&scene, &mut []).map_err(|source: RunError| ReproduceError::Run { case: name, source })?;
+    let mut peak = PeakForce::default();
+    let run =
+        run_scene(&scene, &mut [&mut peak]).map_err(|source: RunError| ReproduceError::Run { case: name, source })?;
     let col = |c: Column| run.series.column(c).unwrap_or_default();
     // 1ᵀM1 of the redistributed mass, Σ_b ρ Σ_c w_c ∫_c φ_b: ρ|Ω| for the standard mass, mod2
     // and mod3; less for mod1, which drops layer 0's mass.
@@ -259,7 +335,7 @@ fn run_one(
         col(Column::Momentum(if case.bench == Bench::Sphere { 2 } else { 1 })),
     ];
     let m = metrics(&series[1], &series[2], &series[3], &series[4], volume, &run.summary);
-    Ok((run.summary, volume, series, m))
+    Ok((run.summary, volume, series, m, snapshot(&run.problem.system, &peak)))
 }
 
 /// Runs `case` and its perturbed copy.
@@ -270,7 +346,8 @@ pub fn run_body(case: &BodyCase, quick: bool) -> Result<BodyResult, ReproduceErr
         Bench::Drop => DROP_END,
         Bench::Sphere => SPHERE_END,
     };
-    let (summary, volume, [t, energy, contact_force, active, momentum_y], metrics) = run_one(case, end, false)?;
+    let (summary, volume, [t, energy, contact_force, active, momentum_y], metrics, snapshot) =
+        run_one(case, end, false)?;
     let perturbed = run_one(case, end, true)?.3;
     Ok(BodyResult {
         case: case.clone(),
@@ -284,6 +361,7 @@ pub fn run_body(case: &BodyCase, quick: bool) -> Result<BodyResult, ReproduceErr
         mass_total: volume,
         metrics,
         perturbed,
+        snapshot,
     })
 }
 

@@ -2,7 +2,9 @@
 //! figures `bodies-energy` (energy over time of the disc at rest, one panel per scheme, finest
 //! mesh run) and `bodies-drop` (centre-of-mass velocity P_y/(1ᵀM1) of the dropped disc, one
 //! panel per mesh), `bodies-sphere` (the dropped sphere: centre-of-mass velocity P_z/(1ᵀM1)
-//! and total contact force ΣR over time, one column per mesh), and the report section. Pure: strings and figure data from the results.
+//! and total contact force ΣR over time, one column per mesh), `bodies-impact` (the dropped
+//! disc, finest mesh, mod3, at its largest total contact force: the deformed mesh on the plane
+//! and the contact pressure), and the report section. Pure: strings and figure data from the results.
 
 use super::band::stable_digits;
 use super::bodies::{Bench, BodyResult, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION, SPHERE_DT};
@@ -10,7 +12,7 @@ use super::experiments::Experiment;
 use super::figures::{FigureFile, grid_rows, mass_style, off_scale, points};
 use crate::mass::MassKind;
 use crate::output::fmt_f64;
-use crate::plot::{self, Curve, Figure, Panel};
+use crate::plot::{self, Curve, Figure, Panel, Style};
 use std::fmt::Write as _;
 
 /// The section's table file and figure stems.
@@ -18,6 +20,7 @@ pub const BODIES_TABLE: &str = "bodies.csv";
 pub const BODIES_ENERGY: &str = "bodies-energy";
 pub const BODIES_DROP: &str = "bodies-drop";
 pub const BODIES_SPHERE: &str = "bodies-sphere";
+pub const BODIES_IMPACT: &str = "bodies-impact";
 
 /// Header of `bodies.csv`.
 pub const BODIES_COLUMNS: [&str; 16] = [
@@ -153,7 +156,59 @@ pub(super) fn bodies_figures(results: &[BodyResult]) -> Vec<FigureFile> {
         .collect();
     let title = format!("Disc dropped at {} from {} above the plane, Crank–Nicolson", DROP_SPEED, DROP_GAP);
     let drop = figure(BODIES_DROP, title, panels, &drops, &[("", com_velocity)]);
-    vec![energy, drop, sphere_figure(results)]
+    let mut out = vec![energy, drop, sphere_figure(results)];
+    out.extend(impact_figure(results));
+    out
+}
+
+/// `bodies-impact`: the dropped disc on its finest mesh with mod3 at its largest total contact
+/// force, the deformed mesh (true scale) on the plane, and the nodal contact pressure R_i/a_i.
+fn impact_figure(results: &[BodyResult]) -> Option<FigureFile> {
+    let r = results
+        .iter()
+        .filter(|r| r.case.bench == Bench::Drop && r.case.mass == MassKind::Mod3)
+        .max_by_key(|r| r.case.mesh)?;
+    let snap = r.snapshot.as_ref()?;
+    let mut curves: Vec<Curve> = snap
+        .sides
+        .iter()
+        .map(|side| Curve {
+            label: "deformed mesh".into(),
+            points: side.iter().map(|&i| (snap.points[i][0], snap.points[i][1])).collect(),
+            style: Style::Numeric(1),
+        })
+        .collect();
+    curves.push(Curve {
+        label: "plane".into(),
+        points: vec![(-24.0, -DROP_GAP), (24.0, -DROP_GAP)],
+        style: Style::Exact,
+    });
+    let mesh = Panel {
+        title: format!("t = {}, ΣR = {:.0}", fmt_f64(snap.t), snap.contact_force),
+        x_label: "x".into(),
+        y_label: "y".into(),
+        curves,
+        x_range: Some((-24.0, 24.0)),
+        y_range: Some((-4.0, 44.0)),
+    };
+    let pressure = Panel {
+        title: "contact pressure R_i/a_i".into(),
+        x_label: "x".into(),
+        y_label: "p".into(),
+        curves: vec![Curve { label: "mod3".into(), points: snap.pressure.clone(), style: mass_style(&MassKind::Mod3) }],
+        x_range: None,
+        y_range: None,
+    };
+    let title = format!(
+        "Disc dropped at {} from {} above the plane: P2, h = {}, mod3, Crank–Nicolson, at the largest contact force",
+        DROP_SPEED,
+        DROP_GAP,
+        r.case.h()
+    );
+    let figure = Figure { title, columns: 2, panels: vec![mesh, pressure], panel_size: (620, 620) };
+    let header = ["x", "pressure"].map(String::from).to_vec();
+    let rows = snap.pressure.iter().map(|&(x, p)| vec![fmt_f64(x), fmt_f64(p)]).collect();
+    Some(FigureFile { stem: BODIES_IMPACT.into(), figure, header, rows, periods: None })
 }
 
 /// `runs` grouped by mesh, coarsest first (meshes without a run left out).
@@ -175,12 +230,8 @@ fn sphere_figure(results: &[BodyResult]) -> FigureFile {
     let forces = groups.iter().map(|runs| panel(format!("ΣR, h = {}", runs[0].case.h()), "ΣR", runs, force));
     let mut panels: Vec<Panel> = velocity.collect();
     panels.extend(forces);
-    let title = format!(
-        "Sphere (tetra10) dropped at {} from {} above the plane, Crank–Nicolson, Δt = {}",
-        DROP_SPEED,
-        DROP_GAP,
-        fmt_f64(SPHERE_DT)
-    );
+    let title =
+        format!("Sphere (tetra10) dropped at {} from {}, CN, Δt = {}", DROP_SPEED, DROP_GAP, fmt_f64(SPHERE_DT));
     let mut f = figure(BODIES_SPHERE, title, panels, &spheres, &[("_velocity", com_velocity), ("_force", force)]);
     f.figure.columns = groups.len().max(1);
     f
@@ -232,7 +283,7 @@ pub(super) fn bodies_section(results: &[BodyResult]) -> String {
          | h | mass | first impact | first release | contact duration | rebound velocity | episodes | min_distance |\n|---|---|---|---|---|---|---|---|\n",
     );
     drop_rows(&mut s, results, Bench::Drop);
-    let _ = writeln!(s, "\n![{BODIES_DROP}]({BODIES_DROP}.png)");
+    let _ = writeln!(s, "\n![{BODIES_DROP}]({BODIES_DROP}.png)\n\n![{BODIES_IMPACT}]({BODIES_IMPACT}.png)");
     s.push_str(&sphere_section(results));
     s
 }
@@ -260,7 +311,7 @@ fn sphere_section(results: &[BodyResult]) -> String {
     let mut s = format!(
         "\n### A sphere dropped at {DROP_SPEED} from {DROP_GAP} above the plane (no force), Crank–Nicolson\n\n\
          Sphere of radius 20 centred at (0, 0, 20), the disc's material, tetra10 (gmsh, nominal size h), free body, contact nodes by GetFEM's rule \
-         on z = 0, Δt = {} (twice the disc's: the set stays within about 20 s on one core; the contact lasts about 950 steps). \
+         on z = 0, Δt = {} (twice the disc's, to keep the set's cost down; the contact lasts about 950 steps). \
          Rebound velocity = P_z(T)/(1ᵀM1); the same perturbed reruns and stable digits as above.\n\n\
          | h | mass | first impact | first release | contact duration | rebound velocity | episodes | min_distance |\n|---|---|---|---|---|---|---|---|\n",
         fmt_f64(SPHERE_DT)

@@ -48,7 +48,7 @@ mod table2d;
 pub mod table2d_lead;
 mod tables;
 
-pub use bodies_report::{BODIES_COLUMNS, BODIES_DROP, BODIES_ENERGY, BODIES_SPHERE, BODIES_TABLE};
+pub use bodies_report::{BODIES_COLUMNS, BODIES_DROP, BODIES_ENERGY, BODIES_IMPACT, BODIES_SPHERE, BODIES_TABLE};
 pub use config::Config;
 pub use experiments::{Case, Experiment, Purpose, cases, masses};
 pub use figures::{exact_lambda_polyline, exact_u0_polyline};
