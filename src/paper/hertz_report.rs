@@ -113,9 +113,9 @@ pub(super) fn hertz_figure(results: &[HertzResult]) -> FigureFile {
     FigureFile { stem: HERTZ_PRESSURE.into(), figure, header, rows, periods: None }
 }
 
-/// `x` to 3 significant digits, as a percentage when `pct`.
-fn s3(x: f64, pct: bool) -> String {
-    if pct { format!("{:+.2} %", 100.0 * x) } else { format!("{}", crate::paper::sig(x, 4)) }
+/// `x` to 4 significant digits, or as a percentage with 2 decimals when `pct`.
+fn s4(x: f64, pct: bool) -> String {
+    if pct { format!("{:+.2} %", 100.0 * x) } else { crate::paper::sig(x, 4) }
 }
 
 /// The report section: the table per mesh and the figure.
@@ -130,9 +130,9 @@ pub(super) fn hertz_section(results: &[HertzResult]) -> String {
          (against its largest value over the run) and |ΣR − F|/F, zero at rest (1ᵀK = 0 on the vertical motion of a free body). (`{HERTZ_TABLE}`)\n\n\
          | h near contact | unknowns | Hertz a | a_h | ± resolution | a_h vs a | Hertz p₀ | p_h | p_h vs p₀ | nodes in contact | \\|ΣR − F\\|/F | ½VᵀMV at T (max) |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|\n",
-        s3(plane_strain_modulus(), false),
+        s4(plane_strain_modulus(), false),
         fmt_f64(RAMP),
-        s3(load_density(), false),
+        s4(load_density(), false),
         fmt_f64(DT),
         fmt_f64(END),
     );
@@ -142,13 +142,13 @@ pub(super) fn hertz_section(results: &[HertzResult]) -> String {
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1e} | {:.1e} ({:.1e}) |",
             fmt_f64(r.h),
             r.unknowns,
-            s3(r.hertz_a, false),
-            s3(r.half_width, false),
-            s3(r.edge_resolution, false),
-            s3(r.half_width_error(), true),
-            s3(r.hertz_p0, false),
-            s3(r.peak, false),
-            s3(r.peak_error(), true),
+            s4(r.hertz_a, false),
+            s4(r.half_width, false),
+            s4(r.edge_resolution, false),
+            s4(r.half_width_error(), true),
+            s4(r.hertz_p0, false),
+            s4(r.peak, false),
+            s4(r.peak_error(), true),
             r.active,
             balance(r),
             r.kinetic,
