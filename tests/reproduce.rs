@@ -68,8 +68,10 @@ fn expected_files(config: &Config) -> BTreeSet<String> {
         out.insert(format!("{}.{ext}", paper::mesh_scope::SCOPE_FIGURE));
         out.insert(format!("{}.{ext}", paper::table2d_lead::LEAD_FIGURE));
     }
-    // The bodies section (tests/bodies_reproduce.rs checks its numbers).
-    for stem in [paper::BODIES_ENERGY, paper::BODIES_DROP] {
+    // The bodies section (tests/bodies_reproduce.rs and tests/hertz.rs check its numbers).
+    for stem in
+        [paper::BODIES_ENERGY, paper::BODIES_DROP, paper::BODIES_SPHERE, paper::BODIES_IMPACT, paper::HERTZ_PRESSURE]
+    {
         for ext in ["png", "svg", "csv"] {
             out.insert(format!("{stem}.{ext}"));
         }
@@ -77,6 +79,7 @@ fn expected_files(config: &Config) -> BTreeSet<String> {
     out.insert(paper::BODIES_TABLE.into());
     // The method classes (tests/methods_bench.rs checks their numbers).
     out.extend(paper::methods_report::METHODS_FILES.map(String::from));
+    out.insert(paper::HERTZ_TABLE.into());
     out
 }
 

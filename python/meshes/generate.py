@@ -3,6 +3,7 @@ small ones the tests and scenes use, with meshio's reading of each for compariso
 
     /usr/bin/python3 python/meshes/generate.py OUTDIR            # every benchmark mesh
     /usr/bin/python3 python/meshes/generate.py --fixtures        # fixtures/meshes/ (committed)
+    /usr/bin/python3 python/meshes/generate.py --bench-fixtures  # the committed benchmark meshes
 
 Benchmark set: the disc at h = 4, 2, 1 (P1 and P2), the sphere at h = 8, 4 (tetra, tetra10),
 the half disc and hemisphere (P1, P2) at the coarsest size; MSH 4.1 binary.
@@ -11,6 +12,8 @@ meshio checked to read all four alike), the coarse P1 disc and clamped half disc
 2.2 ASCII, and ``<name>.meshio.json`` (for the four formats: of ``_22a``): meshio's points, cell
 blocks (its type names, VTK node order) and the gmsh physical groups' nodes as meshio's
 ``cell_sets`` give them (tools' versions in ``provenance``).
+Benchmark fixtures (``BENCH_FIXTURES``, MSH 4.1 binary): the meshes ``massredist reproduce``'s
+bodies section runs besides the coarse ones (``src/paper/bodies.rs``, ``src/paper/hertz.rs``).
 """
 import json
 import sys
@@ -94,6 +97,25 @@ def fixtures(out):
     return made
 
 
+# (file, shape, h, order): the benchmark meshes committed under fixtures/meshes/.
+BENCH_FIXTURES = [
+    ("disc_p2_h4.msh", "disc", 4.0, 2),
+    ("disc_p2_h2.msh", "disc", 2.0, 2),
+    ("sphere_tet10_h16.msh", "sphere", 16.0, 2),
+    ("sphere_tet10_h14.msh", "sphere", 14.0, 2),
+    ("hertz_disc_h0.5.msh", "hertz_disc", 0.5, 2),
+    ("hertz_disc_h0.25.msh", "hertz_disc", 0.25, 2),
+    ("hertz_disc_h0.125.msh", "hertz_disc", 0.125, 2),
+]
+
+
+def bench_fixtures(out):
+    out.mkdir(parents=True, exist_ok=True)
+    for name, shape, h, order in BENCH_FIXTURES:
+        shapes.generate(shape, h, order, out / name, 4.1, True)
+        yield out / name
+
+
 def benchmarks(out):
     out.mkdir(parents=True, exist_ok=True)
     cases = [("disc", h, order) for h in (4.0, 2.0, 1.0) for order in (1, 2)]
@@ -108,6 +130,9 @@ def benchmarks(out):
 if __name__ == "__main__":
     if sys.argv[1:] == ["--fixtures"]:
         for p in fixtures(ROOT / "fixtures" / "meshes"):
+            print(p, p.stat().st_size)
+    elif sys.argv[1:] == ["--bench-fixtures"]:
+        for p in bench_fixtures(ROOT / "fixtures" / "meshes"):
             print(p, p.stat().st_size)
     elif len(sys.argv) == 2:
         benchmarks(Path(sys.argv[1]))

@@ -12,6 +12,10 @@ nodes on the curved geometry). ``write`` saves it as MSH 2.2 or 4.1, ASCII or bi
   (0, 0, 0)).
 - ``hemisphere``: its lower half (z <= 20); groups "body", "top" (the disc z = 20), "surface",
   "bottom".
+- ``hertz_disc``: the disc, with a gmsh size field refining it near the contact point (0, 0):
+  size ``h`` within distance 3 of it (1.5 times the Hertz half-width 2 that
+  ``src/paper/hertz.rs`` loads it to), growing linearly to 4 at distance 15 (``Distance``
+  + ``Threshold`` fields); the same groups as ``disc``.
 """
 import math
 
@@ -40,6 +44,12 @@ def _mesh(dim, h, order):
 
 
 def disc(h, order):
+    disc_geometry()
+    _mesh(2, h, order)
+
+
+def disc_geometry():
+    """The disc's model and groups, not meshed; returns the tag of the bottom point (0, 0)."""
     gmsh.model.add("disc")
     geo = gmsh.model.geo
     centre = geo.addPoint(0, R, 0)
@@ -51,7 +61,29 @@ def disc(h, order):
     _group(2, [surface], "body")
     _group(1, arcs, "boundary")
     _group(0, [pts[0]], "bottom")
-    _mesh(2, h, order)
+    return pts[0]
+
+
+def hertz_disc(h, order):
+    bottom = disc_geometry()
+    # Size field: h within distance 3 of the bottom point (0, 0), 4 beyond distance 15.
+    field = gmsh.model.mesh.field
+    dist = field.add("Distance")
+    field.setNumbers(dist, "PointsList", [bottom])
+    field.setNumbers(dist, "CurvesList", [])
+    thr = field.add("Threshold")
+    field.setNumber(thr, "InField", dist)
+    field.setNumber(thr, "SizeMin", h)
+    field.setNumber(thr, "SizeMax", 4.0)
+    field.setNumber(thr, "DistMin", 3.0)
+    field.setNumber(thr, "DistMax", 15.0)
+    field.setAsBackgroundMesh(thr)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    gmsh.model.mesh.generate(2)
+    if order == 2:
+        gmsh.model.mesh.setOrder(2)
 
 
 def half_disc(h, order):
@@ -102,7 +134,7 @@ def hemisphere(h, order):
     _mesh(3, h, order)
 
 
-SHAPES = {"disc": disc, "half_disc": half_disc, "sphere": sphere, "hemisphere": hemisphere}
+SHAPES = {"disc": disc, "hertz_disc": hertz_disc, "half_disc": half_disc, "sphere": sphere, "hemisphere": hemisphere}
 
 
 def write(path, version=2.2, binary=False):

@@ -20,12 +20,21 @@
 //!   total: the velocity of its centre of mass after release, constant in free flight) against
 //!   the mesh size. 1ᵀM1 = ρ|Ω| but for mod1, which drops layer 0's mass.
 //!
+//! - **Sphere drop**: the sphere of radius 20 centred at (0, 0, 20) (tetra10 meshes
+//!   [`SPHERE_MESHES`], `python/meshes/generate.py --fixtures`), the same material, free,
+//!   [`DROP_GAP`] above the plane z = 0 moving down at [`DROP_SPEED`], no force, Crank–Nicolson
+//!   with every mass, Δt = [`SPHERE_DT`] to T = [`SPHERE_END`]: the drop's table in 3D
+//!   (rebound velocity P_z(T)/(1ᵀM1)). Δt is twice the disc's to keep the set's cost down (the 24 runs,
+//!   perturbed copies included, took about 20 to 40 s on one loaded core); the contact lasts
+//!   about 19 (≈ 950 steps), so it is still well resolved.
+//!
 //! Round-off: every run is repeated from an initial velocity perturbed by
 //! [`PERTURBATION`] (absolute on the rest disc, whose V⁰ = 0; relative on the drop), and the
 //! report keeps only the digits both runs share ([`super::band::stable_digits`]).
 
 use super::ReproduceError;
 use super::experiments::Experiment;
+use crate::driver::{Observer, Sample};
 use crate::mass::MassKind;
 use crate::observe::{Column, Summary};
 use crate::run::{RunError, run_scene};
@@ -49,12 +58,33 @@ pub const PERTURBATION: f64 = 1e-13;
 
 /// The meshes: (nominal gmsh size h, file under `fixtures/meshes/`), coarsest first.
 pub const MESHES: [(f64, &str); 3] = [(8.0, "disc_p2_22a.msh"), (4.0, "disc_p2_h4.msh"), (2.0, "disc_p2_h2.msh")];
+/// The sphere's tetra10 meshes (gmsh size h; 1485, 2121 and 2871 unknowns), coarsest first.
+pub const SPHERE_MESHES: [(f64, &str); 3] =
+    [(20.0, "sphere_tet10_22a.msh"), (16.0, "sphere_tet10_h16.msh"), (14.0, "sphere_tet10_h14.msh")];
+/// The sphere's time step and final time (release near t = 19.8 at h = 20, measured; free
+/// flight after it).
+pub const SPHERE_DT: f64 = 0.02;
+pub const SPHERE_END: f64 = 22.0;
 
 /// Which benchmark a run belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Bench {
     Rest,
     Drop,
+    /// The sphere dropped (3D).
+    Sphere,
+}
+
+impl Bench {
+    /// The benchmark's meshes (size h, file).
+    pub fn meshes(self) -> &'static [(f64, &'static str)] {
+        if self == Bench::Sphere { &SPHERE_MESHES } else { &MESHES }
+    }
+
+    /// Its time step.
+    pub fn dt(self) -> f64 {
+        if self == Bench::Sphere { SPHERE_DT } else { DT }
+    }
 }
 
 /// One run: benchmark, scheme, mass, mesh (index into [`MESHES`]).
@@ -68,13 +98,22 @@ pub struct BodyCase {
 
 impl BodyCase {
     pub fn name(&self) -> String {
-        let b = if self.bench == Bench::Rest { "disc-rest" } else { "disc-drop" };
-        format!("{b} / h = {} / {} / {}", MESHES[self.mesh].0, self.experiment.slug(), self.mass.name())
+        let b = match self.bench {
+            Bench::Rest => "disc-rest",
+            Bench::Drop => "disc-drop",
+            Bench::Sphere => "sphere-drop",
+        };
+        format!("{b} / h = {} / {} / {}", self.h(), self.experiment.slug(), self.mass.name())
+    }
+
+    /// The nominal mesh size.
+    pub fn h(&self) -> f64 {
+        self.bench.meshes()[self.mesh].0
     }
 }
 
 /// The runs: at rest, CN, BE and hybrid × their masses on every mesh (`quick`: the coarsest
-/// only); the drop, CN × every mass on every mesh (`quick`: the coarsest).
+/// only); the drop and the sphere, CN × every mass on every mesh (`quick`: the coarsest).
 pub fn body_cases(quick: bool) -> Vec<BodyCase> {
     let schemes = [Experiment::CrankNicolson, Experiment::BackwardEuler, Experiment::Hybrid];
     let rest_meshes = if quick { 1 } else { MESHES.len() };
@@ -85,13 +124,15 @@ pub fn body_cases(quick: bool) -> Vec<BodyCase> {
             out.extend(e.masses().into_iter().map(|mass| BodyCase { bench: Bench::Rest, experiment: e, mass, mesh }));
         }
     }
-    for mesh in 0..drop_meshes {
-        out.extend(Experiment::CrankNicolson.masses().into_iter().map(|mass| BodyCase {
-            bench: Bench::Drop,
-            experiment: Experiment::CrankNicolson,
-            mass,
-            mesh,
-        }));
+    for bench in [Bench::Drop, Bench::Sphere] {
+        for mesh in 0..drop_meshes {
+            out.extend(Experiment::CrankNicolson.masses().into_iter().map(|mass| BodyCase {
+                bench,
+                experiment: Experiment::CrankNicolson,
+                mass,
+                mesh,
+            }));
+        }
     }
     out
 }
@@ -101,9 +142,12 @@ pub fn body_cases(quick: bool) -> Vec<BodyCase> {
 /// divergence criterion is off in effect (factor 1e300): E⁰ is 0 or, perturbed, ~1e-24, which
 /// gives it no scale (the first step's energy, ~0.1, would stop the run).
 pub fn body_scene_text(case: &BodyCase, end: f64, perturbed: bool) -> String {
+    if case.bench == Bench::Sphere {
+        return sphere_scene_text(case, end, perturbed);
+    }
     let (fy, v0, point) = match case.bench {
         Bench::Rest => ("-0.1", 0.0, 0.0),
-        Bench::Drop => ("0", -DROP_SPEED, -DROP_GAP),
+        _ => ("0", -DROP_SPEED, -DROP_GAP),
     };
     let dv = if perturbed { format!(" - {PERTURBATION:e} * (1 + x/40)") } else { String::new() };
     format!(
@@ -114,6 +158,24 @@ pub fn body_scene_text(case: &BodyCase, end: f64, perturbed: bool) -> String {
          [output]\nseries = [\"energy\", \"contact_force\", \"active_nodes\", \"min_distance\", \"momentum_y\"]\n\
          divergence_factor = 1e300\n",
         MESHES[case.mesh].1,
+        case.mass.name(),
+        toml::to_string(&case.experiment.spec()).expect("a scheme always serialises").trim_end(),
+    )
+}
+
+/// The sphere's scene ([`body_scene_text`]; the same perturbation, along z).
+fn sphere_scene_text(case: &BodyCase, end: f64, perturbed: bool) -> String {
+    let dv = if perturbed { format!(" - {PERTURBATION:e} * (1 + x/40)") } else { String::new() };
+    format!(
+        "[solid]\ndim = 3\nmesh = \"{}\"\nlame_lambda = 20.0\nlame_mu = 20.0\ndensity = 1.0\n\
+         force = [\"0\", \"0\", \"0\"]\ninitial = {{ displacement = [\"0\", \"0\", \"0\"], velocity = [\"0\", \"0\", \"{:?}{dv}\"] }}\n\
+         [obstacle]\nnormal = [0.0, 0.0, 1.0]\npoint = [0.0, 0.0, {:?}]\ncontact = \"auto\"\n\
+         [mass]\nkind = \"{}\"\n[scheme]\n{}\n[time]\ndt = {SPHERE_DT:?}\nend = {end:?}\n\
+         [output]\nseries = [\"energy\", \"contact_force\", \"active_nodes\", \"min_distance\", \"momentum_z\"]\n\
+         divergence_factor = 1e300\n",
+        SPHERE_MESHES[case.mesh].1,
+        -DROP_SPEED,
+        -DROP_GAP,
         case.mass.name(),
         toml::to_string(&case.experiment.spec()).expect("a scheme always serialises").trim_end(),
     )
@@ -130,7 +192,7 @@ pub struct BodyResult {
     pub case: BodyCase,
     pub end: f64,
     pub summary: Summary,
-    /// Recorded every step: t, energy, total contact force, active nodes, P_y.
+    /// Recorded every step: t, energy, total contact force, active nodes, P_y (P_z for the sphere).
     pub t: Vec<f64>,
     pub energy: Vec<f64>,
     pub contact_force: Vec<f64>,
@@ -141,6 +203,77 @@ pub struct BodyResult {
     pub metrics: Metrics,
     /// The same metrics from the perturbed initial velocity.
     pub perturbed: Metrics,
+    /// The 2D body at its largest total contact force (drawn by `bodies-impact`); None in 3D.
+    pub snapshot: Option<Snapshot>,
+}
+
+/// A 2D body's deformed mesh and contact pressure at one time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    pub t: f64,
+    /// Σ_i R_i then.
+    pub contact_force: f64,
+    /// Deformed node positions X + u.
+    pub points: Vec<[f64; 2]>,
+    /// Cell sides as node polylines (2 nodes, or 3 for P2: vertex, mid-side, vertex).
+    pub sides: Vec<Vec<usize>>,
+    /// (x_i + u_x,i, R_i/a_i) of the contact nodes, by x.
+    pub pressure: Vec<(f64, f64)>,
+}
+
+/// Keeps the state of largest total contact force (nodal u, λ).
+#[derive(Default)]
+struct PeakForce {
+    force: f64,
+    t: f64,
+    u: Vec<f64>,
+    lambda: Vec<f64>,
+}
+
+impl Observer for PeakForce {
+    fn observe(&mut self, sample: &Sample) {
+        // Σ_c λ_c ≤ 0 for a body: the total force is its opposite.
+        if -sample.contact_force > self.force {
+            self.force = -sample.contact_force;
+            self.t = sample.state.t;
+            self.u.resize(sample.geometry.n_nodes() * sample.geometry.components(), 0.0);
+            sample.geometry.nodal_values(sample.state.u, &mut self.u);
+            self.lambda.clear();
+            self.lambda.extend_from_slice(sample.state.lambda);
+        }
+    }
+}
+
+/// The snapshot of a 2D solid from its state of largest force ([`PeakForce`]).
+fn snapshot(solid: &crate::solid::assembly::SolidSystem, peak: &PeakForce) -> Option<Snapshot> {
+    let mesh = &solid.mesh;
+    if mesh.dim != 2 || peak.u.is_empty() {
+        return None;
+    }
+    let points: Vec<[f64; 2]> =
+        mesh.points.iter().enumerate().map(|(i, p)| [p[0] + peak.u[2 * i], p[1] + peak.u[2 * i + 1]]).collect();
+    let k = mesh.kind.verts();
+    let corners = mesh.kind.corners();
+    let sides = mesh
+        .cells
+        .chunks(k)
+        .flat_map(|c| {
+            (0..corners).map(move |j| {
+                let (a, b) = (c[j], c[(j + 1) % corners]);
+                // P2 (triangle6): the mid-side node of side j is node corners + j.
+                if k == 2 * corners { vec![a, c[corners + j], b] } else { vec![a, b] }
+            })
+        })
+        .collect();
+    let mut pressure: Vec<(f64, f64)> = solid
+        .contact_nodes
+        .iter()
+        .zip(&peak.lambda)
+        .zip(&solid.contact_areas)
+        .map(|((&i, &l), &a)| (points[i][0], -l / a))
+        .collect();
+    pressure.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Some(Snapshot { t: peak.t, contact_force: peak.force, points, sides, pressure })
 }
 
 /// The per-run numbers of the section.
@@ -176,17 +309,20 @@ pub fn metrics(energy: &[f64], force: &[f64], active: &[f64], momentum_y: &[f64]
 }
 
 /// One run of `case` to `end` (and `perturbed`): the summary, the series and the metrics.
+#[allow(clippy::type_complexity)]
 fn run_one(
     case: &BodyCase,
     end: f64,
     perturbed: bool,
-) -> Result<(Summary, f64, [Vec<f64>; 5], Metrics), ReproduceError> {
+) -> Result<(Summary, f64, [Vec<f64>; 5], Metrics, Option<Snapshot>), ReproduceError> {
     let name = case.name();
     let text = body_scene_text(case, end, perturbed);
     let scene: Scene<SolidSpec> = AnyScene::from_toml_at(&text, &mesh_dir())
         .and_then(SolidSpec::from_any)
         .map_err(|source| ReproduceError::Scene { case: name.clone(), source })?;
-    let run = run_scene(&scene, &mut []).map_err(|source: RunError| ReproduceError::Run { case: name, source })?;
+    let mut peak = PeakForce::default();
+    let run =
+        run_scene(&scene, &mut [&mut peak]).map_err(|source: RunError| ReproduceError::Run { case: name, source })?;
     let col = |c: Column| run.series.column(c).unwrap_or_default();
     // 1ᵀM1 of the redistributed mass, Σ_b ρ Σ_c w_c ∫_c φ_b: ρ|Ω| for the standard mass, mod2
     // and mod3; less for mod1, which drops layer 0's mass.
@@ -196,10 +332,10 @@ fn run_one(
         col(Column::Energy),
         col(Column::ContactForce),
         col(Column::ActiveNodes),
-        col(Column::Momentum(1)),
+        col(Column::Momentum(if case.bench == Bench::Sphere { 2 } else { 1 })),
     ];
     let m = metrics(&series[1], &series[2], &series[3], &series[4], volume, &run.summary);
-    Ok((run.summary, volume, series, m))
+    Ok((run.summary, volume, series, m, snapshot(&run.problem.system, &peak)))
 }
 
 /// Runs `case` and its perturbed copy.
@@ -208,8 +344,10 @@ pub fn run_body(case: &BodyCase, quick: bool) -> Result<BodyResult, ReproduceErr
         Bench::Rest if quick => REST_END_QUICK,
         Bench::Rest => REST_END,
         Bench::Drop => DROP_END,
+        Bench::Sphere => SPHERE_END,
     };
-    let (summary, volume, [t, energy, contact_force, active, momentum_y], metrics) = run_one(case, end, false)?;
+    let (summary, volume, [t, energy, contact_force, active, momentum_y], metrics, snapshot) =
+        run_one(case, end, false)?;
     let perturbed = run_one(case, end, true)?.3;
     Ok(BodyResult {
         case: case.clone(),
@@ -223,6 +361,7 @@ pub fn run_body(case: &BodyCase, quick: bool) -> Result<BodyResult, ReproduceErr
         mass_total: volume,
         metrics,
         perturbed,
+        snapshot,
     })
 }
 

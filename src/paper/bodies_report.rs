@@ -1,21 +1,26 @@
 //! The bodies section's outputs ([`super::bodies`]): `bodies.csv` (one row per run), the
 //! figures `bodies-energy` (energy over time of the disc at rest, one panel per scheme, finest
 //! mesh run) and `bodies-drop` (centre-of-mass velocity P_y/(1ᵀM1) of the dropped disc, one
-//! panel per mesh), and the report section. Pure: strings and figure data from the results.
+//! panel per mesh), `bodies-sphere` (the dropped sphere: centre-of-mass velocity P_z/(1ᵀM1)
+//! and total contact force ΣR over time, one column per mesh), `bodies-impact` (the dropped
+//! disc, finest mesh, mod3, at its largest total contact force: the deformed mesh on the plane
+//! and the contact pressure), and the report section. Pure: strings and figure data from the results.
 
 use super::band::stable_digits;
-use super::bodies::{Bench, BodyResult, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION};
+use super::bodies::{Bench, BodyResult, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION, SPHERE_DT};
 use super::experiments::Experiment;
 use super::figures::{FigureFile, grid_rows, mass_style, off_scale, points};
 use crate::mass::MassKind;
 use crate::output::fmt_f64;
-use crate::plot::{self, Curve, Figure, Panel};
+use crate::plot::{self, Curve, Figure, Panel, Style};
 use std::fmt::Write as _;
 
 /// The section's table file and figure stems.
 pub const BODIES_TABLE: &str = "bodies.csv";
 pub const BODIES_ENERGY: &str = "bodies-energy";
 pub const BODIES_DROP: &str = "bodies-drop";
+pub const BODIES_SPHERE: &str = "bodies-sphere";
+pub const BODIES_IMPACT: &str = "bodies-impact";
 
 /// Header of `bodies.csv`.
 pub const BODIES_COLUMNS: [&str; 16] = [
@@ -38,7 +43,11 @@ pub const BODIES_COLUMNS: [&str; 16] = [
 ];
 
 fn bench_name(b: Bench) -> &'static str {
-    if b == Bench::Rest { "rest" } else { "drop" }
+    match b {
+        Bench::Rest => "rest",
+        Bench::Drop => "drop",
+        Bench::Sphere => "sphere",
+    }
 }
 
 fn duration(m: &Metrics) -> Option<f64> {
@@ -54,7 +63,7 @@ pub(super) fn bodies_csv_rows(results: &[BodyResult]) -> Vec<Vec<String>> {
             let m = &r.metrics;
             vec![
                 bench_name(r.case.bench).into(),
-                fmt_f64(MESHES[r.case.mesh].0),
+                fmt_f64(r.case.h()),
                 r.case.experiment.slug().into(),
                 r.case.mass.name().into(),
                 fmt_f64(r.end),
@@ -101,23 +110,30 @@ fn panel(title: String, y_label: &str, runs: &[&BodyResult], y: impl Fn(&BodyRes
     Panel { title, x_label: "t".into(), y_label: y_label.into(), curves, x_range: None, y_range: Some(range) }
 }
 
-/// A figure of `panels` (one row of up to 3) with the CSV of `runs`' `y` columns behind it.
-fn figure(
-    stem: &str,
-    title: String,
-    panels: Vec<Panel>,
-    runs: &[&BodyResult],
-    y: impl Fn(&BodyResult) -> Vec<f64>,
-) -> FigureFile {
+/// A figure of `panels` (rows of up to 3) with the CSV of `runs`' `y` columns behind it (one
+/// per run and per `(suffix, y)`).
+fn figure(stem: &str, title: String, panels: Vec<Panel>, runs: &[&BodyResult], ys: &[(&str, Series)]) -> FigureFile {
     let times = runs.iter().map(|r| r.t.clone()).max_by_key(Vec::len).unwrap_or_default();
     let mut header = vec!["t".to_string()];
-    header.extend(runs.iter().map(|r| r.case.name().replace(" / ", "_").replace(" = ", "")));
-    let columns: Vec<Vec<f64>> = runs.iter().map(|r| y(r)).collect();
+    let mut columns: Vec<Vec<f64>> = Vec::new();
+    for (suffix, y) in ys {
+        header.extend(runs.iter().map(|r| r.case.name().replace(" / ", "_").replace(" = ", "") + suffix));
+        columns.extend(runs.iter().map(|r| y(r)));
+    }
     let figure = Figure { title, columns: panels.len().min(3), panels, panel_size: (620, 480) };
     FigureFile { stem: stem.into(), figure, header, rows: grid_rows(&times, &columns), periods: None }
 }
 
-/// `bodies-energy` (rest, finest mesh run, a panel per scheme) and `bodies-drop` (a panel per mesh).
+/// A series of a run, for a figure's panels and CSV.
+type Series = fn(&BodyResult) -> Vec<f64>;
+
+/// The centre-of-mass velocity P/(1ᵀM1) along the plane's normal.
+fn com_velocity(r: &BodyResult) -> Vec<f64> {
+    r.momentum_y.iter().map(|p| p / r.mass_total).collect()
+}
+
+/// `bodies-energy` (rest, finest mesh run, a panel per scheme), `bodies-drop` (a panel per
+/// mesh) and `bodies-sphere` (velocity and contact force, a column per mesh).
 pub(super) fn bodies_figures(results: &[BodyResult]) -> Vec<FigureFile> {
     let finest = |b: Bench| results.iter().filter(|r| r.case.bench == b).map(|r| r.case.mesh).max().unwrap_or(0);
     let rest_mesh = finest(Bench::Rest);
@@ -132,18 +148,93 @@ pub(super) fn bodies_figures(results: &[BodyResult]) -> Vec<FigureFile> {
         })
         .collect();
     let title = format!("GetFEM's disc at rest on the plane, P2, h = {}, Δt = {}", MESHES[rest_mesh].0, fmt_f64(DT));
-    let energy = figure(BODIES_ENERGY, title, panels, &rest, |r| r.energy.clone());
+    let energy = figure(BODIES_ENERGY, title, panels, &rest, &[("", |r| r.energy.clone())]);
     let drops: Vec<&BodyResult> = results.iter().filter(|r| r.case.bench == Bench::Drop).collect();
-    let velocity = |r: &BodyResult| r.momentum_y.iter().map(|p| p / r.mass_total).collect::<Vec<f64>>();
-    let meshes = (0..=finest(Bench::Drop)).filter(|&k| drops.iter().any(|r| r.case.mesh == k));
-    let panels = meshes
-        .map(|k| {
-            let runs: Vec<&BodyResult> = drops.iter().copied().filter(|r| r.case.mesh == k).collect();
-            panel(format!("P_y/(1ᵀM1), h = {}", MESHES[k].0), "v̄_y", &runs, velocity)
-        })
+    let panels = by_mesh(&drops)
+        .iter()
+        .map(|runs| panel(format!("P_y/(1ᵀM1), h = {}", runs[0].case.h()), "v̄_y", runs, com_velocity))
         .collect();
     let title = format!("Disc dropped at {} from {} above the plane, Crank–Nicolson", DROP_SPEED, DROP_GAP);
-    vec![energy, figure(BODIES_DROP, title, panels, &drops, velocity)]
+    let drop = figure(BODIES_DROP, title, panels, &drops, &[("", com_velocity)]);
+    let mut out = vec![energy, drop, sphere_figure(results)];
+    out.extend(impact_figure(results));
+    out
+}
+
+/// `bodies-impact`: the dropped disc on its finest mesh with mod3 at its largest total contact
+/// force, the deformed mesh (true scale) on the plane, and the nodal contact pressure R_i/a_i.
+fn impact_figure(results: &[BodyResult]) -> Option<FigureFile> {
+    let r = results
+        .iter()
+        .filter(|r| r.case.bench == Bench::Drop && r.case.mass == MassKind::Mod3)
+        .max_by_key(|r| r.case.mesh)?;
+    let snap = r.snapshot.as_ref()?;
+    let mut curves: Vec<Curve> = snap
+        .sides
+        .iter()
+        .map(|side| Curve {
+            label: "deformed mesh".into(),
+            points: side.iter().map(|&i| (snap.points[i][0], snap.points[i][1])).collect(),
+            style: Style::Numeric(1),
+        })
+        .collect();
+    curves.push(Curve {
+        label: "plane".into(),
+        points: vec![(-24.0, -DROP_GAP), (24.0, -DROP_GAP)],
+        style: Style::Exact,
+    });
+    let mesh = Panel {
+        title: format!("t = {}, ΣR = {:.0}", fmt_f64(snap.t), snap.contact_force),
+        x_label: "x".into(),
+        y_label: "y".into(),
+        curves,
+        x_range: Some((-24.0, 24.0)),
+        y_range: Some((-4.0, 44.0)),
+    };
+    let pressure = Panel {
+        title: "contact pressure R_i/a_i".into(),
+        x_label: "x".into(),
+        y_label: "p".into(),
+        curves: vec![Curve { label: "mod3".into(), points: snap.pressure.clone(), style: mass_style(&MassKind::Mod3) }],
+        x_range: None,
+        y_range: None,
+    };
+    let title = format!(
+        "Disc dropped at {} from {} above the plane: P2, h = {}, mod3, Crank–Nicolson, at the largest contact force",
+        DROP_SPEED,
+        DROP_GAP,
+        r.case.h()
+    );
+    let figure = Figure { title, columns: 2, panels: vec![mesh, pressure], panel_size: (620, 620) };
+    let header = ["x", "pressure"].map(String::from).to_vec();
+    let rows = snap.pressure.iter().map(|&(x, p)| vec![fmt_f64(x), fmt_f64(p)]).collect();
+    Some(FigureFile { stem: BODIES_IMPACT.into(), figure, header, rows, periods: None })
+}
+
+/// `runs` grouped by mesh, coarsest first (meshes without a run left out).
+fn by_mesh<'a>(runs: &[&'a BodyResult]) -> Vec<Vec<&'a BodyResult>> {
+    let finest = runs.iter().map(|r| r.case.mesh).max().unwrap_or(0);
+    (0..=finest)
+        .map(|k| runs.iter().copied().filter(|r| r.case.mesh == k).collect::<Vec<_>>())
+        .filter(|v| !v.is_empty())
+        .collect()
+}
+
+/// `bodies-sphere`: a column per mesh, P_z/(1ᵀM1) above, ΣR below.
+fn sphere_figure(results: &[BodyResult]) -> FigureFile {
+    let spheres: Vec<&BodyResult> = results.iter().filter(|r| r.case.bench == Bench::Sphere).collect();
+    let groups = by_mesh(&spheres);
+    let force = |r: &BodyResult| r.contact_force.clone();
+    let velocity =
+        groups.iter().map(|runs| panel(format!("P_z/(1ᵀM1), h = {}", runs[0].case.h()), "v̄_z", runs, com_velocity));
+    let forces = groups.iter().map(|runs| panel(format!("ΣR, h = {}", runs[0].case.h()), "ΣR", runs, force));
+    let mut panels: Vec<Panel> = velocity.collect();
+    panels.extend(forces);
+    let title =
+        format!("Sphere (tetra10) dropped at {} from {}, CN, Δt = {}", DROP_SPEED, DROP_GAP, fmt_f64(SPHERE_DT));
+    let mut f = figure(BODIES_SPHERE, title, panels, &spheres, &[("_velocity", com_velocity), ("_force", force)]);
+    f.figure.columns = groups.len().max(1);
+    f
 }
 
 /// A number both runs (unperturbed and perturbed) agree on, to at most 4 digits.
@@ -172,7 +263,7 @@ pub(super) fn bodies_section(results: &[BodyResult]) -> String {
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-            fmt_f64(MESHES[r.case.mesh].0),
+            fmt_f64(r.case.h()),
             fmt_f64(r.end),
             r.case.experiment.title(),
             r.case.mass.name(),
@@ -191,11 +282,19 @@ pub(super) fn bodies_section(results: &[BodyResult]) -> String {
          +{DROP_SPEED} for an elastic rebound that keeps no vibration energy; 1ᵀM1 = ρ|Ω| but for mod1, which drops layer 0's mass).\n\n\
          | h | mass | first impact | first release | contact duration | rebound velocity | episodes | min_distance |\n|---|---|---|---|---|---|---|---|\n",
     );
-    for r in results.iter().filter(|r| r.case.bench == Bench::Drop) {
+    drop_rows(&mut s, results, Bench::Drop);
+    let _ = writeln!(s, "\n![{BODIES_DROP}]({BODIES_DROP}.png)\n\n![{BODIES_IMPACT}]({BODIES_IMPACT}.png)");
+    s.push_str(&sphere_section(results));
+    s
+}
+
+/// The rows of a drop table (`bench`: the disc's or the sphere's).
+fn drop_rows(s: &mut String, results: &[BodyResult], bench: Bench) {
+    for r in results.iter().filter(|r| r.case.bench == bench) {
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {} | {} | {} | {} |",
-            fmt_f64(MESHES[r.case.mesh].0),
+            fmt_f64(r.case.h()),
             r.case.mass.name(),
             stable(r, |m| m.first_impact),
             stable(r, |m| m.first_release),
@@ -205,6 +304,19 @@ pub(super) fn bodies_section(results: &[BodyResult]) -> String {
             stable(r, |m| Some(m.min_distance)),
         );
     }
-    let _ = writeln!(s, "\n![{BODIES_DROP}]({BODIES_DROP}.png)");
+}
+
+/// The sphere's table and figure.
+fn sphere_section(results: &[BodyResult]) -> String {
+    let mut s = format!(
+        "\n### A sphere dropped at {DROP_SPEED} from {DROP_GAP} above the plane (no force), Crank–Nicolson\n\n\
+         Sphere of radius 20 centred at (0, 0, 20), the disc's material, tetra10 (gmsh, nominal size h), free body, contact nodes by GetFEM's rule \
+         on z = 0, Δt = {} (twice the disc's, to keep the set's cost down; the contact lasts about 950 steps). \
+         Rebound velocity = P_z(T)/(1ᵀM1); the same perturbed reruns and stable digits as above.\n\n\
+         | h | mass | first impact | first release | contact duration | rebound velocity | episodes | min_distance |\n|---|---|---|---|---|---|---|---|\n",
+        fmt_f64(SPHERE_DT)
+    );
+    drop_rows(&mut s, results, Bench::Sphere);
+    let _ = writeln!(s, "\n![{BODIES_SPHERE}]({BODIES_SPHERE}.png)");
     s
 }

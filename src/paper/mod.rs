@@ -34,6 +34,8 @@ mod config;
 pub mod elastic_table;
 mod experiments;
 mod figures;
+pub mod hertz;
+mod hertz_report;
 pub mod mesh_scope;
 pub mod methods;
 pub mod methods_report;
@@ -48,10 +50,11 @@ mod table2d;
 pub mod table2d_lead;
 mod tables;
 
-pub use bodies_report::{BODIES_COLUMNS, BODIES_DROP, BODIES_ENERGY, BODIES_TABLE};
+pub use bodies_report::{BODIES_COLUMNS, BODIES_DROP, BODIES_ENERGY, BODIES_IMPACT, BODIES_SPHERE, BODIES_TABLE};
 pub use config::Config;
 pub use experiments::{Case, Experiment, Purpose, cases, masses};
 pub use figures::{exact_lambda_polyline, exact_u0_polyline};
+pub use hertz_report::{HERTZ_COLUMNS, HERTZ_PRESSURE, HERTZ_TABLE};
 pub use periods::{DRIFT_FACTOR, PeriodEnergy};
 pub use rebound::{
     BarMotion, ExactRebound, REBOUND_BAR, REBOUND_DV, REBOUND_END, REBOUND_WINDOW, Rebound, ReboundCopy, ReboundResult,
@@ -122,7 +125,8 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let n_cases = (cases(config).len()
         + rebound_cases().len()
         + bodies::body_cases(quick).len()
-        + methods::cases(&methods_config).len()) as u64;
+        + methods::cases(&methods_config).len()
+        + hertz::MESHES.len()) as u64;
     let n_figures = 2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len() + 3;
     progress.set_length(n_cases + n_figures as u64);
     progress.set_message("running");
@@ -133,12 +137,14 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let (lead, sensitivity) = (table2d_lead::lead_rows(), table2d_lead::sensitivity());
     let bodies = bodies::compute_bodies(quick, &|| progress.inc(1))?;
     let methods = methods::compute(&methods_config, &|| progress.inc(1));
+    let hertz = hertz::compute_hertz(&|| progress.inc(1))?;
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
     let scope_figure = mesh_scope::scope_figure(config, &scope);
     let lead_figure = table2d_lead::lead_figure(&sensitivity);
-    let body_figures = bodies_report::bodies_figures(&bodies);
+    let mut body_figures = bodies_report::bodies_figures(&bodies);
+    body_figures.push(hertz_report::hertz_figure(&hertz));
     let tables = tables::result_tables(config, &results);
     // The scalar plates run one after another; the elastic candidates in parallel beside them.
     let (table2d, elastic) =
@@ -147,11 +153,12 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         file_names(config, &figures, &tables, &[&rebound_figure, &scope_figure, &lead_figure], table2d.is_some());
     // The bodies section's files go before summaries.json (always written, so always found).
     let at = files.iter().position(|f| f == "summaries.json").unwrap_or(files.len());
-    let body_files = body_figures.iter().flat_map(FigureFile::file_names).chain([BODIES_TABLE.to_string()]);
+    let body_files =
+        body_figures.iter().flat_map(FigureFile::file_names).chain([BODIES_TABLE.to_string(), HERTZ_TABLE.to_string()]);
     files.splice(at..at, body_files);
     let at = files.iter().position(|f| f == "summaries.json").unwrap_or(files.len());
     files.splice(at..at, methods_report::METHODS_FILES.map(String::from));
-    let bodies_md = bodies_report::bodies_section(&bodies);
+    let bodies_md = bodies_report::bodies_section(&bodies) + &hertz_report::hertz_section(&hertz);
     let report = report_markdown(
         config,
         &results,
@@ -179,6 +186,8 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         let header = BODIES_COLUMNS.map(String::from);
         tables::write_csv(&tmp.join(BODIES_TABLE), &header, &bodies_report::bodies_csv_rows(&bodies))?;
         methods_report::write_methods_files(tmp, &methods)?;
+        let header = HERTZ_COLUMNS.map(String::from);
+        tables::write_csv(&tmp.join(HERTZ_TABLE), &header, &hertz_report::hertz_csv_rows(&hertz))?;
         std::fs::write(tmp.join("summaries.json"), summaries_json(config, &results)?)?;
         std::fs::write(tmp.join("report.md"), &report)
     })
