@@ -69,6 +69,11 @@ enum Command {
         /// python/bench_engine.py), then exit.
         #[arg(long, value_name = "CSV")]
         scaling_figure: Option<PathBuf>,
+        /// Only measure implicit against explicit 3D solids (time per step, peak memory; up to
+        /// 10⁶ unknowns; with --quick small sizes) into this table (and .md, .png, .svg beside it),
+        /// then exit.
+        #[arg(long, value_name = "CSV")]
+        explicit_scaling: Option<PathBuf>,
     },
 }
 
@@ -124,6 +129,15 @@ fn main() -> ExitCode {
             }
             Err(m) => fail(&csv, m, exit::FAILURE),
         },
+        Command::Bench { explicit_scaling: Some(csv), quick, .. } => {
+            match massredist::bench::explicit_scaling::run(&csv, quick, 21) {
+                Ok(paths) => {
+                    paths.iter().for_each(|p| eprintln!("wrote {}", p.display()));
+                    ExitCode::SUCCESS
+                }
+                Err(m) => fail(&csv, m, exit::FAILURE),
+            }
+        }
         Command::Bench { quick, out, force, .. } => {
             let dir = match prepare(&out, force, &[]) {
                 Ok(d) => d,

@@ -185,3 +185,72 @@ fn a_dt_above_the_stable_limit_is_refused_naming_it() {
     let o = check(limit * (1.0 + 1e-6));
     common::assert_refused(&o, &["time.dt", &massredist::numfmt::fmt_f64(limit)]);
 }
+
+/// The lean box system of central differences at scale (`solid::lean`: the stiffness assembled
+/// straight into compressed columns, no consistent mass) is the triplet-assembled one bit for
+/// bit: same pattern, same values (each entry summed over its cells in the same order), the same
+/// lumped mass, contact unknowns, load and data; 3D hex with free and roller lateral faces, 2D
+/// triangles. (Mutation, as run: `delta` without the `i == j` test in lean.rs -> "3D Free:
+/// stiffness" differs, fails.)
+#[test]
+fn the_lean_box_system_is_the_assembled_one_bit_for_bit() {
+    use massredist::mass::MassKind;
+    use massredist::solid::{Lateral, SolidSpec};
+    for (dim, cells, lateral) in
+        [(3, [5, 3, 4], Lateral::Free), (3, [4, 3, 3], Lateral::Roller), (2, [6, 4, 0], Lateral::Free)]
+    {
+        let mut spec = SolidSpec::paper(dim, cells);
+        spec.lateral = lateral;
+        spec.force = [0.5, -1.0, 0.25];
+        if dim == 2 {
+            spec.cells = massredist::fem::Cell::Triangle;
+        }
+        let mass = MassKind::Mod1;
+        let full = spec.problem(&mass, 1.0).unwrap();
+        let lean = spec.explicit_box(&mass).unwrap();
+        let (a, b) = (&full.system.system, &lean.system);
+        let t = |m: &sparse::SpMat| sparse::triplets(m).map(|(i, j, v)| (i, j, v.to_bits())).collect::<Vec<_>>();
+        let (ta, tb) = (t(&a.stiffness), t(&b.stiffness));
+        let first = ta.iter().zip(&tb).position(|(x, y)| x != y);
+        assert!(ta.len() == tb.len() && first.is_none(), "{dim}D {lateral:?}: stiffness differs at entry {first:?}");
+        assert_eq!(full.system.lumped_mass(), lean.lumped, "lumped mass");
+        assert_eq!((&a.contact, &a.lower), (&b.contact, &b.lower), "contact");
+        assert_eq!((&full.u0, &full.v0), (&lean.u0, &lean.v0), "data");
+        // The load: f_i ∫ w φ_a from the triplet row sums (full) or the lumped mass (lean): the
+        // same sums in another order, to a few ulps.
+        for (x, y) in a.load.iter().zip(&b.load) {
+            assert!((x - y).abs() <= 1e-15 * (1.0 + x.abs()), "load {x} vs {y}");
+        }
+    }
+}
+
+/// Central differences give the same states bit for bit on rayon pools of 1 and 2 threads (the
+/// parallel SpMV sums each row in the sequential order; the update loops are element-wise):
+/// 2D Q1 box, mod1, 150 steps through contact; and the parallel `K x` equals the sequential one
+/// bit for bit. (Mutation, as run: `par_sym_mul_into` summing each row backwards -> "K x:
+/// parallel = sequential" fails; the 1- and 2-thread states still agree, as they must: the
+/// same code runs on both.)
+#[test]
+fn central_differences_do_not_depend_on_the_number_of_threads() {
+    let run = massredist::run::setup(&box_scene("mod1", 0.01)).unwrap();
+    let sys: &SolidSystem = &run.problem.system;
+    let states: Vec<Vec<u64>> = [1, 2]
+        .iter()
+        .map(|&threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let (u0, v0) = (run.problem.u0.clone(), run.problem.v0.clone());
+            let mut cd =
+                CentralDifference::new(&sys.system, sys.lumped_mass(), &ContactLaw::Exact, 0.01, u0, v0).unwrap();
+            pool.install(|| (0..150).for_each(|_| cd.step().unwrap()));
+            assert!(cd.state().lambda.iter().any(|&l| l < 0.0), "in contact");
+            cd.state().u.iter().chain(cd.state().v).map(|x| x.to_bits()).collect()
+        })
+        .collect();
+    assert_eq!(states[0], states[1]);
+    let k = &sys.system.stiffness;
+    let x: Vec<f64> = (0..k.nrows()).map(|i| (i as f64 * 0.37).sin()).collect();
+    let (mut y1, mut y2) = (vec![0.0; x.len()], vec![0.0; x.len()]);
+    sparse::sym_mul_into(k, &x, &mut y1);
+    sparse::par_sym_mul_into(k, &x, &mut y2);
+    assert!(y1.iter().zip(&y2).all(|(a, b)| a.to_bits() == b.to_bits()), "K x: parallel = sequential");
+}

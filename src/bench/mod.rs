@@ -13,6 +13,7 @@
 
 pub mod baseline;
 pub mod env;
+pub mod explicit_scaling;
 pub mod perf;
 pub mod report;
 pub mod scaling;

@@ -61,6 +61,12 @@ pub trait SymMatrix: Clone + Debug + Send + Sync + 'static {
     /// `y = A x`.
     fn mul_into(&self, x: &[f64], y: &mut [f64]);
 
+    /// `y = A x` on rayon's threads where the back-end splits it (the explicit scheme; equal
+    /// to [`SymMatrix::mul_into`] bit for bit). Default: [`SymMatrix::mul_into`].
+    fn par_mul_into(&self, x: &[f64], y: &mut [f64]) {
+        self.mul_into(x, y)
+    }
+
     /// `xᵀ A x`.
     fn quad_form(&self, x: &[f64]) -> f64;
 
@@ -156,6 +162,10 @@ impl SymMatrix for SpMat {
 
     fn mul_into(&self, x: &[f64], y: &mut [f64]) {
         sparse::sym_mul_into(self, x, y)
+    }
+
+    fn par_mul_into(&self, x: &[f64], y: &mut [f64]) {
+        sparse::par_sym_mul_into(self, x, y)
     }
 
     fn quad_form(&self, x: &[f64]) -> f64 {
