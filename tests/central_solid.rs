@@ -226,8 +226,8 @@ fn the_lean_box_system_is_the_assembled_one_bit_for_bit() {
 
 /// Central differences give the same states bit for bit on rayon pools of 1 and 2 threads (the
 /// parallel SpMV sums each row in the sequential order; the update loops are element-wise):
-/// 2D Q1 box, mod1, 150 steps through contact; and the parallel `K x` equals the sequential one
-/// bit for bit. (Mutation, as run: `par_sym_mul_into` summing each row backwards -> "K x:
+/// 2D Q1 box, mod1, 150 steps through contact; and the parallel `K x`, and the row-run form's
+/// (`sparse::RunMat`, what the scheme steps with), equal the sequential one bit for bit. (Mutation, as run: `par_sym_mul_into` summing each row backwards -> "K x:
 /// parallel = sequential" fails; the 1- and 2-thread states still agree, as they must: the
 /// same code runs on both.)
 #[test]
@@ -253,4 +253,12 @@ fn central_differences_do_not_depend_on_the_number_of_threads() {
     sparse::sym_mul_into(k, &x, &mut y1);
     sparse::par_sym_mul_into(k, &x, &mut y2);
     assert!(y1.iter().zip(&y2).all(|(a, b)| a.to_bits() == b.to_bits()), "K x: parallel = sequential");
+    // The row-run form central differences step with: the same products and quadratic form.
+    let runs = sparse::RunMat::new(k).unwrap();
+    runs.par_mul_into(&x, &mut y2);
+    assert!(y1.iter().zip(&y2).all(|(a, b)| a.to_bits() == b.to_bits()), "K x: row runs = sequential");
+    assert_eq!(runs.quad_form(&x).to_bits(), sparse::quad_form(k, &x).to_bits());
+    let owned = sparse::RunMat::from_owned(k.clone()).unwrap();
+    owned.par_mul_into(&x, &mut y2);
+    assert!(y1.iter().zip(&y2).all(|(a, b)| a.to_bits() == b.to_bits()), "K x: owned row runs = sequential");
 }

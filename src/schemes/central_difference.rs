@@ -76,10 +76,38 @@ impl<A: SymMatrix> Source<'_, A> {
         }
     }
 
-    fn stiffness(self) -> A {
+    /// The stiffness the steps use: the compact row-run form where the back-end has one
+    /// (sparse: bit-identical products, ~45% fewer bytes streamed in 3D), else a copy (borrowed)
+    /// or the matrix itself (owned).
+    fn stiffness(self) -> Stiffness<A> {
         match self {
-            Source::Borrowed(s) => s.stiffness.clone(),
-            Source::Owned(s) => s.stiffness,
+            Source::Borrowed(s) => {
+                s.stiffness.run_mat().map_or_else(|| Stiffness::Plain(s.stiffness.clone()), Stiffness::Runs)
+            }
+            Source::Owned(s) => s.stiffness.into_run_mat().map_or_else(Stiffness::Plain, Stiffness::Runs),
+        }
+    }
+}
+
+/// K in the form the steps use ([`Source::stiffness`]).
+#[derive(Debug)]
+enum Stiffness<A> {
+    Plain(A),
+    Runs(crate::linalg::sparse::RunMat),
+}
+
+impl<A: SymMatrix> Stiffness<A> {
+    fn par_mul_into(&self, x: &[f64], y: &mut [f64]) {
+        match self {
+            Stiffness::Plain(a) => a.par_mul_into(x, y),
+            Stiffness::Runs(r) => r.par_mul_into(x, y),
+        }
+    }
+
+    fn quad_form(&self, x: &[f64]) -> f64 {
+        match self {
+            Stiffness::Plain(a) => a.quad_form(x),
+            Stiffness::Runs(r) => r.quad_form(x),
         }
     }
 }
@@ -104,7 +132,7 @@ struct Massless {
 #[derive(Debug)]
 pub struct CentralDifference<A: SymMatrix> {
     dt: f64,
-    stiffness: A,
+    stiffness: Stiffness<A>,
     load: Vec<f64>,
     forcing: Option<crate::system::Forcing>,
     lumped: Vec<f64>,
