@@ -191,6 +191,8 @@ pub fn sizes(quick: bool) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
 /// The environment variable that makes the process measure one case and print its CSV row
 /// (each case runs in a process of its own, so that its peak memory is its own).
 pub const CASE_VAR: &str = "MASSREDIST_EXPLICIT_CASE";
+/// Set: redraw the table and figure from the CSV as it is, measuring nothing.
+pub const REDRAW_VAR: &str = "MASSREDIST_EXPLICIT_REDRAW";
 
 /// One case by name: `method shape nx ny nz`.
 fn one_case(name: &str, steps: usize) -> Result<Row, String> {
@@ -235,6 +237,11 @@ pub fn run(csv: &Path, quick: bool, steps: usize) -> Result<Vec<PathBuf>, String
         println!("{}", to_csv(&[one_case(&name, steps)?]).lines().nth(1).unwrap_or_default());
         return Ok(Vec::new());
     }
+    if std::env::var_os(REDRAW_VAR).is_some() {
+        let text = std::fs::read_to_string(csv).map_err(|e| format!("{}: {e}", csv.display()))?;
+        let rows = text.lines().skip(1).map(from_csv_line).collect::<Result<Vec<_>, _>>()?;
+        return write_outputs(csv, &rows);
+    }
     let (imp, cube, rod) = sizes(quick);
     let names = imp
         .iter()
@@ -258,14 +265,19 @@ pub fn run(csv: &Path, quick: bool, steps: usize) -> Result<Vec<PathBuf>, String
         rows.push(from_csv_line(line)?);
         eprintln!("{name}: {line}");
     }
-    let mut out = vec![csv.to_path_buf()];
     std::fs::write(csv, to_csv(&rows)).map_err(|e| format!("{}: {e}", csv.display()))?;
+    write_outputs(csv, &rows)
+}
+
+/// The Markdown table and the figures of `rows` next to `csv`; returns the paths.
+fn write_outputs(csv: &Path, rows: &[Row]) -> Result<Vec<PathBuf>, String> {
+    let mut out = vec![csv.to_path_buf()];
     let md = csv.with_extension("md");
-    std::fs::write(&md, to_markdown(&rows)).map_err(|e| format!("{}: {e}", md.display()))?;
+    std::fs::write(&md, to_markdown(rows)).map_err(|e| format!("{}: {e}", md.display()))?;
     out.push(md);
     for ext in ["png", "svg"] {
         let path = csv.with_extension(ext);
-        draw_file(&path, &rows)?;
+        draw_file(&path, rows)?;
         out.push(path);
     }
     Ok(out)
@@ -325,8 +337,9 @@ pub fn to_markdown(rows: &[Row]) -> String {
     s
 }
 
-/// The figure: time per step (left) and peak memory (right) against unknowns, log–log; one
-/// line per (method, shape), the explicit two-thread steps dashed.
+/// The figure: the CPU time of a step on one thread (left: what a shared machine's wall clock
+/// cannot give) and the peak memory (right) against unknowns, log–log; one line per (method,
+/// shape).
 fn draw<DB: plotters::prelude::DrawingBackend>(
     root: plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
     rows: &[Row],
@@ -351,9 +364,9 @@ where
     };
     let x = span(rows.iter().map(|r| r.unknowns as f64).collect());
     let metrics: [(&str, fn(&Row) -> f64); 2] =
-        [("time per step [ms]", |r| r.step_ms_1), ("peak resident memory [MiB]", |r| r.peak_mib)];
-    for (k, (area, (label, f))) in panels.iter().zip(metrics).enumerate() {
-        let y = span(rows.iter().flat_map(|r| [f(r), if k == 0 { r.step_ms_2 } else { f(r) }]).collect());
+        [("CPU time per step, one thread [ms]", |r| r.cpu_ms_1), ("peak resident memory [MiB]", |r| r.peak_mib)];
+    for (area, (label, f)) in panels.iter().zip(metrics) {
+        let y = span(rows.iter().map(f).collect());
         let mut chart = super::report::log_log_chart(area, label, x, y, ("unknowns", label), true)?;
         for (method, shape, colour) in series {
             let mine: Vec<&Row> = rows.iter().filter(|r| r.method == method && r.shape == shape).collect();
@@ -367,14 +380,6 @@ where
                 .label(format!("{method} {shape}"))
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
             chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, colour.filled()))).map_err(e)?;
-            if k == 0 && method == "explicit" {
-                let two: Vec<(f64, f64)> = mine.iter().map(|r| (r.unknowns as f64, r.step_ms_2)).collect();
-                chart
-                    .draw_series(DashedLineSeries::new(two, 8, 4, colour.stroke_width(2)))
-                    .map_err(e)?
-                    .label(format!("{method} {shape}, 2 threads"))
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(1)));
-            }
         }
         chart
             .configure_series_labels()
