@@ -72,6 +72,11 @@ enum Command {
         /// Only the comparison of the method classes (issue 20: src/paper/methods.rs) into DIR.
         #[arg(long)]
         methods: bool,
+        /// Only measure implicit against explicit 3D solids (time per step, peak memory; up to
+        /// 10⁶ unknowns; with --quick small sizes) into this table (and .md, .png, .svg beside it),
+        /// then exit.
+        #[arg(long, value_name = "CSV")]
+        explicit_scaling: Option<PathBuf>,
     },
 }
 
@@ -138,6 +143,15 @@ fn main() -> ExitCode {
             }
             eprintln!("{}: {} runs in {:.1} s; see report.md", out.display(), report.results.len(), report.seconds);
             ExitCode::SUCCESS
+        }
+        Command::Bench { explicit_scaling: Some(csv), quick, .. } => {
+            match massredist::bench::explicit_scaling::run(&csv, quick, 21) {
+                Ok(paths) => {
+                    paths.iter().for_each(|p| eprintln!("wrote {}", p.display()));
+                    ExitCode::SUCCESS
+                }
+                Err(m) => fail(&csv, m, exit::FAILURE),
+            }
         }
         Command::Bench { quick, out, force, .. } => {
             let dir = match prepare(&out, force, &[]) {

@@ -158,20 +158,14 @@ fn the_stable_limit_is_computed_and_enforced() {
 }
 
 /// Central differences refuse what is not built, naming the key: Nitsche contact with
-/// γ₀ ≤ 1 (Verlet with Nitsche is built for γ₀ > 1, `tests/nitsche.rs`), a
-/// geometry without a lumped mass (here, a solid scene: exit 2 from `check`).
+/// γ₀ ≤ 1 (Verlet with Nitsche is built for γ₀ > 1, `tests/nitsche.rs`). (Solids, refused here
+/// until they had a lumped mass, are tests/central_solid.rs's.)
 #[test]
 fn refusals_name_the_key() {
     let p = problem(bar(vec![1.0; 10], 10.0), f);
     let law = ContactLaw::Nitsche { theta: 1, gamma0: 1.0 };
     let e = p.scheme_with(&CD, &law, 1e-3).err().expect("Nitsche with γ₀ = 1 refused");
     assert!(e.to_string().contains("contact.nitsche_gamma0 = 1"), "{e}");
-    let scene = "[solid]\ndim = 2\nlength = 1.0\nheight = 0.3\nnx = 4\nny = 2\ncells = \"quad\"\ninitial = \"paper\"\n[mass]\nkind = \"mod3\"\n[scheme]\nkind = \"central-difference\"\n[time]\ndt = 0.01\nend = 0.1\n";
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("solid.toml");
-    std::fs::write(&path, scene).unwrap();
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_massredist")).arg("check").arg(&path).output().unwrap();
-    common::assert_refused(&o, &["scheme.kind = \"central-difference\"", "solid", "lumped mass"]);
 }
 
 /// The reported energy is `½V·M_L V + ½U·KU − F·U` (what `Scheme::energy` gives the run):

@@ -14,6 +14,7 @@
 pub mod baseline;
 pub mod env;
 pub mod methods;
+pub mod explicit_scaling;
 pub mod perf;
 pub mod report;
 pub mod scaling;

@@ -61,6 +61,24 @@ pub trait SymMatrix: Clone + Debug + Send + Sync + 'static {
     /// `y = A x`.
     fn mul_into(&self, x: &[f64], y: &mut [f64]);
 
+    /// `y = A x` on rayon's threads where the back-end splits it (the explicit scheme; equal
+    /// to [`SymMatrix::mul_into`] bit for bit). Default: [`SymMatrix::mul_into`].
+    fn par_mul_into(&self, x: &[f64], y: &mut [f64]) {
+        self.mul_into(x, y)
+    }
+
+    /// The matrix in the explicit scheme's compact row-run form, where the back-end has one
+    /// ([`sparse::RunMat`]: sparse matrices). Default: None.
+    fn run_mat(&self) -> Option<sparse::RunMat> {
+        None
+    }
+
+    /// [`SymMatrix::run_mat`] taking the matrix over (no second copy of its values); Err(self)
+    /// where there is none.
+    fn into_run_mat(self) -> Result<sparse::RunMat, Self> {
+        Err(self)
+    }
+
     /// `xᵀ A x`.
     fn quad_form(&self, x: &[f64]) -> f64;
 
@@ -156,6 +174,18 @@ impl SymMatrix for SpMat {
 
     fn mul_into(&self, x: &[f64], y: &mut [f64]) {
         sparse::sym_mul_into(self, x, y)
+    }
+
+    fn par_mul_into(&self, x: &[f64], y: &mut [f64]) {
+        sparse::par_sym_mul_into(self, x, y)
+    }
+
+    fn run_mat(&self) -> Option<sparse::RunMat> {
+        sparse::RunMat::new(self)
+    }
+
+    fn into_run_mat(self) -> Result<sparse::RunMat, Self> {
+        sparse::RunMat::from_owned(self)
     }
 
     fn quad_form(&self, x: &[f64]) -> f64 {

@@ -130,6 +130,12 @@ fn from_columns(n: usize, mut col_ptr: Vec<usize>, row_idx: Vec<usize>, val: Vec
     SpMat::new(faer::sparse::SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx), val)
 }
 
+/// The matrix from compressed columns (`col_ptr` cumulative, n + 1 entries; rows increasing
+/// within a column).
+pub fn from_csc(n: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>, val: Vec<f64>) -> SpMat {
+    SpMat::new(faer::sparse::SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx), val)
+}
+
 /// The entries `(i, j, a_ij)` of a matrix, column by column.
 pub fn triplets(a: &SpMat) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
     let (ptr, idx, val) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
@@ -222,6 +228,129 @@ pub fn sym_mul_into(a: &SpMat, x: &[f64], y: &mut [f64]) {
             s += val[k] * x[idx[k]];
         }
         *yj = s;
+    }
+}
+
+/// Rows per rayon task of [`par_sym_mul_into`] (about 1e5 stored entries in 3D, 3e4 in 2D:
+/// large enough that scheduling is negligible against the gathers).
+pub const PAR_ROWS: usize = 4096;
+
+/// `y = A x` for symmetric A with rows split among rayon's threads ([`PAR_ROWS`] per task).
+/// Each `y_j` is the same gather as in [`sym_mul_into`], summed in the same order, so the result
+/// is bit-identical to the sequential product whatever the number of threads (the explicit
+/// scheme uses it; the implicit ones keep [`sym_mul_into`]).
+pub fn par_sym_mul_into(a: &SpMat, x: &[f64], y: &mut [f64]) {
+    use rayon::prelude::*;
+    let (ptr, idx, val) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+    debug_assert!(x.len() == a.ncols() && y.len() == a.nrows());
+    y.par_chunks_mut(PAR_ROWS).enumerate().for_each(|(c, ys)| {
+        for (r, yj) in ys.iter_mut().enumerate() {
+            let j = c * PAR_ROWS + r;
+            let mut s = 0.0;
+            for k in ptr[j]..ptr[j + 1] {
+                s += val[k] * x[idx[k]];
+            }
+            *yj = s;
+        }
+    });
+}
+
+/// A symmetric sparse matrix whose columns are stored as runs of consecutive rows: for each
+/// run its first row (u32) and length, the values in the same order as the compressed
+/// columns. Vector fields interleaved per node give runs of d rows (d·k where k neighbouring
+/// nodes are numbered consecutively: 9 runs of 9 per column of a structured hex mesh), so the
+/// row indices take about 8 bytes per run instead of 8 per entry: a product streams ~45% fewer
+/// bytes in 3D (the explicit scheme is bound by memory bandwidth). Each `y_j` is summed in the
+/// same order as [`sym_mul_into`]: the products are equal bit for bit.
+#[derive(Debug, Clone)]
+pub struct RunMat {
+    val: Vec<f64>,
+    /// Column j's values start at `val_ptr[j]`, its runs at `run_ptr[j]`.
+    val_ptr: Vec<usize>,
+    run_ptr: Vec<usize>,
+    /// (first row, length) of each run.
+    runs: Vec<(u32, u32)>,
+}
+
+impl RunMat {
+    /// From a compressed-column matrix (its values copied); None if it has more than u32::MAX
+    /// rows.
+    pub fn new(a: &SpMat) -> Option<Self> {
+        let (ptr, idx) = (a.symbolic().col_ptr(), a.symbolic().row_idx());
+        let (val_ptr, run_ptr, runs) = Self::runs_of(a.nrows(), ptr, idx)?;
+        Some(Self { val: a.val().to_vec(), val_ptr, run_ptr, runs })
+    }
+
+    /// From a matrix it takes over (its values moved, its row indices dropped: no second copy);
+    /// Err(a) if it has more than u32::MAX rows.
+    pub fn from_owned(a: SpMat) -> Result<Self, SpMat> {
+        let n = a.nrows();
+        let Some((val_ptr, run_ptr, runs)) = Self::runs_of(n, a.symbolic().col_ptr(), a.symbolic().row_idx()) else {
+            return Err(a);
+        };
+        let (_, val) = a.into_parts();
+        Ok(Self { val, val_ptr, run_ptr, runs })
+    }
+
+    /// The column pointers, run pointers and runs of a pattern.
+    #[allow(clippy::type_complexity)]
+    fn runs_of(n: usize, ptr: &[usize], idx: &[usize]) -> Option<(Vec<usize>, Vec<usize>, Vec<(u32, u32)>)> {
+        u32::try_from(n).ok()?;
+        let mut run_ptr = Vec::with_capacity(n + 1);
+        let mut runs: Vec<(u32, u32)> = Vec::new();
+        run_ptr.push(0);
+        for j in 0..n {
+            let first = runs.len();
+            for &i in &idx[ptr[j]..ptr[j + 1]] {
+                let extends = runs.len() > first && runs.last().is_some_and(|&(a, l)| (a + l) as usize == i);
+                match runs.last_mut() {
+                    Some((_, len)) if extends => *len += 1,
+                    _ => runs.push((i as u32, 1)),
+                }
+            }
+            run_ptr.push(runs.len());
+        }
+        runs.shrink_to_fit();
+        Some((ptr[..=n].to_vec(), run_ptr, runs))
+    }
+
+    pub fn dim(&self) -> usize {
+        self.val_ptr.len() - 1
+    }
+
+    /// `y_j = Σ_k a_jk x_k` for the rows of `ys`, j from `first`.
+    fn rows(&self, x: &[f64], first: usize, ys: &mut [f64]) {
+        for (r, yj) in ys.iter_mut().enumerate() {
+            let j = first + r;
+            let mut k = self.val_ptr[j];
+            let mut s = 0.0;
+            for &(start, len) in &self.runs[self.run_ptr[j]..self.run_ptr[j + 1]] {
+                let (xs, vs) = (&x[start as usize..(start + len) as usize], &self.val[k..k + len as usize]);
+                for (v, xi) in vs.iter().zip(xs) {
+                    s += v * xi;
+                }
+                k += len as usize;
+            }
+            *yj = s;
+        }
+    }
+
+    /// `y = A x` on rayon's threads ([`PAR_ROWS`] rows per task), bit-identical to
+    /// [`sym_mul_into`] on the matrix it was built from.
+    pub fn par_mul_into(&self, x: &[f64], y: &mut [f64]) {
+        use rayon::prelude::*;
+        y.par_chunks_mut(PAR_ROWS).enumerate().for_each(|(c, ys)| self.rows(x, c * PAR_ROWS, ys));
+    }
+
+    /// `xᵀ A x` (row sums in [`quad_form`]'s order).
+    pub fn quad_form(&self, x: &[f64]) -> f64 {
+        let mut y = [0.0];
+        let mut s = 0.0;
+        for (j, &xj) in x.iter().enumerate() {
+            self.rows(x, j, &mut y);
+            s += xj * y[0];
+        }
+        s
     }
 }
 

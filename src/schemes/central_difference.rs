@@ -45,6 +45,11 @@
 //! contact state; on massless nodes the spring stiffens the quasi-static rows, whose condensed
 //! stiffness stays ≤ K_II).
 //!
+//! **Parallel**: `K U` ([`SymMatrix::par_mul_into`]) and the element-wise force and update loops
+//! run on rayon's threads ([`PAR_ROWS`] entries per task at least, so small systems stay on one
+//! thread); every entry is computed as in the sequential loops, so the results do not depend on
+//! the number of threads (bit for bit).
+//!
 //! **Energy**: `½ V·M_L V + ½ U·K U − F·U (+ Σ ½κ (d_c⁻)²)` ([`CentralDifference::energy`]); without contact and
 //! with Δt < Δt_c it stays within O(Δt²) of its initial value (a shadow energy is conserved).
 
@@ -53,7 +58,59 @@ use crate::contact::QuasiStatic;
 use crate::contact::law::ContactLaw;
 use crate::contact::penalty::PenaltyQuasiStatic;
 use crate::linalg::SymMatrix;
+use crate::linalg::sparse::PAR_ROWS;
 use crate::system::ContactSystem;
+use rayon::prelude::*;
+
+/// The system a scheme is built from: borrowed (its stiffness copied) or owned (moved).
+enum Source<'a, A> {
+    Borrowed(&'a ContactSystem<A>),
+    Owned(ContactSystem<A>),
+}
+
+impl<A: SymMatrix> Source<'_, A> {
+    fn get(&self) -> &ContactSystem<A> {
+        match self {
+            Source::Borrowed(s) => s,
+            Source::Owned(s) => s,
+        }
+    }
+
+    /// The stiffness the steps use: the compact row-run form where the back-end has one
+    /// (sparse: bit-identical products, ~45% fewer bytes streamed in 3D), else a copy (borrowed)
+    /// or the matrix itself (owned).
+    fn stiffness(self) -> Stiffness<A> {
+        match self {
+            Source::Borrowed(s) => {
+                s.stiffness.run_mat().map_or_else(|| Stiffness::Plain(s.stiffness.clone()), Stiffness::Runs)
+            }
+            Source::Owned(s) => s.stiffness.into_run_mat().map_or_else(Stiffness::Plain, Stiffness::Runs),
+        }
+    }
+}
+
+/// K in the form the steps use ([`Source::stiffness`]).
+#[derive(Debug)]
+enum Stiffness<A> {
+    Plain(A),
+    Runs(crate::linalg::sparse::RunMat),
+}
+
+impl<A: SymMatrix> Stiffness<A> {
+    fn par_mul_into(&self, x: &[f64], y: &mut [f64]) {
+        match self {
+            Stiffness::Plain(a) => a.par_mul_into(x, y),
+            Stiffness::Runs(r) => r.par_mul_into(x, y),
+        }
+    }
+
+    fn quad_form(&self, x: &[f64]) -> f64 {
+        match self {
+            Stiffness::Plain(a) => a.quad_form(x),
+            Stiffness::Runs(r) => r.quad_form(x),
+        }
+    }
+}
 
 /// The quasi-static map of the massless unknowns under the contact law.
 #[derive(Debug)]
@@ -75,7 +132,7 @@ struct Massless {
 #[derive(Debug)]
 pub struct CentralDifference<A: SymMatrix> {
     dt: f64,
-    stiffness: A,
+    stiffness: Stiffness<A>,
     load: Vec<f64>,
     forcing: Option<crate::system::Forcing>,
     lumped: Vec<f64>,
@@ -118,6 +175,31 @@ impl<A: SymMatrix> CentralDifference<A> {
         u0: Vec<f64>,
         v0: Vec<f64>,
     ) -> Result<Self, SchemeError> {
+        Self::build(Source::Borrowed(system), lumped, law, dt, u0, v0)
+    }
+
+    /// [`Self::new`] owning the system: its stiffness moves into the scheme instead of being
+    /// copied (explicit at scale: one stiffness in memory).
+    pub fn from_system(
+        system: ContactSystem<A>,
+        lumped: Vec<f64>,
+        law: &ContactLaw,
+        dt: f64,
+        u0: Vec<f64>,
+        v0: Vec<f64>,
+    ) -> Result<Self, SchemeError> {
+        Self::build(Source::Owned(system), lumped, law, dt, u0, v0)
+    }
+
+    fn build(
+        source: Source<'_, A>,
+        lumped: Vec<f64>,
+        law: &ContactLaw,
+        dt: f64,
+        u0: Vec<f64>,
+        v0: Vec<f64>,
+    ) -> Result<Self, SchemeError> {
+        let system = source.get();
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
         let kappa = match *law {
             ContactLaw::Exact => None,
@@ -132,44 +214,30 @@ impl<A: SymMatrix> CentralDifference<A> {
         };
         let n = system.n();
         let inv_mass: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
-        let inv_sqrt: Vec<f64> = inv_mass.iter().map(|x| x.sqrt()).collect();
-        // With the penalty, the springs of the massive contact nodes all engaged: K + κ Σ e_c e_cᵀ
-        // bounds K's λ_max in every contact state (module docs).
-        let springs: Vec<usize> = system.contact.iter().copied().filter(|&c| lumped[c] > 0.0).collect();
-        let k_spring = kappa.unwrap_or(0.0);
-        let (theta, lanczos_steps, converged) = super::stable_limit::lambda_max_of(
-            |x, y| {
-                system.stiffness.mul_into(x, y);
-                springs.iter().for_each(|&c| y[c] += k_spring * x[c]);
-            },
-            &inv_sqrt,
-        );
-        // Unconverged Lanczos: the Gershgorin upper bound instead (conservative; stable_limit docs).
-        let lam = if converged {
-            theta
-        } else {
-            super::stable_limit::gershgorin(&system.stiffness, &inv_sqrt, &springs, k_spring)
-        };
-        let limit = if lam > 0.0 { 2.0 / lam.sqrt() } else { f64::INFINITY };
+        let (limit, lanczos_steps, converged) = stable_limit_of(system, &lumped, kappa);
+        let springs = system.contact.iter().filter(|&&c| lumped[c] > 0.0).count();
         // dt = Δt_c is accepted up to the accuracy of its computation (a free–free uniform chain
         // has λ_max = 4c²/h² exactly, and Δt_c = h/c is then met within a few ulps).
         if dt > limit * (1.0 + super::stable_limit::REL_TOL) {
-            let spring = if kappa.is_some() && !springs.is_empty() { " + κ E_Cᵀ E_C" } else { "" };
+            let spring = if kappa.is_some() && springs > 0 { " + κ E_Cᵀ E_C" } else { "" };
             return Err(SchemeError::AboveStableLimit { scheme: Self::NAME, dt, limit, spring });
         }
         let massless: Vec<usize> = (0..n).filter(|&i| lumped[i] <= 0.0).collect();
         let kinematic: Vec<(usize, usize)> =
             system.contact.iter().enumerate().filter(|&(_, &c)| lumped[c] > 0.0).map(|(s, &c)| (s, c)).collect();
         let quasi = if massless.is_empty() { None } else { Some(massless_map(system, &lumped, &massless, kappa)?) };
+        let (load, forcing, lower, contact) =
+            (system.load.clone(), system.forcing.clone(), system.lower.clone(), system.contact.clone());
+        let lambda = vec![0.0; contact.len()];
         let mut s = Self {
             dt,
-            stiffness: system.stiffness.clone(),
-            load: system.load.clone(),
-            forcing: system.forcing.clone(),
+            stiffness: source.stiffness(),
+            load,
+            forcing,
             lumped,
             inv_mass,
-            lower: system.lower.clone(),
-            contact: system.contact.clone(),
+            lower,
+            contact,
             kinematic,
             kappa,
             quasi,
@@ -182,7 +250,7 @@ impl<A: SymMatrix> CentralDifference<A> {
             u: u0,
             a: vec![0.0; n],
             v: v0,
-            lambda: vec![0.0; system.contact.len()],
+            lambda,
             ku: vec![0.0; n],
             pivots: 0,
         };
@@ -236,10 +304,11 @@ impl<A: SymMatrix> CentralDifference<A> {
     /// contact nodes (module docs; `kappa` = 1 in a step, ½ at n = 0; `v` holds the half-step
     /// velocity in a step, V⁰ at n = 0).
     fn accelerations(&mut self, _time: f64, kappa: f64) {
-        self.stiffness.mul_into(&self.u, &mut self.ku);
-        for i in 0..self.u.len() {
-            self.a[i] = self.inv_mass[i] * (self.load[i] - self.ku[i]);
-        }
+        self.stiffness.par_mul_into(&self.u, &mut self.ku);
+        (&mut self.a[..], &self.inv_mass[..], &self.load[..], &self.ku[..])
+            .into_par_iter()
+            .with_min_len(PAR_ROWS)
+            .for_each(|(a, m, f, ku)| *a = m * (f - ku));
         let dt2 = kappa * self.dt * self.dt;
         for &(s, c) in &self.kinematic {
             let l = match self.kappa {
@@ -254,6 +323,36 @@ impl<A: SymMatrix> CentralDifference<A> {
             self.a[c] -= l * self.inv_mass[c];
         }
     }
+}
+
+/// `(Δt_c, Lanczos steps, converged)` of central differences on `system` with the lumped mass
+/// `lumped` and the penalty κ (None: exact contact), module docs: Lanczos on
+/// `M_L,II^{−½} (K + κ Σ_{c massive} e_c e_cᵀ) M_L,II^{−½}`, or the Gershgorin bound if it did
+/// not converge.
+pub fn stable_limit_of<A: SymMatrix>(
+    system: &ContactSystem<A>,
+    lumped: &[f64],
+    kappa: Option<f64>,
+) -> (f64, usize, bool) {
+    let inv_sqrt: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { (1.0 / m).sqrt() } else { 0.0 }).collect();
+    // With the penalty, the springs of the massive contact nodes all engaged: K + κ Σ e_c e_cᵀ
+    // bounds K's λ_max in every contact state (module docs).
+    let springs: Vec<usize> = system.contact.iter().copied().filter(|&c| lumped[c] > 0.0).collect();
+    let k_spring = kappa.unwrap_or(0.0);
+    let (theta, lanczos_steps, converged) = super::stable_limit::lambda_max_of(
+        |x, y| {
+            system.stiffness.par_mul_into(x, y);
+            springs.iter().for_each(|&c| y[c] += k_spring * x[c]);
+        },
+        &inv_sqrt,
+    );
+    // Unconverged Lanczos: the Gershgorin upper bound instead (conservative; stable_limit docs).
+    let lam = if converged {
+        theta
+    } else {
+        super::stable_limit::gershgorin(&system.stiffness, &inv_sqrt, &springs, k_spring)
+    };
+    (if lam > 0.0 { 2.0 / lam.sqrt() } else { f64::INFINITY }, lanczos_steps, converged)
 }
 
 /// The quasi-static map of the massless unknowns `massless` under the law (κ: penalty).
@@ -319,18 +418,19 @@ impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
             *old = self.u[i];
         }
         // v ← V^{n+½} = Vⁿ + ½ΔtAⁿ, U^{n+1} = Uⁿ + Δt V^{n+½} on I (a = 0 on C leaves v there).
-        for i in 0..self.u.len() {
-            self.v[i] += 0.5 * dt * self.a[i];
-            self.u[i] += dt * self.v[i] * (self.inv_mass[i] > 0.0) as u8 as f64;
-        }
+        (&mut self.v[..], &mut self.u[..], &self.a[..], &self.inv_mass[..])
+            .into_par_iter()
+            .with_min_len(PAR_ROWS)
+            .for_each(|(v, u, a, m)| {
+                *v += 0.5 * dt * a;
+                *u += dt * *v * (*m > 0.0) as u8 as f64;
+            });
         if let Some(f) = &self.forcing {
             (f.0)(time, &mut self.load);
         }
         self.quasi_static(step, time)?;
         self.accelerations(time, 1.0);
-        for i in 0..self.u.len() {
-            self.v[i] += 0.5 * dt * self.a[i];
-        }
+        (&mut self.v[..], &self.a[..]).into_par_iter().with_min_len(PAR_ROWS).for_each(|(v, a)| *v += 0.5 * dt * a);
         for (&old, &i) in self.massless_old.iter().zip(&self.massless) {
             self.v[i] = (self.u[i] - old) / dt;
         }

@@ -34,7 +34,7 @@ pub fn build<A: Backend, L: FnOnce() -> Option<Vec<f64>>>(
                 return Err(SchemeError::Unsupported {
                     key: "scheme.kind = \"central-difference\"",
                     geometry: geometry.name,
-                    reason: "its lumped mass (row sums over all nodes before Dirichlet removal) is not built yet (bars and plates have one)",
+                    reason: "its lumped mass (row sums over all nodes before Dirichlet removal) is not built yet (bars, plates and solids have one)",
                 });
             };
             Ok(Box::new(CentralDifference::new(system, lumped, law, dt, u, v)?))

@@ -24,6 +24,13 @@ pub const REL_TOL: f64 = 1e-12;
 pub const WINDOW: usize = 5;
 /// Upper bound on the Lanczos steps (its basis is stored for the reorthogonalisation).
 pub const MAX_STEPS: usize = 300;
+/// Above [`LARGE`] interior unknowns the steps are capped at [`LARGE_STEPS`], so that the stored
+/// basis (k vectors) and the reorthogonalisation (O(k² n)) stay a small multiple of one SpMV's
+/// cost and memory: Δt_c's set-up linear in n (issue 20, explicit at scale). Such meshes stop
+/// unconverged and take the Gershgorin bound (as they would at [`MAX_STEPS`]: the top of the
+/// spectrum of a large mesh is dense).
+pub const LARGE: usize = 50_000;
+pub const LARGE_STEPS: usize = 30;
 
 /// λ_max(M_I⁻¹ K_II) for the unknowns with `inv_sqrt_mass[i] > 0` (the others are left out: `K`
 /// restricted to I), the number of Lanczos steps taken, and whether it converged (false: stopped
@@ -56,7 +63,7 @@ pub fn lambda_max_of(mul: impl Fn(&[f64], &mut [f64]), inv_sqrt_mass: &[f64]) ->
     if ni == 0 {
         return (0.0, 0, true);
     }
-    let kmax = ni.min(MAX_STEPS);
+    let kmax = ni.min(if ni > LARGE { LARGE_STEPS } else { MAX_STEPS });
     // A fixed start vector with components on every eigenvector in general position.
     let mut q: Vec<f64> = (0..n)
         .map(|i| if active[i] { 1.0 + 0.5 * ((i as f64 + 1.0) * 0.618_033_988_749_895).fract() } else { 0.0 })

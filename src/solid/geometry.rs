@@ -202,4 +202,10 @@ impl Geometry for SolidSystem {
     fn system(&self) -> &ContactSystem<Self::Matrix> {
         &self.system
     }
+
+    /// Row sums (P1, Q1) or HRZ (P2) of the weighted mass over all nodes, per component
+    /// ([`super::lumped`]).
+    fn lumped_mass(&self) -> Option<Vec<f64>> {
+        Some(SolidSystem::lumped_mass(self))
+    }
 }

@@ -25,6 +25,8 @@ pub mod assembly;
 pub mod body;
 pub mod body_system;
 pub mod geometry;
+pub mod lean;
+pub mod lumped;
 pub mod problem;
 pub mod spec;
 pub mod vtu;
