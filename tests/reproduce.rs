@@ -346,7 +346,7 @@ fn the_elastic_section_states_the_closest_configuration_and_the_10_percent_verdi
             f.iter().copied().fold(1.0, f64::max)
         })
         .fold(f64::INFINITY, f64::min);
-    let section = elastic_section(&rows, None);
+    let section = elastic_section(&rows);
     assert!(section.contains(&format!("(worst factor {best:.2} from the paper)")), "{section}");
     let matching = groups.values().filter(|f| f.iter().all(|&x| x <= within)).count();
     if matching == 0 {

@@ -31,6 +31,8 @@ pub mod bodies;
 mod bodies_report;
 mod claims;
 mod config;
+pub mod elastic_reference;
+mod elastic_report;
 pub mod elastic_table;
 mod experiments;
 mod figures;

@@ -43,7 +43,7 @@ pub fn report_markdown(
     s.push_str(&figure_sections(config, results));
     s.push_str(&table_2d(table2d));
     s.push_str(lead);
-    s.push_str(&elastic_section(elastic, table2d));
+    s.push_str(&elastic_section(elastic));
     s.push_str(&rebound_section(config, rebound));
     s.push_str(bodies);
     s.push_str("\n## Files\n\n");
