@@ -58,7 +58,7 @@ pub use rebound::{
     compute_rebound, exact_rebound, rebound_cases, rebound_scene_text, rebound_sensitive, run_rebound,
 };
 pub use rebound_report::{REBOUND_COLUMNS, REBOUND_FIGURE, REBOUND_TABLE};
-pub use report::report_markdown;
+pub use report::{report_markdown, results_tables};
 pub use runs::{CaseResult, EnergyVariation, PeriodEvents, compute, energy_variation, events, period_events, run_case};
 pub use table2d::{PAPER_TABLE_2D, Table2d, plate_2d_errors, table_2d};
 pub use tables::{EVENT_COLUMNS, TABLE_COLUMNS, horizon_tag, sig};
