@@ -126,13 +126,13 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let rebound = compute_rebound(config, &|| progress.inc(1))?;
     let scope = mesh_scope::mesh_scope(config)?;
     let ps = ps_growth::ps_growth(config)?;
-    let (lead, sensitivity) = (table2d_lead::lead_rows(), table2d_lead::sensitivity());
+    let lead = table2d_lead::lead_runs();
     let bodies = bodies::compute_bodies(quick, &|| progress.inc(1))?;
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
     let scope_figure = mesh_scope::scope_figure(config, &scope);
-    let lead_figure = table2d_lead::lead_figure(&sensitivity);
+    let lead_figure = table2d_lead::lead_figure(&lead.curves[0]);
     let body_figures = bodies_report::bodies_figures(&bodies);
     let tables = tables::result_tables(config, &results);
     // The scalar plates run one after another; the elastic candidates in parallel beside them.
@@ -149,7 +149,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         config,
         &results,
         &rebound,
-        (&scope, &ps, &table2d_lead::lead_section(&lead, &sensitivity)),
+        (&scope, &ps, &table2d_lead::lead_section(&lead)),
         &files,
         table2d.as_ref(),
         &elastic,
