@@ -192,3 +192,39 @@ fn the_lead_s_perturbed_copies_run_and_stay_close() {
         }
     }
 }
+
+/// The 2D sections print shared digits only: every elastic configuration the section prints
+/// (`printed_configurations`, in its order) has four perturbed reruns per mass and its printed
+/// errors have at most the digits the five runs share; the scalar table's judged row likewise.
+/// Broken on purpose: `elastic_table` running `0..0` perturbed copies instead of `0..PERTURBATIONS`
+/// fails the "four reruns" assertion (left 0); `plate_2d_errors` doing the same fails the scalar
+/// five-runs assertion (left 1).
+#[test]
+fn the_2d_sections_print_only_digits_that_the_perturbed_runs_share() {
+    use paper::elastic_table::{elastic_section, elastic_table, printed_configurations};
+    let rows = elastic_table(true);
+    let section = elastic_section(&rows);
+    let lines: Vec<&str> = section.lines().filter(|l| l.starts_with("| elastic")).collect();
+    let printed = printed_configurations(&rows);
+    assert_eq!(lines.len(), printed.len());
+    for (line, group) in lines.iter().zip(&printed) {
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        for (cell, r) in cells[2..5].iter().zip(group) {
+            assert_eq!(r.perturbed.len(), 4, "{line}");
+            let runs: Vec<f64> =
+                std::iter::once(r.linf_l2_error).chain(r.perturbed.iter().copied()).flatten().collect();
+            assert_eq!(runs.len(), 5, "{line}");
+            assert!(cell.contains('–') || printed_digits(cell) <= shared_digits(&runs), "{cell} in {line}: {runs:?}");
+        }
+    }
+    let t = paper::plate_2d_errors(&Config::quick()).unwrap();
+    let md = paper::table_2d(Some(&t));
+    let line = md.lines().find(|l| l.starts_with("| this project")).unwrap();
+    let judged: Vec<usize> = (0..t.rows.len()).filter(|&i| t.rows[i].judged).collect();
+    for (cell, &i) in line.split('|').map(str::trim).skip(2).zip(&judged) {
+        let copies = &t.copies.iter().find(|(k, _)| *k == i).expect("the judged row is rerun").1;
+        let runs: Vec<f64> = std::iter::once(t.rows[i].linf_l2_error).chain(copies.iter().copied()).flatten().collect();
+        assert_eq!(runs.len(), 5);
+        assert!(printed_digits(cell) <= shared_digits(&runs), "{cell}: {runs:?}");
+    }
+}
