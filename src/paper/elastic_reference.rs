@@ -25,8 +25,8 @@ use crate::scene::SchemeSpec;
 use crate::solid::SolidSystem;
 use std::sync::{Arc, OnceLock};
 
-/// Snapshot spacing: every Δt of the sweep (0.05, 0.025, 0.02, 0.01, 0.005) divides it... is a
-/// multiple of it, and so is the reference's step h/5 for h = 1/40, 1/80, 1/160.
+/// Snapshot spacing: every Δt of the sweep (0.05, 0.025, 0.02, 0.01, 0.005) is a whole multiple
+/// of it, and it is a whole multiple of the reference's step h/5 for h = 1/40, 1/80, 1/160.
 pub const SNAPSHOT_DT: f64 = 0.005;
 
 /// Cells per side of the reference in the full `reproduce` (h = 1/160).
