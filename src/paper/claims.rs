@@ -114,7 +114,13 @@ fn last_period_phase(
     let mut s = String::new();
     let others: Vec<String> = rows
         .iter()
-        .filter_map(|(r, ev)| ev.last().map(|p| format!("{} {}", r.case.mass.name(), sig(worst(p), 2))))
+        .filter_map(|(r, ev)| {
+            // Events come from the recorded series, which the perturbed reruns do not keep: a
+            // round-off sensitive run (it chatters) shows no digits here.
+            let shown =
+                |p: &PeriodEvents| if r.sensitive() { "(round-off sensitive)".into() } else { sig(worst(p), 2) };
+            ev.last().map(|p| format!("{} {}", r.case.mass.name(), shown(p)))
+        })
         .collect();
     let best = rows.iter().all(|(_, ev)| ev.last().is_none_or(|p| worst(p) >= worst(last)));
     let _ = writeln!(

@@ -12,17 +12,17 @@
 //!   with the P-wave modulus λ + 2μ = 1 kept equal to the paper's bar modulus, so that the
 //!   plane wave is still the paper's exact solution (wave speed 1, period 3): T = 1, 3, 10 mean
 //!   the same phases of the motion as in the scalar sweep, and only the lateral coupling changes;
-//! - schemes: Crank–Nicolson, backward Euler, hybrid; Δt ∈ {0.05, 0.02, 0.01, 0.005};
-//!   T ∈ {1, 3, 10} (the scalar sweep's values; one run to the largest T per Δt, the running
+//! - schemes: Crank–Nicolson, backward Euler, hybrid; Δt ∈ {0.05, 0.025, 0.02, 0.01, 0.005};
+//!   T ∈ {1, 2, 3, 10} (the scalar sweep's values; one run to the largest T per Δt, the running
 //!   maximum read at each T); mod1, mod2, mod3.
 //!
 //! **The error** is `max_n ‖u_h(t_n) − U(t_n)‖_{L²((0,1)²)²}` with `U = (u¹ᴰ(x, t), 0)` the
 //! paper's closed-form plane wave, computed exactly (round-off only) at every step; nothing is
 //! tuned. For λ = 0 and for roller faces U is the solution of the continuous problem
 //! ([`crate::solid`] module docs), so this is the true error. For λ > 0 with free faces it is
-//! not (the Poisson effect makes the motion two-dimensional): those rows measure the distance
-//! to the plane wave taken as a reference (what a paper comparing a 2D solid with its 1D
-//! analytical solution would report), and are marked `reference_is_solution = false`.
+//! not (the Poisson effect makes the motion two-dimensional): those rows are measured against a
+//! fine-mesh reference instead ([`super::elastic_reference`]: 160² Q1 cells, Δt = h/5, the
+//! distance exact on the fine mesh), marked `reference = fine mesh` (issue 22).
 //!
 //! Q1 cells use the solid's own exact error ([`crate::problem::GeometryView::l2_error`]). On
 //! triangles the solid offers none (NaN); [`simplex_l2_error`] adds one, exact as well: the
@@ -30,9 +30,10 @@
 //! ([`Characteristics::integrate`]), the transverse component is the quadratic form of the
 //! unit mass. The Q1 numbers are untouched.
 
-use super::Table2d;
-use super::plate_table::{PAPER_TABLE, best_single_configuration, paper_value};
-use super::tables::{sig, write_csv};
+use super::band::PERTURBATIONS;
+use super::elastic_reference::{Reference, cached_reference};
+pub use super::elastic_report::{elastic_section, printed_configurations, write_elastic_csv};
+use super::plate_table::{PAPER_TABLE, paper_value};
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::driver::{DivergenceCriterion, Needs, Observer, Sample, integrate_watched};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
@@ -51,8 +52,6 @@ use crate::solid::SolidError;
 use crate::solid::{Lame, Lateral, SolidSpec, SolidSystem};
 use rayon::prelude::*;
 use serde::Serialize;
-use std::fmt::Write as _;
-use std::path::Path;
 use thiserror::Error;
 
 /// Cells per side (Δx₁ = Δx₂ = 0.05, the paper's).
@@ -109,8 +108,13 @@ pub struct ElasticRow {
     pub lambda: f64,
     pub mu: f64,
     pub lateral: &'static str,
-    /// False where U is only a reference (λ > 0, free faces: module docs).
-    pub reference_is_solution: bool,
+    /// What the error is measured against: `plane wave` (the exact solution: λ = 0, or roller
+    /// faces) or `fine mesh` (λ > 0 with free faces: [`super::elastic_reference`]).
+    pub reference: &'static str,
+    /// For `fine mesh` rows: the reference's cells per side and its own error estimate up to T
+    /// (`max_{t_k ≤ T} ‖u_{n/2} − u_n‖`).
+    pub reference_cells: Option<usize>,
+    pub reference_difference: Option<f64>,
     pub scheme: &'static str,
     pub mass: &'static str,
     pub dt: f64,
@@ -120,6 +124,16 @@ pub struct ElasticRow {
     pub linf_l2_error: Option<f64>,
     pub paper: Option<f64>,
     pub failure: Option<String>,
+    /// The same error from U⁰ perturbed by ≤ 1e-13 ([`super::band::perturbed`], 4 copies) for
+    /// the configurations the report prints ([`printed_configurations`]); empty for the others.
+    pub perturbed: Vec<Option<f64>>,
+}
+
+impl ElasticRow {
+    /// The error over this run and its perturbed copies.
+    pub fn over_runs(&self) -> Vec<Option<f64>> {
+        std::iter::once(self.linf_l2_error).chain(self.perturbed.iter().copied()).collect()
+    }
 }
 
 #[derive(Debug, Error)]
@@ -136,11 +150,16 @@ pub enum ElasticError {
 
 /// The 2D solid of a candidate.
 pub fn spec(cells: Cell, material: Material) -> SolidSpec {
+    spec_on(cells, material, N)
+}
+
+/// The same solid on `n` × `n` cells (the fine-mesh reference, [`super::elastic_reference`]).
+pub fn spec_on(cells: Cell, material: Material, n: usize) -> SolidSpec {
     SolidSpec {
         cells,
         lame: material.lame(),
         lateral: material.lateral(),
-        ..PlaneWaveSolid { dim: 2, cells: [N, N, 1] }.spec()
+        ..PlaneWaveSolid { dim: 2, cells: [n, n, 1] }.spec()
     }
 }
 
@@ -189,9 +208,12 @@ pub fn simplex_l2_error(solid: &SolidSystem, columns: &Columns, u: &[f64], exact
     (x_part.max(0.0) + sparse::quad_form(&solid.mass_unit, &transverse).max(0.0)).sqrt()
 }
 
-/// The running maximum of the error against the plane wave, read at the steps `marks`.
+/// The running maximum of the error against the plane wave (or the fine-mesh reference), read at
+/// the steps `marks`.
 struct MaxError<'a> {
     solid: &'a SolidSystem,
+    /// The fine-mesh reference, if the error is measured against it (free faces, λ > 0).
+    reference: Option<&'a Reference>,
     /// Triangles: their columns and the 1D solution; None for Q1 (the solid's own exact error).
     simplex: Option<(&'a Columns, &'a Characteristics)>,
     exact: &'a Exact,
@@ -207,9 +229,11 @@ impl Observer for MaxError<'_> {
 
     fn observe(&mut self, s: &Sample) {
         let (u, t) = (s.state.u, s.state.t);
-        let e = match self.simplex {
-            Some((columns, c)) => simplex_l2_error(self.solid, columns, u, c, t),
-            None => GeometryView::l2_error(self.solid, u, self.exact, t),
+        let e = match (self.reference, self.simplex) {
+            // Every t_n of the table's Δt is a snapshot time; NaN (never the maximum) otherwise.
+            (Some(r), _) => r.error(self.solid, u, t).unwrap_or(f64::NAN),
+            (None, Some((columns, c))) => simplex_l2_error(self.solid, columns, u, c, t),
+            (None, None) => GeometryView::l2_error(self.solid, u, self.exact, t),
         };
         self.running = self.running.max(e);
         for (k, &m) in self.marks.iter().enumerate() {
@@ -221,7 +245,8 @@ impl Observer for MaxError<'_> {
 }
 
 /// `max_{t_n ≤ T} ‖u_h(t_n) − U(t_n)‖_{L²(Ω)²}` for each T of `ends` (whole multiples of `dt`),
-/// from one run to the largest; None for the T a diverged run did not reach.
+/// from one run to the largest, against the plane wave U; None for the T a diverged run did not
+/// reach.
 pub fn linf_l2_errors(
     cells: Cell,
     material: Material,
@@ -230,13 +255,38 @@ pub fn linf_l2_errors(
     dt: f64,
     ends: &[f64],
 ) -> Result<Vec<Option<f64>>, ElasticError> {
+    linf_l2_errors_against(Candidate { cells, material, mass, scheme, dt }, ends, None, None)
+}
+
+/// One elastic run of the table: cells, material, mass, scheme, Δt.
+#[derive(Debug, Clone, Copy)]
+pub struct Candidate<'a> {
+    pub cells: Cell,
+    pub material: Material,
+    pub mass: &'a MassKind,
+    pub scheme: &'a SchemeSpec,
+    pub dt: f64,
+}
+
+/// [`linf_l2_errors`] against `reference` if given (else the plane wave), from U⁰ perturbed as
+/// copy `copy` of [`super::band::perturbed`] if given (the round-off check of the printed digits).
+pub fn linf_l2_errors_against(
+    c: Candidate,
+    ends: &[f64],
+    reference: Option<&Reference>,
+    copy: Option<usize>,
+) -> Result<Vec<Option<f64>>, ElasticError> {
+    let Candidate { cells, material, mass, scheme, dt } = c;
     let marks: Vec<usize> = ends.iter().map(|&e| (e / dt).round() as usize).collect();
     let steps = marks.iter().copied().max().unwrap_or(0);
     let t_end = steps as f64 * dt * (1.0 + 1e-9);
-    let problem = spec(cells, material).problem(mass, t_end)?;
+    let mut problem = spec(cells, material).problem(mass, t_end)?;
+    if let Some(k) = copy {
+        problem.u0 = super::band::perturbed(&problem.u0, k);
+    }
     let exact = Exact::Paper(ImpactingBar { length: 1.0 });
     let (columns, wave);
-    let simplex = if cells == Cell::Triangle {
+    let simplex = if cells == Cell::Triangle && reference.is_none() {
         columns = Columns::new(&Mesh::structured_2d(1.0, 1.0, N, N, Cell::Triangle).map_err(SolidError::from)?);
         let (x, u, v) = paper_data(1.0);
         let data = InitialData::PiecewiseLinear { x: &x, u: &u, v: &v };
@@ -248,6 +298,7 @@ pub fn linf_l2_errors(
     };
     let mut observer = MaxError {
         solid: &problem.system,
+        reference,
         simplex,
         exact: &exact,
         marks: &marks,
@@ -276,12 +327,19 @@ fn grid(quick: bool) -> (Vec<SchemeSpec>, &'static [f64], &'static [f64]) {
     if quick {
         (vec![cn], &[0.01], &[3.0])
     } else {
-        (vec![cn, SchemeSpec::BackwardEuler, SchemeSpec::Hybrid], &[0.05, 0.02, 0.01, 0.005], &[1.0, 3.0, 10.0])
+        // The scalar sweep's Δt and T (issue 22: Δt = h/2 and T = 2 added).
+        (
+            vec![cn, SchemeSpec::BackwardEuler, SchemeSpec::Hybrid],
+            &[0.05, 0.025, 0.02, 0.01, 0.005],
+            &[1.0, 2.0, 3.0, 10.0],
+        )
     }
 }
 
 /// Every candidate (module docs; `quick` keeps cells × material × mass with CN, Δt = 0.01,
-/// T = 3), run in parallel (rayon), in the order cells, material, scheme, Δt, T, mass.
+/// T = 3), run in parallel (rayon), in the order cells, material, scheme, Δt, T, mass; the
+/// free-face λ > 0 rows against the fine-mesh reference ([`cached_reference`]); the
+/// configurations the report prints rerun from perturbed U⁰ ([`ElasticRow::perturbed`]).
 pub fn elastic_table(quick: bool) -> Vec<ElasticRow> {
     let (schemes, dts, ends) = grid(quick);
     let masses = [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3];
@@ -291,36 +349,25 @@ pub fn elastic_table(quick: bool) -> Vec<ElasticRow> {
             for scheme in &schemes {
                 for &dt in dts {
                     for mass in &masses {
-                        runs.push((cells, material, scheme, dt, mass));
+                        runs.push(Candidate { cells, material, mass, scheme, dt });
                     }
                 }
             }
         }
     }
-    let results: Vec<_> = runs.par_iter().map(|&(c, m, s, dt, mass)| linf_l2_errors(c, m, mass, s, dt, ends)).collect();
+    let reference = cached_reference(quick);
+    let run = |c: Candidate, copy: Option<usize>| -> Result<Vec<Option<f64>>, String> {
+        match (c.material.plane_wave_is_solution(), reference.as_ref()) {
+            (true, _) => linf_l2_errors_against(c, ends, None, copy).map_err(|e| e.to_string()),
+            (false, Ok(r)) => linf_l2_errors_against(c, ends, Some(r), copy).map_err(|e| e.to_string()),
+            (false, Err(e)) => Err(format!("the fine-mesh reference: {e}")),
+        }
+    };
+    let results: Vec<_> = runs.par_iter().map(|&c| run(c, None)).collect();
     let mut rows = Vec::with_capacity(runs.len() * ends.len());
-    for ((cells, material, scheme, dt, mass), result) in runs.iter().zip(&results) {
+    for (c, result) in runs.iter().zip(&results) {
         for (k, &end) in ends.iter().enumerate() {
-            let lame = material.lame();
-            let (value, failure) = match result {
-                Ok(v) => (v[k], v[k].is_none().then(|| "diverged before T".to_string())),
-                Err(e) => (None, Some(e.to_string())),
-            };
-            rows.push(ElasticRow {
-                cells: cells.name(),
-                material: *material,
-                lambda: lame.lambda,
-                mu: lame.mu,
-                lateral: material.lateral().name(),
-                reference_is_solution: material.plane_wave_is_solution(),
-                scheme: scheme.name(),
-                mass: mass.name(),
-                dt: *dt,
-                end,
-                linf_l2_error: value,
-                paper: paper_value(mass),
-                failure,
-            });
+            rows.push(row(c, end, result.as_ref().map(|v| v[k]), reference.as_ref().as_ref().ok()));
         }
     }
     // Sorted by configuration, then mass (the runs were per mass with all T).
@@ -328,9 +375,66 @@ pub fn elastic_table(quick: bool) -> Vec<ElasticRow> {
         let key = |r: &ElasticRow| (r.cells, r.material as u8, r.scheme, r.dt.to_bits(), r.end.to_bits(), r.mass);
         key(a).cmp(&key(b))
     });
+    // The round-off check of what the report prints: those configurations' runs again, from
+    // U⁰ perturbed by ≤ 1e-13 (one run per mass and copy gives every T of the configuration).
+    let printed: Vec<(usize, usize)> = printed_configurations(&rows)
+        .iter()
+        .flat_map(|g| {
+            let r = g[0];
+            let c = runs.iter().position(|c| {
+                c.cells.name() == r.cells && c.material == r.material && c.scheme.name() == r.scheme && c.dt == r.dt
+            });
+            let k = ends.iter().position(|&e| e == r.end);
+            c.zip(k).into_iter().flat_map(move |(c, k)| (0..3).map(move |m| (c - c % 3 + m, k)))
+        })
+        .collect();
+    let copies: Vec<Vec<Option<f64>>> = printed
+        .par_iter()
+        .map(|&(c, k)| (0..PERTURBATIONS).map(|copy| run(runs[c], Some(copy)).ok().and_then(|v| v[k])).collect())
+        .collect();
+    for (&(c, k), values) in printed.iter().zip(copies) {
+        let (c, end) = (&runs[c], ends[k]);
+        if let Some(r) = rows.iter_mut().find(|r| {
+            r.cells == c.cells.name()
+                && r.material == c.material
+                && r.scheme == c.scheme.name()
+                && r.dt == c.dt
+                && r.end == end
+                && r.mass == c.mass.name()
+        }) {
+            r.perturbed = values;
+        }
+    }
     rows
 }
 
+/// One row of the table from a run's value at `end` (or its failure).
+fn row(c: &Candidate, end: f64, value: Result<Option<f64>, &String>, reference: Option<&Reference>) -> ElasticRow {
+    let lame = c.material.lame();
+    let (value, failure) = match value {
+        Ok(v) => (v, v.is_none().then(|| "diverged before T".to_string())),
+        Err(e) => (None, Some(e.clone())),
+    };
+    let fine = !c.material.plane_wave_is_solution();
+    ElasticRow {
+        cells: c.cells.name(),
+        material: c.material,
+        lambda: lame.lambda,
+        mu: lame.mu,
+        lateral: c.material.lateral().name(),
+        reference: if fine { "fine mesh" } else { "plane wave" },
+        reference_cells: reference.filter(|_| fine).map(|r| r.cells),
+        reference_difference: reference.filter(|_| fine).and_then(|r| r.self_difference(end)),
+        scheme: c.scheme.name(),
+        mass: c.mass.name(),
+        dt: c.dt,
+        end,
+        linf_l2_error: value,
+        paper: paper_value(c.mass),
+        failure,
+        perturbed: Vec::new(),
+    }
+}
 /// `max_mass max(ours/paper, paper/ours)` of one configuration's rows (∞ if one is missing).
 pub fn worst_factor(group: &[&ElasticRow]) -> f64 {
     if group.len() != PAPER_TABLE.len() {
@@ -361,152 +465,4 @@ pub fn configurations(rows: &[ElasticRow]) -> Vec<(Vec<&ElasticRow>, f64)> {
     let mut out: Vec<(Vec<&ElasticRow>, f64)> = groups.into_iter().map(|g| (g.clone(), worst_factor(&g))).collect();
     out.sort_by(|a, b| a.1.total_cmp(&b.1));
     out
-}
-
-fn describe(r: &ElasticRow) -> String {
-    let ref_note = if r.reference_is_solution { "" } else { " (U a reference only)" };
-    format!(
-        "{} cells, λ = {}, μ = {}, {} faces{ref_note}, {}, Δt = {}, T = {}",
-        r.cells,
-        sig(r.lambda, 3),
-        sig(r.mu, 3),
-        r.lateral,
-        r.scheme,
-        r.dt,
-        r.end
-    )
-}
-
-fn value_cells(group: &[&ElasticRow]) -> String {
-    group.iter().map(|q| q.linf_l2_error.map_or("-".into(), |e| sig(e, 3))).collect::<Vec<_>>().join(" | ")
-}
-
-/// The report section: the paper's row, the scalar plate's rows (judged and closest), the
-/// closest elastic configuration per cells × material and overall, and the 10 % verdict.
-pub fn elastic_section(rows: &[ElasticRow], scalar: Option<&Table2d>) -> String {
-    let mut s = String::from("## Table 1 of the paper (2D) with vector elasticity\n\n");
-    let configs = configurations(rows);
-    let _ = writeln!(
-        s,
-        "{} elastic configurations (cells × material × scheme × Δt × T) × mod1, mod2, mod3 ({} rows, `{ELASTIC_TABLE}`) on 20×20 cells of (0,1)², clamped at x = 1, contact at x = 0, \
-         u⁰ = ((1−x)/2, 0), v⁰ = 0. Error: max over t_n ≤ T of ‖u_h − U‖_{{L²((0,1)²)²}} against the paper's plane wave \
-         U = (u¹ᴰ(x, t), 0), integrated exactly (Q1: the solid's error; P1 triangles: a cut-by-cut exact rule). \
-         λ > 0 is λ = 3/7, μ = 2/7 (ν = 0.3, λ + 2μ = 1: the plane wave keeps the paper's speed 1). For λ = 0 and for \
-         roller faces U is the exact solution; for λ > 0 with free faces it is not (Poisson effect), and U is a \
-         reference only. The norm is not tuned.\n",
-        configs.len(),
-        rows.len()
-    );
-    s.push_str("| configuration | Mod1 | Mod2 | Mod3 | worst factor |\n|---|---|---|---|---|\n");
-    let paper: Vec<String> = PAPER_TABLE.iter().map(|(_, v)| format!("{v}")).collect();
-    let _ = writeln!(s, "| paper | {} | 1 |", paper.join(" | "));
-    if let Some(t) = scalar {
-        let judged: Vec<_> = t.rows.iter().filter(|r| r.judged).collect();
-        let f = judged
-            .iter()
-            .filter_map(|r| Some((r.linf_l2_error? / r.paper?).max(r.paper? / r.linf_l2_error?)))
-            .fold(1.0, f64::max);
-        let _ = writeln!(
-            s,
-            "| scalar plate, judged ({} cells, {}, Δt = {}, T = {}) | {} | {} | {} | {:.2} |",
-            judged[0].cells,
-            judged[0].scheme,
-            judged[0].dt,
-            judged[0].end,
-            sig(t.mod1, 3),
-            sig(t.mod2, 3),
-            sig(t.mod3, 3),
-            f
-        );
-        if let Some((g, f)) = best_single_configuration(&t.rows) {
-            let vals: Vec<String> = g.iter().map(|q| q.linf_l2_error.map_or("-".into(), |e| sig(e, 3))).collect();
-            let _ = writeln!(
-                s,
-                "| scalar plate, closest ({} cells, {}, Δt = {}, T = {}) | {} | {f:.2} |",
-                g[0].cells,
-                g[0].scheme,
-                g[0].dt,
-                g[0].end,
-                vals.join(" | ")
-            );
-        }
-    }
-    for cells in ["quad", "triangle"] {
-        for m in Material::ALL {
-            let best = configs.iter().find(|(g, _)| g[0].cells == cells && g[0].material == m);
-            if let Some((g, f)) = best {
-                let _ = writeln!(s, "| elastic, closest: {} | {} | {f:.2} |", describe(g[0]), value_cells(g));
-            }
-        }
-    }
-    s.push('\n');
-    s.push_str(&verdict(&configs));
-    s
-}
-
-/// The closest configuration and the plain 10 % verdict.
-fn verdict(configs: &[(Vec<&ElasticRow>, f64)]) -> String {
-    let Some((g, f)) = configs.first().filter(|(_, f)| f.is_finite()) else {
-        return "No elastic configuration gave all three values.\n".into();
-    };
-    let matching = configs.iter().filter(|(_, f)| *f <= MATCH_FACTOR).count();
-    let head = format!(
-        "The elastic configuration closest to all three values is {}: {} (worst factor {f:.2} from the paper).",
-        describe(g[0]),
-        g.iter()
-            .map(|q| format!("{} {}", q.mass, q.linf_l2_error.map_or("-".into(), |e| sig(e, 3))))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
-    if matching > 0 {
-        format!(
-            "{head} {matching} of the {} configurations match all three values within 10 % (worst factor ≤ {MATCH_FACTOR}); the closest is the one above.\n",
-            configs.len()
-        )
-    } else {
-        format!("{head} None of the {} elastic configurations matches all three values within 10 %.\n", configs.len())
-    }
-}
-
-/// Writes `table-2d-elastic.csv` (every row) into `dir`.
-pub(super) fn write_elastic_csv(dir: &Path, rows: &[ElasticRow]) -> std::io::Result<()> {
-    use crate::output::fmt_f64;
-    let header = [
-        "cells",
-        "lame_lambda",
-        "lame_mu",
-        "lateral",
-        "reference_is_solution",
-        "scheme",
-        "mass",
-        "nx",
-        "ny",
-        "dt",
-        "end",
-        "linf_l2_error",
-        "paper",
-        "failure",
-    ];
-    let body: Vec<Vec<String>> = rows
-        .iter()
-        .map(|r| {
-            vec![
-                r.cells.to_string(),
-                fmt_f64(r.lambda),
-                fmt_f64(r.mu),
-                r.lateral.to_string(),
-                r.reference_is_solution.to_string(),
-                r.scheme.to_string(),
-                r.mass.to_string(),
-                N.to_string(),
-                N.to_string(),
-                fmt_f64(r.dt),
-                fmt_f64(r.end),
-                r.linf_l2_error.map_or(String::new(), fmt_f64),
-                r.paper.map_or(String::new(), fmt_f64),
-                r.failure.clone().unwrap_or_default(),
-            ]
-        })
-        .collect();
-    write_csv(&dir.join(ELASTIC_TABLE), &header.map(String::from), &body)
 }

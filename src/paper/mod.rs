@@ -31,6 +31,8 @@ pub mod bodies;
 mod bodies_report;
 mod claims;
 mod config;
+pub mod elastic_reference;
+mod elastic_report;
 pub mod elastic_table;
 mod experiments;
 mod figures;
@@ -61,7 +63,7 @@ pub use rebound::{
     compute_rebound, exact_rebound, rebound_cases, rebound_scene_text, rebound_sensitive, run_rebound,
 };
 pub use rebound_report::{REBOUND_COLUMNS, REBOUND_FIGURE, REBOUND_TABLE};
-pub use report::report_markdown;
+pub use report::{report_markdown, results_tables};
 pub use runs::{CaseResult, EnergyVariation, PeriodEvents, compute, energy_variation, events, period_events, run_case};
 pub use table2d::{PAPER_TABLE_2D, Table2d, plate_2d_errors, table_2d};
 pub use tables::{EVENT_COLUMNS, TABLE_COLUMNS, horizon_tag, sig};
@@ -134,7 +136,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let rebound = compute_rebound(config, &|| progress.inc(1))?;
     let scope = mesh_scope::mesh_scope(config)?;
     let ps = ps_growth::ps_growth(config)?;
-    let (lead, sensitivity) = (table2d_lead::lead_rows(), table2d_lead::sensitivity());
+    let lead = table2d_lead::lead_runs();
     let bodies = bodies::compute_bodies(quick, &|| progress.inc(1))?;
     let methods = methods::compute(&methods_config, &|| progress.inc(1));
     let hertz = hertz::compute_hertz(&|| progress.inc(1))?;
@@ -142,7 +144,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
     let scope_figure = mesh_scope::scope_figure(config, &scope);
-    let lead_figure = table2d_lead::lead_figure(&sensitivity);
+    let lead_figure = table2d_lead::lead_figure(&lead.curves[0]);
     let mut body_figures = bodies_report::bodies_figures(&bodies);
     body_figures.push(hertz_report::hertz_figure(&hertz));
     let tables = tables::result_tables(config, &results);
@@ -163,7 +165,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         config,
         &results,
         &rebound,
-        (&scope, &ps, &table2d_lead::lead_section(&lead, &sensitivity)),
+        (&scope, &ps, &table2d_lead::lead_section(&lead)),
         &files,
         table2d.as_ref(),
         &elastic,

@@ -43,7 +43,7 @@ pub fn report_markdown(
     s.push_str(&figure_sections(config, results));
     s.push_str(&table_2d(table2d));
     s.push_str(lead);
-    s.push_str(&elastic_section(elastic, table2d));
+    s.push_str(&elastic_section(elastic));
     s.push_str(&rebound_section(config, rebound));
     s.push_str(bodies);
     s.push_str("\n## Files\n\n");
@@ -76,13 +76,15 @@ fn intro(config: &Config) -> String {
          max |u_0 − u(0,t)| over t_n; L²(0,T) error of λ (trapezoidal in time); energy E = ½VᵀMV + ½UᵀSU (full system, \
          the contact node included; the hybrid scheme's E(0) is that of its own initial state u_0⁰ = max(u_1⁰, −gap)); impact shift = first t_n with u_0 ≤ 0 minus L, release shift = first later t_n with \
          u_0 > 0 minus 2L (so a chatter, u_0 leaving the obstacle and coming back, counts as the release; the last contact of each period, \
-         the last t_n with u_0 ≤ 0 or λ < 0, is in the figure texts and `events-T*.csv`); last-period shifts are the same in the last complete period. Every table has a CSV with full precision.\n\n",
+         the last t_n with u_0 ≤ 0 or λ < 0, is in the figure texts and `events-T*.csv`); last-period shifts are the same in the last complete period. Every table has a CSV with full precision. \
+         Every run is repeated from 4 initial states U⁰ perturbed by ≤ 1e-13 relative: the tables show only the digits all five runs share, else the band min–max \
+         (the CSVs' `perturbed_runs` and `agreed_digits` columns).\n\n",
     );
     s
 }
 
-/// One result table per horizon, then one per long run.
-fn results_tables(config: &Config, results: &[CaseResult]) -> String {
+/// One result table per horizon, then one per long run (the report's "Results" sections).
+pub fn results_tables(config: &Config, results: &[CaseResult]) -> String {
     let mut s = String::new();
     for (i, &end) in config.horizons.iter().enumerate() {
         let rows = runs_of(results, Purpose::Figures, end);
@@ -228,7 +230,8 @@ fn energy_text(config: &Config, group: &[&CaseResult]) -> String {
         })
         .collect();
     let _ = write!(s, "Final energy: {}.", fin.join(", "));
-    let sensitive: Vec<&str> = group.iter().filter(|r| !r.copies.is_empty()).map(|r| r.case.mass.name()).collect();
+    let sensitive: Vec<&str> =
+        group.iter().filter(|r| super::band::is_sensitive(&r.case)).map(|r| r.case.mass.name()).collect();
     if !sensitive.is_empty() {
         let _ = write!(
             s,

@@ -41,7 +41,7 @@ impl CaseResult {
     /// it was rerun from perturbed states (`copies`), or it has the standard mass, which chatters
     /// after its first impact (the guide's chaotic digits; figure notes give no digits for it).
     pub(super) fn sensitive(&self) -> bool {
-        !self.copies.is_empty() || self.case.mass == crate::mass::MassKind::Standard
+        band::is_sensitive(&self.case) || self.case.mass == crate::mass::MassKind::Standard
     }
 
     /// `value` of this run's summary, then of each perturbed copy's.
@@ -68,8 +68,8 @@ impl CaseResult {
 }
 
 /// Runs one case on the paper's benchmark with a [`SummaryObserver`] (L² error on: every case
-/// has a table row) and a [`SeriesRecorder`] of [`Case::columns`]; a round-off sensitive case
-/// (`band::is_sensitive`) also from `band::PERTURBATIONS` perturbed initial states.
+/// has a table row) and a [`SeriesRecorder`] of [`Case::columns`]; every case (`band::is_rerun`)
+/// also from `band::PERTURBATIONS` perturbed initial states.
 pub fn run_case(config: &Config, case: &Case) -> Result<CaseResult, ReproduceError> {
     let wrap = |source: RunError| ReproduceError::Run { case: case.name(), source };
     let long = case.purpose == Purpose::LongEnergy;
@@ -80,7 +80,7 @@ pub fn run_case(config: &Config, case: &Case) -> Result<CaseResult, ReproduceErr
     let every = if long { config.long_every(steps) } else { 1 };
     let (summary, series, periods) = run_one(config, case, &problem, steps, case.columns(), every).map_err(wrap)?;
     let mut copies = Vec::new();
-    if band::is_sensitive(case) {
+    if band::is_rerun(case) {
         let u0 = problem.u0.clone();
         for k in 0..band::PERTURBATIONS {
             problem.u0 = band::perturbed(&u0, k);

@@ -42,10 +42,9 @@ pub fn horizon_tag(end: f64) -> String {
 }
 
 /// Header of the result table CSVs. The last two say how far a row's digits are results:
-/// `perturbed_runs` is 5 for a round-off sensitive case (rerun from U⁰ perturbed by ≤ 1e-13,
-/// [`super::band`]) and 1 otherwise; `agreed_digits` is, for the former, the fewest significant
-/// digits on which its five runs agree over the row's numbers (the rest of the 16 are one run's
-/// round-off), empty for the latter.
+/// `perturbed_runs` is the number of runs behind the row (5: every case is rerun from U⁰ perturbed
+/// by ≤ 1e-13, [`super::band`]); `agreed_digits` is the fewest significant digits on which its
+/// runs agree over the row's numbers (the rest of the 16 are one run's round-off).
 pub const TABLE_COLUMNS: [&str; 15] = [
     "scheme",
     "mass",
@@ -215,7 +214,8 @@ pub(super) fn shifts(r: &CaseResult, f: impl Fn(&Summary) -> Option<f64>, dt: f6
 /// For a case with perturbed copies: "; 5 runs from U⁰ perturbed by ≤ 1e-13", and for a long run
 /// how many of them are bounded / grow / diverge (a verdict needs several periods).
 pub(super) fn verdict_note(r: &CaseResult) -> String {
-    if r.copies.is_empty() {
+    // Every case is rerun (the intro says so); the note marks the known round-off amplifiers.
+    if r.copies.is_empty() || !super::band::is_sensitive(&r.case) {
         return String::new();
     }
     let v = r.verdicts();
