@@ -13,8 +13,8 @@
 
 pub mod baseline;
 pub mod env;
-pub mod methods;
 pub mod explicit_scaling;
+pub mod methods;
 pub mod perf;
 pub mod report;
 pub mod scaling;
