@@ -134,6 +134,7 @@ fn every_method_runs_and_the_table_matches_the_exact_solutions() {
         environment: massredist::bench::env::Environment::detect(),
         config: config.clone(),
         results: rs.clone(),
+        disc: Err("not run in this test (the_dropped_disc_separates_the_classes runs it)".into()),
         seconds: 1.0,
     };
     massredist::bench::methods::write(dir, &report).unwrap();
@@ -164,4 +165,32 @@ fn sensitive_label(r: &MethodResult) -> bool {
     let method = METHODS.iter().find(|m| m.label == r.method).unwrap();
     let problem = PROBLEMS.iter().find(|p| p.key == r.problem).unwrap();
     sensitive(&massredist::paper::methods::Case { method, mass: r.mass, problem, elements: r.elements })
+}
+
+/// Problem (e), the dropped disc (h = 8): free flight is exact, so the first impact is the
+/// step of t = gap/V₀ = 0.5 or the next (the landing is on the step grid: one rounding decides);
+/// exact contact never penetrates (min_distance ≥ −1e-12, round-off of coordinates of size 20);
+/// Crank–Nicolson with a massless contact layer conserves energy while backward Euler
+/// dissipates at first order (|drift_CN| < 1e-3 |drift_BE|); the penalty and Moreau–Jean
+/// penetrate (> 1e-6 R); every method rebounds below the incoming speed. (Mutation: the penalty
+/// not passed to the scene (exact contact instead) fails the penetration assertion.)
+#[test]
+fn the_dropped_disc_separates_the_classes() {
+    use massredist::paper::methods_disc::{DISC_METHODS, run_one};
+    let get = |label: &str, mass: &str| {
+        let m = DISC_METHODS.iter().find(|m| m.label == label).expect(label);
+        run_one(m, mass, 0, false).unwrap().0
+    };
+    let (cn, be) = (get("CN", "mod3"), get("BE", "mod3"));
+    for (name, m) in [("CN", &cn), ("BE", &be), ("CD", &get("CD", "mod3")), ("hybrid", &get("hybrid", "mod3"))] {
+        let t = m.first_impact.expect(name);
+        assert!((t - 0.5).abs() < 1e-9 || (t - 0.51).abs() < 1e-9, "{name}: impact at {t}");
+        assert!(m.min_distance >= -1e-12, "{name}: min_distance {}", m.min_distance);
+        assert!(m.rebound_velocity > 0.0 && m.rebound_velocity < 1.0, "{name}: rebound {}", m.rebound_velocity);
+    }
+    assert!(cn.drift.abs() < 1e-3 * be.drift.abs() && be.drift < 0.0, "CN {} BE {}", cn.drift, be.drift);
+    for (label, mass) in [("CN pen 100", "mod3"), ("MJ θ=½ e=0", "standard")] {
+        let m = get(label, mass);
+        assert!(m.min_distance < -1e-6 * 20.0, "{label}: min_distance {}", m.min_distance);
+    }
 }

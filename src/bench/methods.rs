@@ -1,10 +1,12 @@
 //! `massredist bench --methods`: the comparison of every method class of issue 20
 //! ([`crate::paper::methods`]) on the bench's meshes ([`MethodsConfig::bench`]), written as
 //! `methods.csv`, `methods.md` (tables and prose), the work–precision figure
-//! (`methods-work-precision.png`, `.svg`), `environment.json` and `report.md`. An edge: it times,
-//! runs and writes; the numbers come from the library.
+//! (`methods-work-precision.png`, `.svg`), `environment.json` and `report.md`; problem (e), the
+//! dropped disc ([`crate::paper::methods_disc`]), as a table in the report and `methods-disc.csv`.
+//! An edge: it times, runs and writes; the numbers come from the library.
 
 use crate::paper::methods::{MethodResult, MethodsConfig, cases, compute};
+use crate::paper::methods_disc::{DiscResult, compute_disc, disc_csv, disc_markdown};
 use crate::paper::methods_report::{METHODS_FILES, methods_markdown, write_methods_files};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
@@ -15,6 +17,8 @@ pub struct MethodsReport {
     pub environment: super::env::Environment,
     pub config: MethodsConfig,
     pub results: Vec<MethodResult>,
+    /// Problem (e), the dropped disc (its error, if a run failed, as text).
+    pub disc: Result<Vec<DiscResult>, String>,
     pub seconds: f64,
 }
 
@@ -27,13 +31,18 @@ pub fn run() -> MethodsReport {
     bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} runs {elapsed_precise}").expect("valid template"));
     let results = compute(&config, &|| bar.inc(1));
     bar.finish_and_clear();
-    MethodsReport { environment, config, results, seconds: started.elapsed().as_secs_f64() }
+    let disc = compute_disc().map_err(|e| e.to_string());
+    MethodsReport { environment, config, results, disc, seconds: started.elapsed().as_secs_f64() }
 }
 
 /// Writes the files into `out` (prepared before computing; atomically).
 pub fn write(out: crate::output::OutputDir, r: &MethodsReport) -> Result<(), crate::output::OutputError> {
     let e = &r.environment;
-    let body = methods_markdown(&r.config, &r.results, METHODS_FILES[1]);
+    let disc = match &r.disc {
+        Ok(d) => disc_markdown(d),
+        Err(e) => format!("### (e) the dropped disc\n\nnot run: {e}\n"),
+    };
+    let body = methods_markdown(&r.config, &r.results, METHODS_FILES[1]) + "\n" + &disc;
     let report = format!(
         "# massredist bench --methods\n\nEnvironment: {} ({} logical CPUs), {}, {} build, massredist {} at {}{}, {} Rayon \
          threads. Total time {:.1} s; {} runs (the runs of a case in parallel with others: CPU times are of one \
@@ -51,6 +60,9 @@ pub fn write(out: crate::output::OutputDir, r: &MethodsReport) -> Result<(), cra
     );
     out.commit(|tmp| {
         write_methods_files(tmp, &r.results)?;
+        if let Ok(d) = &r.disc {
+            std::fs::write(tmp.join("methods-disc.csv"), disc_csv(d))?;
+        }
         std::fs::write(tmp.join("methods.md"), &report)?;
         std::fs::write(tmp.join("report.md"), &report)?;
         let json = serde_json::to_string_pretty(&r.environment).expect("plain data serialises") + "\n";

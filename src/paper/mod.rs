@@ -40,6 +40,7 @@ pub mod hertz;
 mod hertz_report;
 pub mod mesh_scope;
 pub mod methods;
+pub mod methods_disc;
 pub mod methods_report;
 mod periods;
 pub mod plate_table;
@@ -140,6 +141,8 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let bodies = bodies::compute_bodies(quick, &|| progress.inc(1))?;
     let methods = methods::compute(&methods_config, &|| progress.inc(1));
     let hertz = hertz::compute_hertz(&|| progress.inc(1))?;
+    // Problem (e) of the method comparison, the dropped disc (a table in the report only).
+    let disc_md = methods_disc::compute_disc().map(|d| methods_disc::disc_markdown(&d))?;
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
@@ -170,7 +173,9 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         table2d.as_ref(),
         &elastic,
         &bodies_md,
-    ) + &methods_report::methods_section(&methods_config, &methods);
+    ) + &methods_report::methods_section(&methods_config, &methods)
+        + "\n"
+        + &disc_md;
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
         figures.par_iter().chain([&rebound_figure, &scope_figure, &lead_figure]).chain(&body_figures).try_for_each(
