@@ -201,7 +201,8 @@ fn the_lead_s_perturbed_copies_run_and_stay_close() {
 /// five-runs assertion (left 1).
 #[test]
 fn the_2d_sections_print_only_digits_that_the_perturbed_runs_share() {
-    use paper::elastic_table::{elastic_section, elastic_table, printed_configurations};
+    use paper::elastic_report::elastic_section;
+    use paper::elastic_table::{elastic_table, printed_configurations};
     let rows = elastic_table(true);
     let section = elastic_section(&rows);
     let lines: Vec<&str> = section.lines().filter(|l| l.starts_with("| elastic")).collect();

@@ -18,7 +18,7 @@
 //! products `(φ_A, u_ref)` with the coarse basis and `‖u_ref‖²`: 2·21² + 1 numbers per time and
 //! cell kind instead of the fine field.
 
-use super::elastic_table::{ElasticError, Material, spec_on};
+use super::elastic_setup::{ElasticError, Material, spec_on};
 use crate::fem::Cell;
 use crate::mass::MassKind;
 use crate::scene::SchemeSpec;

@@ -5,7 +5,9 @@
 //! [`super::band`]) agree on ([`printed_configurations`] are the rerun ones).
 
 use super::band::stable_digits;
-use super::elastic_table::{ELASTIC_TABLE, ElasticRow, MATCH_FACTOR, Material, N, configurations};
+use super::elastic_table::{
+    ELASTIC_TABLE, ElasticRow, FREE_FACE_SHOWN, MATCH_FACTOR, Material, N, configurations, printed_configurations,
+};
 use super::plate_table::PAPER_TABLE;
 use super::tables::write_csv;
 use std::fmt::Write as _;
@@ -13,34 +15,6 @@ use std::path::Path;
 
 /// Digits of an error in the section (at most; fewer if the perturbed runs disagree).
 const DIGITS: usize = 3;
-
-/// The free-face set-up the section prints against the reference: CN, Δt = 0.01, T = 3 (the
-/// judged scalar configuration, and the reading: 0.0440 / 0.0294 / 0.0154 on quads).
-const FREE_FACE_SHOWN: (&str, f64, f64) = ("crank-nicolson", 0.01, 3.0);
-
-/// The configurations (one group of three masses each) whose numbers the section prints: the
-/// closest per cells × material (the first of them overall is the verdict's), and the free-face
-/// rows of [`FREE_FACE_SHOWN`] per cells.
-pub fn printed_configurations(rows: &[ElasticRow]) -> Vec<Vec<&ElasticRow>> {
-    let configs = configurations(rows);
-    let mut out: Vec<Vec<&ElasticRow>> = Vec::new();
-    for cells in ["quad", "triangle"] {
-        for m in Material::ALL {
-            if let Some((g, _)) = configs.iter().find(|(g, _)| g[0].cells == cells && g[0].material == m) {
-                out.push(g.clone());
-            }
-        }
-        let (scheme, dt, end) = FREE_FACE_SHOWN;
-        if let Some((g, _)) = configs.iter().find(|(g, _)| {
-            let r = g[0];
-            r.cells == cells && r.material == Material::PoissonFree && r.scheme == scheme && r.dt == dt && r.end == end
-        }) && !out.iter().any(|p| std::ptr::eq(p[0], g[0]))
-        {
-            out.push(g.clone());
-        }
-    }
-    out
-}
 
 fn describe(r: &ElasticRow) -> String {
     let lambda = if r.lambda == 0.0 { "λ = 0" } else { "λ = 3/7, μ = 2/7" };

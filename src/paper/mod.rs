@@ -32,7 +32,8 @@ mod bodies_report;
 mod claims;
 mod config;
 pub mod elastic_reference;
-mod elastic_report;
+pub mod elastic_report;
+pub mod elastic_setup;
 pub mod elastic_table;
 mod experiments;
 mod figures;
@@ -189,7 +190,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         let header = REBOUND_COLUMNS.map(String::from);
         tables::write_csv(&tmp.join(REBOUND_TABLE), &header, &rebound_report::rebound_csv_rows(&rebound))?;
         table2d::write_csvs(tmp, table2d.as_ref())?;
-        elastic_table::write_elastic_csv(tmp, &elastic)?;
+        elastic_report::write_elastic_csv(tmp, &elastic)?;
         let header = BODIES_COLUMNS.map(String::from);
         tables::write_csv(&tmp.join(BODIES_TABLE), &header, &bodies_report::bodies_csv_rows(&bodies))?;
         methods_report::write_methods_files(tmp, &methods)?;

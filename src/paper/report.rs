@@ -3,7 +3,8 @@
 
 use super::claims::claims;
 use super::claims::growth_band;
-use super::elastic_table::{ElasticRow, elastic_section};
+use super::elastic_report::elastic_section;
+use super::elastic_table::ElasticRow;
 use super::experiments::massless_contact;
 use super::figures::{energy_stem, solution_stem};
 use super::mesh_scope::{ScopeEntry, scope_section};

@@ -6,16 +6,8 @@ use super::penalty_implicit::{Implicit, PenaltyImplicit};
 use super::{Beta, CentralDifference, Formulation, Gamma, MoreauJean, Scheme, SchemeError, SchemeSpec};
 use crate::contact::Backend;
 use crate::contact::law::ContactLaw;
-use crate::system::ContactSystem;
 
-/// What the builder needs of a geometry: its name (for messages) and its lumped mass (row sums
-/// over all nodes before Dirichlet removal), computed only for central differences. Passed as
-/// data so that `schemes` does not depend on `problem` (which calls [`build`]).
-pub struct GeometryParts<'a, A, L: FnOnce() -> Option<Vec<f64>>> {
-    pub system: &'a ContactSystem<A>,
-    pub name: &'static str,
-    pub lumped_mass: L,
-}
+pub use super::parts::GeometryParts;
 
 /// Builds `spec` with `law` on a geometry, from the data (u, v).
 pub fn build<A: Backend, L: FnOnce() -> Option<Vec<f64>>>(

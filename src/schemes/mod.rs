@@ -25,6 +25,7 @@ pub mod newmark;
 pub mod newmark_reduced;
 pub mod nitsche;
 pub mod paoli_schatzman;
+pub mod parts;
 pub mod penalty_implicit;
 mod spec;
 pub mod stable_limit;

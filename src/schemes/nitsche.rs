@@ -23,7 +23,7 @@
 //! `demo_dynamic_contact_1D.py` (Renard, Chouly) computes it; N = ∇Φ only for θ = 1, so only
 //! then is a conservation claimed (the identity of [`NitscheNewmark`]).
 
-use super::methods::GeometryParts;
+use super::parts::GeometryParts;
 use super::{Beta, Formulation, Gamma, Scheme, SchemeError, SchemeSpec, StateView, check_finite, check_range};
 use crate::contact::law::ContactLaw;
 use crate::contact::nitsche::{NitscheShape, NitscheTerm};
