@@ -325,7 +325,8 @@ fn the_2d_table_row_is_the_plate_code_s_error() {
 
 #[test]
 fn the_elastic_section_states_the_closest_configuration_and_the_10_percent_verdict() {
-    use massredist::paper::elastic_table::{elastic_section, elastic_table};
+    use massredist::paper::elastic_report::elastic_section;
+    use massredist::paper::elastic_table::elastic_table;
     use std::collections::BTreeMap;
     // The paper's Table 1, quoted from the paper (conclusion), and its "within 10 %".
     let paper = [("mod1", 0.0104), ("mod2", 0.0046), ("mod3", 0.0038)];
