@@ -121,6 +121,26 @@ where
     Ok(chart)
 }
 
+/// The legend of every log–log figure ([`log_log_chart`]): translucent white box, grey border,
+/// at `position`, labels in `font_size`-point sans-serif.
+pub(crate) fn draw_legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>,
+    position: SeriesLabelPosition,
+    font_size: f64,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.3))
+        .label_font(("sans-serif", font_size))
+        .draw()
+        .map_err(|e| e.to_string())
+}
+
 fn panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     title: &str,
@@ -152,14 +172,7 @@ where
         chart.draw_series(pts.iter().map(|&p| Circle::new(p, 2, colour.filled()))).map_err(e)?;
     }
     let _ = divisors;
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.3))
-        .label_font(("sans-serif", 13))
-        .draw()
-        .map_err(e)?;
+    draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 13.0)?;
     Ok(())
 }
 

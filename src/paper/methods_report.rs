@@ -252,14 +252,7 @@ where
                 _ => chart.draw_series(pts.iter().map(|&q| Cross::new(q, 4, colour.stroke_width(2)))).map_err(e)?,
             };
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.3))
-            .label_font(("sans-serif", 11))
-            .draw()
-            .map_err(e)?;
+        crate::bench::report::draw_legend(&mut chart, SeriesLabelPosition::LowerLeft, 11.0)?;
     }
     root.present().map_err(e)
 }
