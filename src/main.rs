@@ -54,6 +54,10 @@ enum Command {
         quick: bool,
         #[command(flatten)]
         force: Force,
+        /// Start every run from initial data perturbed by ≤ 1e-13 (a check that the report prints
+        /// only digits round-off leaves alone; see tests/roundoff_audit.rs).
+        #[arg(long, hide = true)]
+        roundoff_audit: bool,
     },
     /// Work–precision sweep, per-step performance against a bare solve and a Python stepper;
     /// writes CSV, tables, figure and report.md into DIR.
@@ -181,8 +185,11 @@ fn main() -> ExitCode {
             }
             Err(e) => fail(&scene, e.to_string(), exit::INVALID),
         },
-        Command::Reproduce { out, quick, force } => match prepare(&out, force, &[]) {
-            Ok(dir) => reproduce(dir, quick),
+        Command::Reproduce { out, quick, force, roundoff_audit } => match prepare(&out, force, &[]) {
+            Ok(dir) => {
+                massredist::problem::set_roundoff_audit(roundoff_audit);
+                reproduce(dir, quick)
+            }
             Err(code) => code,
         },
         Command::Run { scene, out, force, engine, ranks } => match prepare(&out, force, &[&scene]) {
