@@ -11,7 +11,7 @@
 use super::periods::{DRIFT_FACTOR, PeriodEnergy};
 use super::{Case, Experiment, Purpose};
 use crate::mass::MassKind;
-use crate::observe::Summary;
+use crate::observe::{SeriesRecorder, Summary};
 
 /// Perturbed copies per sensitive case (with the unperturbed run: five runs in the band).
 pub const PERTURBATIONS: usize = 4;
@@ -47,10 +47,12 @@ pub fn perturbed(u0: &[f64], k: usize) -> Vec<f64> {
         .collect()
 }
 
-/// What a perturbed copy keeps: its summary and per-period energy extremes.
+/// What a perturbed copy keeps: its summary, the series of the case's columns (for the values
+/// the report reads off them: events, energy variation) and per-period energy extremes.
 #[derive(Debug, Clone)]
 pub struct PerturbedRun {
     pub summary: Summary,
+    pub series: SeriesRecorder,
     pub periods: PeriodEnergy,
 }
 

@@ -299,10 +299,11 @@ pub(super) fn ps_section(config: &Config, ps: &PsGrowth) -> String {
     let drift = growth.iter().flat_map(|g| g.runs.iter().map(|r| r.pre_impact_drift)).fold(0.0, f64::max);
     // Round-off of a sum of O(m) products over ~1e4 steps: 1e-10 relative leaves room.
     let verdict = if drift < 1e-10 { "constant to round-off" } else { "**not constant**" };
+    // Its digits are round-off themselves: below 1e-13 only the bound is printed.
+    let size = if drift < 1e-13 { "below 1e-13".to_string() } else { band::sig(drift, 2) };
     let _ = writeln!(
         s,
-        "\nBefore the first impact E^{{n+½}} is {verdict}: its largest change over all these runs is {} of E₀.",
-        band::sig(drift, 2)
+        "\nBefore the first impact E^{{n+½}} is {verdict}: its largest change over all these runs is {size} of E₀."
     );
     let floor = energy_floor(config);
     let rows: Vec<String> = ps
@@ -336,18 +337,15 @@ pub(super) fn ps_section(config: &Config, ps: &PsGrowth) -> String {
     s
 }
 
-/// "5 diverged" or "5 grows: 1.1–8.8" or "3 bounded, 2 grows: 1.0–1.2".
+/// "diverged" or "grows: ×1.1–8.8" or "bounded–grows: ×1.0–1.2": the verdicts of the runs (the one
+/// they share, else their range: how many fall on each side is itself round-off) and the band of
+/// max E^{n+½}/E₀ over those that did not diverge.
 fn growth_cell(g: &Growth) -> String {
-    let counts: Vec<String> = [Verdict::Bounded, Verdict::Grows, Verdict::Diverged]
-        .iter()
-        .filter_map(|v| {
-            let n = g.runs.iter().filter(|r| r.verdict() == *v).count();
-            (n > 0).then(|| format!("{n} {}", v.name()))
-        })
-        .collect();
+    let verdicts: Vec<Verdict> = g.runs.iter().map(GrowthRun::verdict).collect();
+    let range = super::tables::verdict_range(&verdicts);
     let finite: Vec<Option<f64>> = g.runs.iter().filter(|r| !r.diverged).map(|r| Some(r.max_ratio)).collect();
     if finite.is_empty() {
-        return counts.join(", ");
+        return range;
     }
-    format!("{}: ×{}", counts.join(", "), band::stable_digits(&finite, 3))
+    format!("{range}: ×{}", band::stable_digits(&finite, 3))
 }

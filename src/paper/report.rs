@@ -12,9 +12,11 @@ use super::periods::DRIFT_FACTOR;
 use super::ps_growth::{PsGrowth, ps_section};
 use super::rebound::Rebound;
 use super::rebound_report::rebound_section;
-use super::runs::{CaseResult, energy_floor, events, groups, period_growth, runs_of, variation_after_impact};
+use super::runs::{CaseResult, energy_floor, groups, period_growth, period_over_runs, runs_of, variation_after_impact};
 use super::table2d::{Table2d, table_2d};
-use super::tables::{agreed, horizon_tag, shift, sig, table_markdown, time};
+use super::tables::{
+    agreed, agreed_values, all_period_shifts, horizon_tag, sig, table_markdown, time, variation_cells,
+};
 use super::{Config, Experiment, Purpose};
 use crate::output::fmt_f64;
 use crate::scene::Column;
@@ -142,14 +144,28 @@ fn per_mass<'a>(
 
 /// Text under a solution figure, from the computed values.
 fn solution_text(config: &Config, group: &[&CaseResult]) -> String {
-    let mut ranked: Vec<&&CaseResult> = group.iter().collect();
+    // Ranked: the runs whose error all perturbed copies give to two digits or more; a run whose
+    // copies disagree (a band) has no place in the order (round-off would pick it) and follows.
+    let (mut ranked, banded): (Vec<&CaseResult>, Vec<&CaseResult>) =
+        group.iter().copied().partition(|r| super::band::agreed_digits(&r.over_runs(|s| s.linf_l2_error)) >= 2);
     ranked.sort_by(|a, b| {
         a.summary.linf_l2_error.unwrap_or(f64::INFINITY).total_cmp(&b.summary.linf_l2_error.unwrap_or(f64::INFINITY))
     });
     let l = config.length;
-    let rank = per_mass(ranked.iter().map(|r| **r), " < ", |r| r.stable(|s| s.linf_l2_error, 4));
+    let mut rank = per_mass(ranked.iter().copied(), " < ", |r| r.stable(|s| s.linf_l2_error, 4));
+    if !banded.is_empty() {
+        rank += &format!(
+            "; round-off sensitive, not ranked: {}",
+            per_mass(banded.iter().copied(), ", ", |r| r.stable(|s| s.linf_l2_error, 4))
+        );
+    }
     let first_events = per_mass(group.iter().copied(), ", ", |r| {
-        let last = events(config, r).first().and_then(|p| p.last_contact).map_or("none".into(), |t| time(t, config.dt));
+        let last_contact: Vec<Option<f64>> = period_over_runs(config, r, 0).iter().map(|p| p.last_contact).collect();
+        let last = if last_contact.is_empty() {
+            "none".into()
+        } else {
+            agreed_values(&last_contact, |x| x.map_or("none".into(), |t| time(t, config.dt)))
+        };
         format!(
             "{} / {} / {last}",
             times(r, |s| s.first_impact_time, config.dt),
@@ -170,13 +186,7 @@ fn solution_text(config: &Config, group: &[&CaseResult]) -> String {
     );
     let per_period = group
         .iter()
-        .map(|r| {
-            let ev: Vec<String> = events(config, r)
-                .iter()
-                .map(|p| format!("{}/{}", shift(p.impact_shift, config.dt), shift(p.release_shift, config.dt)))
-                .collect();
-            format!("{} {}", r.case.mass.name(), ev.join(", "))
-        })
+        .map(|r| format!("{} {}", r.case.mass.name(), all_period_shifts(config, r, "/")))
         .collect::<Vec<_>>()
         .join("; ");
     let _ = write!(
@@ -253,10 +263,13 @@ fn energy_text(config: &Config, group: &[&CaseResult]) -> String {
 fn first_step_and_variation_text(config: &Config, group: &[&CaseResult]) -> String {
     let mut s = String::new();
     let massless: Vec<&CaseResult> = group.iter().copied().filter(|r| massless_contact(&r.case.mass)).collect();
-    let energy = |r: &CaseResult, n: usize| r.col(Column::Energy).get(n).copied().unwrap_or(f64::NAN);
+    // E(t_n) over the runs, with the digits they share.
+    let energy = |r: &CaseResult, n: usize| {
+        let v = r.over_series(|_, series| series.column(Column::Energy).and_then(|e| e.get(n).copied()));
+        super::band::stable_digits(&v, 6)
+    };
     if group[0].case.experiment == Experiment::Hybrid {
-        let e0: Vec<String> =
-            massless.iter().map(|r| format!("{} {}", r.case.mass.name(), sig(energy(r, 0), 6))).collect();
+        let e0: Vec<String> = massless.iter().map(|r| format!("{} {}", r.case.mass.name(), energy(r, 0))).collect();
         let _ = write!(
             s,
             "The hybrid scheme starts from its own initial state, the quasi-static u_0⁰ = max(u_1⁰, −gap) = u_1⁰ (not the interpolant's u_0⁰ = L/2), \
@@ -265,10 +278,8 @@ fn first_step_and_variation_text(config: &Config, group: &[&CaseResult]) -> Stri
             e0.join(", ")
         );
     } else if !massless.is_empty() {
-        let loss: Vec<String> = massless
-            .iter()
-            .map(|r| format!("{} {} → {}", r.case.mass.name(), sig(energy(r, 0), 6), sig(energy(r, 1), 6)))
-            .collect();
+        let loss: Vec<String> =
+            massless.iter().map(|r| format!("{} {} → {}", r.case.mass.name(), energy(r, 0), energy(r, 1))).collect();
         let _ = write!(
             s,
             "The w_0 = 0 masses start from the interpolant (u_0⁰ = L/2, E(0) = L/8) and lose about h/8 = {} in the first step, E(0) → E(Δt): {}: U⁰ is not in equilibrium at the massless contact node, and the first step moves u_0 to about u_1, releasing the strain energy ½(1/2)²h of element 0. ",
@@ -279,15 +290,8 @@ fn first_step_and_variation_text(config: &Config, group: &[&CaseResult]) -> Stri
     let var: Vec<String> = group
         .iter()
         .filter_map(|r| {
-            let v = variation_after_impact(config, r)?;
-            Some(format!(
-                "{} +{} / −{} in {} / {} steps",
-                r.case.mass.name(),
-                sig(v.up, 2),
-                sig(v.down, 2),
-                v.up_steps,
-                v.down_steps
-            ))
+            let [up, down, n_up, n_down] = variation_cells(&variation_after_impact(config, r))?;
+            Some(format!("{} {up} / {down} in {n_up} / {n_down} steps", r.case.mass.name()))
         })
         .collect();
     let _ = write!(

@@ -49,6 +49,13 @@ impl CaseResult {
         std::iter::once(&self.summary).chain(self.copies.iter().map(|c| &c.summary)).map(value).collect()
     }
 
+    /// `value` of this run's series, then of each perturbed copy's.
+    pub(super) fn over_series<T>(&self, value: impl Fn(&Summary, &SeriesRecorder) -> T) -> Vec<T> {
+        std::iter::once(value(&self.summary, &self.series))
+            .chain(self.copies.iter().map(|c| value(&c.summary, &c.series)))
+            .collect()
+    }
+
     /// `value` of the summary, with only the digits every run shares
     /// ([`band::stable_digits`]; all `digits` for a case without copies).
     pub(super) fn stable(&self, value: impl Fn(&Summary) -> Option<f64>, digits: usize) -> String {
@@ -84,8 +91,9 @@ pub fn run_case(config: &Config, case: &Case) -> Result<CaseResult, ReproduceErr
         let u0 = problem.u0.clone();
         for k in 0..band::PERTURBATIONS {
             problem.u0 = band::perturbed(&u0, k);
-            let (summary, _, periods) = run_one(config, case, &problem, steps, Vec::new(), steps).map_err(wrap)?;
-            copies.push(band::PerturbedRun { summary, periods });
+            let (summary, series, periods) =
+                run_one(config, case, &problem, steps, case.columns(), every).map_err(wrap)?;
+            copies.push(band::PerturbedRun { summary, series, periods });
         }
     }
     let failure = summary.divergence;
@@ -229,17 +237,21 @@ pub(super) fn energy_floor(config: &Config) -> f64 {
     1e3 * f64::EPSILON * config.exact().energy()
 }
 
-/// [`energy_variation`] of a case from one step before its first impact (so the impact step
-/// itself counts).
-pub(super) fn variation_after_impact(config: &Config, r: &CaseResult) -> Option<EnergyVariation> {
-    let from = r.summary.first_impact_time? - config.dt;
-    Some(energy_variation(&r.series.times(), &r.col(Column::Energy), from - 0.5 * config.dt, energy_floor(config)))
+/// [`energy_variation`] of each run of a case (this one first) from one step before its first
+/// impact (so the impact step itself counts); None for a run without impact.
+pub(super) fn variation_after_impact(config: &Config, r: &CaseResult) -> Vec<Option<EnergyVariation>> {
+    r.over_series(|summary, series| {
+        let from = summary.first_impact_time? - config.dt;
+        let energy = series.column(Column::Energy).unwrap_or_default();
+        Some(energy_variation(&series.times(), &energy, from - 0.5 * config.dt, energy_floor(config)))
+    })
 }
 
 /// The steps n → n+1 (n ≥ 1: after the first step) that move the energy by more than the
 /// round-off floor: (t_{n+1}, whether the contact state λ < 0 switches in that step).
-pub(super) fn energy_jumps(config: &Config, r: &CaseResult) -> Vec<(f64, bool)> {
-    let (t, e, lambda) = (r.series.times(), r.col(Column::Energy), r.col(Column::Lambda));
+pub(super) fn energy_jumps(config: &Config, series: &SeriesRecorder) -> Vec<(f64, bool)> {
+    let column = |c| series.column(c).unwrap_or_default();
+    let (t, e, lambda) = (series.times(), column(Column::Energy), column(Column::Lambda));
     let floor = energy_floor(config);
     (1..e.len().saturating_sub(1).min(lambda.len().saturating_sub(1)))
         .filter(|&n| (e[n + 1] - e[n]).abs() > floor)
@@ -249,10 +261,21 @@ pub(super) fn energy_jumps(config: &Config, r: &CaseResult) -> Vec<(f64, bool)> 
 
 /// The case's contact events per period (none for the long runs, which record no u_0).
 pub fn events(config: &Config, r: &CaseResult) -> Vec<PeriodEvents> {
-    match (r.series.column(Column::U0), r.series.column(Column::Lambda)) {
-        (Some(u0), Some(lambda)) => period_events(&r.series.times(), &u0, &lambda, &config.exact(), config.dt),
+    events_of(config, &r.series)
+}
+
+/// The contact events per period of one run's series ([`events`]).
+pub(super) fn events_of(config: &Config, series: &SeriesRecorder) -> Vec<PeriodEvents> {
+    match (series.column(Column::U0), series.column(Column::Lambda)) {
+        (Some(u0), Some(lambda)) => period_events(&series.times(), &u0, &lambda, &config.exact(), config.dt),
         _ => Vec::new(),
     }
+}
+
+/// Period j's events of every run of `r` (this one first); runs that stopped before period j
+/// are left out.
+pub(super) fn period_over_runs(config: &Config, r: &CaseResult, j: usize) -> Vec<PeriodEvents> {
+    r.over_series(|_, series| events_of(config, series).get(j).copied()).into_iter().flatten().collect()
 }
 
 /// (max energy over the first k full periods, over the last k, k) with k = min(10, full/2).

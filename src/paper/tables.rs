@@ -32,10 +32,6 @@ pub(super) fn shift(x: Option<f64>, dt: f64) -> String {
 }
 
 /// `x` as a percentage, 3 significant digits.
-pub(super) fn pct(x: f64) -> String {
-    format!("{} %", sig(100.0 * x, 3))
-}
-
 /// `T3`, `T9`, `T2.5`: the horizon in file names.
 pub fn horizon_tag(end: f64) -> String {
     if end.fract() == 0.0 && end.abs() < 1e15 { format!("T{}", end as i64) } else { format!("T{end}") }
@@ -178,11 +174,7 @@ pub(super) fn table_markdown(config: &Config, rows: &[&CaseResult]) -> String {
             shifts(r, |s| s.release_time_shift, config.dt),
         );
         if with_events {
-            let ev: Vec<String> = events(config, r)
-                .iter()
-                .map(|p| format!("{} / {}", shift(p.impact_shift, config.dt), shift(p.release_shift, config.dt)))
-                .collect();
-            let _ = write!(s, " {} |", ev.join(", "));
+            let _ = write!(s, " {} |", all_period_shifts(config, r, " / "));
         }
         let status = if r.failure.is_some() { "**diverged**" } else { "ok" };
         let _ = writeln!(s, " {status}{} |", verdict_note(r));
@@ -197,13 +189,61 @@ pub(super) fn agreed(
     f: impl Fn(&Summary) -> Option<f64>,
     show: impl Fn(Option<f64>) -> String,
 ) -> String {
-    let v = r.over_runs(f);
+    agreed_values(&r.over_runs(f), show)
+}
+
+/// [`agreed`] of values already taken over the runs.
+pub(super) fn agreed_values(v: &[Option<f64>], show: impl Fn(Option<f64>) -> String) -> String {
     let shown: Vec<String> = v.iter().map(|x| show(*x)).collect();
     if shown.iter().all(|x| *x == shown[0]) {
-        return shown[0].clone();
+        return shown.first().cloned().unwrap_or_default();
     }
     let (lo, hi) = super::band::band(&v.iter().flatten().copied().collect::<Vec<_>>());
     format!("{} to {}", show(Some(lo)), show(Some(hi)))
+}
+
+/// Period j's impact and release shifts over the runs of a case, "impact{sep}release" (each
+/// [`agreed_values`]); None past the runs' last full period.
+pub(super) fn period_shifts(config: &Config, r: &CaseResult, j: usize, sep: &str) -> Option<String> {
+    let ev = super::runs::period_over_runs(config, r, j);
+    if ev.len() < 1 + r.copies.len() {
+        return None;
+    }
+    let show = |x: Option<f64>| shift(x, config.dt);
+    let impact: Vec<Option<f64>> = ev.iter().map(|p| p.impact_shift).collect();
+    let release: Vec<Option<f64>> = ev.iter().map(|p| p.release_shift).collect();
+    Some(format!("{}{sep}{}", agreed_values(&impact, show), agreed_values(&release, show)))
+}
+
+/// Energy variation over the runs of a case ([`super::runs::variation_after_impact`]) as
+/// (Σ(ΔE)⁺, Σ(ΔE)⁻, steps up, steps down): each sum with the digits all runs share (else their
+/// band), or "round-off" where no run has a step above the round-off floor in that direction
+/// (the sum is then round-off, and so are its digits); step counts as the one count or `a–b`.
+/// None if a run had no impact.
+pub(super) fn variation_cells(v: &[Option<super::runs::EnergyVariation>]) -> Option<[String; 4]> {
+    let v: Vec<super::runs::EnergyVariation> = v.iter().copied().collect::<Option<_>>()?;
+    let sum = |f: fn(&super::runs::EnergyVariation) -> (f64, usize), sign: &str| {
+        if v.iter().all(|x| f(x).1 == 0) {
+            "round-off".to_string()
+        } else {
+            format!("{sign}{}", super::band::stable_digits(&v.iter().map(|x| Some(f(x).0)).collect::<Vec<_>>(), 2))
+        }
+    };
+    let count = |f: fn(&super::runs::EnergyVariation) -> usize| {
+        let (lo, hi) = (v.iter().map(f).min().unwrap_or(0), v.iter().map(f).max().unwrap_or(0));
+        if lo == hi { lo.to_string() } else { format!("{lo}–{hi}") }
+    };
+    Some([
+        sum(|x| (x.up, x.up_steps), "+"),
+        sum(|x| (x.down, x.down_steps), "−"),
+        count(|x| x.up_steps),
+        count(|x| x.down_steps),
+    ])
+}
+
+/// Every full period's [`period_shifts`], joined by ", ".
+pub(super) fn all_period_shifts(config: &Config, r: &CaseResult, sep: &str) -> String {
+    (0..).map_while(|j| period_shifts(config, r, j, sep)).collect::<Vec<_>>().join(", ")
 }
 
 /// A time shift over the runs of a case ([`agreed`]).
@@ -212,7 +252,9 @@ pub(super) fn shifts(r: &CaseResult, f: impl Fn(&Summary) -> Option<f64>, dt: f6
 }
 
 /// For a case with perturbed copies: "; 5 runs from U⁰ perturbed by ≤ 1e-13", and for a long run
-/// how many of them are bounded / grow / diverge (a verdict needs several periods).
+/// their verdicts (a verdict needs several periods): the one verdict all runs share, else the
+/// range of them, `bounded–grows` (round-off decides between them; how many runs fall on each
+/// side is itself round-off).
 pub(super) fn verdict_note(r: &CaseResult) -> String {
     // Every case is rerun (the intro says so); the note marks the known round-off amplifiers.
     if r.copies.is_empty() || !super::band::is_sensitive(&r.case) {
@@ -223,14 +265,16 @@ pub(super) fn verdict_note(r: &CaseResult) -> String {
     if r.case.purpose != Purpose::LongEnergy {
         return runs;
     }
-    let counts: Vec<String> = [Verdict::Bounded, Verdict::Grows, Verdict::Diverged]
-        .iter()
-        .filter_map(|k| {
-            let n = v.iter().filter(|(x, _)| x == k).count();
-            (n > 0).then(|| format!("{n} {}", k.name()))
-        })
-        .collect();
-    format!("{runs}: {}", counts.join(", "))
+    format!("{runs}: {}", verdict_range(&v.iter().map(|(x, _)| *x).collect::<Vec<_>>()))
+}
+
+/// The verdict all runs share, else `lowest–highest` on bounded < grows < diverged.
+pub(super) fn verdict_range(v: &[Verdict]) -> String {
+    match (v.iter().min(), v.iter().max()) {
+        (Some(lo), Some(hi)) if lo == hi => lo.name().to_string(),
+        (Some(lo), Some(hi)) => format!("{}–{}", lo.name(), hi.name()),
+        _ => "—".into(),
+    }
 }
 
 /// The result tables, each under its CSV name: `table-T*.csv` per horizon, then
