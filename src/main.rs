@@ -49,7 +49,7 @@ enum Command {
     Reproduce {
         #[arg(long, default_value = "reproduce")]
         out: PathBuf,
-        /// Shorter horizons (T = 3, 6; long run T = 30): every output, in less time.
+        /// Shorter runs (long run T = 30, a small 2D sweep): every output, in less time.
         #[arg(long)]
         quick: bool,
         #[command(flatten)]

@@ -113,7 +113,7 @@ fn shared_digits(values: &[f64]) -> usize {
         .unwrap_or(0)
 }
 
-/// Every number in the report's result tables (T = 3, 6 and the long run of `--quick`) has at most
+/// Every number in the report's result tables (T = 3, 9 and the long run of `--quick`) has at most
 /// the significant digits its five runs share: this case and its four reruns from U⁰ perturbed
 /// by ≤ 1e-13 (a band "a–b" where they share fewer than two). Read from the Markdown the report
 /// prints, against the runs' summaries. Broken on purpose: (1) `band::is_rerun` returning
