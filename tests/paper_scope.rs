@@ -119,7 +119,8 @@ fn shared_digits(values: &[f64]) -> usize {
 /// prints, against the runs' summaries. Broken on purpose: (1) `band::is_rerun` returning
 /// `is_sensitive(case)` (only the known amplifiers rerun) fails the "four reruns" assertion;
 /// (2) `table_markdown` printing `sig(s.linf_l2_error, 4)` of the one run instead of
-/// `r.stable(…)` fails on Crank–Nicolson's standard mass at T = 6 ("0.2177"; its runs give 0.18 to 0.24).
+/// `r.stable(…)` failed on Crank–Nicolson's standard mass at T = 6 ("0.2177"; its runs give 0.18 to 0.24), when
+/// `--quick` ran T = 3 and 6 (T = 9 gives 0.26–0.48).
 #[test]
 fn the_result_tables_print_only_digits_that_the_perturbed_runs_share() {
     use massredist::observe::Summary;

@@ -562,7 +562,7 @@ fn report_statements_follow_the_runs() {
         .find(|l| l.contains("Crank–Nicolson's energy after the first step is piecewise constant"));
     assert!(row.is_some_and(|l| l.ends_with("| yes |")), "{row:?}");
     // The standard mass with Crank–Nicolson is shown over perturbed runs, not as one run's digits.
-    let section = outcome.report.split("## Results, T = 6").nth(1).unwrap();
+    let section = outcome.report.split("## Results, T = 9").nth(1).unwrap();
     let std_row = section.lines().find(|l| l.starts_with("| Crank–Nicolson | standard |")).unwrap();
     assert!(std_row.contains("runs from U⁰ perturbed"), "{std_row}");
     // The release is documented as "first u_0 > 0", with the last contact next to it.
