@@ -147,8 +147,8 @@ fn half_last_place(cell: &str) -> f64 {
 /// must really differ: the standard mass chatters, and its episodes differ between the five
 /// runs of some drop (the disc's or the sphere's), so that its cell is a band.
 /// Broken on purpose: `BodyResult::stable` printing the unperturbed run's 4 digits
-/// (`stable_digits(&[f(&self.metrics)], 4)`) fails here at the standard drop's rebound
-/// velocity; `COPIES` = 1 fails the count of runs (both tried).
+/// (`stable_digits(&[f(&self.metrics)], 4)`) fails here at the disc at rest, CN, standard,
+/// drift (run 30.97, printed 26.33; tried).
 #[test]
 fn every_printed_number_is_shared_by_the_five_runs() {
     let mut chatter_bands = 0;
