@@ -6,7 +6,7 @@
 
 use massredist::mass::MassKind;
 use massredist::paper::Experiment;
-use massredist::paper::bodies::{Bench, BodyResult, DROP_GAP, DROP_SPEED, compute_bodies, metrics};
+use massredist::paper::bodies::{Bench, BodyResult, COPIES, DROP_GAP, DROP_SPEED, compute_bodies, count_band, metrics};
 use std::sync::OnceLock;
 
 fn results() -> &'static [BodyResult] {
@@ -28,10 +28,9 @@ fn the_quick_set_has_every_scheme_and_mass_at_rest_and_every_mass_dropped() {
 fn contact_at_rest_is_exact_the_min_distance_is_zero() {
     // The disc starts touching (g = 0 at the node (0, 0)); the exact solver sets u_n = −g on the
     // active nodes, so d = u_n + g is exactly 0 there, never negative: min_distance == 0 with no
-    // tolerance, in the run and its perturbed copy.
+    // tolerance, in the run and its perturbed copies.
     for r in results().iter().filter(|r| r.case.bench == Bench::Rest) {
-        assert_eq!(r.metrics.min_distance, 0.0, "{}", r.case.name());
-        assert_eq!(r.perturbed.min_distance, 0.0, "{}", r.case.name());
+        assert!(r.runs().all(|m| m.min_distance == 0.0), "{}", r.case.name());
         assert_eq!(r.metrics.first_impact, Some(0.0), "{}: a node on the plane is in contact at t_0", r.case.name());
     }
 }
@@ -132,4 +131,66 @@ fn the_impact_snapshot_is_the_state_of_largest_contact_force() {
         assert!(s.pressure.iter().all(|p| p.1 >= 0.0), "{name}");
         assert!(s.pressure.windows(2).all(|w| w[0].0 <= w[1].0), "{name}: sorted by x");
     }
+}
+
+/// Half a unit of the last digit printed in `cell` (`0.9978` → 5e-5, `13515` → 0.5, `2.4e4` →
+/// 500), the rounding error of a printed number.
+fn half_last_place(cell: &str) -> f64 {
+    let (mantissa, exponent) = cell.split_once('e').map_or((cell, 0), |(m, e)| (m, e.parse::<i32>().unwrap()));
+    let decimals = mantissa.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
+    0.5 * 10f64.powi(exponent - decimals)
+}
+
+/// Issue 22: every number of the section is one that all five runs (the unperturbed run and
+/// its four copies from V⁰ perturbed by ≤ 1e-13) share to its printed digits, else a band
+/// `min–max` that holds all five; counts are one value only when all five agree. The copies
+/// must really differ: the standard mass chatters, and its episodes differ between the five
+/// runs of some drop (the disc's or the sphere's), so that its cell is a band.
+/// Broken on purpose: `BodyResult::stable` printing the unperturbed run's 4 digits
+/// (`stable_digits(&[f(&self.metrics)], 4)`) fails here at the disc at rest, CN, standard,
+/// drift (run 30.97, printed 26.33; tried).
+#[test]
+fn every_printed_number_is_shared_by_the_five_runs() {
+    let mut chatter_bands = 0;
+    for r in results() {
+        let name = r.case.name();
+        assert_eq!(r.perturbed.len(), COPIES, "{name}");
+        assert_eq!(r.runs().count(), 5, "{name}");
+        let quantities: [(&str, fn(&massredist::paper::bodies::Metrics) -> Option<f64>); 5] = [
+            ("drift", |m| Some(m.drift)),
+            ("force TV", |m| Some(m.force_variation)),
+            ("first impact", |m| m.first_impact),
+            ("first release", |m| m.first_release),
+            ("rebound", |m| Some(m.rebound_velocity)),
+        ];
+        for (what, f) in quantities {
+            let cell = r.stable(f);
+            let values: Vec<f64> = r.runs().filter_map(f).collect();
+            if let Some((lo_s, hi_s)) = cell.split_once('–') {
+                // A band: its ends are the extremes, rounded to 2 digits.
+                let (lo, hi) = (lo_s.parse::<f64>().unwrap(), hi_s.parse::<f64>().unwrap());
+                for v in &values {
+                    assert!(*v >= lo - half_last_place(lo_s) * (1.0 + 1e-9), "{name} {what}: {v} below {cell}");
+                    assert!(*v <= hi + half_last_place(hi_s) * (1.0 + 1e-9), "{name} {what}: {v} above {cell}");
+                }
+            } else if let Ok(x) = cell.parse::<f64>() {
+                // Shared digits: every run rounds to them.
+                for v in &values {
+                    assert!(
+                        (v - x).abs() <= half_last_place(&cell) * (1.0 + 1e-9),
+                        "{name} {what}: run {v}, printed {cell}"
+                    );
+                }
+            }
+        }
+        let episodes: Vec<usize> = r.runs().map(|m| m.episodes).collect();
+        let cell = r.count(|m| m.episodes);
+        assert_eq!(cell, count_band(&episodes), "{name}");
+        if episodes.iter().any(|&e| e != episodes[0]) {
+            assert!(cell.contains('–'), "{name}: {cell}");
+            chatter_bands += usize::from(r.case.mass == MassKind::Standard);
+        }
+    }
+    // The perturbations reach the runs: some standard drop's episode count is a band.
+    assert!(chatter_bands > 0, "no standard-mass run differs between its five runs");
 }

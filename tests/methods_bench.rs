@@ -179,7 +179,7 @@ fn the_dropped_disc_separates_the_classes() {
     use massredist::paper::methods_disc::{DISC_METHODS, run_one};
     let get = |label: &str, mass: &str| {
         let m = DISC_METHODS.iter().find(|m| m.label == label).expect(label);
-        run_one(m, mass, 0, false).unwrap().0
+        run_one(m, mass, 0, 0).unwrap().0
     };
     let (cn, be) = (get("CN", "mod3"), get("BE", "mod3"));
     for (name, m) in [("CN", &cn), ("BE", &be), ("CD", &get("CD", "mod3")), ("hybrid", &get("hybrid", "mod3"))] {
@@ -192,5 +192,26 @@ fn the_dropped_disc_separates_the_classes() {
     for (label, mass) in [("CN pen 100", "mod3"), ("MJ θ=½ e=0", "standard")] {
         let m = get(label, mass);
         assert!(m.min_distance < -1e-6 * 20.0, "{label}: min_distance {}", m.min_distance);
+    }
+}
+
+/// Issue 22: the chaos rule's copies must differ from the unperturbed run, or the five runs
+/// print one run's digits. The free rods (b)–(d) start from U⁰ = 0, so their copies perturb V⁰
+/// too (relative, and absolute times V₀). For each free rod, Crank–Nicolson and central
+/// differences with the standard mass (m = 25): five runs, and their metrics are not all equal.
+/// Broken on purpose: the V⁰ perturbation removed from `run_case` (U⁰ alone, as before) -> the
+/// five runs of "rebound-bar CN standard" are identical, fails (tried).
+#[test]
+fn the_perturbed_copies_of_the_free_rods_differ() {
+    use massredist::paper::methods::{Case, run_case};
+    for problem in PROBLEMS.iter().filter(|p| p.v0.is_some()) {
+        for label in ["CN", "CD"] {
+            let method = METHODS.iter().find(|m| m.label == label).expect(label);
+            let case = Case { method, mass: "standard", problem, elements: 25 };
+            assert!(sensitive(&case));
+            let r = run_case(&case);
+            assert_eq!((r.status, r.runs.len()), ("ok", 5), "{} {label}: {:?}", problem.key, r.failure);
+            assert!(r.runs[1..].iter().any(|m| *m != r.runs[0]), "{} {label}: five identical runs", problem.key);
+        }
     }
 }

@@ -24,13 +24,15 @@
 //!   [`SPHERE_MESHES`], `python/meshes/generate.py --fixtures`), the same material, free,
 //!   [`DROP_GAP`] above the plane z = 0 moving down at [`DROP_SPEED`], no force, Crank–Nicolson
 //!   with every mass, Δt = [`SPHERE_DT`] to T = [`SPHERE_END`]: the drop's table in 3D
-//!   (rebound velocity P_z(T)/(1ᵀM1)). Δt is twice the disc's to keep the set's cost down (the 24 runs,
-//!   perturbed copies included, took about 20 to 40 s on one loaded core); the contact lasts
-//!   about 19 (≈ 950 steps), so it is still well resolved.
+//!   (rebound velocity P_z(T)/(1ᵀM1)). Δt is twice the disc's to keep the set's cost down; the
+//!   contact lasts about 19 (≈ 950 steps), so it is still well resolved.
 //!
-//! Round-off: every run is repeated from an initial velocity perturbed by
-//! [`PERTURBATION`] (absolute on the rest disc, whose V⁰ = 0; relative on the drop), and the
-//! report keeps only the digits both runs share ([`super::band::stable_digits`]).
+//! Round-off (issue 22): every run is repeated [`COPIES`] times from an initial velocity
+//! perturbed by at most [`PERTURBATION`] ([`velocity_perturbation`]: four distinct patterns in x;
+//! absolute on the rest disc, whose V⁰ = 0, relative on the drops, whose |V⁰| = 1), and the
+//! report keeps only the digits all five runs share, else their band
+//! ([`super::band::stable_digits`]). The base run is unperturbed: where the five agree, its digits
+//! are the ones printed before the copies existed.
 
 use super::ReproduceError;
 use super::experiments::Experiment;
@@ -53,8 +55,25 @@ pub const DROP_GAP: f64 = 0.5;
 pub const DROP_SPEED: f64 = 1.0;
 /// Time step of every run (GetFEM's).
 pub const DT: f64 = 0.01;
-/// Perturbation of the initial velocity of each run's copy.
+/// Largest perturbation of the initial velocity of a run's copies.
 pub const PERTURBATION: f64 = 1e-13;
+/// Perturbed copies of every run (with the unperturbed run: five runs behind each printed number).
+pub const COPIES: usize = super::band::PERTURBATIONS;
+
+/// The perturbation of V⁰'s normal component in copy `copy` (0: none, the base run; 1 to
+/// [`COPIES`]: `− PERTURBATION · p_k(x)` with p_k ∈ [−1, 1] on the bodies, x ∈ [−20, 20]), as a
+/// tail for a scene's velocity expression. Four patterns that differ in sign and shape, so that
+/// the copies are not one perturbation scaled.
+pub fn velocity_perturbation(copy: usize) -> String {
+    let pattern = match copy {
+        0 => return String::new(),
+        1 => "(1 + x/20)/2",
+        2 => "(x/20 - 1)/2",
+        3 => "x/20",
+        _ => "x*x/400",
+    };
+    format!(" - {PERTURBATION:e} * ({pattern})")
+}
 
 /// The meshes: (nominal gmsh size h, file under `fixtures/meshes/`), coarsest first.
 pub const MESHES: [(f64, &str); 3] = [(8.0, "disc_p2_22a.msh"), (4.0, "disc_p2_h4.msh"), (2.0, "disc_p2_h2.msh")];
@@ -137,19 +156,19 @@ pub fn body_cases(quick: bool) -> Vec<BodyCase> {
     out
 }
 
-/// The scene of a case as TOML text (mesh path relative to `fixtures/meshes/`); `perturbed`
-/// adds [`PERTURBATION`] to the initial downward velocity (times 1 + x/40, not uniform). The
+/// The scene of a case as TOML text (mesh path relative to `fixtures/meshes/`); copy `copy`
+/// (0: none) perturbs the initial normal velocity by [`velocity_perturbation`]. The
 /// divergence criterion is off in effect (factor 1e300): E⁰ is 0 or, perturbed, ~1e-24, which
 /// gives it no scale (the first step's energy, ~0.1, would stop the run).
-pub fn body_scene_text(case: &BodyCase, end: f64, perturbed: bool) -> String {
+pub fn body_scene_text(case: &BodyCase, end: f64, copy: usize) -> String {
     if case.bench == Bench::Sphere {
-        return sphere_scene_text(case, end, perturbed);
+        return sphere_scene_text(case, end, copy);
     }
     let (fy, v0, point) = match case.bench {
         Bench::Rest => ("-0.1", 0.0, 0.0),
         _ => ("0", -DROP_SPEED, -DROP_GAP),
     };
-    let dv = if perturbed { format!(" - {PERTURBATION:e} * (1 + x/40)") } else { String::new() };
+    let dv = velocity_perturbation(copy);
     format!(
         "[solid]\ndim = 2\nmesh = \"{}\"\nlame_lambda = 20.0\nlame_mu = 20.0\ndensity = 1.0\n\
          force = [\"0\", \"{fy}\"]\ninitial = {{ displacement = [\"0\", \"0\"], velocity = [\"0\", \"{v0:?}{dv}\"] }}\n\
@@ -164,8 +183,8 @@ pub fn body_scene_text(case: &BodyCase, end: f64, perturbed: bool) -> String {
 }
 
 /// The sphere's scene ([`body_scene_text`]; the same perturbation, along z).
-fn sphere_scene_text(case: &BodyCase, end: f64, perturbed: bool) -> String {
-    let dv = if perturbed { format!(" - {PERTURBATION:e} * (1 + x/40)") } else { String::new() };
+fn sphere_scene_text(case: &BodyCase, end: f64, copy: usize) -> String {
+    let dv = velocity_perturbation(copy);
     format!(
         "[solid]\ndim = 3\nmesh = \"{}\"\nlame_lambda = 20.0\nlame_mu = 20.0\ndensity = 1.0\n\
          force = [\"0\", \"0\", \"0\"]\ninitial = {{ displacement = [\"0\", \"0\", \"0\"], velocity = [\"0\", \"0\", \"{:?}{dv}\"] }}\n\
@@ -186,7 +205,7 @@ pub fn mesh_dir() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join("meshes")
 }
 
-/// What one run gives (and its perturbed copy's summary numbers).
+/// What one run gives (and its perturbed copies' metrics).
 #[derive(Debug, Clone)]
 pub struct BodyResult {
     pub case: BodyCase,
@@ -201,10 +220,37 @@ pub struct BodyResult {
     /// 1ᵀM1, the total of the redistributed mass (ρ|Ω| but for mod1).
     pub mass_total: f64,
     pub metrics: Metrics,
-    /// The same metrics from the perturbed initial velocity.
-    pub perturbed: Metrics,
+    /// The same metrics from the [`COPIES`] perturbed initial velocities.
+    pub perturbed: Vec<Metrics>,
     /// The 2D body at its largest total contact force (drawn by `bodies-impact`); None in 3D.
     pub snapshot: Option<Snapshot>,
+}
+
+impl BodyResult {
+    /// The five runs' metrics, the unperturbed run first.
+    pub fn runs(&self) -> impl Iterator<Item = &Metrics> {
+        std::iter::once(&self.metrics).chain(&self.perturbed)
+    }
+
+    /// What the report prints of a quantity: the digits (at most 4) all five runs share, else
+    /// their band min–max ([`super::band::stable_digits`]).
+    pub fn stable(&self, f: impl Fn(&Metrics) -> Option<f64>) -> String {
+        super::band::stable_digits(&self.runs().map(f).collect::<Vec<_>>(), 4)
+    }
+
+    /// What the report prints of a count: the one value if all five runs agree, else their band.
+    pub fn count(&self, f: impl Fn(&Metrics) -> usize) -> String {
+        count_band(&self.runs().map(f).collect::<Vec<_>>())
+    }
+}
+
+/// Counts of several runs: the one value if all agree, else the band `min–max` (`—` if none).
+pub fn count_band(counts: &[usize]) -> String {
+    match (counts.iter().min(), counts.iter().max()) {
+        (Some(lo), Some(hi)) if lo == hi => lo.to_string(),
+        (Some(lo), Some(hi)) => format!("{lo}–{hi}"),
+        _ => "—".into(),
+    }
 }
 
 /// A 2D body's deformed mesh and contact pressure at one time.
@@ -308,15 +354,15 @@ pub fn metrics(energy: &[f64], force: &[f64], active: &[f64], momentum_y: &[f64]
     }
 }
 
-/// One run of `case` to `end` (and `perturbed`): the summary, the series and the metrics.
+/// One run of `case` to `end` (copy `copy`, 0: unperturbed): the summary, the series and the metrics.
 #[allow(clippy::type_complexity)]
 fn run_one(
     case: &BodyCase,
     end: f64,
-    perturbed: bool,
+    copy: usize,
 ) -> Result<(Summary, f64, [Vec<f64>; 5], Metrics, Option<Snapshot>), ReproduceError> {
     let name = case.name();
-    let text = body_scene_text(case, end, perturbed);
+    let text = body_scene_text(case, end, copy);
     let scene: Scene<SolidSpec> = AnyScene::from_toml_at(&text, &mesh_dir())
         .and_then(SolidSpec::from_any)
         .map_err(|source| ReproduceError::Scene { case: name.clone(), source })?;
@@ -338,7 +384,7 @@ fn run_one(
     Ok((run.summary, volume, series, m, snapshot(&run.problem.system, &peak)))
 }
 
-/// Runs `case` and its perturbed copy.
+/// Runs `case` and its [`COPIES`] perturbed copies.
 pub fn run_body(case: &BodyCase, quick: bool) -> Result<BodyResult, ReproduceError> {
     let end = match case.bench {
         Bench::Rest if quick => REST_END_QUICK,
@@ -346,9 +392,9 @@ pub fn run_body(case: &BodyCase, quick: bool) -> Result<BodyResult, ReproduceErr
         Bench::Drop => DROP_END,
         Bench::Sphere => SPHERE_END,
     };
-    let (summary, volume, [t, energy, contact_force, active, momentum_y], metrics, snapshot) =
-        run_one(case, end, false)?;
-    let perturbed = run_one(case, end, true)?.3;
+    let (summary, volume, [t, energy, contact_force, active, momentum_y], metrics, snapshot) = run_one(case, end, 0)?;
+    let perturbed =
+        (1..=COPIES).into_par_iter().map(|k| run_one(case, end, k).map(|r| r.3)).collect::<Result<Vec<_>, _>>()?;
     Ok(BodyResult {
         case: case.clone(),
         end,

@@ -6,8 +6,7 @@
 //! disc, finest mesh, mod3, at its largest total contact force: the deformed mesh on the plane
 //! and the contact pressure), and the report section. Pure: strings and figure data from the results.
 
-use super::band::stable_digits;
-use super::bodies::{Bench, BodyResult, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION, SPHERE_DT};
+use super::bodies::{Bench, BodyResult, COPIES, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION, SPHERE_DT};
 use super::experiments::Experiment;
 use super::figures::{FigureFile, grid_rows, mass_style, off_scale, points};
 use crate::mass::MassKind;
@@ -101,10 +100,20 @@ fn panel(title: String, y_label: &str, runs: &[&BodyResult], y: impl Fn(&BodyRes
         0 => plot::data_range(curves.iter().flat_map(values), 0.05),
         _ => plot::data_range(massless.flat_map(values), 0.05),
     };
-    // The standard mass chatters: its extremes change with a 1e-13 perturbation (no digits).
+    // The standard mass chatters with Crank–Nicolson: its extremes change with a 1e-13
+    // perturbation, and so does whether they leave the range (issue 22: in the drop at h = 4 it
+    // did in one run and not in a perturbed one). Such a curve is always named, whatever this
+    // run did; other standard curves are named (without digits) when they leave the range.
+    let chatters = |c: &Curve| {
+        c.label == MassKind::Standard.name() && runs.iter().any(|r| r.case.experiment == Experiment::CrankNicolson)
+    };
+    let has_massless = curves.iter().any(|c| c.label != MassKind::Standard.name());
     let notes: Vec<String> = curves
         .iter()
-        .filter_map(|c| off_scale(&c.label, &values(c), range, c.label == MassKind::Standard.name()))
+        .filter_map(|c| match chatters(c) && has_massless {
+            true => Some(format!("{} may leave the range (round-off sensitive)", c.label)),
+            false => off_scale(&c.label, &values(c), range, c.label == MassKind::Standard.name()),
+        })
         .collect();
     let title = if notes.is_empty() { title } else { format!("{title}; off-scale: {}", notes.join("; ")) };
     Panel { title, x_label: "t".into(), y_label: y_label.into(), curves, x_range: None, y_range: Some(range) }
@@ -237,23 +246,13 @@ fn sphere_figure(results: &[BodyResult]) -> FigureFile {
     f
 }
 
-/// A number both runs (unperturbed and perturbed) agree on, to at most 4 digits.
-fn stable(r: &BodyResult, f: impl Fn(&Metrics) -> Option<f64>) -> String {
-    stable_digits(&[f(&r.metrics), f(&r.perturbed)], 4)
-}
-
-/// A count both runs agree on, else both.
-fn count(a: usize, b: usize) -> String {
-    if a == b { a.to_string() } else { format!("{a} / {b}") }
-}
-
 /// The report section: the rest table, the drop table, the figures.
 pub(super) fn bodies_section(results: &[BodyResult]) -> String {
     let mut s = format!(
         "\n## Bodies against a rigid plane: GetFEM's disc (beyond the paper)\n\n\
          Disc of radius 20 centred at (0, 20), λ = μ = 20, ρ = 1, P2 triangles (gmsh, nominal size h), free body, contact nodes by GetFEM's rule \
-         on y = 0, Δt = {}. Each run is repeated from an initial velocity perturbed by {PERTURBATION:e}; numbers keep only the digits both runs share \
-         (a band min–max if they share fewer than two). E⁰ = 0 (U⁰ = V⁰ = 0); drift = Eᴺ − E⁰; TV(ΣR) = Σ_n |ΣR^{{n+1}} − ΣR^n|; episodes = maximal runs of steps \
+         on y = 0, Δt = {}. Each run is repeated {COPIES} times from an initial velocity perturbed by at most {PERTURBATION:e} (four patterns); \
+         numbers keep only the digits all five runs share (a band min–max if they share fewer than two), counts are one value or the band min–max. E⁰ = 0 (U⁰ = V⁰ = 0); drift = Eᴺ − E⁰; TV(ΣR) = Σ_n |ΣR^{{n+1}} − ΣR^n|; episodes = maximal runs of steps \
          with a node in contact. The hybrid scheme is defined for w_0 = 0 masses only (no standard mass). (`{BODIES_TABLE}`)\n\n\
          ### At rest under f = (0, −0.1)\n\n\
          | h | T | scheme | mass | drift Eᴺ − E⁰ | max \\|Eⁿ − E⁰\\| | max ΔE | TV(ΣR) | episodes | min_distance |\n|---|---|---|---|---|---|---|---|---|---|\n",
@@ -267,12 +266,12 @@ pub(super) fn bodies_section(results: &[BodyResult]) -> String {
             fmt_f64(r.end),
             r.case.experiment.title(),
             r.case.mass.name(),
-            stable(r, |m| Some(m.drift)),
-            stable(r, |m| Some(m.max_energy_deviation)),
-            stable(r, |m| Some(m.max_energy_increase)),
-            stable(r, |m| Some(m.force_variation)),
-            count(r.metrics.episodes, r.perturbed.episodes),
-            stable(r, |m| Some(m.min_distance)),
+            r.stable(|m| Some(m.drift)),
+            r.stable(|m| Some(m.max_energy_deviation)),
+            r.stable(|m| Some(m.max_energy_increase)),
+            r.stable(|m| Some(m.force_variation)),
+            r.count(|m| m.episodes),
+            r.stable(|m| Some(m.min_distance)),
         );
     }
     let _ = write!(
@@ -296,12 +295,12 @@ fn drop_rows(s: &mut String, results: &[BodyResult], bench: Bench) {
             "| {} | {} | {} | {} | {} | {} | {} | {} |",
             fmt_f64(r.case.h()),
             r.case.mass.name(),
-            stable(r, |m| m.first_impact),
-            stable(r, |m| m.first_release),
-            stable(r, duration),
-            stable(r, |m| Some(m.rebound_velocity)),
-            count(r.metrics.episodes, r.perturbed.episodes),
-            stable(r, |m| Some(m.min_distance)),
+            r.stable(|m| m.first_impact),
+            r.stable(|m| m.first_release),
+            r.stable(duration),
+            r.stable(|m| Some(m.rebound_velocity)),
+            r.count(|m| m.episodes),
+            r.stable(|m| Some(m.min_distance)),
         );
     }
 }
@@ -312,7 +311,7 @@ fn sphere_section(results: &[BodyResult]) -> String {
         "\n### A sphere dropped at {DROP_SPEED} from {DROP_GAP} above the plane (no force), Crank–Nicolson\n\n\
          Sphere of radius 20 centred at (0, 0, 20), the disc's material, tetra10 (gmsh, nominal size h), free body, contact nodes by GetFEM's rule \
          on z = 0, Δt = {} (twice the disc's, to keep the set's cost down; the contact lasts about 950 steps). \
-         Rebound velocity = P_z(T)/(1ᵀM1); the same perturbed reruns and stable digits as above.\n\n\
+         Rebound velocity = P_z(T)/(1ᵀM1); the same five runs and stable digits as above.\n\n\
          | h | mass | first impact | first release | contact duration | rebound velocity | episodes | min_distance |\n|---|---|---|---|---|---|---|---|\n",
         fmt_f64(SPHERE_DT)
     );

@@ -28,8 +28,9 @@
 //!
 //! **Chaos rule.** After an impact the standard mass (massive contact node) and Paoli–Schatzman
 //! amplify round-off (`super::band`): for those cases ([`sensitive`]) the run is repeated from
-//! [`super::band::PERTURBATIONS`] perturbed U⁰ (|δ| ≤ 1e-13 relative) and tables print only the
-//! digits all five runs share, else the band min–max ([`super::band::stable_digits`]).
+//! [`super::band::PERTURBATIONS`] perturbed U⁰ and V⁰ (|δ| ≤ 1e-13, relative, and absolute on V⁰
+//! times a velocity scale of the problem: the free rods start from U⁰ = 0) and tables print only
+//! the digits all five runs share, else the band min–max ([`super::band::stable_digits`]).
 
 use super::band;
 pub use super::band::agreed_digits;
@@ -361,10 +362,12 @@ pub fn run_case(case: &Case) -> MethodResult {
     };
     (r.dt, r.steps, r.courant) = (dt, steps, dt * p.c() / (p.length / case.elements as f64));
     r.exact_impacts = problem.exact.as_ref().map_or(0, |e| count_impacts(e, steps as f64 * dt, p.length / p.c()));
-    let u0 = problem.u0.clone();
+    let (u0, v0) = (problem.u0.clone(), problem.v0.clone());
     let copies = if sensitive(case) { band::PERTURBATIONS } else { 0 };
+    let scale = velocity_scale(p);
     for k in 0..=copies {
         problem.u0 = if k == 0 { u0.clone() } else { band::perturbed(&u0, k - 1) };
+        problem.v0 = if k == 0 { v0.clone() } else { perturbed_velocity(&v0, k - 1, scale) };
         match measure(case, &scene, &problem, dt, steps) {
             Ok(Ok(m)) => r.runs.push(m),
             Ok(Err(d)) if k == 0 => {
@@ -383,10 +386,31 @@ pub fn run_case(case: &Case) -> MethodResult {
             }
         }
     }
-    problem.u0 = u0;
+    (problem.u0, problem.v0) = (u0, v0);
     r.status = "ok";
     (r.cpu_seconds, r.step_seconds) = cpu_seconds(&scene, &problem, dt, steps);
     r
+}
+
+/// A velocity scale of a problem: the arrival speed V₀ of a free rod, else c·L/2/L = c/2 (the
+/// paper's bar: u⁰ = (L − x)/2 releases at speed about c/2).
+fn velocity_scale(p: &Problem1d) -> f64 {
+    p.v0.unwrap_or(0.5 * p.c())
+}
+
+/// `V⁰` of copy k: `v_i (1 + δ_{k,i}) + δ_{k,i} · scale`, δ_{k,i} ∈ {−1, −½, 0, ½, 1}·
+/// [`band::PERTURBATION`] from a fixed pattern, distinct for k = 0..4 at every i and shifted
+/// from [`band::perturbed`]'s (so U⁰ and V⁰ are not perturbed alike). The absolute part
+/// perturbs the free rods, whose U⁰ = 0 (a relative perturbation of U⁰ alone left their five
+/// runs identical, issue 22), and any zero entry of V⁰.
+fn perturbed_velocity(v0: &[f64], k: usize, scale: f64) -> Vec<f64> {
+    v0.iter()
+        .enumerate()
+        .map(|(i, &v)| {
+            let d = (((7 * i + 3 * k + 3) % 5) as f64 / 2.0 - 1.0) * band::PERTURBATION;
+            v * (1.0 + d) + d * scale
+        })
+        .collect()
 }
 
 /// Number of contact phases of the exact solution starting in (0, t_end], counted as its sign

@@ -9,8 +9,9 @@
 //! (first release − first impact), the rebound ratio v̄/V₀ (P_y(T)/(1ᵀM1 V₀)), the energy drift
 //! (E(T) − E(0))/E(0) of the scheme's own energy, the total variation of the total contact force,
 //! the number of contact episodes, the largest penetration max(0, −min_distance)/R and the CPU
-//! time of the whole run. Every run is repeated from a velocity perturbed by [`PERTURBATION`]: the
-//! impact is round-off sensitive, and the table keeps only the digits both runs share.
+//! time of the whole run. Every run is repeated [`COPIES`] times from a velocity perturbed by at
+//! most [`PERTURBATION`] (the bodies section's patterns, [`velocity_perturbation`]): the impact is
+//! round-off sensitive, and the table keeps only the digits all five runs share, else their band.
 //!
 //! The methods are one table, [`DISC_METHODS`]: the issue's classes that apply to a body
 //! (Nitsche is built for bars only; central differences with penalty need mass at the contact
@@ -18,7 +19,10 @@
 
 use super::ReproduceError;
 use super::band::stable_digits;
-use super::bodies::{DROP_END, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION, mesh_dir, metrics};
+use super::bodies::{
+    COPIES, DROP_END, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION, count_band, mesh_dir, metrics,
+    velocity_perturbation,
+};
 use crate::observe::Column;
 use crate::run::run_scene;
 use crate::scene::{AnyScene, Scene, SceneGeometry};
@@ -67,23 +71,26 @@ pub const DISC_METHODS: &[DiscMethod] = &[
 /// The meshes of problem (e): the bodies section's two coarsest.
 pub const DISC_MESHES: usize = 2;
 
-/// One run of problem (e) and its perturbed copy.
+/// One run of problem (e) and its [`COPIES`] perturbed copies.
 #[derive(Debug, Clone, Serialize)]
 pub struct DiscResult {
     pub method: &'static str,
     pub mass: &'static str,
     pub h: f64,
+    /// The unperturbed run first, then the copies.
     #[serde(skip)]
-    pub metrics: [Metrics; 2],
+    pub metrics: Vec<Metrics>,
     /// Total mass 1ᵀM1 (the rebound ratio's denominator).
     pub mass_total: f64,
+    /// The unperturbed run's.
     pub cpu_seconds: f64,
 }
 
-/// The scene of `method` with `mass` on mesh `mesh`; `perturbed` as in the bodies section.
-pub fn disc_scene(method: &DiscMethod, mass: &str, mesh: usize, perturbed: bool) -> String {
+/// The scene of `method` with `mass` on mesh `mesh`; copy `copy` (0: unperturbed) as in the
+/// bodies section ([`velocity_perturbation`]).
+pub fn disc_scene(method: &DiscMethod, mass: &str, mesh: usize, copy: usize) -> String {
     let (h, file) = MESHES[mesh];
-    let dv = if perturbed { format!(" - {PERTURBATION:e} * (1 + x/40)") } else { String::new() };
+    let dv = velocity_perturbation(copy);
     let contact = method
         .penalty
         .map_or(String::new(), |f| format!("[contact]\nmethod = \"penalty\"\npenalty = {:?}\n", f * YOUNG / h));
@@ -103,10 +110,10 @@ pub fn run_one(
     method: &DiscMethod,
     mass: &str,
     mesh: usize,
-    perturbed: bool,
+    copy: usize,
 ) -> Result<(Metrics, f64, f64), ReproduceError> {
-    let case = format!("disc-drop {} {mass} h={}", method.label, MESHES[mesh].0);
-    let text = disc_scene(method, mass, mesh, perturbed);
+    let case = format!("disc-drop {} {mass} h={} copy {copy}", method.label, MESHES[mesh].0);
+    let text = disc_scene(method, mass, mesh, copy);
     let scene: Scene<SolidSpec> = AnyScene::from_toml_at(&text, &mesh_dir())
         .and_then(SolidSpec::from_any)
         .map_err(|source| ReproduceError::Scene { case: case.clone(), source })?;
@@ -126,7 +133,7 @@ pub fn run_one(
     Ok((m, total, seconds))
 }
 
-/// Every (method, mass, mesh) of problem (e) with its perturbed copy, in parallel.
+/// Every (method, mass, mesh) of problem (e) with its [`COPIES`] perturbed copies, in parallel.
 pub fn compute_disc() -> Result<Vec<DiscResult>, ReproduceError> {
     let cases: Vec<(&DiscMethod, &'static str, usize)> = DISC_METHODS
         .iter()
@@ -135,13 +142,16 @@ pub fn compute_disc() -> Result<Vec<DiscResult>, ReproduceError> {
     cases
         .par_iter()
         .map(|&(method, mass, mesh)| {
-            let (a, total, cpu_seconds) = run_one(method, mass, mesh, false)?;
-            let (b, _, _) = run_one(method, mass, mesh, true)?;
+            let (a, total, cpu_seconds) = run_one(method, mass, mesh, 0)?;
+            let copies: Vec<Metrics> = (1..=COPIES)
+                .into_par_iter()
+                .map(|k| run_one(method, mass, mesh, k).map(|r| r.0))
+                .collect::<Result<_, _>>()?;
             Ok(DiscResult {
                 method: method.label,
                 mass,
                 h: MESHES[mesh].0,
-                metrics: [a, b],
+                metrics: std::iter::once(a).chain(copies).collect(),
                 mass_total: total,
                 cpu_seconds,
             })
@@ -149,13 +159,14 @@ pub fn compute_disc() -> Result<Vec<DiscResult>, ReproduceError> {
         .collect()
 }
 
-/// The markdown table of problem (e) (shared digits of the two runs, 4 significant).
+/// The markdown table of problem (e) (shared digits of the five runs, at most 4 significant).
 pub fn disc_markdown(results: &[DiscResult]) -> String {
     let mut out = format!(
         "### (e) GetFEM's disc dropped onto the plane (P2, h = 8 and 4; Δt = {DT}, T = {DROP_END})\n\n\
          No exact solution: the first impact is exactly t = {:.1} (free flight is exact); an energy-conserving method \
-         leaves with v̄/V₀ near 1. Each run is repeated from a velocity perturbed by {PERTURBATION:e}: cells keep \
-         only the digits both runs share, else their band. Penetration is max(0, −min_distance)/R. CPU s is one run \
+         leaves with v̄/V₀ near 1. Each run is repeated {COPIES} times from a velocity perturbed by at most \
+         {PERTURBATION:e} (four patterns): cells keep only the digits all five runs share, else their band min–max; \
+         episodes are one count, or the band min–max. Penetration is max(0, −min_distance)/R. CPU s is one run \
          (wall time of one thread, runs in parallel).\n\n\
          | h | method | mass | first impact | contact duration | rebound v̄/V₀ | energy drift | force TV | episodes | penetration/R | CPU s |\n\
          |---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
@@ -163,7 +174,8 @@ pub fn disc_markdown(results: &[DiscResult]) -> String {
     );
     for r in results {
         let d = |f: &dyn Fn(&Metrics, f64) -> Option<f64>| {
-            stable_digits(&[f(&r.metrics[0], r.mass_total), f(&r.metrics[1], r.mass_total)], 4)
+            let values: Vec<Option<f64>> = r.metrics.iter().map(|m| f(m, r.mass_total)).collect();
+            stable_digits(&values, 4)
         };
         let e0 = 0.5 * r.mass_total * DROP_SPEED * DROP_SPEED;
         out += &format!(
@@ -176,7 +188,7 @@ pub fn disc_markdown(results: &[DiscResult]) -> String {
             d(&|m, _| Some(m.rebound_velocity / DROP_SPEED)),
             d(&|m, _| Some(m.drift / e0)),
             d(&|m, _| Some(m.force_variation)),
-            episodes(r.metrics[0].episodes, r.metrics[1].episodes),
+            episodes(&r.metrics),
             d(&|m, _| Some((-m.min_distance).max(0.0) / RADIUS)),
             r.cpu_seconds,
         );
@@ -184,12 +196,12 @@ pub fn disc_markdown(results: &[DiscResult]) -> String {
     out
 }
 
-/// A count of both runs: one number, or their band.
-fn episodes(a: usize, b: usize) -> String {
-    if a == b { a.to_string() } else { format!("{}–{}", a.min(b), a.max(b)) }
+/// The episode counts of the runs: one number if all agree, else their band min–max.
+fn episodes(runs: &[Metrics]) -> String {
+    count_band(&runs.iter().map(|m| m.episodes).collect::<Vec<_>>())
 }
 
-/// The CSV rows of problem (e), one per run (copy 0 and 1).
+/// The CSV rows of problem (e), one per run (copy 0, unperturbed, to [`COPIES`]).
 pub fn disc_csv(results: &[DiscResult]) -> String {
     let mut out = String::from(
         "method,mass,h,copy,first_impact,first_release,rebound_ratio,energy_drift,force_tv,episodes,min_distance,mass_total,cpu_seconds\n",

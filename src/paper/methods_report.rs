@@ -294,7 +294,7 @@ pub fn methods_markdown(config: &MethodsConfig, results: &[MethodResult], figure
          is (E(T) − E(0))/E(0) of each scheme's own energy. CPU time is set-up (factorisations; for central \
          differences the stable limit: Lanczos, at most 300 steps, else the Gershgorin bound) and stepping, fastest of up \
          to 3 runs; \"of which steps\" is the stepping alone. Standard-mass and Paoli–Schatzman runs are repeated from \
-         4 perturbed U⁰ (|δ| ≤ 1e-13): their cells show only the digits all 5 runs share, else the band min–max \
+         4 perturbed U⁰ and V⁰ (|δ| ≤ 1e-13 relative, and on V⁰ absolute times V₀, or c/2 on the paper's bar): their cells show only the digits all 5 runs share, else the band min–max \
          (src/paper/methods.rs documents every column).\n\n![work–precision]({figure})\n",
         METHODS.len(),
         config.elements
