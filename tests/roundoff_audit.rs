@@ -67,39 +67,24 @@ fn tokens(line: &str) -> (String, Vec<Printed>) {
     let mut skeleton = String::new();
     let mut numbers = Vec::new();
     let mut i = 0;
+    let word = |j: usize| chars[j].is_alphanumeric() || chars[j] == '_' || chars[j] == '.';
     while i < chars.len() {
         // "varies" (some runs have the value, others not) stands for any value; the verdict
         // words for their rank.
         let rest: String = chars[i..chars.len().min(i + 8)].iter().collect();
         let at_word_start = i == 0 || !chars[i - 1].is_alphanumeric();
         if at_word_start && rest.starts_with("varies") {
-            numbers.push(Printed {
-                value: f64::NEG_INFINITY,
-                half_unit: 0.0,
-                exact: false,
-                high: Some((f64::INFINITY, 0.0)),
-                verdict: false,
-            });
-            skeleton.push('#');
-            i += 6;
+            let any = Printed { value: f64::NEG_INFINITY, half_unit: 0.0, exact: false, high: None, verdict: false };
+            push(&mut skeleton, &mut numbers, Printed { high: Some((f64::INFINITY, 0.0)), ..any });
+            i += "varies".len();
             continue;
         }
         if let Some(rank) = VERDICTS.iter().position(|w| at_word_start && rest.starts_with(w)) {
-            let v = rank as f64;
-            if skeleton.ends_with("#–") {
-                // The upper end of a verdict band.
-                skeleton.pop();
-                if let Some(last) = numbers.last_mut() {
-                    last.high = Some((v, 0.0));
-                }
-            } else {
-                numbers.push(Printed { value: v, half_unit: 0.0, exact: false, high: None, verdict: true });
-                skeleton.push('#');
-            }
+            let verdict = Printed { value: rank as f64, half_unit: 0.0, exact: false, high: None, verdict: true };
+            push(&mut skeleton, &mut numbers, verdict);
             i += VERDICTS[rank].len();
             continue;
         }
-        let word = |j: usize| chars[j].is_alphanumeric() || chars[j] == '_' || chars[j] == '.';
         // Digits inside a word ("fig12", "T3", "x1e-3") are part of the word.
         let starts = chars[i].is_ascii_digit()
             && (i == 0 || !word(i - 1))
@@ -114,64 +99,76 @@ fn tokens(line: &str) -> (String, Vec<Printed>) {
         if negative || skeleton.ends_with('+') {
             skeleton.pop();
         }
-        let start = i;
+        let (end, mut number) = number_at(&chars, i);
+        if negative {
+            number.value = -number.value;
+        }
+        push(&mut skeleton, &mut numbers, number);
+        i = end;
+    }
+    (skeleton, numbers)
+}
+
+/// The unsigned number whose digits start at `chars[start]` (digits, decimals, an exponent
+/// `e±k`) and where it ends.
+fn number_at(chars: &[char], start: usize) -> (usize, Printed) {
+    let digits = |mut i: usize| {
         while i < chars.len() && chars[i].is_ascii_digit() {
             i += 1;
         }
-        let mut decimals = 0i32;
-        if i + 1 < chars.len() && chars[i] == '.' && chars[i + 1].is_ascii_digit() {
-            i += 1;
-            while i < chars.len() && chars[i].is_ascii_digit() {
-                i += 1;
-                decimals += 1;
-            }
-        }
-        let mut exponent = 0i32;
-        let mut has_exponent = false;
-        if i + 1 < chars.len() && (chars[i] == 'e' || chars[i] == 'E') {
-            let mut j = i + 1;
-            if j < chars.len() && (chars[j] == '-' || chars[j] == '+') {
-                j += 1;
-            }
-            if j < chars.len() && chars[j].is_ascii_digit() {
-                let e0 = j;
-                while j < chars.len() && chars[j].is_ascii_digit() {
-                    j += 1;
-                }
-                let text: String = chars[i + 1..j].iter().collect();
-                exponent = text.parse().unwrap_or(0);
-                let _ = e0;
-                has_exponent = true;
-                i = j;
-            }
-        }
-        let mantissa: String = chars[start..i].iter().take_while(|c| **c != 'e' && **c != 'E').collect();
-        let mut value: f64 = mantissa.parse::<f64>().unwrap_or(f64::NAN) * 10f64.powi(exponent);
-        if negative {
-            value = -value;
-        }
-        let half_unit = 0.5 * 10f64.powi(exponent - decimals);
-        let exact = decimals == 0 && !has_exponent;
-        if skeleton.ends_with("#–") || skeleton.ends_with("# to ") {
-            // `lo–hi` or `lo to hi`: the upper end of a band.
-            let cut = if skeleton.ends_with('–') { 1 } else { 4 };
-            for _ in 0..cut {
-                skeleton.pop();
-            }
-            let last = numbers.last_mut().expect("a band's lower end");
-            if value < last.value {
-                // A band of signed values may be written high to low ("+0.01 to -0.23").
-                (last.value, last.half_unit, last.high) = (value, half_unit, Some((last.value, last.half_unit)));
-            } else {
-                last.high = Some((value, half_unit));
-            }
-            last.exact &= exact;
-        } else {
-            numbers.push(Printed { value, half_unit, exact, high: None, verdict: false });
-            skeleton.push('#');
+        i
+    };
+    let mut i = digits(start);
+    let mut decimals = 0i32;
+    if i + 1 < chars.len() && chars[i] == '.' && chars[i + 1].is_ascii_digit() {
+        let end = digits(i + 1);
+        decimals = (end - i - 1) as i32;
+        i = end;
+    }
+    let mantissa: f64 = chars[start..i].iter().collect::<String>().parse().unwrap_or(f64::NAN);
+    let (mut exponent, mut has_exponent) = (0i32, false);
+    if i + 1 < chars.len() && (chars[i] == 'e' || chars[i] == 'E') {
+        let sign = usize::from(matches!(chars[i + 1], '-' | '+'));
+        let end = digits(i + 1 + sign);
+        if end > i + 1 + sign {
+            exponent = chars[i + 1..end].iter().collect::<String>().parse().unwrap_or(0);
+            has_exponent = true;
+            i = end;
         }
     }
-    (skeleton, numbers)
+    let printed = Printed {
+        value: mantissa * 10f64.powi(exponent),
+        half_unit: 0.5 * 10f64.powi(exponent - decimals),
+        exact: decimals == 0 && !has_exponent,
+        high: None,
+        verdict: false,
+    };
+    (i, printed)
+}
+
+/// Appends a printed value: as the upper end of a band if the skeleton ends with `#–` or
+/// `# to ` (`lo–hi`, `lo to hi`), else as a new value `#`.
+fn push(skeleton: &mut String, numbers: &mut Vec<Printed>, p: Printed) {
+    let cut = if skeleton.ends_with("#–") {
+        1
+    } else if skeleton.ends_with("# to ") {
+        4
+    } else {
+        numbers.push(p);
+        skeleton.push('#');
+        return;
+    };
+    for _ in 0..cut {
+        skeleton.pop();
+    }
+    let last = numbers.last_mut().expect("a band's lower end");
+    if p.value < last.value {
+        // A band of signed values may be written high to low ("+0.01 to -0.23").
+        (last.value, last.half_unit, last.high) = (p.value, p.half_unit, Some((last.value, last.half_unit)));
+    } else {
+        last.high = Some((p.value, p.half_unit));
+    }
+    last.exact &= p.exact;
 }
 
 /// Lines that report a time or a machine measurement (they differ from run to run by design).

@@ -115,6 +115,15 @@ pub fn agreed_digits(values: &[Option<f64>]) -> usize {
     (1..=16).rev().find(|&d| v.iter().all(|&y| sig(y, d) == sig(x, d))).unwrap_or(0)
 }
 
+/// Counts of several runs: the one value if all agree, else the band `min–max` (`—` if none).
+pub fn count_band(counts: &[usize]) -> String {
+    match (counts.iter().min(), counts.iter().max()) {
+        (Some(lo), Some(hi)) if lo == hi => lo.to_string(),
+        (Some(lo), Some(hi)) => format!("{lo}–{hi}"),
+        _ => "—".into(),
+    }
+}
+
 /// (min, max) of the values.
 pub fn band(values: &[f64]) -> (f64, f64) {
     values.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)))

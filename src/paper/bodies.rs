@@ -35,6 +35,8 @@
 //! are the ones printed before the copies existed.
 
 use super::ReproduceError;
+/// Re-exported: the bodies' tables print episode counts with it.
+pub use super::band::count_band;
 use super::experiments::Experiment;
 use crate::driver::{Observer, Sample};
 use crate::mass::MassKind;
@@ -241,15 +243,6 @@ impl BodyResult {
     /// What the report prints of a count: the one value if all five runs agree, else their band.
     pub fn count(&self, f: impl Fn(&Metrics) -> usize) -> String {
         count_band(&self.runs().map(f).collect::<Vec<_>>())
-    }
-}
-
-/// Counts of several runs: the one value if all agree, else the band `min–max` (`—` if none).
-pub fn count_band(counts: &[usize]) -> String {
-    match (counts.iter().min(), counts.iter().max()) {
-        (Some(lo), Some(hi)) if lo == hi => lo.to_string(),
-        (Some(lo), Some(hi)) => format!("{lo}–{hi}"),
-        _ => "—".into(),
     }
 }
 

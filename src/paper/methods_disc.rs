@@ -18,10 +18,9 @@
 //! nodes on solids).
 
 use super::ReproduceError;
-use super::band::stable_digits;
+use super::band::{count_band, stable_digits};
 use super::bodies::{
-    COPIES, DROP_END, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION, count_band, mesh_dir, metrics,
-    velocity_perturbation,
+    COPIES, DROP_END, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION, mesh_dir, metrics, velocity_perturbation,
 };
 use crate::observe::Column;
 use crate::run::run_scene;

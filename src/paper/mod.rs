@@ -134,27 +134,8 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let n_figures = 2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len() + 3;
     progress.set_length(n_cases + n_figures as u64);
     progress.set_message("running");
-    // The 2D tables run beside everything else: the elastic table's fine-mesh reference is one
-    // long sequential run, and the other sections keep the remaining cores busy meanwhile. Every
-    // run is independent of the others, so the schedule changes no number.
-    let (computed, (table2d, elastic)) = rayon::join(
-        || -> Result<_, ReproduceError> {
-            let results = compute(config, &|| progress.inc(1))?;
-            let rebound = compute_rebound(config, &|| progress.inc(1))?;
-            let scope = mesh_scope::mesh_scope(config)?;
-            let ps = ps_growth::ps_growth(config)?;
-            let lead = table2d_lead::lead_runs();
-            let bodies = bodies::compute_bodies(quick, &|| progress.inc(1))?;
-            let methods = methods::compute(&methods_config, &|| progress.inc(1));
-            let hertz = hertz::compute_hertz(&|| progress.inc(1))?;
-            // Problem (e) of the method comparison, the dropped disc (a table in the report only).
-            let disc_md = methods_disc::compute_disc().map(|d| methods_disc::disc_markdown(&d))?;
-            Ok((results, rebound, scope, ps, lead, bodies, methods, hertz, disc_md))
-        },
-        // The scalar plates run one after another; the elastic candidates in parallel beside them.
-        || rayon::join(|| plate_2d_errors(config), || elastic_table::elastic_table(!config.full_2d_sweep)),
-    );
-    let (results, rebound, scope, ps, lead, bodies, methods, hertz, disc_md) = computed?;
+    let (Sections { results, rebound, scope, ps, lead, bodies, methods, hertz, disc_md }, (table2d, elastic)) =
+        compute_sections(config, &methods_config, progress)?;
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
@@ -210,6 +191,51 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     .map_err(|e| ReproduceError::Io { dir, source: std::io::Error::other(e) })?;
     progress.set_message("done");
     Ok(Outcome { results, rebound, bodies, files, report })
+}
+
+/// Every run of [`reproduce`] but the 2D tables, in the order the report reads them.
+struct Sections {
+    results: Vec<CaseResult>,
+    rebound: Rebound,
+    scope: Vec<mesh_scope::ScopeEntry>,
+    ps: ps_growth::PsGrowth,
+    lead: table2d_lead::LeadRuns,
+    bodies: Vec<bodies::BodyResult>,
+    methods: Vec<methods::MethodResult>,
+    hertz: Vec<hertz::HertzResult>,
+    /// Problem (e) of the method comparison, the dropped disc (a table in the report only).
+    disc_md: String,
+}
+
+/// Runs [`Sections`] and, beside them, the 2D tables (scalar and elastic): the elastic table's
+/// fine-mesh reference is one long sequential run, and the other sections keep the remaining
+/// cores busy meanwhile. Every run is independent of the others, so the schedule changes no
+/// number. `progress` is advanced once per case.
+#[allow(clippy::type_complexity)]
+fn compute_sections(
+    config: &Config,
+    methods_config: &methods::MethodsConfig,
+    progress: &ProgressBar,
+) -> Result<(Sections, (Option<Table2d>, Vec<elastic_table::ElasticRow>)), ReproduceError> {
+    let quick = !config.full_2d_sweep;
+    let (sections, tables_2d) = rayon::join(
+        || -> Result<Sections, ReproduceError> {
+            Ok(Sections {
+                results: compute(config, &|| progress.inc(1))?,
+                rebound: compute_rebound(config, &|| progress.inc(1))?,
+                scope: mesh_scope::mesh_scope(config)?,
+                ps: ps_growth::ps_growth(config)?,
+                lead: table2d_lead::lead_runs(),
+                bodies: bodies::compute_bodies(quick, &|| progress.inc(1))?,
+                methods: methods::compute(methods_config, &|| progress.inc(1)),
+                hertz: hertz::compute_hertz(&|| progress.inc(1))?,
+                disc_md: methods_disc::compute_disc().map(|d| methods_disc::disc_markdown(&d))?,
+            })
+        },
+        // The scalar plates run one after another; the elastic candidates in parallel beside them.
+        || rayon::join(|| plate_2d_errors(config), || elastic_table::elastic_table(quick)),
+    );
+    Ok((sections?, tables_2d))
 }
 
 /// The files [`reproduce`] writes, in the order of [`Outcome::files`]: figures, tables, events,

@@ -229,10 +229,8 @@ pub(super) fn variation_cells(v: &[Option<super::runs::EnergyVariation>]) -> Opt
             format!("{sign}{}", super::band::stable_digits(&v.iter().map(|x| Some(f(x).0)).collect::<Vec<_>>(), 2))
         }
     };
-    let count = |f: fn(&super::runs::EnergyVariation) -> usize| {
-        let (lo, hi) = (v.iter().map(f).min().unwrap_or(0), v.iter().map(f).max().unwrap_or(0));
-        if lo == hi { lo.to_string() } else { format!("{lo}–{hi}") }
-    };
+    let count =
+        |f: fn(&super::runs::EnergyVariation) -> usize| super::band::count_band(&v.iter().map(f).collect::<Vec<_>>());
     Some([
         sum(|x| (x.up, x.up_steps), "+"),
         sum(|x| (x.down, x.down_steps), "−"),
