@@ -117,6 +117,8 @@ fn progress(len: u64) -> Progress {
     Progress(bar)
 }
 
+/// The command line: one match arm per command, each preparing its output folder and calling
+/// the library (about 90 lines: the arms are short, and one place lists every command's edge).
 fn main() -> ExitCode {
     let cli = Cli::parse();
     // One factor may take three quarters of what the machine allows (the rest: the matrices,
