@@ -235,10 +235,11 @@ pub fn scene_text(case: &GetfemCase) -> Result<String, String> {
 pub fn run_case(case: &GetfemCase, dir: &Path, edit: &dyn Fn(String) -> String) -> Result<Agreement, String> {
     let text = edit(scene_text(case)?);
     let mut scene = SolidScene::from_toml(&text).map_err(|e| format!("{}: {e}", case.scene))?;
-    let mesh_path = scene.geometry.mesh_file.clone().ok_or_else(|| format!("{}: no solid.mesh", case.scene))?;
+    let mesh_path =
+        scene.geometry.source.path().map(Path::to_path_buf).ok_or_else(|| format!("{}: no solid.mesh", case.scene))?;
     let json = dir.join(case.scene.replace(".toml", ".getfem.json"));
     let peer = getfem(&mesh_path, case.mass, scene.time.dt, scene.time.steps, &json)?;
-    let mesh = scene.geometry.mesh.clone().ok_or_else(|| format!("{}: no mesh", case.scene))?;
+    let mesh = scene.geometry.source.given().cloned().ok_or_else(|| format!("{}: no mesh", case.scene))?;
     let (nodes, cells) = correspondence(&mesh, &peer)?;
     let theirs = weights_in_our_order(&peer, &cells);
     let ours = match &scene.mass {

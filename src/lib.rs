@@ -8,8 +8,8 @@ pub mod crosscheck;
 
 pub mod bar;
 pub mod bench;
-pub mod body;
 pub mod characteristics;
+pub mod column;
 pub mod contact;
 pub mod crosscheck_trajectory;
 pub mod driver;
@@ -21,6 +21,7 @@ pub mod linalg;
 pub mod machine;
 pub mod mass;
 pub mod material;
+pub mod medium;
 pub mod models;
 pub mod numfmt;
 pub mod observe;

@@ -8,6 +8,7 @@
 //! the bar-only schemes (Paoli–Schatzman and the reduced Newmark formulation) are built by
 //! [`Geometry::bar_only_scheme`], which every geometry but the bar leaves at its refusal.
 
+use crate::column::Column;
 use crate::contact::Backend;
 use crate::contact::law::ContactLaw;
 use crate::exact::Exact;
@@ -92,27 +93,29 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
     /// Values at all mesh nodes (0 on the Dirichlet boundary) from values on the unknowns:
     /// `n_nodes() · components()` of them, interleaved `node · components() + component`.
     fn nodal_values(&self, u: &[f64], out: &mut [f64]);
-    /// What a body against an obstacle reports of a state ([`BodyStats`]); None for the
-    /// geometries that are not such bodies (their reports stay as they are).
-    fn body_stats(&self, _u: &[f64], _v: &[f64], _lambda: &[f64]) -> Option<BodyStats> {
+    /// The series columns this geometry computes itself from a state, beyond what the driver
+    /// computes for every geometry (at most `crate::observe::MAX_OWN_COLUMNS`); a column the
+    /// driver computes too (`contact_force`) then takes the geometry's value. Empty by default.
+    fn own_columns(&self) -> &[Column] {
+        &[]
+    }
+    /// The values of [`GeometryView::own_columns`] at a state (u, v, λ), in that order.
+    fn own_values(&self, _u: &[f64], _v: &[f64], _lambda: &[f64], _out: &mut [f64]) {}
+    /// A fresh accumulator of the keys this geometry adds to `summary.json` from the values of
+    /// its own columns over a run (None: it adds none).
+    fn own_summary(&self) -> Option<Box<dyn OwnSummary>> {
         None
     }
 }
 
-/// The reports of a body against an obstacle at one state (issue 19): with `R_i = −λ_i ≥ 0`
-/// the reaction of contact node i and `d_i = u_n,i + g_i ≥ 0` its distance to the obstacle.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BodyStats {
-    /// `Σ_i R_i`.
-    pub contact_force: f64,
-    /// The nodes in contact, `d_i ≤ 0`.
-    pub active: usize,
-    /// `min_i d_i`.
-    pub min_distance: f64,
-    /// `P_k = 1ᵀ M V_k` (weighted mass, all nodes; entries beyond the dimension 0).
-    pub momentum: [f64; 3],
-    /// `ū_k = 1ᵀ M_std U_k / |Ω|` (unweighted mass).
-    pub mean_u: [f64; 3],
+/// The keys a geometry adds to `summary.json` ([`GeometryView::own_summary`]), accumulated
+/// from the values of its own columns at each state shown.
+pub trait OwnSummary: std::fmt::Debug + Send {
+    /// Takes a state's values of the geometry's own columns ([`GeometryView::own_columns`]
+    /// order).
+    fn observe(&mut self, values: &[f64]);
+    /// The keys over the states taken (none if no state was taken).
+    fn keys(&self) -> serde_json::Map<String, serde_json::Value>;
 }
 
 /// A geometry with its contact system over a linear-algebra back-end.

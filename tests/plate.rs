@@ -525,7 +525,7 @@ fn a_gmsh_triangle_mesh_runs_through_meshio() {
     let mesh = massredist::scene::mesh_file::read("plate.mesh", &path).unwrap();
     assert_eq!((mesh.n_nodes(), mesh.n_cells(), mesh.kind), (20, 24, Cell::Triangle));
     assert!((mesh.total_measure() - 1.0).abs() <= 16.0 * f64::EPSILON);
-    let p = PlateProblem::from_mesh(mesh, &MassKind::Mod3, &PlateInitial::Bump, &massredist::scene::Body::default())
+    let p = PlateProblem::from_mesh(mesh, &MassKind::Mod3, &PlateInitial::Bump, &massredist::scene::Medium::default())
         .unwrap();
     assert_eq!(p.system.system.contact.len(), 4);
     let steps = hybrid_energy(&p, 0.01, 300);

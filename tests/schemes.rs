@@ -13,7 +13,7 @@ use massredist::mass::MassKind;
 use massredist::models::{PaperBar, PlateBump};
 use massredist::plate::PlateProblem;
 use massredist::problem::{Geometry, Problem as GenericProblem};
-use massredist::scene::Body;
+use massredist::scene::Medium;
 use massredist::scene::PlateSpec;
 use massredist::scene::{Formulation, SchemeSpec};
 use massredist::schemes::{Beta, Gamma, Restitution};
@@ -107,8 +107,8 @@ fn complementarity_holds_bit_for_bit_at_every_step() {
     for gap in [0.0, 0.05] {
         for cells in [Cell::Triangle, Cell::Quad] {
             for mass in [MassKind::Standard, MassKind::Mod3] {
-                let body = Body { gap, ..Body::default() };
-                let spec = PlateSpec { body, ..PlateBump::unit(8, 6, cells).spec() };
+                let medium = Medium { gap, ..Medium::default() };
+                let spec = PlateSpec { medium, ..PlateBump::unit(8, 6, cells).spec() };
                 let p = PlateProblem::new(&spec, &mass).unwrap();
                 let mut specs = vec![
                     CN,

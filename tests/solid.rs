@@ -403,7 +403,8 @@ fn solid_keys_are_validated_with_their_ranges() {
     assert!(err("initial = { displacement = [\"x+\", \"0\"] }").starts_with("solid.initial.displacement"));
     assert!(err("heigth = 2").contains("[solid]: unknown field `heigth`"));
     let s = spec("dim = 3\ncells = \"tet\"\nlateral = \"roller\"\nlame_lambda = 2\nforce = [0, 0, -1]");
-    assert_eq!((s.dim, s.cells, s.lateral, s.force), (3, Cell::Tet, Lateral::Roller, [0.0, 0.0, -1.0]));
+    let support = massredist::solid::Support::Face { gap: 0.0, lateral: Lateral::Roller, force: [0.0, 0.0, -1.0] };
+    assert_eq!((s.dim, s.cells, s.support.clone()), (3, Cell::Tet, support));
     assert!(!s.is_plane_wave());
 }
 

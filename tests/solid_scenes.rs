@@ -183,7 +183,7 @@ fn every_shipped_solid_scene_reads_back_and_runs_with_complementarity() {
         let run = massredist::run::run_scene(&scene, &mut []).unwrap();
         let s = &run.summary;
         assert_eq!(s.steps, scene.time.steps, "{name}");
-        assert!(s.min_u0 >= -scene.geometry.gap && s.max_lambda <= 0.0, "{name}");
+        assert!(s.min_u0 >= -scene.geometry.support.gap() && s.max_lambda <= 0.0, "{name}");
         assert!(s.max_complementarity_product <= 1e3 * f64::EPSILON, "{name}: {:e}", s.max_complementarity_product);
         n += 1;
     }

@@ -178,7 +178,8 @@ impl EngineGeometry for PlateSpec {
             length: self.length,
             section: self.height,
             integrates: true,
-            body: Default::default(),
+            is_body: false,
+            body: None,
         }
     }
 }
@@ -187,10 +188,11 @@ impl EngineGeometry for PlateSpec {
 /// bodies against an axis plane ([`body`]).
 impl EngineGeometry for SolidSpec {
     fn engine_refusal(&self) -> Option<String> {
-        if self.body.is_some() {
+        if self.support.body().is_some() {
             return body::refusal(self);
         }
-        self.mesh_file.as_ref().map(|_| "solid.mesh: the fenicsx engine runs structured solids only (for now)".into())
+        let structured = matches!(self.source, crate::solid::MeshSource::Box);
+        (!structured).then(|| "solid.mesh: the fenicsx engine runs structured solids only (for now)".into())
     }
 
     fn exact(&self, t_end: f64) -> Result<Option<Exact>, String> {
@@ -208,7 +210,8 @@ impl EngineGeometry for SolidSpec {
             length: l,
             section: if self.dim == 3 { h * d } else { h },
             integrates: self.cells.is_tensor(),
-            body: Default::default(),
+            is_body: self.support.body().is_some(),
+            body: None,
         }
     }
 

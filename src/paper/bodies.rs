@@ -340,7 +340,7 @@ pub fn metrics(energy: &[f64], force: &[f64], active: &[f64], momentum_y: &[f64]
         max_energy_increase: energy.windows(2).map(|w| w[1] - w[0]).fold(f64::NEG_INFINITY, f64::max),
         force_variation: force.windows(2).map(|w| (w[1] - w[0]).abs()).sum(),
         episodes: on.iter().enumerate().filter(|&(n, &c)| c && (n == 0 || !on[n - 1])).count(),
-        min_distance: s.body.as_ref().map_or(f64::NAN, |b| b.min_distance),
+        min_distance: s.own_number("min_distance").unwrap_or(f64::NAN),
         first_impact: s.first_impact_time,
         first_release: s.first_release_time,
         rebound_velocity: momentum_y.last().copied().unwrap_or(f64::NAN) / mass,
@@ -365,7 +365,7 @@ fn run_one(
     let col = |c: Column| run.series.column(c).unwrap_or_default();
     // 1ᵀM1 of the redistributed mass, Σ_b ρ Σ_c w_c ∫_c φ_b: ρ|Ω| for the standard mass, mod2
     // and mod3; less for mod1, which drops layer 0's mass.
-    let volume = run.problem.system.body.as_ref().map_or(f64::NAN, |b| b.lumped.iter().sum());
+    let volume = run.problem.system.frame.as_ref().map_or(f64::NAN, |b| b.lumped.iter().sum());
     let series = [
         run.series.times(),
         col(Column::Energy),

@@ -72,7 +72,7 @@ pub(super) fn bodies_csv_rows(results: &[BodyResult]) -> Vec<Vec<String>> {
                 fmt_f64(m.force_variation),
                 m.episodes.to_string(),
                 fmt_f64(m.min_distance),
-                o(r.summary.body.as_ref().map(|b| b.max_contact_force)),
+                o(r.summary.own_number("max_contact_force")),
                 o(m.first_impact),
                 o(m.first_release),
                 o(duration(m)),

@@ -160,7 +160,7 @@ pub fn run_hertz(k: usize) -> Result<HertzResult, ReproduceError> {
     let mut kinetic = Kinetic { mass: &probe.problem.system.system.mass, values: Vec::new() };
     let run = run_scene(&scene, &mut [&mut kinetic]).map_err(|source| ReproduceError::Run { case: name, source })?;
     let solid = &run.problem.system;
-    let frame = solid.body.as_ref().expect("a scene with [obstacle] is a body");
+    let frame = solid.frame.as_ref().expect("a scene with [obstacle] is a body");
     let load = load_density() * frame.volume;
     let (hertz_a, hertz_p0) = hertz(load);
     let d = solid.mesh.dim;

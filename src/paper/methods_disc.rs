@@ -120,7 +120,7 @@ pub fn run_one(
     let run = run_scene(&scene, &mut []).map_err(|source| ReproduceError::Run { case, source })?;
     let seconds = started.elapsed().as_secs_f64();
     let col = |c: Column| run.series.column(c).unwrap_or_default();
-    let total = run.problem.system.body.as_ref().map_or(f64::NAN, |b| b.lumped.iter().sum());
+    let total = run.problem.system.frame.as_ref().map_or(f64::NAN, |b| b.lumped.iter().sum());
     let m = metrics(
         &col(Column::Energy),
         &col(Column::ContactForce),

@@ -27,22 +27,24 @@
 //! serialises back to TOML.
 
 mod bar;
-mod body;
 mod common;
 mod contact;
 pub mod gmsh;
+mod medium;
 pub mod mesh_file;
+mod obstacle;
 mod plate;
 mod solid;
 
-pub(crate) use body::*;
 pub use common::*;
 pub use contact::RawContact;
+pub(crate) use medium::*;
+pub(crate) use obstacle::*;
 pub use plate::*;
 pub use solid::*;
 // The geometries' specifications, which the tables validate into.
 pub use crate::bar::spec::{BarSpec, Initial};
-pub use crate::body::{Body, Force};
+pub use crate::medium::{Force, Medium};
 pub use crate::plate::spec::{PlateInitial, PlateSpec};
 // The scheme and column vocabularies live with the code that uses them; scenes name them.
 pub use crate::observe::Column;
@@ -263,7 +265,7 @@ pub struct RawScene {
     pub(crate) solid: Option<solid::RawSolid>,
     /// The rigid plane of a body (`[solid]` scenes only).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) obstacle: Option<body::RawObstacle>,
+    pub(crate) obstacle: Option<obstacle::RawObstacle>,
     pub(crate) mass: Option<RawMass>,
     pub(crate) scheme: Option<RawScheme>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -316,21 +318,27 @@ impl AnyScene {
     /// relative to the scene's folder and read here, once.
     pub fn from_file(path: &std::path::Path) -> Result<AnyScene, SceneError> {
         let text = read_scene_text(path)?;
-        AnyScene::parse(&text, path.parent().unwrap_or(std::path::Path::new(".")))
+        AnyScene::parse(&text, mesh_file::MeshInputs::files(path.parent().unwrap_or(std::path::Path::new("."))))
     }
 
     /// Parses and validates scene text; a mesh file is relative to the current folder.
     pub fn from_toml(text: &str) -> Result<AnyScene, SceneError> {
-        AnyScene::parse(text, std::path::Path::new("."))
+        AnyScene::parse(text, mesh_file::MeshInputs::files(std::path::Path::new(".")))
     }
 
     /// Parses and validates scene text; a mesh file is relative to `base` (the folder of the
     /// file the text came from, for the Python package's scenes changed key by key).
     pub fn from_toml_at(text: &str, base: &std::path::Path) -> Result<AnyScene, SceneError> {
-        AnyScene::parse(text, base)
+        AnyScene::parse(text, mesh_file::MeshInputs::files(base))
     }
 
-    fn parse(text: &str, base: &std::path::Path) -> Result<AnyScene, SceneError> {
+    /// Parses and validates scene text whose `mesh` keys name files relative to `inputs.base`
+    /// or, as `"<arrays>"`, the arrays given in `inputs` (the Python package's `mesh=`).
+    pub fn from_toml_with(text: &str, inputs: mesh_file::MeshInputs) -> Result<AnyScene, SceneError> {
+        AnyScene::parse(text, inputs)
+    }
+
+    fn parse(text: &str, inputs: mesh_file::MeshInputs) -> Result<AnyScene, SceneError> {
         let mut raw: RawScene = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
         if raw.obstacle.is_some() && raw.solid.is_none() {
             let context = "[bar] and [plate] scenes (a [solid] body meets a plane)".into();
@@ -347,10 +355,12 @@ impl AnyScene {
                     tables.join(" and ")
                 )))
             }
-            (None, Some(p), None) => Ok(AnyScene::Plate(validate_sections(fits(PlateSpec::validate(p, base)?)?, raw)?)),
+            (None, Some(p), None) => {
+                Ok(AnyScene::Plate(validate_sections(fits(PlateSpec::validate(p, inputs)?)?, raw)?))
+            }
             (None, None, Some(s)) => {
-                let body = validate_solid(s, raw.obstacle.take(), base)?;
-                Ok(AnyScene::Solid(validate_sections(fits(body)?, raw)?))
+                let solid = validate_solid(s, raw.obstacle.take(), inputs)?;
+                Ok(AnyScene::Solid(validate_sections(fits(solid)?, raw)?))
             }
             (b, _, _) => Ok(AnyScene::Bar(validate_sections(BarSpec::validate(b.unwrap_or_default())?, raw)?)),
         }

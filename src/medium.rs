@@ -1,6 +1,7 @@
-//! The data of an elastic body that do not depend on its shape: material, far end, gap and body
-//! force ([`Body`], [`Force`]), shared by the geometries' specifications (`bar/spec.rs`,
-//! `plate/spec.rs`).
+//! The medium of a bar or a plate: its material, far end, gap and body force ([`Medium`],
+//! [`Force`]), the data that do not depend on its shape, shared by the two specifications
+//! (`bar/spec.rs`, `plate/spec.rs`). ("Body" names the elastic solid against an obstacle,
+//! `crate::solid::body`.)
 
 use crate::expr::Expr;
 use crate::material::{FarEnd, Material};
@@ -41,9 +42,9 @@ impl Force {
     }
 }
 
-/// The material, far end, gap and force of a body (bar or plate).
+/// The material, far end, gap and force of a bar or a plate.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Body {
+pub struct Medium {
     pub material: Material,
     pub far_end: FarEnd,
     /// The obstacle at x = 0: u ≥ −gap on the contact boundary.
@@ -51,10 +52,10 @@ pub struct Body {
     pub force: Force,
 }
 
-impl Default for Body {
-    /// The paper's body: ρ = E = 1, clamped at x = L, no gap, no force.
+impl Default for Medium {
+    /// The paper's medium: ρ = E = 1, clamped at x = L, no gap, no force.
     fn default() -> Self {
-        Body { material: Material::UNIT, far_end: FarEnd::Clamped, gap: 0.0, force: Force::Constant(0.0) }
+        Medium { material: Material::UNIT, far_end: FarEnd::Clamped, gap: 0.0, force: Force::Constant(0.0) }
     }
 }
 
