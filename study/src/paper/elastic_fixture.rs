@@ -18,7 +18,7 @@
 
 use super::elastic_reference::reference;
 use super::elastic_setup::Material;
-use super::elastic_table::{Candidate, grid, linf_l2_errors_against};
+use super::elastic_table::{Candidate, StoredFine, grid, linf_l2_errors_against};
 use massredist::fem::Cell;
 use massredist::mass::MassKind;
 use rayon::prelude::*;
@@ -72,9 +72,9 @@ pub struct ReferenceSet {
     pub runs: Vec<StoredRun>,
 }
 
-impl ReferenceSet {
+impl StoredFine for ReferenceSet {
     /// The stored errors of a candidate's run (copy as in [`StoredRun::copy`]).
-    pub fn errors(&self, c: &Candidate, copy: Option<usize>) -> Result<Vec<Option<f64>>, String> {
+    fn errors(&self, c: &Candidate, copy: Option<usize>) -> Result<Vec<Option<f64>>, String> {
         let found = self.runs.iter().find(|r| {
             r.cells == c.cells.name()
                 && r.scheme == c.scheme.name()
@@ -95,8 +95,12 @@ impl ReferenceSet {
         }
     }
 
+    fn cells(&self) -> usize {
+        self.cells
+    }
+
     /// The reference's own error estimate up to T (one of [`ReferenceSet::ends`]).
-    pub fn self_difference(&self, end: f64) -> Option<f64> {
+    fn self_difference(&self, end: f64) -> Option<f64> {
         self.ends.iter().position(|&e| e == end).and_then(|k| self.self_difference[k])
     }
 }

@@ -272,6 +272,26 @@ pub(super) fn grid(quick: bool) -> (Vec<SchemeSpec>, &'static [f64], &'static [f
 /// free-face λ > 0 rows against the fine-mesh reference ([`cached_reference`]); the
 /// configurations the report prints rerun from perturbed U⁰ ([`ElasticRow::perturbed`]).
 pub fn elastic_table(quick: bool) -> Vec<ElasticRow> {
+    table(quick, &Fine::Live(cached_reference(quick)))
+}
+
+/// The full table ([`elastic_table`]) with the free-face rows read from `stored` (the fixture of
+/// the 160² reference, [`super::elastic_fixture`]) instead of a reference computed now.
+pub fn elastic_table_stored(stored: Result<&dyn StoredFine, String>) -> Vec<ElasticRow> {
+    table(false, &Fine::Stored(stored))
+}
+
+/// The free-face rows' errors when the reference is not computed in this process.
+pub trait StoredFine: Sync {
+    /// The errors of a candidate's run (copy None: unperturbed) at each T of the grid.
+    fn errors(&self, c: &Candidate, copy: Option<usize>) -> Result<Vec<Option<f64>>, String>;
+    /// The reference's cells per side.
+    fn cells(&self) -> usize;
+    /// The reference's own error estimate up to `end`.
+    fn self_difference(&self, end: f64) -> Option<f64>;
+}
+
+fn table(quick: bool, fine: &Fine) -> Vec<ElasticRow> {
     let (schemes, dts, ends) = grid(quick);
     let masses = [MassKind::Mod1, MassKind::Mod2, MassKind::Mod3];
     let mut runs = Vec::new();
@@ -286,18 +306,16 @@ pub fn elastic_table(quick: bool) -> Vec<ElasticRow> {
             }
         }
     }
-    // The free-face rows: against the reference computed now (quick) or its fixture (full).
-    let fine = if quick { Fine::Live(cached_reference(true)) } else { Fine::Stored(super::elastic_fixture::load()) };
     let run = |c: Candidate, copy: Option<usize>| -> Result<Vec<Option<f64>>, String> {
         if c.material.plane_wave_is_solution() {
             return linf_l2_errors_against(c, ends, None, copy).map_err(|e| e.to_string());
         }
-        match &fine {
+        match fine {
             Fine::Live(r) => match r.as_ref() {
                 Ok(r) => linf_l2_errors_against(c, ends, Some(r), copy).map_err(|e| e.to_string()),
                 Err(e) => Err(format!("the fine-mesh reference: {e}")),
             },
-            Fine::Stored(Ok(f)) => f.full.errors(&c, copy),
+            Fine::Stored(Ok(f)) => f.errors(&c, copy),
             Fine::Stored(Err(e)) => Err(format!("the fine-mesh reference's fixture: {e}")),
         }
     };
@@ -348,17 +366,17 @@ pub fn elastic_table(quick: bool) -> Vec<ElasticRow> {
 
 /// What the free-face rows are measured against: the reference computed in this process, or the
 /// fixture of the full one ([`super::elastic_fixture`]).
-enum Fine {
+enum Fine<'a> {
     Live(Arc<Result<Reference, String>>),
-    Stored(Result<super::elastic_fixture::ElasticFixture, String>),
+    Stored(Result<&'a dyn StoredFine, String>),
 }
 
-impl Fine {
+impl Fine<'_> {
     /// The reference's cells per side and its own error estimate up to `end`, if it is there.
     fn info(&self, end: f64) -> Option<(usize, Option<f64>)> {
         match self {
             Fine::Live(r) => r.as_ref().as_ref().ok().map(|r| (r.cells, r.self_difference(end))),
-            Fine::Stored(f) => f.as_ref().ok().map(|f| (f.full.cells, f.full.self_difference(end))),
+            Fine::Stored(f) => f.as_ref().ok().map(|f| (f.cells(), f.self_difference(end))),
         }
     }
 }

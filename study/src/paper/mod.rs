@@ -236,9 +236,21 @@ fn compute_sections(
             })
         },
         // The scalar plates run one after another; the elastic candidates in parallel beside them.
-        || rayon::join(|| plate_2d_errors(config), || elastic_table::elastic_table(quick)),
+        || rayon::join(|| plate_2d_errors(config), || elastic_rows(quick)),
     );
     Ok((sections?, tables_2d))
+}
+
+/// The elastic table: quick against its 80² reference computed now, full with the 160²
+/// reference's fixture ([`elastic_fixture`]).
+fn elastic_rows(quick: bool) -> Vec<elastic_table::ElasticRow> {
+    if quick {
+        return elastic_table::elastic_table(true);
+    }
+    let stored = elastic_fixture::load();
+    elastic_table::elastic_table_stored(
+        stored.as_ref().map(|f| &f.full as &dyn elastic_table::StoredFine).map_err(Clone::clone),
+    )
 }
 
 /// The files [`reproduce`] writes, in the order of [`Outcome::files`]: figures, tables, events,
