@@ -311,8 +311,8 @@ fn file_type(_meta: &std::fs::Metadata) -> &'static str {
 }
 
 #[cfg(feature = "python")]
-fn read_blocks(key: &'static str, path: &Path) -> Result<crate::bridge::MeshBlocks, MeshFileError> {
-    crate::bridge::read_mesh_blocks(path).map_err(|e| MeshFileError::Read {
+fn read_blocks(key: &'static str, path: &Path) -> Result<crate::python::MeshBlocks, MeshFileError> {
+    crate::python::read_mesh_blocks(path).map_err(|e| MeshFileError::Read {
         key,
         path: path.display().to_string(),
         reason: e.to_string(),
@@ -329,7 +329,7 @@ fn read_blocks(key: &'static str, path: &Path) -> Result<NoBlocks, MeshFileError
     })
 }
 
-/// The shape of [`crate::bridge::MeshBlocks`] in a build without Python (never built).
+/// The shape of [`crate::python::MeshBlocks`] in a build without Python (never built).
 #[cfg(not(feature = "python"))]
 struct NoBlocks {
     points: Vec<f64>,
