@@ -14,7 +14,7 @@ use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
 use massredist::material::Lame;
-pub use massredist::python::{MeshArrays, PythonError as BridgeError, module_version};
+pub use massredist::python::{MeshArrays, PythonError as BridgeError, module_version, read_mesh_blocks, write_mesh};
 use massredist::python::{SOLID_CELLS, attach, check_mesh, mesh_args, startup};
 
 /// The FEM library that assembles.

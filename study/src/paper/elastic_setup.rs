@@ -68,6 +68,6 @@ pub fn spec(cells: Cell, material: Material) -> SolidSpec {
 
 /// The same solid on `n` × `n` cells (the fine-mesh reference, [`super::elastic_reference`]).
 pub fn spec_on(cells: Cell, material: Material, n: usize) -> SolidSpec {
-    let support = crate::solid::Support::Face { gap: 0.0, lateral: material.lateral(), force: [0.0; 3] };
+    let support = massredist::solid::Support::Face { gap: 0.0, lateral: material.lateral(), force: [0.0; 3] };
     SolidSpec { cells, lame: material.lame(), support, ..PlaneWaveSolid { dim: 2, cells: [n, n, 1] }.spec() }
 }
