@@ -147,7 +147,12 @@ fn a_box_written_as_a_body_gives_the_box_numbers() {
             // u_mean and λ divide by |Γ_C|: the body's is the sum of its facet lengths (H up to
             // a few ulps).
             for k in [2, 3] {
-                assert!((ra[k] - rb[k]).abs() <= 1e-14 * ra[k].abs().max(1.0), "{} {}", ra[k], rb[k]);
+                assert!(
+                    approx::relative_eq!(ra[k], rb[k], epsilon = 1e-14 * ra[k].abs().max(1.0), max_relative = 0.0),
+                    "{} {}",
+                    ra[k],
+                    rb[k]
+                );
             }
         }
         let max_contact_force = sb.own_number("max_contact_force").expect("a body's summary keys");
@@ -244,7 +249,7 @@ fn axis_and_tilted_normals_give_the_physics_of_the_rotated_body() {
                 let tol =
                     1e-11 * scale[k].max(if k >= 6 { scale[6].max(scale[7]).max(scale[8]).max(scale[9]) } else { 0.0 });
                 assert!(
-                    (want[k] - b[k]).abs() <= tol,
+                    approx::relative_eq!(want[k], b[k], epsilon = tol, max_relative = 0.0),
                     "θ = {theta}, t = {}, column {k}: {} vs {}",
                     a[0],
                     want[k],
@@ -289,7 +294,7 @@ fn a_free_body_in_free_flight_balances_its_momentum_and_falls_by_half_g_t_square
             for (n, tn) in t.iter().enumerate().skip(first) {
                 let want = p[k][first] + (tn - t[first]) * f[k] * area;
                 assert!(
-                    (p[k][n] - want).abs() <= 1e-12 * (1.0 + want.abs()),
+                    approx::relative_eq!(p[k][n], want, epsilon = 1e-12 * (1.0 + want.abs()), max_relative = 0.0),
                     "{mass} P_{k}({tn}) = {} vs {want}",
                     p[k][n]
                 );
@@ -301,7 +306,11 @@ fn a_free_body_in_free_flight_balances_its_momentum_and_falls_by_half_g_t_square
             for k in 0..2 {
                 for (n, tn) in t.iter().enumerate() {
                     let want = v0[k] * tn + 0.5 * f[k] / rho * tn * tn;
-                    assert!((mean[k][n] - want).abs() <= 1e-12, "ū_{k}({tn}) = {} vs {want}", mean[k][n]);
+                    assert!(
+                        approx::relative_eq!(mean[k][n], want, epsilon = 1e-12, max_relative = 0.0),
+                        "ū_{k}({tn}) = {} vs {want}",
+                        mean[k][n]
+                    );
                 }
             }
         }
@@ -365,7 +374,7 @@ fn a_dropped_disc_meets_the_plane_with_exact_complementarity() {
         assert!(b.own_number("max_contact_force").unwrap() > 0.0, "{scheme}");
         let t = run.summary.first_impact_time.unwrap();
         // Free fall from rest: 0.02 = t²/2 at t = 0.2 (the disc deforms: within two steps).
-        assert!((t - 0.2).abs() <= 0.02 + 1e-12, "{scheme}: first impact {t}");
+        assert!(approx::relative_eq!(t, 0.2, epsilon = 0.02 + 1e-12, max_relative = 0.0), "{scheme}: first impact {t}");
     }
 }
 
@@ -457,7 +466,12 @@ fn a_body_frame_holds_its_reaction_pressure_and_contact_state() {
         let state = &data.point_array("contact_state").unwrap().values;
         for (c, &node) in g.contact_nodes.iter().enumerate() {
             let r = -frame.lambda[c];
-            assert!((pressure[node] * g.contact_areas[c] - r).abs() <= 4.0 * f64::EPSILON * r.abs());
+            approx::assert_relative_eq!(
+                pressure[node] * g.contact_areas[c],
+                r,
+                epsilon = 4.0 * f64::EPSILON * r.abs(),
+                max_relative = 0.0
+            );
             assert!(pressure[node] >= 0.0);
             let d = frame.u[node * 2 + 1] - g.system.lower[c];
             assert_eq!(state[node], if r > 0.0 || d <= 0.0 { 1.0 } else { 0.0 }, "node {node}");
@@ -480,15 +494,18 @@ fn the_frame_is_a_rotation_whose_first_axis_is_the_normal() {
         let n = unit_normal(&raw[..dim], dim).unwrap();
         let r = rotation(n, dim);
         for i in 0..3 {
-            assert!((r[i][0] - n[i]).abs() <= 1e-15, "{raw:?}");
+            assert!(approx::relative_eq!(r[i][0], n[i], epsilon = 1e-15, max_relative = 0.0), "{raw:?}");
             for j in 0..3 {
                 let dot: f64 = (0..3).map(|k| r[k][i] * r[k][j]).sum();
-                assert!((dot - f64::from(u8::from(i == j))).abs() <= 4e-16, "{raw:?} {i} {j}: {dot}");
+                assert!(
+                    approx::relative_eq!(dot, f64::from(u8::from(i == j)), epsilon = 4e-16, max_relative = 0.0),
+                    "{raw:?} {i} {j}: {dot}"
+                );
             }
         }
         let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
             + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
-        assert!((det - 1.0).abs() <= 1e-15, "{raw:?}: det {det}");
+        assert!(approx::relative_eq!(det, 1.0, epsilon = 1e-15, max_relative = 0.0), "{raw:?}: det {det}");
     }
     assert_eq!(rotation([1.0, 0.0, 0.0], 3), [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
 }
@@ -523,7 +540,11 @@ fn three_dimensional_bodies_keep_the_box_numbers_and_balance_their_momentum() {
         let p = run3.series.column(Column::Momentum(k as u8)).unwrap();
         for (n, tn) in t.iter().enumerate() {
             let want = p[0] + tn * f[k];
-            assert!((p[n] - want).abs() <= 1e-12, "P_{k}({tn}) = {} vs {want}", p[n]);
+            assert!(
+                approx::relative_eq!(p[n], want, epsilon = 1e-12, max_relative = 0.0),
+                "P_{k}({tn}) = {} vs {want}",
+                p[n]
+            );
         }
     }
 }

@@ -218,7 +218,10 @@ fn the_lean_box_system_is_the_assembled_one_bit_for_bit() {
         // The load: f_i ∫ w φ_a from the triplet row sums (full) or the lumped mass (lean): the
         // same sums in another order, to a few ulps.
         for (x, y) in a.load.iter().zip(&b.load) {
-            assert!((x - y).abs() <= 1e-15 * (1.0 + x.abs()), "load {x} vs {y}");
+            assert!(
+                approx::relative_eq!(x, y, epsilon = 1e-15 * (1.0 + x.abs()), max_relative = 0.0),
+                "load {x} vs {y}"
+            );
         }
     }
 }

@@ -81,7 +81,7 @@ fn midpoint_conserves_the_energy() {
         s.step().unwrap();
     }
     let e = p.energy(s.state().u, s.state().v);
-    assert!((e - e0).abs() <= 1e-12 * e0.abs(), "{e} vs {e0}");
+    assert!(approx::relative_eq!(e, e0, epsilon = 1e-12 * e0.abs(), max_relative = 0.0), "{e} vs {e0}");
 }
 
 /// The impact law holds exactly on the contact node: λ ≤ 0, `v_0^{n+1} + e v_0ⁿ ≥ 0` whenever
@@ -263,7 +263,11 @@ fn central_differences_with_the_penalty() {
             s.step().unwrap();
             let st = s.state();
             let expect = 1e3 * st.u[0].min(0.0);
-            assert!((st.lambda[0] - expect).abs() <= 1e-9 * (1.0 + expect.abs()), "λ {} vs {expect}", st.lambda[0]);
+            assert!(
+                approx::relative_eq!(st.lambda[0], expect, epsilon = 1e-9 * (1.0 + expect.abs()), max_relative = 0.0),
+                "λ {} vs {expect}",
+                st.lambda[0]
+            );
             touched |= st.lambda[0] < 0.0;
         }
         assert!(touched, "no contact");
@@ -361,7 +365,11 @@ fn moreau_jean_on_a_plate_with_mixed_contact_states() {
         for (&c, &l) in contact.iter().zip(st.lambda) {
             assert!(l <= 0.0, "step {n}: λ = {l}");
             if l < 0.0 {
-                assert!(st.v[c].abs() <= 1e-12, "step {n}: node {c} v = {}", st.v[c]);
+                assert!(
+                    approx::relative_eq!(st.v[c], 0.0, epsilon = 1e-12, max_relative = 0.0),
+                    "step {n}: node {c} v = {}",
+                    st.v[c]
+                );
             }
         }
     }

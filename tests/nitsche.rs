@@ -133,12 +133,22 @@ fn energy_identity_of_theta_1_with_crank_nicolson() {
             // The closed-form step is the exact root: λ = −[p*]_+/(1 + c) is −[P(U^{n+1})]_+
             // evaluated on the final state (round-off of P's ~γ-sized terms: 1e-9 absolute).
             let lambda = s.state().lambda[0];
-            assert!((lambda - term.lambda(s.state().u)).abs() <= 1e-9, "step {n}: λ = {lambda}");
+            assert!(
+                approx::relative_eq!(lambda, term.lambda(s.state().u), epsilon = 1e-9, max_relative = 0.0),
+                "step {n}: λ = {lambda}"
+            );
             let delta = s.last_defect();
             assert_eq!(delta, trapezoid_defect(p_old, pn, term.gamma));
-            assert!((e - e_old + delta).abs() <= 1e-13, "γ₀ = {gamma0}, step {n}: ΔE + δ = {}", e - e_old + delta);
+            assert!(
+                approx::relative_eq!(e - e_old, -delta, epsilon = 1e-13, max_relative = 0.0),
+                "γ₀ = {gamma0}, step {n}: ΔE + δ = {}",
+                e - e_old + delta
+            );
             if (p_old > 0.0) == (pn > 0.0) {
-                assert!(delta.abs() <= 1e-15, "step {n}: δ = {delta} without a sign change");
+                assert!(
+                    approx::relative_eq!(delta, 0.0, epsilon = 1e-15, max_relative = 0.0),
+                    "step {n}: δ = {delta} without a sign change"
+                );
             } else {
                 transitions += 1;
                 assert!(delta.abs() <= (p_old * pn).abs() / (2.0 * term.gamma) * (1.0 + 1e-12));
@@ -205,7 +215,7 @@ fn verlet_refuses_above_its_stable_limit() {
     for _ in 0..2000 {
         s.step().unwrap();
     }
-    assert!((s.energy() - e0).abs() <= 0.05 * e0, "{} vs {e0}", s.energy());
+    assert!(approx::relative_eq!(s.energy(), e0, epsilon = 0.05 * e0, max_relative = 0.0), "{} vs {e0}", s.energy());
 }
 
 /// Plates and solids are refused with exit 2 naming `contact.method` and the geometry; on a bar,
@@ -367,7 +377,11 @@ fn verlet_at_its_limit_stays_bounded_for_theta_0_and_minus_1() {
             s.step().unwrap();
             let umax = s.state().u.iter().fold(0.0f64, |a, b| a.max(b.abs()));
             assert!(umax <= 0.51, "θ = {theta}, γ₀ = {g0}, step {n}: |u| = {umax}");
-            assert!((s.energy() - e0).abs() <= 0.1 * e0, "θ = {theta}, γ₀ = {g0}, step {n}: E = {}", s.energy());
+            assert!(
+                approx::relative_eq!(s.energy(), e0, epsilon = 0.1 * e0, max_relative = 0.0),
+                "θ = {theta}, γ₀ = {g0}, step {n}: E = {}",
+                s.energy()
+            );
         }
     }
 }
