@@ -3,8 +3,8 @@
 //! 1D benchmark (section 4.2.1, Crank–Nicolson; section 5, the hybrid scheme (P^hyb)).
 //! Section numbers follow the paper's LaTeX source.
 //!
-//! Compiled only with the feature `python`. The Python code lives in `python/` (small pure
-//! functions, see `python/fem_dolfinx.py`, `python/fem_skfem.py`, `python/stepper.py`); this
+//! Compiled only with the feature `python`. The Python code lives in `python/crosscheck/` (small pure
+//! functions, see `python/crosscheck/fem_dolfinx.py`, `python/crosscheck/fem_skfem.py`, `python/crosscheck/stepper.py`); this
 //! module is the one place that starts the interpreter. `bash python/install-deps.sh` installs
 //! what it needs.
 //!
@@ -13,7 +13,7 @@
 //! - the interpreter is Debian's `/usr/bin/python3` whatever `PATH` says (`Py_SetProgramName`
 //!   before it starts; otherwise a pyenv or venv first on `PATH` supplies the standard library);
 //! - `OMPI_MCA_ess_singleton_isolated=1` is set before mpi4py loads (no `orted` daemon);
-//! - `<crate>/python` and `<crate>/.pydeps` (or `$MASSREDIST_PYDEPS`) go first on `sys.path`;
+//! - `<crate>/python/crosscheck` and `<crate>/.pydeps` (or `$MASSREDIST_PYDEPS`) go first on `sys.path`;
 //! - log records below WARNING are disabled (the dolfinx JIT's compiler lines; raising the root
 //!   logger's level is not enough, distutils lowers it again while compiling);
 //! - dolfinx is imported in that same first attach, on the thread that started the interpreter:
@@ -64,7 +64,7 @@ impl Backend {
     /// Both backends.
     pub const ALL: [Backend; 2] = [Backend::Dolfinx, Backend::Skfem];
 
-    /// `"dolfinx"` or `"skfem"`, as used by `python/crosscheck.py` and the fixture files.
+    /// `"dolfinx"` or `"skfem"`, as used by `python/crosscheck/crosscheck.py` and the fixture files.
     pub fn name(self) -> &'static str {
         match self {
             Backend::Dolfinx => "dolfinx",
@@ -197,7 +197,7 @@ pub fn assemble_elastic(
 }
 
 /// [`assemble_elastic`] on the mesh of a file, which the Python side reads itself through meshio
-/// (`python/crosscheck.py::assemble_elastic_file`, through `python/mesh_io.py::read_cells`): `weights` one per
+/// (`python/crosscheck/crosscheck.py::assemble_elastic_file`, through `python/crosscheck/mesh_io.py::read_cells`): `weights` one per
 /// cell in the file's order. The matrices have `vertices·dim` rows in the file's vertex order.
 pub fn assemble_elastic_file(
     backend: Backend,
@@ -290,7 +290,7 @@ fn mesh_args<'py>(
 
 /// The 1D benchmark of section 4 (bar (0, L), m uniform elements, h = L/m, element j with weight
 /// `weights[j]`, u0(x) = (L − x)/2, v0 = 0, F = 0), assembled by `backend` on the m free nodes
-/// (vertex m is Dirichlet) and run by the independent numpy steppers of `python/stepper.py`:
+/// (vertex m is Dirichlet) and run by the independent numpy steppers of `python/crosscheck/stepper.py`:
 ///
 /// - `"crank-nicolson"`: Newmark (β, γ) = (1/4, 1/2), eq. (4.3), with 0 ≤ u_0 ⊥ λ ≤ 0 solved
 ///   exactly each step; λ^0 = 0; for w_0 = 0 the contact acceleration A_0 is kept at 0;
@@ -329,7 +329,7 @@ pub fn trajectory_1d(
     })
 }
 
-/// Writes a mesh with meshio (`python/mesh_io.py::write_mesh`; `.msh` as gmsh 2.2 ASCII, else
+/// Writes a mesh with meshio (`python/crosscheck/mesh_io.py::write_mesh`; `.msh` as gmsh 2.2 ASCII, else
 /// by the extension, e.g. `.vtu`): triangles, quadrilaterals, tetrahedra or hexahedra by `dim`
 /// and `verts_per_cell`.
 pub fn write_mesh(path: &Path, mesh: &MeshArrays) -> Result<(), BridgeError> {
@@ -352,7 +352,7 @@ pub fn write_mesh(path: &Path, mesh: &MeshArrays) -> Result<(), BridgeError> {
 }
 
 /// The points (x, y, z per point) and one point-data array (`components` values per point) of a
-/// file read by meshio (`python/mesh_io.py::read_point_data`), e.g. a `.vtu` frame.
+/// file read by meshio (`python/crosscheck/mesh_io.py::read_point_data`), e.g. a `.vtu` frame.
 pub fn read_point_data(path: &Path, name: &str) -> Result<(Vec<f64>, Vec<f64>, usize), BridgeError> {
     startup()?;
     attach(|py| {
@@ -364,7 +364,7 @@ pub fn read_point_data(path: &Path, name: &str) -> Result<(Vec<f64>, Vec<f64>, u
     })
 }
 
-/// A mesh file as meshio reads it (`python/mesh_io.py::read_cell_blocks`; gmsh `.msh` with
+/// A mesh file as meshio reads it (`python/crosscheck/mesh_io.py::read_cell_blocks`; gmsh `.msh` with
 /// `file_format="gmsh"`), nothing dropped or checked: the scene's edge
 /// ([`crate::scene::mesh_file`]) picks and checks the cells.
 #[derive(Debug, Clone, PartialEq)]
@@ -479,11 +479,11 @@ fn backend_ready(backend: Backend) -> Result<(), BridgeError> {
     found.as_ref().map(|_| ()).map_err(Clone::clone)
 }
 
-/// `<crate>/python` and the scikit-fem target folder, in `sys.path` order.
+/// `<crate>/python/crosscheck` and the scikit-fem target folder, in `sys.path` order.
 fn python_dirs() -> [PathBuf; 2] {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let pydeps = std::env::var_os("MASSREDIST_PYDEPS").map_or_else(|| root.join(".pydeps"), PathBuf::from);
-    [root.join("python"), pydeps]
+    [root.join("python").join("crosscheck"), pydeps]
 }
 
 /// Makes the interpreter `/usr/bin/python3` (sys.executable, sys.prefix) whatever `PATH` holds.
