@@ -100,7 +100,7 @@ enum Command {
         #[command(flatten)]
         force: Force,
         /// Only draw the engine-scaling figure (PNG and SVG next to this table, as written by
-        /// python/bench_engine.py), then exit.
+        /// python/scripts/bench_engine.py), then exit.
         #[arg(long, value_name = "CSV")]
         scaling_figure: Option<PathBuf>,
         /// Only the comparison of the method classes (issue 20: src/paper/methods.rs) into DIR.

@@ -46,7 +46,7 @@ pub enum PythonError {
 }
 
 /// The Python module imported first, on the thread that starts the interpreter (see the module
-/// documentation): the dolfinx assembler of `python/fem_dolfinx.py`.
+/// documentation): the dolfinx assembler of `python/crosscheck/fem_dolfinx.py`.
 const FIRST_IMPORT: &str = "fem_dolfinx";
 
 /// `(dim, nodes per cell)` of triangles, quadrilaterals, tetrahedra, hexahedra, triangle6 and
@@ -122,7 +122,7 @@ pub fn mesh_args<'py>(
     Ok((points, cells, PyArray1::from_slice(py, weights)))
 }
 
-/// Writes a mesh with meshio (`python/mesh_io.py::write_mesh`; `.msh` as gmsh 2.2 ASCII, else
+/// Writes a mesh with meshio (`python/crosscheck/mesh_io.py::write_mesh`; `.msh` as gmsh 2.2 ASCII, else
 /// by the extension, e.g. `.vtu`): triangles, quadrilaterals, tetrahedra or hexahedra by `dim`
 /// and `verts_per_cell`.
 pub fn write_mesh(path: &Path, mesh: &MeshArrays) -> Result<(), PythonError> {
@@ -145,7 +145,7 @@ pub fn write_mesh(path: &Path, mesh: &MeshArrays) -> Result<(), PythonError> {
 }
 
 /// The points (x, y, z per point) and one point-data array (`components` values per point) of a
-/// file read by meshio (`python/mesh_io.py::read_point_data`), e.g. a `.vtu` frame.
+/// file read by meshio (`python/crosscheck/mesh_io.py::read_point_data`), e.g. a `.vtu` frame.
 pub fn read_point_data(path: &Path, name: &str) -> Result<(Vec<f64>, Vec<f64>, usize), PythonError> {
     startup()?;
     attach(|py| {
@@ -157,7 +157,7 @@ pub fn read_point_data(path: &Path, name: &str) -> Result<(Vec<f64>, Vec<f64>, u
     })
 }
 
-/// A mesh file as meshio reads it (`python/mesh_io.py::read_cell_blocks`; gmsh `.msh` with
+/// A mesh file as meshio reads it (`python/crosscheck/mesh_io.py::read_cell_blocks`; gmsh `.msh` with
 /// `file_format="gmsh"`), nothing dropped or checked: the scene's edge
 /// ([`crate::scene::mesh_file`]) picks and checks the cells.
 #[derive(Debug, Clone, PartialEq)]
@@ -264,7 +264,7 @@ fn prepare(py: Python<'_>) -> PyResult<(String, String)> {
 fn python_dirs() -> [PathBuf; 2] {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let pydeps = std::env::var_os("MASSREDIST_PYDEPS").map_or_else(|| root.join(".pydeps"), PathBuf::from);
-    [root.join("python"), pydeps]
+    [root.join("python").join("crosscheck"), pydeps]
 }
 
 /// Makes the interpreter `/usr/bin/python3` (sys.executable, sys.prefix) whatever `PATH` holds.

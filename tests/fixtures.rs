@@ -1,5 +1,5 @@
 //! The Rust assembly and integrators against the stored dolfinx / scikit-fem fixtures
-//! (`python/gen_fixtures.py`; provenance in `fixtures/provenance.json`). No Python needed.
+//! (`python/scripts/gen_fixtures.py`; provenance in `fixtures/provenance.json`). No Python needed.
 
 mod common;
 

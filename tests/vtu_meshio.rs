@@ -182,7 +182,7 @@ fn solid_vtu_frames_read_back_through_meshio() {
 /// Issue 22, D8: meshio reads a gmsh node tag 0 as index −1 and then as the last point (its tag
 /// map indexed with −1), so the file below read as the unit square [0,1,2], [0,2,3]: a
 /// different mesh, silently. The scene's reader refuses it, naming the key, the element and the
-/// tag. mutation, as run: python/mesh_io.py::_read without `_check_gmsh_node_tags` -> the file
+/// tag. mutation, as run: python/crosscheck/mesh_io.py::_read without `_check_gmsh_node_tags` -> the file
 /// reads as the square and this test fails.
 #[test]
 fn a_gmsh_node_tag_zero_is_refused_naming_the_element() {

@@ -4,7 +4,7 @@
 //! Section numbers follow the paper's LaTeX source.
 //!
 //! Compiled only with the feature `python`. The Python code lives in `python/` (small pure
-//! functions, see `python/fem_dolfinx.py`, `python/fem_skfem.py`, `python/stepper.py`); this
+//! functions, see `python/crosscheck/fem_dolfinx.py`, `python/crosscheck/fem_skfem.py`, `python/crosscheck/stepper.py`); this
 //! module calls them through the solver's interpreter start-up (`massredist::python`, which also
 //! reads and writes meshes through meshio). `bash python/install-deps.sh` installs what it needs.
 
@@ -30,7 +30,7 @@ impl Backend {
     /// Both backends.
     pub const ALL: [Backend; 2] = [Backend::Dolfinx, Backend::Skfem];
 
-    /// `"dolfinx"` or `"skfem"`, as used by `python/crosscheck.py` and the fixture files.
+    /// `"dolfinx"` or `"skfem"`, as used by `python/crosscheck/crosscheck.py` and the fixture files.
     pub fn name(self) -> &'static str {
         match self {
             Backend::Dolfinx => "dolfinx",
@@ -163,7 +163,7 @@ pub fn assemble_elastic(
 }
 
 /// [`assemble_elastic`] on the mesh of a file, which the Python side reads itself through meshio
-/// (`python/crosscheck.py::assemble_elastic_file`, through `python/mesh_io.py::read_cells`): `weights` one per
+/// (`python/crosscheck/crosscheck.py::assemble_elastic_file`, through `python/crosscheck/mesh_io.py::read_cells`): `weights` one per
 /// cell in the file's order. The matrices have `vertices·dim` rows in the file's vertex order.
 pub fn assemble_elastic_file(
     backend: Backend,
@@ -183,7 +183,7 @@ pub fn assemble_elastic_file(
 
 /// The 1D benchmark of section 4 (bar (0, L), m uniform elements, h = L/m, element j with weight
 /// `weights[j]`, u0(x) = (L − x)/2, v0 = 0, F = 0), assembled by `backend` on the m free nodes
-/// (vertex m is Dirichlet) and run by the independent numpy steppers of `python/stepper.py`:
+/// (vertex m is Dirichlet) and run by the independent numpy steppers of `python/crosscheck/stepper.py`:
 ///
 /// - `"crank-nicolson"`: Newmark (β, γ) = (1/4, 1/2), eq. (4.3), with 0 ≤ u_0 ⊥ λ ≤ 0 solved
 ///   exactly each step; λ^0 = 0; for w_0 = 0 the contact acceleration A_0 is kept at 0;

@@ -5,7 +5,7 @@
 //! boundary condition; for elastic solids over all vertices and components, rows interleaved
 //! `vertex·d + component`, [`massredist::solid::assembly::assemble`]), and for trajectory cases the max over steps and free nodes of
 //! `|U_rust − U_py|` and of `|λ_rust − λ_py|`, where the Python side assembles with the backend
-//! and steps with the independent numpy steppers of `python/stepper.py`.
+//! and steps with the independent numpy steppers of `python/crosscheck/stepper.py`.
 //!
 //! Tolerances (round-off scaled by size):
 //! - matrices: `16 n ε · max|entry|` with n the number of vertices — both sides round the vertex
@@ -427,7 +427,7 @@ pub const SOLID_LAME: Lame = Lame { lambda: 0.8, mu: 0.3, density: 1.7 };
 /// three meshio cases: jittered triangle (gmsh `.msh`), tetrahedron (`.vtu`) and hexahedron
 /// (non-uniform grid, gmsh `.msh`) meshes written with meshio and read back on both sides
 /// ([`massredist::scene::mesh_file::read`] here: the pure-Rust gmsh reader for `.msh`, meshio for
-/// `.vtu`; `python/crosscheck.py::assemble_elastic_file` there, through meshio). Fails only if the bridge does (writing
+/// `.vtu`; `python/crosscheck/crosscheck.py::assemble_elastic_file` there, through meshio). Fails only if the bridge does (writing
 /// the files); panics only on a bug in these fixed, valid cases.
 pub fn solid_cases() -> Result<Vec<MatrixCase>, BridgeError> {
     use massredist::fem::layers::cell_weights;

@@ -1,7 +1,7 @@
 //! GetFEM as a live peer (issue 19, item 6): GetFEM's disc of
 //! `interface/tests/matlab-octave/demo_dynamic_contact.m` (radius 20 centred at (0, 20) on the
 //! plane y = 0, λ = μ = 20, ρ = 1, force (0, −0.1) per unit volume, Newmark β = ¼, γ = ½,
-//! Δt = 0.01) stepped by GetFEM itself (`python/getfem_disc.py`, Debian's python3-getfem 5.4:
+//! Δt = 0.01) stepped by GetFEM itself (`python/crosscheck/getfem_disc.py`, Debian's python3-getfem 5.4:
 //! its gmsh import, its assembly, its nodal contact with a rigid obstacle brick solved by Newton
 //! with MUMPS) and by this crate from the scenes `scenes/body-getfem-*.toml`, P1 and P2, with
 //! the standard mass and GetFEM's "singular mass" (no mass on the cells with a contact face,
@@ -25,7 +25,7 @@
 //! at 400; against GetFEM, 1.5e-13, 7e-7, 3e-3, 0.1.
 //!
 //! The initial acceleration matters: with the demo's MA⁰ = F − K U⁰ kept on the massless rows
-//! (python/getfem_disc.py docs) GetFEM's P2 singular-mass run differs from this crate's by 1e-2
+//! (python/crosscheck/getfem_disc.py docs) GetFEM's P2 singular-mass run differs from this crate's by 1e-2
 //! relative from step 13 on.
 
 use massredist::fem::Mesh;
@@ -55,7 +55,7 @@ const SAME_POINT: f64 = 1e-9;
 pub struct GetfemCase {
     pub name: &'static str,
     pub scene: &'static str,
-    /// `"standard"` or `"singular"` (python/getfem_disc.py `--mass`).
+    /// `"standard"` or `"singular"` (python/crosscheck/getfem_disc.py `--mass`).
     pub mass: &'static str,
 }
 
@@ -68,11 +68,11 @@ pub const CASES: [GetfemCase; 4] = [
     GetfemCase { name: "disc P2 standard mass", scene: "body-getfem-disc-p2-standard.toml", mass: "standard" },
 ];
 
-/// GetFEM's data, the demo's (python/getfem_disc.py arguments; the scenes hold the same).
+/// GetFEM's data, the demo's (python/crosscheck/getfem_disc.py arguments; the scenes hold the same).
 const GETFEM_ARGS: [&str; 13] =
     ["--beta", "0.25", "--gamma", "0.5", "--velocity", "0.01", "0", "--point", "0", "0", "--force", "0", "-0.1"];
 
-/// What python/getfem_disc.py writes (GetFEM's numbering).
+/// What python/crosscheck/getfem_disc.py writes (GetFEM's numbering).
 #[derive(Debug, Clone, Deserialize)]
 pub struct Peer {
     pub degree: usize,
@@ -115,9 +115,9 @@ pub fn repo() -> PathBuf {
     crate::repo::root()
 }
 
-/// Runs python/getfem_disc.py on `mesh` for `steps` steps of `dt`; its JSON goes to `json`.
+/// Runs python/crosscheck/getfem_disc.py on `mesh` for `steps` steps of `dt`; its JSON goes to `json`.
 pub fn getfem(mesh: &Path, mass: &str, dt: f64, steps: usize, json: &Path) -> Result<Peer, String> {
-    let script = repo().join("python/getfem_disc.py");
+    let script = repo().join("python/crosscheck/getfem_disc.py");
     let o = Command::new(PYTHON)
         .arg(&script)
         .arg("--mesh")

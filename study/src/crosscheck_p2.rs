@@ -6,7 +6,7 @@
 //! `ElementTetP2`).
 //!
 //! Quadrature: both backends are given the degree-5 Grundmann–Möller rule of the Rust element,
-//! written independently in `python/fem_common.py::grundmann_moller`: exact for both forms on
+//! written independently in `python/crosscheck/fem_common.py::grundmann_moller`: exact for both forms on
 //! straight-sided cells, and on curved cells (where the stiffness is rational and no rule is
 //! exact) the same sum, so every case compares to round-off. Tolerance: the elastic cases' `8 ε
 //! max|entry| r` (`super::tolerances`). Weights: seeded per cell (layer masses on P2 bodies

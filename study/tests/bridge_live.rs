@@ -350,7 +350,7 @@ fn elastic_matrices_of_both_backends_satisfy_the_identities() {
     // infinitesimal rotations x_k e_l − x_l e_k: ε(r) = 0); 1ᵀ M_i 1 = ρ Σ_c w_c |c| for each
     // component i (the basis sums to 1); no coupling of components in M; and the two backends
     // agree. Round-off: 64 ε · max|entry| · entries per row (at most 3·27).
-    // mutation: python/fem_skfem.py using `linear_elasticity(lam, lam)` -> fails with "triangle:
+    // mutation: python/crosscheck/fem_skfem.py using `linear_elasticity(lam, lam)` -> fails with "triangle:
     // backends differ by 2.8e-17, 5.8e0"; fem_dolfinx.py with ε = ∇u (not sym) -> fails with
     // "dolfinx triangle: S r = 0" (the rotations are no longer in the kernel).
     use massredist::fem::{Cell, Mesh};

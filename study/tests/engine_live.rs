@@ -13,7 +13,7 @@ use std::process::Command;
 use std::sync::Mutex;
 
 /// One engine run at a time: dolfinx compiles forms into a shared cache, and two first runs
-/// compiling the same form race on its object file (python/fem_dolfinx.py); the 2 cores of CI
+/// compiling the same form race on its object file (python/crosscheck/fem_dolfinx.py); the 2 cores of CI
 /// also hold at most one 2-rank run.
 static ENGINE: Mutex<()> = Mutex::new(());
 

@@ -1,6 +1,6 @@
 #![cfg(feature = "python")]
 //! GetFEM as a live peer (issue 19, item 6; `massredist_study::crosscheck::getfem`): GetFEM's disc of
-//! demo_dynamic_contact.m stepped by GetFEM 5.4 (python/getfem_disc.py under /usr/bin/python3)
+//! demo_dynamic_contact.m stepped by GetFEM 5.4 (python/crosscheck/getfem_disc.py under /usr/bin/python3)
 //! and by this crate from `scenes/body-getfem-*.toml`, P1 and P2, standard and singular mass:
 //! the same cells, nodes, contact nodes, massless nodes and weights, and every node's
 //! displacement at every step to 1e-6 relative. A 1 % wrong weight and a wrong β fail it.

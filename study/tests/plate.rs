@@ -206,7 +206,7 @@ fn symmetric_matrices_with_constants_in_the_stiffness_kernel() {
     }
 }
 
-/// Reads a CSR matrix stored by python/gen_fixtures.py.
+/// Reads a CSR matrix stored by python/scripts/gen_fixtures.py.
 fn fixture_csr(v: &serde_json::Value) -> (usize, Vec<usize>, Vec<usize>, Vec<f64>) {
     let u =
         |a: &serde_json::Value| a.as_array().unwrap().iter().map(|x| x.as_u64().unwrap() as usize).collect::<Vec<_>>();

@@ -1,4 +1,4 @@
-//! Plates and solids against the independent scipy baseline (`python/scipy_baseline.py`, run
+//! Plates and solids against the independent scipy baseline (`python/scripts/scipy_baseline.py`, run
 //! as a subprocess), and the growth of set-up and step time with the number of unknowns on 3D
 //! hex meshes (issue 13).
 //!
@@ -49,7 +49,7 @@ pub struct Timing {
     pub unorm: f64,
 }
 
-/// The JSON of `python/scipy_baseline.py` (its set-up split into phases).
+/// The JSON of `python/scripts/scipy_baseline.py` (its set-up split into phases).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Scipy {
     pub unknowns: usize,
@@ -175,7 +175,7 @@ pub fn time_rust(case: Case, dt: f64, steps: usize) -> Result<(Timing, Option<f6
     Ok((timing, l2))
 }
 
-/// Runs `python/scipy_baseline.py` on a case; the error says why it could not.
+/// Runs `python/scripts/scipy_baseline.py` on a case; the error says why it could not.
 pub fn time_scipy(case: Case, dt: f64, steps: usize) -> Result<Scipy, String> {
     let args = [("--kind", case.kind.to_string()), ("--dim", case.dim.to_string()), ("--n", case.n.to_string())];
     let more = [("--steps", steps.to_string()), ("--dt", dt.to_string())];
@@ -271,7 +271,7 @@ pub fn markdown(r: &BaselineReport) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "Plates and solids against the independent scipy baseline (python/scipy_baseline.py: vectorised assembly, \
+        "Plates and solids against the independent scipy baseline (python/scripts/scipy_baseline.py: vectorised assembly, \
          one `splu`, D = Eᵀ K⁻¹ E by one blocked solve, a primal–dual active set per step). Q1, mod3, \
          Crank–Nicolson, the paper's data on the unit square / cube with N cells per axis; contact on t ∈ (1, 2). \
          Wall-clock seconds inside each process, both in this run. Set-up: everything before the first step \

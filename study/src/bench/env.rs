@@ -63,10 +63,10 @@ impl Environment {
     }
 }
 
-/// One stepper timed by `python/bench_stepper.py`.
+/// One stepper timed by `python/scripts/bench_stepper.py`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PythonRun {
-    /// "pttrs" (numpy + LAPACK dpttrs loop) or "stepper" (python/stepper.py, dense Cholesky).
+    /// "pttrs" (numpy + LAPACK dpttrs loop) or "stepper" (python/crosscheck/stepper.py, dense Cholesky).
     pub implementation: String,
     pub scheme: String,
     pub mass: String,
@@ -75,7 +75,7 @@ pub struct PythonRun {
     pub u_final: Vec<f64>,
 }
 
-/// The JSON printed by `python/bench_stepper.py`.
+/// The JSON printed by `python/scripts/bench_stepper.py`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PythonTiming {
     pub python: String,
@@ -90,10 +90,10 @@ pub struct PythonTiming {
 /// The interpreter with numpy/scipy (Debian's; the `python3` on PATH may not see them).
 pub const PYTHON: &str = "/usr/bin/python3";
 
-/// Runs `python/NAME` with `args` under [`PYTHON`] and parses the JSON it prints; the error
+/// Runs `python/scripts/NAME` with `args` under [`PYTHON`] and parses the JSON it prints; the error
 /// says why it could not.
 pub fn run_json<T: serde::de::DeserializeOwned>(name: &str, args: &[String]) -> Result<T, String> {
-    let script = crate_dir().join("python").join(name);
+    let script = crate_dir().join("python").join("scripts").join(name);
     if !script.exists() {
         return Err(format!("{} not found", script.display()));
     }
@@ -106,7 +106,7 @@ pub fn run_json<T: serde::de::DeserializeOwned>(name: &str, args: &[String]) -> 
     serde_json::from_slice(&out.stdout).map_err(|e| format!("cannot parse the output of {}: {e}", script.display()))
 }
 
-/// Runs `python/bench_stepper.py` and parses its JSON; the error says why it could not run.
+/// Runs `python/scripts/bench_stepper.py` and parses its JSON; the error says why it could not run.
 pub fn run_python(elements: usize, steps: usize, dense_steps: usize, repeats: usize) -> Result<PythonTiming, String> {
     let args = [("--elements", elements), ("--steps", steps), ("--dense-steps", dense_steps), ("--repeats", repeats)];
     run_json("bench_stepper.py", &args.iter().flat_map(|(k, v)| [k.to_string(), v.to_string()]).collect::<Vec<_>>())

@@ -79,7 +79,7 @@ fn progress(len: usize, what: &str) -> ProgressBar {
     bar
 }
 
-/// Rust against the Python steppers (python/bench_stepper.py, run as a subprocess).
+/// Rust against the Python steppers (python/scripts/bench_stepper.py, run as a subprocess).
 fn python_ratios(quick: bool) -> (Vec<PythonRatio>, Option<String>) {
     let m = PYTHON_ELEMENTS;
     let steps = 3 * m; // one period at Δt = h
@@ -246,8 +246,8 @@ pub fn performance_markdown(r: &BenchReport) -> String {
         let _ = writeln!(
             s,
             "Against an independent Python implementation of the same problem (m = {}, Δt = h, timed in-process by \
-             python/bench_stepper.py, set-up excluded; Rust timed in this process over the same number of steps). \
-             `pttrs`: numpy with LAPACK's tridiagonal dpttrs; `stepper`: python/stepper.py (dense Cholesky).\n",
+             python/scripts/bench_stepper.py, set-up excluded; Rust timed in this process over the same number of steps). \
+             `pttrs`: numpy with LAPACK's tridiagonal dpttrs; `stepper`: python/crosscheck/stepper.py (dense Cholesky).\n",
             PYTHON_ELEMENTS
         );
         let _ = writeln!(

@@ -1,5 +1,5 @@
 //! The engine-scaling figure: time per step against unknowns, drawn from the table that
-//! `python/bench_engine.py` measures (`docs/bench/engine-scaling.csv`), one panel per
+//! `python/scripts/bench_engine.py` measures (`docs/bench/engine-scaling.csv`), one panel per
 //! geometry, one line per engine × linear solver × ranks (log–log).
 //!
 //! `massredist bench --scaling-figure docs/bench/engine-scaling.csv` writes
@@ -70,7 +70,7 @@ where
     series.sort();
     series.dedup();
     let (top, body) = root.split_vertically(34);
-    top.titled("Time per step against unknowns (python/bench_engine.py)", ("sans-serif", 18)).map_err(e)?;
+    top.titled("Time per step against unknowns (python/scripts/bench_engine.py)", ("sans-serif", 18)).map_err(e)?;
     let areas = body.split_evenly((1, geometries.len().max(1)));
     for (area, geometry) in areas.iter().zip(&geometries) {
         let mine: Vec<&ScalingRow> = rows.iter().filter(|r| r.geometry == *geometry && r.per_step_ms > 0.0).collect();

@@ -12,7 +12,7 @@
 //!
 //! next to the **bare kernel** (the scheme's steps through the driver with no observer, timed in
 //! this process: [`super::perf::time_scheme`]) and the **numpy reference**
-//! (python/bench_stepper.py's `pttrs` hybrid stepper: numpy with LAPACK's dpttrs, its own step
+//! (python/scripts/bench_stepper.py's `pttrs` hybrid stepper: numpy with LAPACK's dpttrs, its own step
 //! loop timed, set-up excluded). Each figure is the fastest of repeated runs, in ns per
 //! node-step (seconds / (m · steps)); a user-facing run's seconds are its CPU time (user +
 //! system, as the operating system accounts the finished child), the kernel's and numpy's the
@@ -48,7 +48,7 @@ pub struct WholeCase {
     pub summary_only_ns: Option<f64>,
     /// The scheme's steps alone, in this process.
     pub bare_ns: Option<f64>,
-    /// python/bench_stepper.py's `pttrs` hybrid loop.
+    /// python/scripts/bench_stepper.py's `pttrs` hybrid loop.
     pub numpy_ns: Option<f64>,
 }
 
@@ -124,7 +124,7 @@ fn time_run(exe: &Path, scene: &Path, out: &Path, reps: usize) -> Result<f64, St
 
 /// numpy's `pttrs` hybrid loop, ns per node-step.
 fn numpy_ns(elements: usize, steps: usize, repeats: usize) -> Result<f64, String> {
-    let script = env::crate_dir().join("python").join("bench_stepper.py");
+    let script = env::crate_dir().join("python").join("scripts").join("bench_stepper.py");
     let out = Command::new(env::PYTHON)
         .arg(&script)
         .args(["--elements", &elements.to_string(), "--steps", &steps.to_string()])
@@ -141,7 +141,7 @@ fn numpy_ns(elements: usize, steps: usize, repeats: usize) -> Result<f64, String
         .iter()
         .find(|r| r.implementation == "pttrs" && r.scheme == "hybrid")
         .map(|r| r.seconds_per_step * 1e9 / elements as f64)
-        .ok_or_else(|| "no pttrs hybrid run in the output of python/bench_stepper.py".into())
+        .ok_or_else(|| "no pttrs hybrid run in the output of python/scripts/bench_stepper.py".into())
 }
 
 /// Times every case (sequentially, one thread busy); `quick` takes fewer repetitions.
@@ -208,7 +208,7 @@ pub fn markdown(w: &WholeProcess) -> String {
          runs) on the \
          paper's benchmark, hybrid, Mod 3, Δt = h, series off: *default* (`summary_l2 = true`: energy and exact \
          L² error every step) and *summary-only* (`summary_l2 = false`: energy every step), next to the bare kernel \
-         (the steps alone, in-process) and numpy's dpttrs hybrid loop (python/bench_stepper.py, its loop alone). \
+         (the steps alone, in-process) and numpy's dpttrs hybrid loop (python/scripts/bench_stepper.py, its loop alone). \
          ns per node-step.\n\n\
          | m | steps | default | summary-only | bare kernel | numpy loop | default / summary-only | summary-only / bare | numpy / default | numpy / summary-only |\n\
          |---:|---:|---:|---:|---:|---:|---|---|---|---|\n",

@@ -1,6 +1,6 @@
 """Scaling of the FEniCSx engine against the serial Rust solver (issue 12, item 3).
 
-    /usr/bin/python3 python/bench_engine.py MASSREDIST_BINARY [--sizes 16,32,64]
+    /usr/bin/python3 python/scripts/bench_engine.py MASSREDIST_BINARY [--sizes 16,32,64]
         [--solid-sizes 4,8,12,16] [--out docs/bench]
 
 Plates: for each size n, scenes/plate-bump-quad-cn.toml (Q1 quads, mass mod3, Crank–Nicolson,
@@ -31,7 +31,7 @@ import tempfile
 import time
 
 # The base scene: scenes/plate-bump-quad-cn.toml (n x n cells, T shortened below).
-BASE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", "plate-bump-quad-cn.toml")
+BASE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scenes", "plate-bump-quad-cn.toml")
 
 
 def scene_text(n):
@@ -128,7 +128,7 @@ def main():
         "",
         f"Measured {when} on {platform.machine()} with {os.cpu_count()} cores (load average "
         f"{load:.1f} at the end: other jobs shared the cores), by "
-        f"`/usr/bin/python3 python/bench_engine.py {args.binary} --sizes {args.sizes} "
+        f"`/usr/bin/python3 python/scripts/bench_engine.py {args.binary} --sizes {args.sizes} "
         f"--solid-sizes {args.solid_sizes}`; figure (engine-scaling.png/.svg) by "
         "`massredist bench --scaling-figure docs/bench/engine-scaling.csv`.",
         "Plate: scenes/plate-bump-quad-cn.toml on n × n cells, T = 0.4 (40 steps, the last ~15 "

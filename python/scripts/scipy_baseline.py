@@ -11,7 +11,7 @@ Set-up: vectorised assembly (element matrices by 2^d-point Gauss quadrature), on
 K = M + dt^2/4 S, the contact Schur complement D = E^T K^-1 E (one blocked solve). Step: one
 solve, the contact LCP by a primal-dual active set on D, one more solve if a node is active.
 
-    /usr/bin/python3 python/scipy_baseline.py --kind plate --dim 2 --n 200 --steps 200 [--dt 0.01]
+    /usr/bin/python3 python/scripts/scipy_baseline.py --kind plate --dim 2 --n 200 --steps 200 [--dt 0.01]
 
 Prints JSON: the set-up phases and the median step time over the free steps (t < 1) and the
 steps in contact (t > 1 + dt), all by time.perf_counter, and u_x at the first contact node at the end.

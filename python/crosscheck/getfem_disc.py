@@ -3,7 +3,7 @@
 
 Run with Debian's interpreter (``/usr/bin/python3``, python3-getfem 5.4):
 
-    /usr/bin/python3 python/getfem_disc.py --mesh fixtures/meshes/disc_p2_22a.msh \
+    /usr/bin/python3 python/crosscheck/getfem_disc.py --mesh fixtures/meshes/disc_p2_22a.msh \
         --mass singular --steps 300 --out getfem.json
 
 What GetFEM does here, and what it is given:

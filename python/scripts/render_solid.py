@@ -5,7 +5,7 @@ coloured by |displacement| or by `contact_pressure`; the undeformed body is draw
 outline and the rigid obstacle x = 0 as a grey plane, so the picture shows where the solid
 stands against it.
 
-    PYTHONPATH=/tmp/vtkpy /usr/bin/python3 python/render_solid.py OUT_DIR/solid.pvd \
+    PYTHONPATH=/tmp/vtkpy /usr/bin/python3 python/scripts/render_solid.py OUT_DIR/solid.pvd \
         --time 1.2 --color displacement --out docs/figures/solid-3d-hex-mod3.png
 
 VTK: the `vtk` wheel from PyPI (`/usr/bin/python3 -m pip install --no-deps --target /tmp/vtkpy

@@ -1,7 +1,7 @@
 """Write fixtures/: matrices from both backends, reference trajectories and a gmsh mesh.
 
-Regenerating is deliberate: run ``/usr/bin/python3 python/gen_fixtures.py`` from anywhere (it
-puts python/ and .pydeps/ on sys.path itself). Every file records its parameters; the tool
+Regenerating is deliberate: run ``/usr/bin/python3 python/scripts/gen_fixtures.py`` from anywhere (it
+puts python/crosscheck/ and .pydeps/ on sys.path itself). Every file records its parameters; the tool
 versions, the command and the date are in fixtures/provenance.json.
 
 Layout:
@@ -20,7 +20,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 
 
 def one_d_cases():
@@ -87,7 +87,7 @@ def write_json(path, record):
 
 
 def main():
-    sys.path[:0] = [str(REPO / "python"), os.environ.get("MASSREDIST_PYDEPS", str(REPO / ".pydeps"))]
+    sys.path[:0] = [str(REPO / "python" / "crosscheck"), os.environ.get("MASSREDIST_PYDEPS", str(REPO / ".pydeps"))]
     os.environ["OMPI_MCA_ess_singleton_isolated"] = "1"  # before mpi4py: no orted daemon
     import numpy as np
     import scipy
@@ -124,14 +124,14 @@ def main():
         for scheme in sorted(crosscheck.SCHEMES):
             U, lam = crosscheck.trajectory_1d("dolfinx", L, m, weights, scheme, dt, steps)
             write_json(out_dir / "trajectories" / f"{case}__{scheme}.json", {
-                "backend": "dolfinx", "stepper": "python/stepper.py", "scheme": scheme,
+                "backend": "dolfinx", "stepper": "python/crosscheck/stepper.py", "scheme": scheme,
                 "case": case, "L": L, "m": m, "weights": weights, "dt": dt, "steps": steps,
                 "u0": "(L - x)/2 at x_i = i*h, i = 0..m-1", "v0": 0.0, "F": 0.0,
                 "record_every": every,
                 "U": U[::every].tolist(), "lam": lam[::every].tolist()})
 
     write_json(out_dir / "provenance.json", {
-        "command": "/usr/bin/python3 python/gen_fixtures.py",
+        "command": "/usr/bin/python3 python/scripts/gen_fixtures.py",
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "python": platform.python_version(), "executable": sys.executable,
         "dolfinx": dolfinx.__version__, "skfem": skfem.__version__,

@@ -1,17 +1,17 @@
 """Times the independent numpy/scipy steppers on the 1D benchmark, for `massredist bench`.
 
-    /usr/bin/python3 python/bench_stepper.py --elements 1000 --steps 3000 [--repeats 3]
+    /usr/bin/python3 python/scripts/bench_stepper.py --elements 1000 --steps 3000 [--repeats 3]
 
 Prints one JSON object on stdout: the interpreter and library versions and, per stepper, the
 seconds per step of its time loop and the final displacement (so the caller can check that it
 timed the same problem). Two kinds of stepper are timed:
 
-- ``stepper.hybrid`` / ``stepper.crank_nicolson`` (python/stepper.py, the bridge's reference
+- ``stepper.hybrid`` / ``stepper.crank_nicolson`` (python/crosscheck/stepper.py, the bridge's reference
   steppers, dense Cholesky);
 - ``pttrs.hybrid`` / ``pttrs.crank_nicolson`` below: the same formulas with LAPACK's
   tridiagonal dpttrf/dpttrs, the fastest plain numpy/scipy form of a 1D implicit step.
 
-The pttrs steppers time their own loop (time.perf_counter around it); for python/stepper.py,
+The pttrs steppers time their own loop (time.perf_counter around it); for python/crosscheck/stepper.py,
 whose loop cannot be timed from outside, the loop time is t(steps) − t(0) (the set-up, its
 dense factorisation included, is subtracted). The fastest of ``--repeats`` calls is kept. Matrices are built in closed form (paper §3):
 M_00 = h/3 w_0, M_ii = h/3 (w_{i-1} + w_i), M_{i,i+1} = h/6 w_i; S_00 = 1/h, S_ii = 2/h,
@@ -27,7 +27,7 @@ import numpy as np
 import scipy
 from scipy.linalg import lapack
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "crosscheck"))
 
 
 def weights(kind, m):
@@ -173,7 +173,7 @@ def main():
         import stepper
     except ImportError as e:  # the bridge's stepper is optional here
         stepper = None
-        out["missing"].append(f"python/stepper.py: {e}")
+        out["missing"].append(f"python/crosscheck/stepper.py: {e}")
     for kind, name in (("mod3", "hybrid"), ("standard", "crank-nicolson")):
         M, S, h = tridiagonals(kind, m)
         dt = h

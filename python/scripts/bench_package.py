@@ -2,7 +2,7 @@
 Figure 11 scene from Python costs at most 1.1x the CLI run").
 
 Usage (from the repository root, with the package installed and the release binary built):
-    target/python/venv/bin/python python/bench_package.py [scene] [runs]
+    target/python/venv/bin/python python/scripts/bench_package.py [scene] [runs]
 
 Prints the median wall time of (a) one ``massredist.run(massredist.load(scene))`` call in this
 interpreter (the scene read, set up, run; results as numpy arrays), (b) one ``massredist run``
