@@ -26,7 +26,7 @@
 //! contact law's.
 
 use super::{EngineError, EngineGeometry};
-use crate::body::Force;
+use crate::medium::Force;
 use crate::plate::spec::{PlateInitial, PlateSpec};
 use crate::scene::{Formulation, Scene, SchemeSpec};
 use crate::solid::{SolidInitial, SolidSpec};
@@ -264,7 +264,7 @@ pub(super) fn plate(p: &PlateSpec) -> Result<GeometryDoc, String> {
         }
         named => PlateInitialDoc::Named(named.name()),
     };
-    let force = match &p.body.force {
+    let force = match &p.medium.force {
         Force::Constant(f) => PlateForceDoc::Constant(*f),
         Force::Field(e) => PlateForceDoc::Expression(e.text().into()),
         Force::Transient(e) => {
@@ -280,10 +280,10 @@ pub(super) fn plate(p: &PlateSpec) -> Result<GeometryDoc, String> {
         nx: p.nx,
         ny: p.ny,
         cells: p.cells.name(),
-        density: p.body.material.density,
-        modulus: p.body.material.modulus,
-        far_end: p.body.far_end.name(),
-        gap: p.body.gap,
+        density: p.medium.material.density,
+        modulus: p.medium.material.modulus,
+        far_end: p.medium.far_end.name(),
+        gap: p.medium.gap,
         initial,
         force,
     }))
@@ -293,9 +293,9 @@ pub(super) fn plate(p: &PlateSpec) -> Result<GeometryDoc, String> {
 pub(super) fn solid(s: &SolidSpec) -> GeometryDoc {
     let (d, [l, h, depth], [nx, ny, nz]) = (s.dim, s.extent, s.cells_per_axis);
     let (lambda, mu, density) = (s.lame.lambda, s.lame.mu, s.lame.density);
-    if s.body.is_some() {
+    let crate::solid::Support::Face { gap, lateral, force } = &s.support else {
         return GeometryDoc::Body(BodyDoc { dim: d, density, lame_lambda: lambda, lame_mu: mu });
-    }
+    };
     let texts = |f: &[crate::expr::Expr]| -> Vec<String> { f.iter().map(|e| e.text().to_string()).collect() };
     GeometryDoc::Solid(SolidDoc {
         dim: d,
@@ -309,9 +309,9 @@ pub(super) fn solid(s: &SolidSpec) -> GeometryDoc {
         density,
         lame_lambda: lambda,
         lame_mu: mu,
-        gap: s.gap,
-        lateral: s.lateral.name(),
-        force: s.force[..d].to_vec(),
+        gap: *gap,
+        lateral: lateral.name(),
+        force: force[..d].to_vec(),
         initial: match &s.initial {
             SolidInitial::Paper => SolidInitialDoc::Named("paper"),
             SolidInitial::Fields { displacement, velocity } => {
