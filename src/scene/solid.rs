@@ -399,6 +399,7 @@ impl SceneGeometry for SolidSpec {
     const COLUMN_LIST: &'static str = SOLID_SERIES_NAMES;
     const SIZE_KEYS: &'static str = "solid.nx, solid.ny[, solid.nz]";
     const VTU: bool = true;
+    const MASSLESS_TANGENTS: bool = true;
 
     /// Free nodes (all but x = L) times the components, less the normal components a roller
     /// face removes.
