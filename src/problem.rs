@@ -4,15 +4,19 @@
 //! A geometry ([`Geometry`]) is a mesh with its assembled [`ContactSystem`] and what reports
 //! need of it (contact means, exact L² norms, nodal values). Each geometry implements it in its
 //! own folder (`bar/geometry.rs` over a tridiagonal back-end, `plate/geometry.rs` and
-//! `solid/geometry.rs` over a sparse one); this module names none of them. Schemes are generic;
-//! the bar-only schemes (Paoli–Schatzman and the reduced Newmark formulation) are built by
-//! [`Geometry::bar_only_scheme`], which every geometry but the bar leaves at its refusal.
+//! `solid/geometry.rs` over a sparse one); this module names none of them. Schemes are generic
+//! over the back-end and the contact law; what a geometry offers them ([`Geometry::one_node`],
+//! [`Geometry::lumped_mass`]) was checked against what they need when the scene was validated
+//! (`crate::scene`'s compatibility rule), so building a scheme refuses nothing again.
 
 use crate::column::Column;
 use crate::contact::Backend;
 use crate::contact::law::ContactLaw;
 use crate::exact::Exact;
-use crate::schemes::{BackwardEuler, Formulation, Hybrid, Newmark, Scheme, SchemeError, SchemeSpec};
+use crate::schemes::{
+    BackwardEuler, Beta, CentralDifference, Formulation, Gamma, Hybrid, MoreauJean, Newmark, NewmarkReduced,
+    OneNodeContact, PaoliSchatzman, Scheme, SchemeError, SchemeSpec,
+};
 use crate::system::ContactSystem;
 
 /// Whether every scheme built from now on starts from perturbed initial data (see
@@ -123,17 +127,10 @@ pub trait Geometry: GeometryView {
     type Matrix: Backend;
     fn system(&self) -> &ContactSystem<Self::Matrix>;
 
-    /// A bar-only scheme on this geometry ([`SchemeSpec::bar_only`] says which schemes are
-    /// bar-only, and why); every geometry but the bar refuses them with that reason.
-    fn bar_only_scheme(
-        &self,
-        spec: &SchemeSpec,
-        _dt: f64,
-        _u0: Vec<f64>,
-        _v0: Vec<f64>,
-    ) -> Result<Box<dyn Scheme>, SchemeError> {
-        let (key, reason) = spec.bar_only().unwrap_or(("scheme.kind", "not a bar-only scheme"));
-        Err(SchemeError::Unsupported { key, geometry: self.name(), reason })
+    /// The one-node tridiagonal contact system of a bar (Paoli–Schatzman and the reduced
+    /// formulation need it); None for the other geometries.
+    fn one_node(&self) -> Option<OneNodeContact<'_>> {
+        None
     }
 
     /// The lumped mass `M_L` on the unknowns: the row sums of the weighted mass over all nodes,
@@ -191,15 +188,6 @@ pub struct Problem<G> {
 }
 
 impl<G: Geometry> Problem<G> {
-    /// The geometry as the method-class builder takes it ([`crate::schemes::methods`]).
-    fn parts(&self) -> crate::schemes::methods::GeometryParts<'_, G::Matrix, impl FnOnce() -> Option<Vec<f64>> + '_> {
-        crate::schemes::methods::GeometryParts {
-            system: self.system.system(),
-            name: self.system.name(),
-            lumped_mass: || self.system.lumped_mass(),
-        }
-    }
-
     /// Builds the scheme of a scene on this problem with exact contact (factors its matrices
     /// once).
     pub fn scheme(&self, spec: &SchemeSpec, dt: f64) -> Result<Box<dyn Scheme>, SchemeError> {
@@ -213,24 +201,41 @@ impl<G: Geometry> Problem<G> {
             audit_perturb(&mut u, &mut v);
         }
         let s = self.system.system();
+        let geometry = self.system.name();
+        // What the scene's compatibility rule has checked; guards for callers of the library.
+        debug_assert!(
+            law.needs().treatments.contains(&spec.needs().contact),
+            "{} with contact.method = {}",
+            spec.name(),
+            law.method()
+        );
+        let needs = |reason| SchemeError::Unsupported { key: "scheme.kind", geometry, reason };
+        let one_node = || self.system.one_node().ok_or_else(|| needs("it needs a bar's one-node system"));
         Ok(match *spec {
-            // The method classes and contact laws of issue 20: one builder.
-            SchemeSpec::CentralDifference | SchemeSpec::MoreauJean { .. } => {
-                crate::schemes::methods::build(self.parts(), spec, law, dt, u, v)?
-            }
-            _ if *law != ContactLaw::Exact => crate::schemes::methods::build(self.parts(), spec, law, dt, u, v)?,
             SchemeSpec::CrankNicolson { formulation: Formulation::Full } => {
-                Box::new(Newmark::crank_nicolson(s, dt, u, v)?)
+                Box::new(Newmark::with_law(s, law, Beta::DEFAULT, Gamma::DEFAULT, dt, u, v)?)
             }
             SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Full } => {
-                Box::new(Newmark::new(s, beta, gamma, dt, u, v)?)
+                Box::new(Newmark::with_law(s, law, beta, gamma, dt, u, v)?)
             }
-            SchemeSpec::BackwardEuler => Box::new(BackwardEuler::new(s, dt, u, v)?),
+            SchemeSpec::BackwardEuler => Box::new(BackwardEuler::with_law(s, law, dt, u, v)?),
+            SchemeSpec::CentralDifference => {
+                let lumped = self.system.lumped_mass().ok_or_else(|| needs("it needs a lumped mass"))?;
+                Box::new(CentralDifference::new(s, lumped, law, dt, u, v)?)
+            }
             SchemeSpec::Hybrid => Box::new(Hybrid::new(s, dt, u, v)?),
-            // Bar-only schemes (module docs of `schemes`).
-            SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
-            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. }
-            | SchemeSpec::PaoliSchatzman { .. } => self.system.bar_only_scheme(spec, dt, u, v)?,
+            SchemeSpec::MoreauJean { theta, restitution } => {
+                Box::new(MoreauJean::new(s, theta, restitution, dt, u, v)?)
+            }
+            SchemeSpec::PaoliSchatzman { beta, restitution } => {
+                Box::new(PaoliSchatzman::new(one_node()?, beta, restitution, dt, u, v)?)
+            }
+            SchemeSpec::CrankNicolson { formulation: Formulation::Reduced } => {
+                Box::new(NewmarkReduced::new(one_node()?, Beta::DEFAULT, Gamma::DEFAULT, dt, u, v)?)
+            }
+            SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Reduced } => {
+                Box::new(NewmarkReduced::new(one_node()?, beta, gamma, dt, u, v)?)
+            }
         })
     }
 

@@ -82,7 +82,7 @@ fn solid_scene_errors_name_the_key_and_its_range() {
     let e = err("[solid]\nlame_lambda = 1\n[output]\nseries = [\"exact_u0\"]\n");
     assert!(e.contains("plane wave") && e.contains("roller"), "{e}");
     let e = err("[solid]\n[scheme]\nkind = \"paoli-schatzman\"\n");
-    assert!(e.contains("[solid] scenes"), "{e}");
+    assert!(e.contains("a [solid] scene") && e.contains("allowed: crank-nicolson"), "{e}");
     let e = err("[solid]\ninitial = { displacement = [\"1/(x-0.5)\", \"0\"] }\n");
     assert!(e.contains("solid.initial.displacement"), "{e}");
     let e = err("[solid]\nnx = 4\nny = 2\n[mass]\nkind = \"custom\"\nweights = [1.0]\n");

@@ -79,7 +79,6 @@ impl SceneGeometry for BarSpec {
     const COLUMN_LIST: &'static str = "any subset of u0, u1, lambda, energy, l2_error, exact_u0, exact_lambda";
     const SIZE_KEYS: &'static str = "bar.elements";
     const VTU: bool = false;
-    const BAR_ONLY_SCHEMES: bool = true;
 
     fn unknowns(&self) -> usize {
         self.elements
@@ -91,6 +90,19 @@ impl SceneGeometry for BarSpec {
 
     fn contact_weight(&self, mass: &MassKind) -> Result<f64, SceneError> {
         Ok(mass.weights(self.elements)?[0])
+    }
+
+    /// One contact node over a tridiagonal system, its row one P1 cell; only node 0 can be
+    /// massless (the mass's weights refuse the others), so no contact layer.
+    fn offer(&self, mass: &MassKind) -> Result<super::Offer, SceneError> {
+        Ok(super::Offer {
+            one_node_system: true,
+            lumped_mass: true,
+            w0: self.contact_weight(mass)?,
+            contact_layer: false,
+            one_cell_contact_row: true,
+            zero_gap: self.gap == 0.0,
+        })
     }
 
     fn unavailable(&self, column: Column) -> Option<String> {

@@ -46,9 +46,9 @@ impl RawMedium {
         expected: &str,
     ) -> Result<(), SceneError> {
         match unknown.keys().next() {
-            Some(key) => {
-                Err(SceneError::Parse(format!("unknown field `{key}` in [{table}], expected one of {expected}")))
-            }
+            Some(key) => Err(SceneError::Parse(format!(
+                "{table}.{key}: unknown field `{key}` in [{table}], expected one of {expected}"
+            ))),
             None => Ok(()),
         }
     }

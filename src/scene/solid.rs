@@ -311,6 +311,7 @@ impl SceneGeometry for SolidSpec {
     const COLUMN_LIST: &'static str = SOLID_SERIES_NAMES;
     const SIZE_KEYS: &'static str = "solid.nx, solid.ny[, solid.nz]";
     const VTU: bool = true;
+    const MASSLESS_TANGENTS: bool = true;
 
     /// The free unknowns: the components of the nodes not clamped (x = L for the box), less the
     /// normal components a roller face removes, on the mesh built for the contact weight.
