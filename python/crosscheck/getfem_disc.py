@@ -15,7 +15,7 @@ What GetFEM does here, and what it is given:
   ``(λ div u I + 2 μ ε(u)) : ∇v`` and its volumic source ``∫ f · v``, all with the integration
   method ``IM_TRIANGLE(6)`` (exact for the mass of these isoparametric P2 cells, whose
   integrand u·v det J has degree 6; the stiffness of curved cells is rational and no rule is
-  exact: between degree 6 and 13 GetFEM's stiffness changes by 6e-10 relative, see the README);
+  exact: between degree 6 and 13 GetFEM's stiffness changes by 6e-10 relative);
 - the mass: ``standard``, or the demo's "singular mass" (``singular_mass = 1``: no integration,
   so no mass, on the cells with a facet on the contact boundary; mass 1 elsewhere); the per-cell
   weights are written out so that massredist can pose them with ``mass.kind = "custom"``;

@@ -119,7 +119,7 @@ def cell_weights(points, cells, kind, custom=None, tol=None, cell_kind=None):
 
 
 # A deliberate defect for the trajectory cross-check's mutation test: "CELL:FACTOR" multiplies
-# the weight of input cell CELL by FACTOR (tests/engine_live.rs sets it and expects a mismatch).
+# the weight of input cell CELL by FACTOR (study/tests/engine_live.rs sets it and expects a mismatch).
 PERTURB_ENV = "MASSREDIST_ENGINE_PERTURB_WEIGHT"
 
 

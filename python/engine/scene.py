@@ -98,7 +98,7 @@ class Scene:
 
     @property
     def has_paper_exact(self):
-        """The paper's closed form applies to a plate (src/run/plate.rs: paper data, default
+        """The paper's closed form applies to a plate (src/plate/problem.rs: paper data, default
         body); solids: engine.exact.plane_wave."""
         return (not self.solid and self.initial == "paper" and self.density == 1.0
                 and self.modulus == 1.0 and self.far_end == "clamped" and self.gap == 0.0
@@ -193,7 +193,7 @@ class _Float64(ast.NodeTransformer):
 
 
 def initial_fields(scene):
-    """``(u0(x, y), v0(x, y))`` as numpy functions (src/plate/scene.rs, PlateInitial); for a
+    """``(u0(x, y), v0(x, y))`` as numpy functions (src/plate/spec.rs, PlateInitial); for a
     solid, functions ``(i, x, y, z)`` of the component i (src/solid/spec.rs, SolidInitial)."""
     if scene.solid:
         return solid_initial_fields(scene)

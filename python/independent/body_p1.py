@@ -3,7 +3,7 @@
 
 Nothing of massredist is used but its command line: the mesh, the P1 plane-strain assembly, the
 layers and weights, the load, Newmark/Crank-Nicolson with exact contact and the reports are
-written here from the definitions (README, "A body of any shape against a rigid plane"):
+written here from the definitions (docs/scenes.md, "Bodies: any shape against a rigid plane"):
 
 - the structured (0, L) x (0, H) mesh split along the diagonal (x_i, y_j)-(x_i+1, y_j+1);
 - contact in WORLD coordinates, not in a rotated frame: B U >= -g with one row n^T per contact

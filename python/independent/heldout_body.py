@@ -1,4 +1,4 @@
-"""An independent implementation of a body against a rigid plane (issue 19, README "A body of
+"""An independent implementation of a body against a rigid plane (issue 19, docs/scenes.md "Bodies:
 any shape against a rigid plane"): assembly on P1/P2/Q1 meshes (heldout_fem), contact nodes, gaps,
 layers, load, Newmark(beta, gamma) (Crank-Nicolson: 1/4, 1/2), backward Euler and the paper's hybrid scheme,
 and every summary key of a body run. Dense numpy; world coordinates (no rotated frame): one
@@ -9,7 +9,7 @@ contact row n^T per contact node, B U + g >= 0, reaction mu >= 0 along n, mu.(B 
 - Massless unknowns (zero mass diagonal): CN gives them a = 0, v = (u^{n+1} - u^n)/dt.
 - Each step's contact problem is the LCP d = q + W mu >= 0, mu >= 0, d.mu = 0 with W SPD,
   solved by Murty's least-index principal pivoting (finite for P-matrices) to round-off.
-- Hybrid (paper section 5; README): Q = the massless unknowns, Phi(U) = the quasi-static
+- Hybrid (paper section 5; docs/schemes.md): Q = the massless unknowns, Phi(U) = the quasi-static
   Signorini problem S_QQ u_Q = F_Q(t) - S_QI U_I + B_Q^T mu on Q; start from Phi(U^0); midpoint
   (M + dt^2/4 S) Xbar = M (U^n + dt/2 V^n) + dt^2/4 (F(t_{n+1/2}) + B^T mubar) with
   n.Xbar_i >= (n.u_i^n - g_i)/2; U^{n+1} = 2 Xbar - U^n, V^{n+1} = 2 (U^{n+1} - U^n)/dt - V^n;
@@ -167,7 +167,7 @@ def hybrid(sys, dt, steps):
 
 
 def summary(case):
-    """Every numeric summary key of a body run (the README's definitions), from this module."""
+    """Every numeric summary key of a body run (docs/scenes.md's definitions, "Bodies"), from this module."""
     sys = build(case)
     dt, steps = case["dt"], round(case["end"] / case["dt"])
     scheme = case["scheme"]

@@ -5,7 +5,7 @@ node), Newmark/Crank-Nicolson with penalty contact, and Moreau-Jean (theta, rest
 
 Nothing of massredist is used but its scene files (read here with tomllib) and, in the Rust
 test (tests/methods_heldout.rs), its command line. Written from the definitions (issue 20 "What to
-build", README "Method classes beside the paper's schemes"), dense numpy, our own P1 assembly:
+build", docs/schemes.md "Method classes beside the paper's schemes"), dense numpy, our own P1 assembly:
 
 - bar (0, L), m elements, nodes x_i = L i/m; element j between nodes j and j+1 has weight w_j,
   mass rho h w_j/6 [[2, 1], [1, 2]], stiffness E/h [[1, -1], [-1, 1]]; a clamped far end drops

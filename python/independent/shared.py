@@ -12,7 +12,7 @@ Quadrature:
 - `grundmann_moller` (`gm5`): the Grundmann-Moller rule of degree 5 (A. Grundmann, H. M. Moller,
   SIAM J. Numer. Anal. 15 (1978), Theorem 4), computed here from its closed formula. On curved
   P2 cells the integrands are not polynomials (det J and J^-1 vary), the integrals depend on the
-  rule, and the issue/README fix the rule as degree-5 Grundmann-Moller: the held-out curved
+  rule, and the issue and docs/scenes.md ("Meshes") fix the rule as degree-5 Grundmann-Moller: the held-out curved
   scenes use it;
 - `tensor_gauss` (`tensor`): Gauss-Legendre with 4 points per direction on [0, 1]^n for Q1
   cells, exact on parallelograms and parallelepipeds (the only Q1 cells the held-out scenes have).

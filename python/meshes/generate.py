@@ -13,7 +13,7 @@ meshio checked to read all four alike), the coarse P1 disc and clamped half disc
 blocks (its type names, VTK node order) and the gmsh physical groups' nodes as meshio's
 ``cell_sets`` give them (tools' versions in ``provenance``).
 Benchmark fixtures (``BENCH_FIXTURES``, MSH 4.1 binary): the meshes ``massredist reproduce``'s
-bodies section runs besides the coarse ones (``src/paper/bodies.rs``, ``src/paper/hertz.rs``).
+bodies section runs besides the coarse ones (``study/src/paper/bodies.rs``, ``study/src/paper/hertz.rs``).
 """
 import json
 import sys

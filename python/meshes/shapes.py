@@ -14,7 +14,7 @@ nodes on the curved geometry). ``write`` saves it as MSH 2.2 or 4.1, ASCII or bi
   "bottom".
 - ``hertz_disc``: the disc, with a gmsh size field refining it near the contact point (0, 0):
   size ``h`` within distance 3 of it (1.5 times the Hertz half-width 2 that
-  ``src/paper/hertz.rs`` loads it to), growing linearly to 4 at distance 15 (``Distance``
+  ``study/src/paper/hertz.rs`` loads it to), growing linearly to 4 at distance 15 (``Distance``
   + ``Threshold`` fields); the same groups as ``disc``.
 """
 import math

@@ -132,7 +132,7 @@ def test_fields_are_the_final_state_on_the_mesh():
 
 def test_operators_are_the_weighted_p1_matrices():
     # M_ii = h/3 (w_{i-1} + w_i), M_{i,i+1} = h/6 w_i, S = (1/h) tridiag(-1, 2, -1) with
-    # S_00 = 1/h (README's formulas, paper §3), on the free nodes 0..m-1; built here
+    # S_00 = 1/h (docs/schemes.md's formulas, paper §3), on the free nodes 0..m-1; built here
     # independently from the weights and compared to ~round-off (entries are O(h), 1e-15).
     ops = mr.operators(FIG11)
     w, m = ops.weights, 6
