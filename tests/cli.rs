@@ -234,5 +234,8 @@ fn bad_input_is_a_clear_error() {
     let (out, _t) =
         run_text(&GOOD.replace("kind = \"mod3\"", "kind = \"standard\"").replace("\"crank-nicolson\"", "\"hybrid\""));
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("w_0 = 0"));
+    let message = String::from_utf8_lossy(&out.stderr);
+    // The one key to change first, the contact weight found, and the masses allowed.
+    assert!(message.contains("mass.kind = \"standard\" does not go with scheme.kind = \"hybrid\""), "{message}");
+    assert!(message.contains("w_0 = 1") && message.contains("allowed: mod1 | mod2 | mod3"), "{message}");
 }

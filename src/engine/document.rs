@@ -417,7 +417,7 @@ mod tests {
         };
         let cd = refusal("[plate]\n[scheme]\nkind = \"central-difference\"\n[time]\ndt = 0.001\nend = 0.1\n").unwrap();
         assert!(cd.starts_with("scheme.kind = \"central-difference\""), "{cd}");
-        let mj = refusal("[plate]\n[scheme]\nkind = \"moreau-jean\"\n").unwrap();
+        let mj = refusal("[plate]\n[mass]\nkind = \"standard\"\n[scheme]\nkind = \"moreau-jean\"\n").unwrap();
         assert!(mj.starts_with("scheme.kind = \"moreau-jean\""), "{mj}");
         let t = refusal("[plate]\nforce = \"sin(t)\"\n").unwrap();
         assert!(t.starts_with("plate.force"), "{t}");

@@ -6,6 +6,7 @@
 
 use massredist::mass::MassKind;
 use massredist_study::paper::Experiment;
+use massredist_study::paper::replicate::settled;
 use massredist_study::paper::bodies::{Bench, BodyResult, COPIES, DROP_GAP, DROP_SPEED, compute_bodies, metrics};
 use std::sync::OnceLock;
 
@@ -154,8 +155,13 @@ fn every_printed_number_is_shared_by_the_five_runs() {
     let mut chatter_bands = 0;
     for r in results() {
         let name = r.case.name();
-        assert_eq!(r.perturbed.len(), COPIES, "{name}");
-        assert_eq!(r.runs().count(), 5, "{name}");
+        // Every copy ran, or only the first one did and the replicate rule found that no
+        // printed digit can move (the base and the first copy settled, `paper::replicate`).
+        let skipped = r.perturbed.len() == 1;
+        assert!(r.perturbed.len() == COPIES || skipped, "{name}: {} copies", r.perturbed.len());
+        if skipped {
+            assert!(settled(&r.metrics.printed(), &r.perturbed[0].printed()), "{name}: copies skipped, digits unsettled");
+        }
         let quantities: [(&str, fn(&massredist_study::paper::bodies::Metrics) -> Option<f64>); 5] = [
             ("drift", |m| Some(m.drift)),
             ("force TV", |m| Some(m.force_variation)),
