@@ -396,7 +396,7 @@ impl<A: SymMatrix> NitscheVerlet<A> {
             super::stable_limit::gershgorin(&system.stiffness, &inv_sqrt, &[term.c, term.j], extra)
         };
         let limit = if lam > 0.0 { 2.0 / lam.sqrt() } else { f64::INFINITY };
-        if dt > limit * (1.0 + super::stable_limit::REL_TOL) {
+        if super::stable_limit::refuses(dt, limit) {
             return Err(SchemeError::AboveStableLimit { scheme: Self::NAME, dt, limit, spring: Self::SPRING });
         }
         let mut s = Self {
