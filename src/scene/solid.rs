@@ -281,7 +281,12 @@ fn zero_initial(dim: usize, extent: [f64; 3]) -> Result<SolidInitial, SceneError
 fn check_body(spec: &SolidSpec, body: &BodySpec) -> Result<(), SceneError> {
     let mesh = spec.mesh()?;
     let contact = crate::solid::body::contact(&mesh, body)?;
-    check_contact_memory(contact.nodes.len())?;
+    let keys = if spec.mesh_file.is_some() {
+        "obstacle.contact, or solid.mesh"
+    } else {
+        "obstacle.contact, or solid.nx, solid.ny[, solid.nz]"
+    };
+    check_contact_memory(contact.nodes.len(), keys)?;
     let d = spec.dim;
     for e in &body.force {
         e.eval_at_nodes(mesh.points.iter().map(|p| [&p[..d], &[0.0][..]].concat())).map_err(SceneError::from)?;
@@ -354,7 +359,7 @@ fn file_mesh(t: &RawSolid, dim: usize, path: &std::path::Path) -> Result<Mesh, S
         }
     }
     mesh.check_fills_box().map_err(|e| bad(e.to_string()))?;
-    check_contact_memory((0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count())?;
+    check_contact_memory((0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count(), "its face x = 0 in solid.mesh")?;
     Ok(mesh)
 }
 
@@ -373,7 +378,7 @@ fn check_size(dim: usize, extent: [f64; 3], n: [usize; 3]) -> Result<(), SceneEr
         });
     }
     let contact = n[1..axes].iter().map(|&k| k + 1).product::<usize>();
-    check_contact_memory(contact)?;
+    check_contact_memory(contact, if dim == 2 { "solid.ny" } else { "solid.ny, solid.nz" })?;
     let h: Vec<f64> = (0..axes).map(|a| extent[a] / n[a] as f64).collect();
     let (lo, hi) = h.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
     if hi / lo > 1e6 {
@@ -399,6 +404,10 @@ impl SceneGeometry for SolidSpec {
     const COLUMN_LIST: &'static str = SOLID_SERIES_NAMES;
     const SIZE_KEYS: &'static str = "solid.nx, solid.ny[, solid.nz]";
     const VTU: bool = true;
+
+    fn size_keys(&self) -> &'static str {
+        if self.mesh_file.is_some() { "solid.mesh (a coarser mesh)" } else { keys_of(self.dim) }
+    }
 
     /// Free nodes (all but x = L) times the components, less the normal components a roller
     /// face removes.
