@@ -1,11 +1,12 @@
 """The FEniCSx engine: a plate or solid scene stepped by dolfinx and PETSc under MPI (issue 12),
 streaming every state to ``massredist``, which observes it (src/engine/).
 
-    mpirun -n N /usr/bin/python3 python/fenicsx_engine.py RESOLVED_SCENE DIR
+    mpirun -n N /usr/bin/python3 python/fenicsx_engine.py SCENE_JSON DIR
 
 started by ``massredist run SCENE --engine fenicsx --ranks N --out OUT`` (not by hand: the series,
-the summary and the divergence rule are massredist's). RESOLVED_SCENE is the
-``scene.resolved.toml`` it wrote into DIR, the temporary folder of OUT; the engine adds
+the summary and the divergence rule are massredist's). SCENE_JSON is the
+``scene.engine.json`` it wrote into DIR, the temporary folder of OUT (the validated scene with
+every value written out, src/engine/document.rs); the engine adds
 engine.json (ranks, solver, tolerances, timings, complementarity record) and fields.xdmf/.h5
 (ParaView) there. Rank 0's standard output carries the records (python/engine/stream.py), its
 standard input massredist's replies; everything else goes to standard error. Exit codes: 0,

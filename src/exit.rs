@@ -1,4 +1,4 @@
-//! The exit codes of the `massredist` command, in one place (README, "Exit codes").
+//! The exit codes of the `massredist` command, in one place (`docs/scenes.md`, "Exit codes").
 
 /// Success (`main` returns `ExitCode::SUCCESS`, the same value).
 #[allow(dead_code)]

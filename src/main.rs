@@ -2,6 +2,34 @@
 
 mod exit;
 
+// The study (study/src: the paper's experiments, the benchmarks, the cross-checks, the charts),
+// compiled into this binary from its own files. It is also the library `massredist_study`, but
+// this binary cannot depend on it: that crate depends on this package's library, and Cargo
+// refuses the package cycle. The modules name each other `crate::paper`, `crate::bench`, … so
+// both builds resolve alike; what only the study's tests use is dead code here.
+#[allow(dead_code, unused_imports)]
+#[path = "../study/src/bench/mod.rs"]
+mod bench;
+#[cfg(feature = "python")]
+#[allow(dead_code, unused_imports)]
+#[path = "../study/src/bridge.rs"]
+mod bridge;
+#[cfg(feature = "python")]
+#[allow(dead_code, unused_imports)]
+#[path = "../study/src/crosscheck.rs"]
+mod crosscheck;
+#[allow(dead_code, unused_imports)]
+#[path = "../study/src/crosscheck_trajectory.rs"]
+mod crosscheck_trajectory;
+#[allow(dead_code, unused_imports)]
+#[path = "../study/src/paper/mod.rs"]
+mod paper;
+#[allow(dead_code, unused_imports)]
+#[path = "../study/src/plot.rs"]
+mod plot;
+#[path = "../study/src/repo.rs"]
+mod repo;
+
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use massredist::driver::{Observer, Sample};
@@ -45,9 +73,11 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
-    /// Run every numerical experiment of the paper and write figures, CSVs and report.md into DIR.
+    /// Run every numerical experiment of the paper and write figures, CSVs and report.md into DIR
+    /// (by default docs/reproduce, the folder the documentation links to; run from the repository
+    /// root it is replaced in place, which the folder's marker allows: it lists what reproduce wrote).
     Reproduce {
-        #[arg(long, default_value = "reproduce")]
+        #[arg(long, default_value = "docs/reproduce")]
         out: PathBuf,
         /// Shorter runs (long run T = 30, a small 2D sweep): every output, in less time.
         #[arg(long)]
@@ -70,7 +100,7 @@ enum Command {
         #[command(flatten)]
         force: Force,
         /// Only draw the engine-scaling figure (PNG and SVG next to this table, as written by
-        /// python/bench_engine.py), then exit.
+        /// python/scripts/bench_engine.py), then exit.
         #[arg(long, value_name = "CSV")]
         scaling_figure: Option<PathBuf>,
         /// Only the comparison of the method classes (issue 20: src/paper/methods.rs) into DIR.
@@ -131,7 +161,7 @@ fn main() -> ExitCode {
         eprintln!("warning: no signal handler ({e}); an interrupted run leaves its temporary folder");
     }
     match cli.command {
-        Command::Bench { scaling_figure: Some(csv), .. } => match massredist::bench::scaling::scaling_figure(&csv) {
+        Command::Bench { scaling_figure: Some(csv), .. } => match bench::scaling::scaling_figure(&csv) {
             Ok(paths) => {
                 paths.iter().for_each(|p| eprintln!("wrote {}", p.display()));
                 ExitCode::SUCCESS
@@ -143,15 +173,15 @@ fn main() -> ExitCode {
                 Ok(d) => d,
                 Err(code) => return code,
             };
-            let report = massredist::bench::methods::run();
-            if let Err(e) = massredist::bench::methods::write(dir, &report) {
+            let report = bench::methods::run();
+            if let Err(e) = bench::methods::write(dir, &report) {
                 return fail(&out, e.to_string(), exit::FAILURE);
             }
             eprintln!("{}: {} runs in {:.1} s; see report.md", out.display(), report.results.len(), report.seconds);
             ExitCode::SUCCESS
         }
         Command::Bench { explicit_scaling: Some(csv), quick, .. } => {
-            match massredist::bench::explicit_scaling::run(&csv, quick, 21) {
+            match bench::explicit_scaling::run(&csv, quick, 21) {
                 Ok(paths) => {
                     paths.iter().for_each(|p| eprintln!("wrote {}", p.display()));
                     ExitCode::SUCCESS
@@ -164,8 +194,8 @@ fn main() -> ExitCode {
                 Ok(d) => d,
                 Err(code) => return code,
             };
-            let report = massredist::bench::run(quick);
-            if let Err(e) = massredist::bench::write(dir, &report) {
+            let report = bench::run(quick);
+            if let Err(e) = bench::write(dir, &report) {
                 return fail(&out, e.to_string(), exit::FAILURE);
             }
             eprintln!("{}: {} runs in {:.1} s; see report.md", out.display(), report.results.len(), report.seconds);
@@ -237,12 +267,12 @@ fn prepare(out: &Path, force: Force, inputs: &[PathBuf]) -> Result<OutputDir, Ex
 
 /// `reproduce`: every experiment of the paper and the rebounding bar into `out`.
 fn reproduce(out: OutputDir, quick: bool) -> ExitCode {
-    let config = if quick { massredist::paper::Config::quick() } else { massredist::paper::Config::paper() };
+    let config = if quick { paper::Config::quick() } else { paper::Config::paper() };
     let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
     bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} {msg} {elapsed_precise}").unwrap());
     let started = std::time::Instant::now();
     let path = out.path().to_path_buf();
-    let result = massredist::paper::reproduce(out, &config, &bar);
+    let result = paper::reproduce(out, &config, &bar);
     bar.finish_and_clear();
     match result {
         Ok(o) => {
@@ -336,25 +366,25 @@ fn status(out: &Path, summary: &Summary) -> ExitCode {
 
 #[cfg(feature = "python")]
 fn crosscheck(json: Option<PathBuf>) -> ExitCode {
-    let report = match massredist::crosscheck::matrix_cases().and_then(|c| massredist::crosscheck::run(None, &c)) {
+    let report = match crosscheck::matrix_cases().and_then(|c| crosscheck::run(None, &c)) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: crosscheck: {e}");
             return ExitCode::from(exit::FAILURE);
         }
     };
-    if let Err(code) = print_out(&massredist::crosscheck::table(&report)) {
+    if let Err(code) = print_out(&crosscheck::table(&report)) {
         return code;
     }
     // Trajectory cases: plate and solid scenes stepped by this binary and by the FEniCSx engine.
     let tmp = std::env::temp_dir().join(format!("massredist-crosscheck-{}", std::process::id()));
     let exe = std::env::current_exe().unwrap_or_else(|_| PathBuf::from("massredist"));
     let traj = std::fs::create_dir_all(&tmp).map_or_else(
-        |e| vec![massredist::crosscheck_trajectory::failed_setup(&tmp, &e)],
-        |()| massredist::crosscheck_trajectory::run_all(&exe, &tmp),
+        |e| vec![crosscheck_trajectory::failed_setup(&tmp, &e)],
+        |()| crosscheck_trajectory::run_all(&exe, &tmp),
     );
     let _ = std::fs::remove_dir_all(&tmp);
-    if let Err(code) = print_out(&massredist::crosscheck_trajectory::table(&traj)) {
+    if let Err(code) = print_out(&crosscheck_trajectory::table(&traj)) {
         return code;
     }
     let failed = report.cases.iter().filter(|c| !c.pass).count() + traj.iter().filter(|c| !c.pass).count();

@@ -2,9 +2,10 @@
 //! (`summary.json`), VTU frames and an energy recorder. Their cadence is kept by the driver
 //! ([`crate::driver::Observer::every`]).
 
+pub use crate::column::Column;
 use crate::driver::{Divergence, Needs, Observer, Sample};
 use crate::exact::Exact;
-use crate::problem::{BodyStats, Geometry, GeometryView, Problem};
+use crate::problem::{Geometry, GeometryView, OwnSummary, Problem};
 use serde::Serialize;
 
 /// Records the requested columns every `every` steps (t_0 included), in memory: for library
@@ -50,33 +51,50 @@ pub fn series_needs(columns: &[Column]) -> Needs {
     Needs { energy: columns.contains(&Column::Energy), l2: columns.contains(&Column::L2Error), y_variation: false }
 }
 
-/// Appends the series row of a sample to `row`: t, then the value of each column (one line of
-/// `series.csv`).
-pub fn push_series_row(columns: &[Column], s: &Sample, row: &mut Vec<f64>) {
-    row.push(s.state.t);
-    // A body's reports, once per row (None for the other geometries).
-    let body = match columns.iter().any(|c| c.is_body() || *c == Column::ContactForce) {
-        true => s.geometry.body_stats(s.state.u, s.state.v, s.state.lambda),
-        false => None,
-    };
-    row.extend(columns.iter().map(|&c| series_value(c, s, body.as_ref())));
+/// The most columns a geometry computes itself ([`GeometryView::own_columns`]).
+pub const MAX_OWN_COLUMNS: usize = 16;
+
+/// The values of the geometry's own columns at a sample, into `out` (None if the geometry has
+/// none, or none of them is `wanted`); computed once per row or state.
+fn own_values<'o>(
+    s: &Sample,
+    wanted: impl Fn(&[Column]) -> bool,
+    out: &'o mut [f64; MAX_OWN_COLUMNS],
+) -> Option<&'o [f64]> {
+    let own = s.geometry.own_columns();
+    if own.is_empty() || !wanted(own) {
+        return None;
+    }
+    let out = &mut out[..own.len()];
+    s.geometry.own_values(s.state.u, s.state.v, s.state.lambda, out);
+    Some(out)
 }
 
-/// The value of series column `c` at a sample (one CSV cell of `series.csv`); a body's
-/// `contact_force` is its total reaction `Σ R_i ≥ 0`.
-fn series_value(c: Column, s: &Sample, body: Option<&BodyStats>) -> f64 {
+/// Appends the series row of a sample to `row`: t, then the value of each column (one line of
+/// `series.csv`). A column the geometry computes itself takes its value (a body's
+/// `contact_force` is its total reaction `Σ R_i ≥ 0`); one nobody computes is NaN.
+pub fn push_series_row(columns: &[Column], s: &Sample, row: &mut Vec<f64>) {
+    row.push(s.state.t);
+    let mut buffer = [0.0; MAX_OWN_COLUMNS];
+    let values = own_values(s, |own| columns.iter().any(|c| own.contains(c)), &mut buffer);
+    let own = s.geometry.own_columns();
+    row.extend(columns.iter().map(|&c| {
+        let mine = values.and_then(|v| own.iter().position(|&o| o == c).map(|k| v[k]));
+        mine.unwrap_or_else(|| series_value(c, s))
+    }));
+}
+
+/// The value of series column `c` at a sample as the driver computes it for every geometry
+/// (one CSV cell of `series.csv`; NaN for a geometry's own columns).
+fn series_value(c: Column, s: &Sample) -> f64 {
     let t = s.state.t;
-    let of = |f: fn(&BodyStats) -> f64| body.map_or(f64::NAN, f);
     match c {
         Column::U0 => s.u0,
         Column::U1 => s.state.u[1],
         Column::UMean => s.u_mean,
         Column::Lambda => s.pressure,
-        Column::ContactForce => body.map_or(s.contact_force, |b| b.contact_force),
-        Column::ActiveNodes => of(|b| b.active as f64),
-        Column::MinDistance => of(|b| b.min_distance),
-        Column::Momentum(k) => body.map_or(f64::NAN, |b| b.momentum[k as usize]),
-        Column::MeanU(k) => body.map_or(f64::NAN, |b| b.mean_u[k as usize]),
+        Column::ContactForce => s.contact_force,
+        Column::ActiveNodes | Column::MinDistance | Column::Momentum(_) | Column::MeanU(_) => f64::NAN,
         Column::Energy => s.energy,
         Column::L2Error => s.l2_error,
         Column::ExactU0 => s.exact.map_or(f64::NAN, |e| e.u0(t)),
@@ -172,42 +190,36 @@ pub struct Summary {
     /// Largest pivot count of one step's contact solves.
     pub max_pivots: usize,
     pub final_u_mean: f64,
-    /// Σ_c λ_c at the last state (a body: its total reaction Σ_i R_i ≥ 0).
+    /// Σ_c λ_c at the last state (a geometry that computes `contact_force` itself: its value,
+    /// a body's total reaction Σ_i R_i ≥ 0).
     pub final_contact_force: f64,
     pub wall_seconds: f64,
-    /// A body's keys (absent for the other geometries).
+    /// The keys the geometry adds ([`GeometryView::own_summary`]; a body's:
+    /// `crate::solid::report`), after the core's; empty for most geometries.
     #[serde(flatten)]
-    pub body: Option<BodySummary>,
+    pub own: serde_json::Map<String, serde_json::Value>,
 }
 
-/// The summary keys of a body against an obstacle ([`BodyStats`] over the states seen).
-#[derive(Debug, Clone, Serialize)]
-pub struct BodySummary {
-    /// max over t_n of Σ_i R_i.
-    pub max_contact_force: f64,
-    /// min over t_n and contact nodes of d_i (0 for exact contact once touching).
-    pub min_distance: f64,
-    /// Nodes with d_i ≤ 0 at the last state.
-    pub final_active_nodes: usize,
-    /// P_k at the last state (dim entries).
-    pub final_momentum: Vec<f64>,
-    /// ū_k at the last state (dim entries).
-    pub final_mean_displacement: Vec<f64>,
+impl Summary {
+    /// The number under a key the geometry added (None if absent or not a number).
+    pub fn own_number(&self, key: &str) -> Option<f64> {
+        self.own.get(key).and_then(serde_json::Value::as_f64)
+    }
 }
 
 /// `max(a, b)`, NaN if either is: a summary's maximum never skips a NaN state or comparison
 /// (`f64::max` returns the other operand; issue 32, E5).
-fn max_nan(a: f64, b: f64) -> f64 {
+pub(crate) fn max_nan(a: f64, b: f64) -> f64 {
     if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) }
 }
 
 /// `min(a, b)`, NaN if either is ([`max_nan`]).
-fn min_nan(a: f64, b: f64) -> f64 {
+pub(crate) fn min_nan(a: f64, b: f64) -> f64 {
     if a.is_nan() || b.is_nan() { f64::NAN } else { a.min(b) }
 }
 
 /// Accumulates a [`Summary`] in the step loop (O(1) memory).
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct SummaryObserver {
     steps: usize,
     h: f64,
@@ -243,9 +255,8 @@ pub struct SummaryObserver {
     seen: bool,
     divergence: Option<Divergence>,
     started: std::time::Instant,
-    dim: usize,
-    /// A body's max Σ R_i, min d_i, and its last stats.
-    body: Option<(f64, f64, BodyStats)>,
+    /// The geometry's own summary keys ([`GeometryView::own_summary`]).
+    own: Option<Box<dyn OwnSummary>>,
 }
 
 impl SummaryObserver {
@@ -293,8 +304,7 @@ impl SummaryObserver {
             seen: false,
             divergence: None,
             started: std::time::Instant::now(),
-            dim: g.dim(),
-            body: None,
+            own: g.own_summary(),
         }
     }
 
@@ -333,20 +343,8 @@ impl SummaryObserver {
             final_u_mean: self.final_u_mean,
             final_contact_force: self.final_force,
             wall_seconds: self.started.elapsed().as_secs_f64(),
-            body: self.body.map(|(max_contact_force, min_distance, last)| BodySummary {
-                max_contact_force,
-                min_distance,
-                final_active_nodes: last.active,
-                final_momentum: last.momentum[..self.dim].to_vec(),
-                final_mean_displacement: last.mean_u[..self.dim].to_vec(),
-            }),
+            own: self.own.as_ref().map(|o| o.keys()).unwrap_or_default(),
         }
-    }
-
-    /// Accumulates a body's keys (no allocation: the last state's stats are kept).
-    fn body(&mut self, b: &BodyStats) {
-        let (max_force, min_distance) = self.body.map_or((f64::NEG_INFINITY, f64::INFINITY), |(m, d, _)| (m, d));
-        self.body = Some((max_nan(max_force, b.contact_force), min_nan(min_distance, b.min_distance), *b));
     }
 
     fn energy(&mut self, n: usize, e: f64) {
@@ -392,9 +390,16 @@ impl Observer for SummaryObserver {
         self.max_pivots = self.max_pivots.max(s.pivots);
         self.final_u_mean = s.u_mean;
         self.final_force = s.contact_force;
-        if let Some(b) = s.geometry.body_stats(st.u, st.v, st.lambda) {
-            self.final_force = b.contact_force;
-            self.body(&b);
+        // The geometry's own values: its `contact_force` is the final one, its keys accumulate.
+        let mut buffer = [0.0; MAX_OWN_COLUMNS];
+        if let Some(values) = own_values(s, |_| true, &mut buffer) {
+            let own = s.geometry.own_columns();
+            if let Some(k) = own.iter().position(|&c| c == Column::ContactForce) {
+                self.final_force = values[k];
+            }
+            if let Some(keys) = self.own.as_mut() {
+                keys.observe(values);
+            }
         }
         if self.first_impact.is_none() {
             if touching {
@@ -477,115 +482,5 @@ impl Observer for EnergyRecorder {
 
     fn observe(&mut self, s: &Sample) {
         self.energy.push(s.energy);
-    }
-}
-
-/// A per-step diagnostic that can be recorded in `series.csv`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Column {
-    /// Contact-node displacement u_0ⁿ (plates: the contact node at the lowest y).
-    U0,
-    /// Displacement of node 1 (bars only).
-    U1,
-    /// Mean of u on Γ_C (plates).
-    UMean,
-    /// Contact force λⁿ (plates: the mean pressure Σ_c λ_c / |Γ_C|, the 1D λ for y-independent
-    /// fields).
-    Lambda,
-    /// Total contact force Σ_c λ_c (plates).
-    ContactForce,
-    /// Discrete energy ½VᵀMV + ½UᵀSU − UᵀF.
-    Energy,
-    /// Exact ‖u_h(t_n) − u(t_n)‖_{L²(0,L)}.
-    L2Error,
-    /// Exact u(0, t_n).
-    ExactU0,
-    /// Exact λ(t_n).
-    ExactLambda,
-    /// Principal pivots of the step's contact solves (plates).
-    Pivots,
-    /// A body's nodes in contact (`d_i ≤ 0`).
-    ActiveNodes,
-    /// A body's `min_i d_i` over its contact nodes.
-    MinDistance,
-    /// A body's momentum component k (0, 1, 2: x, y, z).
-    Momentum(u8),
-    /// A body's mean displacement component k.
-    MeanU(u8),
-}
-
-impl Column {
-    /// The columns of a bar scene.
-    pub const BAR: [Column; 7] =
-        [Column::U0, Column::U1, Column::Lambda, Column::Energy, Column::L2Error, Column::ExactU0, Column::ExactLambda];
-    /// The columns of a plate scene.
-    pub const PLATE: [Column; 9] = [
-        Column::U0,
-        Column::UMean,
-        Column::Lambda,
-        Column::ContactForce,
-        Column::Energy,
-        Column::L2Error,
-        Column::ExactU0,
-        Column::ExactLambda,
-        Column::Pivots,
-    ];
-
-    /// The columns only a body against an obstacle has.
-    pub const BODY: [Column; 8] = [
-        Column::ActiveNodes,
-        Column::MinDistance,
-        Column::Momentum(0),
-        Column::Momentum(1),
-        Column::Momentum(2),
-        Column::MeanU(0),
-        Column::MeanU(1),
-        Column::MeanU(2),
-    ];
-    /// The columns of a solid scene: a plate's, then a body's.
-    pub const SOLID: [Column; 17] = {
-        let mut all = [Column::U0; 17];
-        let mut k = 0;
-        while k < 17 {
-            all[k] = if k < 9 { Column::PLATE[k] } else { Column::BODY[k - 9] };
-            k += 1;
-        }
-        all
-    };
-
-    /// Whether only a body has this column.
-    pub fn is_body(self) -> bool {
-        Column::BODY.contains(&self)
-    }
-
-    /// The vector component of a body column (None for the others).
-    pub fn component(self) -> Option<usize> {
-        match self {
-            Column::Momentum(k) | Column::MeanU(k) => Some(k as usize),
-            _ => None,
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Column::U0 => "u0",
-            Column::U1 => "u1",
-            Column::UMean => "u_mean",
-            Column::Lambda => "lambda",
-            Column::ContactForce => "contact_force",
-            Column::Energy => "energy",
-            Column::L2Error => "l2_error",
-            Column::ExactU0 => "exact_u0",
-            Column::ExactLambda => "exact_lambda",
-            Column::Pivots => "pivots",
-            Column::ActiveNodes => "active_nodes",
-            Column::MinDistance => "min_distance",
-            Column::Momentum(k) => ["momentum_x", "momentum_y", "momentum_z"][k.min(2) as usize],
-            Column::MeanU(k) => ["mean_u_x", "mean_u_y", "mean_u_z"][k.min(2) as usize],
-        }
-    }
-
-    pub fn needs_exact(self) -> bool {
-        matches!(self, Column::L2Error | Column::ExactU0 | Column::ExactLambda)
     }
 }

@@ -4,14 +4,19 @@
 //! A geometry ([`Geometry`]) is a mesh with its assembled [`ContactSystem`] and what reports
 //! need of it (contact means, exact L² norms, nodal values). Each geometry implements it in its
 //! own folder (`bar/geometry.rs` over a tridiagonal back-end, `plate/geometry.rs` and
-//! `solid/geometry.rs` over a sparse one); this module names none of them. Schemes are generic;
-//! the bar-only schemes (Paoli–Schatzman and the reduced Newmark formulation) are built by
-//! [`Geometry::bar_only_scheme`], which every geometry but the bar leaves at its refusal.
+//! `solid/geometry.rs` over a sparse one); this module names none of them. Schemes are generic
+//! over the back-end and the contact law; what a geometry offers them ([`Geometry::one_node`],
+//! [`Geometry::lumped_mass`]) was checked against what they need when the scene was validated
+//! (`crate::scene`'s compatibility rule), so building a scheme refuses nothing again.
 
+use crate::column::Column;
 use crate::contact::Backend;
 use crate::contact::law::ContactLaw;
 use crate::exact::Exact;
-use crate::schemes::{BackwardEuler, Formulation, Hybrid, Newmark, Scheme, SchemeError, SchemeSpec};
+use crate::schemes::{
+    BackwardEuler, Beta, CentralDifference, Formulation, Gamma, Hybrid, MoreauJean, Newmark, NewmarkReduced,
+    OneNodeContact, PaoliSchatzman, Scheme, SchemeError, SchemeSpec,
+};
 use crate::system::ContactSystem;
 
 /// Whether every scheme built from now on starts from perturbed initial data (see
@@ -92,27 +97,29 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
     /// Values at all mesh nodes (0 on the Dirichlet boundary) from values on the unknowns:
     /// `n_nodes() · components()` of them, interleaved `node · components() + component`.
     fn nodal_values(&self, u: &[f64], out: &mut [f64]);
-    /// What a body against an obstacle reports of a state ([`BodyStats`]); None for the
-    /// geometries that are not such bodies (their reports stay as they are).
-    fn body_stats(&self, _u: &[f64], _v: &[f64], _lambda: &[f64]) -> Option<BodyStats> {
+    /// The series columns this geometry computes itself from a state, beyond what the driver
+    /// computes for every geometry (at most `crate::observe::MAX_OWN_COLUMNS`); a column the
+    /// driver computes too (`contact_force`) then takes the geometry's value. Empty by default.
+    fn own_columns(&self) -> &[Column] {
+        &[]
+    }
+    /// The values of [`GeometryView::own_columns`] at a state (u, v, λ), in that order.
+    fn own_values(&self, _u: &[f64], _v: &[f64], _lambda: &[f64], _out: &mut [f64]) {}
+    /// A fresh accumulator of the keys this geometry adds to `summary.json` from the values of
+    /// its own columns over a run (None: it adds none).
+    fn own_summary(&self) -> Option<Box<dyn OwnSummary>> {
         None
     }
 }
 
-/// The reports of a body against an obstacle at one state (issue 19): with `R_i = −λ_i ≥ 0`
-/// the reaction of contact node i and `d_i = u_n,i + g_i ≥ 0` its distance to the obstacle.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BodyStats {
-    /// `Σ_i R_i`.
-    pub contact_force: f64,
-    /// The nodes in contact, `d_i ≤ 0`.
-    pub active: usize,
-    /// `min_i d_i`.
-    pub min_distance: f64,
-    /// `P_k = 1ᵀ M V_k` (weighted mass, all nodes; entries beyond the dimension 0).
-    pub momentum: [f64; 3],
-    /// `ū_k = 1ᵀ M_std U_k / |Ω|` (unweighted mass).
-    pub mean_u: [f64; 3],
+/// The keys a geometry adds to `summary.json` ([`GeometryView::own_summary`]), accumulated
+/// from the values of its own columns at each state shown.
+pub trait OwnSummary: std::fmt::Debug + Send {
+    /// Takes a state's values of the geometry's own columns ([`GeometryView::own_columns`]
+    /// order).
+    fn observe(&mut self, values: &[f64]);
+    /// The keys over the states taken (none if no state was taken).
+    fn keys(&self) -> serde_json::Map<String, serde_json::Value>;
 }
 
 /// A geometry with its contact system over a linear-algebra back-end.
@@ -120,17 +127,10 @@ pub trait Geometry: GeometryView {
     type Matrix: Backend;
     fn system(&self) -> &ContactSystem<Self::Matrix>;
 
-    /// A bar-only scheme on this geometry ([`SchemeSpec::bar_only`] says which schemes are
-    /// bar-only, and why); every geometry but the bar refuses them with that reason.
-    fn bar_only_scheme(
-        &self,
-        spec: &SchemeSpec,
-        _dt: f64,
-        _u0: Vec<f64>,
-        _v0: Vec<f64>,
-    ) -> Result<Box<dyn Scheme>, SchemeError> {
-        let (key, reason) = spec.bar_only().unwrap_or(("scheme.kind", "not a bar-only scheme"));
-        Err(SchemeError::Unsupported { key, geometry: self.name(), reason })
+    /// The one-node tridiagonal contact system of a bar (Paoli–Schatzman and the reduced
+    /// formulation need it); None for the other geometries.
+    fn one_node(&self) -> Option<OneNodeContact<'_>> {
+        None
     }
 
     /// The lumped mass `M_L` on the unknowns: the row sums of the weighted mass over all nodes,
@@ -188,15 +188,6 @@ pub struct Problem<G> {
 }
 
 impl<G: Geometry> Problem<G> {
-    /// The geometry as the method-class builder takes it ([`crate::schemes::methods`]).
-    fn parts(&self) -> crate::schemes::methods::GeometryParts<'_, G::Matrix, impl FnOnce() -> Option<Vec<f64>> + '_> {
-        crate::schemes::methods::GeometryParts {
-            system: self.system.system(),
-            name: self.system.name(),
-            lumped_mass: || self.system.lumped_mass(),
-        }
-    }
-
     /// Builds the scheme of a scene on this problem with exact contact (factors its matrices
     /// once).
     pub fn scheme(&self, spec: &SchemeSpec, dt: f64) -> Result<Box<dyn Scheme>, SchemeError> {
@@ -210,24 +201,41 @@ impl<G: Geometry> Problem<G> {
             audit_perturb(&mut u, &mut v);
         }
         let s = self.system.system();
+        let geometry = self.system.name();
+        // What the scene's compatibility rule has checked; guards for callers of the library.
+        debug_assert!(
+            law.needs().treatments.contains(&spec.needs().contact),
+            "{} with contact.method = {}",
+            spec.name(),
+            law.method()
+        );
+        let needs = |reason| SchemeError::Unsupported { key: "scheme.kind", geometry, reason };
+        let one_node = || self.system.one_node().ok_or_else(|| needs("it needs a bar's one-node system"));
         Ok(match *spec {
-            // The method classes and contact laws of issue 20: one builder.
-            SchemeSpec::CentralDifference | SchemeSpec::MoreauJean { .. } => {
-                crate::schemes::methods::build(self.parts(), spec, law, dt, u, v)?
-            }
-            _ if *law != ContactLaw::Exact => crate::schemes::methods::build(self.parts(), spec, law, dt, u, v)?,
             SchemeSpec::CrankNicolson { formulation: Formulation::Full } => {
-                Box::new(Newmark::crank_nicolson(s, dt, u, v)?)
+                Box::new(Newmark::with_law(s, law, Beta::DEFAULT, Gamma::DEFAULT, dt, u, v)?)
             }
             SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Full } => {
-                Box::new(Newmark::new(s, beta, gamma, dt, u, v)?)
+                Box::new(Newmark::with_law(s, law, beta, gamma, dt, u, v)?)
             }
-            SchemeSpec::BackwardEuler => Box::new(BackwardEuler::new(s, dt, u, v)?),
+            SchemeSpec::BackwardEuler => Box::new(BackwardEuler::with_law(s, law, dt, u, v)?),
+            SchemeSpec::CentralDifference => {
+                let lumped = self.system.lumped_mass().ok_or_else(|| needs("it needs a lumped mass"))?;
+                Box::new(CentralDifference::new(s, lumped, law, dt, u, v)?)
+            }
             SchemeSpec::Hybrid => Box::new(Hybrid::new(s, dt, u, v)?),
-            // Bar-only schemes (module docs of `schemes`).
-            SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
-            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. }
-            | SchemeSpec::PaoliSchatzman { .. } => self.system.bar_only_scheme(spec, dt, u, v)?,
+            SchemeSpec::MoreauJean { theta, restitution } => {
+                Box::new(MoreauJean::new(s, theta, restitution, dt, u, v)?)
+            }
+            SchemeSpec::PaoliSchatzman { beta, restitution } => {
+                Box::new(PaoliSchatzman::new(one_node()?, beta, restitution, dt, u, v)?)
+            }
+            SchemeSpec::CrankNicolson { formulation: Formulation::Reduced } => {
+                Box::new(NewmarkReduced::new(one_node()?, Beta::DEFAULT, Gamma::DEFAULT, dt, u, v)?)
+            }
+            SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Reduced } => {
+                Box::new(NewmarkReduced::new(one_node()?, beta, gamma, dt, u, v)?)
+            }
         })
     }
 

@@ -52,8 +52,15 @@ fn mass_and_stiffness_match_the_integrals() {
                     // Entries are O(h·w) and O(1/h); a few ulps of that scale (the quadrature
                     // sums up to 2×3 terms).
                     let (tm, ts) = (16.0 * f64::EPSILON * l * 2.0, 16.0 * f64::EPSILON / bar.h());
-                    assert!((sys.mass.get(i, j) - mr).abs() <= tm, "{} M[{i}][{j}]", kind.name());
-                    assert!((sys.stiffness.get(i, j) - sr).abs() <= ts, "S[{i}][{j}]");
+                    assert!(
+                        approx::relative_eq!(sys.mass.get(i, j), mr, epsilon = tm, max_relative = 0.0),
+                        "{} M[{i}][{j}]",
+                        kind.name()
+                    );
+                    assert!(
+                        approx::relative_eq!(sys.stiffness.get(i, j), sr, epsilon = ts, max_relative = 0.0),
+                        "S[{i}][{j}]"
+                    );
                     assert_eq!(sys.mass.get(i, j), sys.mass.get(j, i));
                 }
             }
@@ -68,10 +75,14 @@ fn total_mass_is_preserved_by_mod2_and_mod3_and_reduced_by_h_for_mod1() {
         let total = |k: MassKind| BarSystem::new(bar, &k, 0.0).unwrap().total_mass();
         // Sum of ~3m entries of size h: rounding ≤ 3m·ε·L.
         let tol = 4.0 * m as f64 * f64::EPSILON * l;
-        assert!((total(MassKind::Standard) - l).abs() <= tol);
-        assert!((total(MassKind::Mod2) - l).abs() <= tol, "mod2 {}", total(MassKind::Mod2));
-        assert!((total(MassKind::Mod3) - l).abs() <= tol);
-        assert!((total(MassKind::Mod1) - (l - bar.h())).abs() <= tol);
+        approx::assert_relative_eq!(total(MassKind::Standard), l, epsilon = tol, max_relative = 0.0);
+        assert!(
+            approx::relative_eq!(total(MassKind::Mod2), l, epsilon = tol, max_relative = 0.0),
+            "mod2 {}",
+            total(MassKind::Mod2)
+        );
+        approx::assert_relative_eq!(total(MassKind::Mod3), l, epsilon = tol, max_relative = 0.0);
+        approx::assert_relative_eq!(total(MassKind::Mod1), l - bar.h(), epsilon = tol, max_relative = 0.0);
     }
 }
 
@@ -83,9 +94,9 @@ fn stiffness_annihilates_constants_away_from_the_dirichlet_node() {
     let mut y = vec![0.0; 9];
     sys.stiffness.mul_into(&[1.0; 9], &mut y);
     for v in &y[..8] {
-        assert!(v.abs() <= 4.0 * f64::EPSILON / bar.h());
+        approx::assert_relative_eq!(*v, 0.0, epsilon = 4.0 * f64::EPSILON / bar.h(), max_relative = 0.0);
     }
-    assert!((y[8] - 1.0 / bar.h()).abs() <= 4.0 * f64::EPSILON / bar.h());
+    approx::assert_relative_eq!(y[8], 1.0 / bar.h(), epsilon = 4.0 * f64::EPSILON / bar.h(), max_relative = 0.0);
 }
 
 #[test]
@@ -96,7 +107,7 @@ fn load_vector_integrates_the_weighted_force() {
     let bs = BarSystem::new(bar, &MassKind::Mod3, f).unwrap();
     let sys = &bs.system;
     let total: f64 = sys.load.iter().sum::<f64>() + f * bar.h() / 2.0 * bs.weights[7];
-    assert!((total - f * bs.total_mass()).abs() <= 32.0 * f64::EPSILON);
+    approx::assert_relative_eq!(total, f * bs.total_mass(), epsilon = 32.0 * f64::EPSILON, max_relative = 0.0);
     assert_eq!(sys.load[0], 0.0, "f_0 = 0 when w_0 = 0 (paper §3)");
 }
 
@@ -121,7 +132,11 @@ fn exact_l2_error_of_the_interpolant_matches_fine_quadrature() {
             norm += uh * uh / n as f64;
         }
         // Midpoint rule on kinked integrands: error O(1/n²)·|e'|² ≈ 1e-9 here.
-        assert!((exact - s.sqrt()).abs() < 1e-7, "t={t}: {exact} vs {}", s.sqrt());
-        assert!((l2_norm_p1(&bar, &u) - norm.sqrt()).abs() < 1e-7);
+        assert!(
+            approx::relative_eq!(exact, s.sqrt(), epsilon = 1e-7, max_relative = 0.0),
+            "t={t}: {exact} vs {}",
+            s.sqrt()
+        );
+        approx::assert_relative_eq!(l2_norm_p1(&bar, &u), norm.sqrt(), epsilon = 1e-7, max_relative = 0.0);
     }
 }

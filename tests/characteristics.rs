@@ -51,15 +51,30 @@ fn reproduces_the_paper_benchmark_for_three_periods() {
             let tau = (t / l).rem_euclid(3.0);
             let at_switch = [0.0, 1.0, 2.0, 3.0].iter().any(|s| (tau - s).abs() < 1e-9);
             for x in grid(40, 0.0, l) {
-                assert!((c.u(x, t) - e.u(x, t)).abs() <= tol_u, "u L={l} x={x} t={t}: {} vs {}", c.u(x, t), e.u(x, t));
+                assert!(
+                    approx::relative_eq!(c.u(x, t), e.u(x, t), epsilon = tol_u, max_relative = 0.0),
+                    "u L={l} x={x} t={t}: {} vs {}",
+                    c.u(x, t),
+                    e.u(x, t)
+                );
                 if !at_switch && !near_reference_kink(&e, x, t, 1e-9 * l) {
-                    assert!((c.u_t(x, t) - e.u_t(x, t)).abs() <= tol_d, "u_t L={l} x={x} t={t}");
-                    assert!((c.u_x(x, t) - e.u_x(x, t)).abs() <= tol_d, "u_x L={l} x={x} t={t}");
+                    assert!(
+                        approx::relative_eq!(c.u_t(x, t), e.u_t(x, t), epsilon = tol_d, max_relative = 0.0),
+                        "u_t L={l} x={x} t={t}"
+                    );
+                    assert!(
+                        approx::relative_eq!(c.u_x(x, t), e.u_x(x, t), epsilon = tol_d, max_relative = 0.0),
+                        "u_x L={l} x={x} t={t}"
+                    );
                 }
             }
-            assert!((c.u0(t) - e.u0(t)).abs() <= tol_u, "u0 L={l} t={t}");
+            assert!(approx::relative_eq!(c.u0(t), e.u0(t), epsilon = tol_u, max_relative = 0.0), "u0 L={l} t={t}");
             if !at_switch {
-                assert!((c.lambda(t) - e.lambda(t)).abs() <= tol_d, "λ L={l} t={t}: {}", c.lambda(t));
+                assert!(
+                    approx::relative_eq!(c.lambda(t), e.lambda(t), epsilon = tol_d, max_relative = 0.0),
+                    "λ L={l} t={t}: {}",
+                    c.lambda(t)
+                );
             }
             // Kinks: ours are the reference's candidates where its slope really jumps.
             c.kinks(t, &mut ours);
@@ -81,7 +96,8 @@ fn reproduces_the_paper_benchmark_for_three_periods() {
         let got = c.contact_intervals();
         assert_eq!(got.len(), want.len(), "{got:?}");
         for (g, w) in got.iter().zip(&want) {
-            assert!((g.0 - w.0).abs() <= 4.0 * EPS * w.0 && (g.1 - w.1).abs() <= 4.0 * EPS * w.1, "{got:?}");
+            assert!(approx::relative_eq!(g.0, w.0, epsilon = 4.0 * EPS * w.0, max_relative = 0.0), "{got:?}");
+            assert!(approx::relative_eq!(g.1, w.1, epsilon = 4.0 * EPS * w.1, max_relative = 0.0), "{got:?}");
         }
     }
 }
@@ -99,12 +115,15 @@ fn smooth_closures_reproduce_the_paper_benchmark() {
         let tol = 64.0 * EPS * l;
         for t in grid(997, 0.0, 9.0 * l) {
             for x in grid(20, 0.0, l) {
-                assert!((c.u(x, t) - e.u(x, t)).abs() <= tol, "L={l} x={x} t={t}");
+                assert!(
+                    approx::relative_eq!(c.u(x, t), e.u(x, t), epsilon = tol, max_relative = 0.0),
+                    "L={l} x={x} t={t}"
+                );
             }
             let tau = (t / l).rem_euclid(3.0);
             if [0.0, 1.0, 2.0, 3.0].iter().all(|s| (tau - s).abs() > 1e-9) {
                 assert!(
-                    (c.lambda(t) - e.lambda(t)).abs() <= 1e3 * EPS,
+                    approx::relative_eq!(c.lambda(t), e.lambda(t), epsilon = 1e3 * EPS, max_relative = 0.0),
                     "λ L={l} t={t}: {} {:?}",
                     c.lambda(t),
                     c.contact_intervals()
@@ -114,7 +133,8 @@ fn smooth_closures_reproduce_the_paper_benchmark() {
         assert_eq!(c.contact_intervals().len(), 3);
         for (k, &(a, b)) in c.contact_intervals().iter().enumerate() {
             let (wa, wb) = ((1 + 3 * k) as f64 * l, (2 + 3 * k) as f64 * l);
-            assert!((a - wa).abs() <= tol && (b - wb).abs() <= tol, "{:?}", c.contact_intervals());
+            assert!(approx::relative_eq!(a, wa, epsilon = tol, max_relative = 0.0), "{:?}", c.contact_intervals());
+            assert!(approx::relative_eq!(b, wb, epsilon = tol, max_relative = 0.0), "{:?}", c.contact_intervals());
         }
     }
     // Same data both ways, with a velocity: u⁰ = (1 − x)/2, v⁰ = −1/4, g = 0.1, free end, ρ = 2.
@@ -125,7 +145,12 @@ fn smooth_closures_reproduce_the_paper_benchmark() {
     let sm = Characteristics::new(&b, InitialData::Smooth { u: &uf, v: &vf }, 12.0).unwrap();
     for t in grid(500, 0.0, 12.0) {
         for x in grid(10, 0.0, 1.0) {
-            assert!((pl.u(x, t) - sm.u(x, t)).abs() <= 1e-13, "x={x} t={t}: {} vs {}", pl.u(x, t), sm.u(x, t));
+            assert!(
+                approx::relative_eq!(pl.u(x, t), sm.u(x, t), epsilon = 1e-13, max_relative = 0.0),
+                "x={x} t={t}: {} vs {}",
+                pl.u(x, t),
+                sm.u(x, t)
+            );
         }
     }
 }
@@ -207,29 +232,53 @@ fn a_free_bar_rebounds_after_two_transit_times() {
         let iv = c.contact_intervals();
         assert_eq!(iv.len(), 1, "{iv:?}");
         let tol_t = 8.0 * EPS * t_end;
-        assert!((iv[0].0 - g).abs() <= tol_t && (iv[0].1 - t_rel).abs() <= tol_t, "{iv:?} vs ({g}, {t_rel})");
+        assert!(approx::relative_eq!(iv[0].0, g, epsilon = tol_t, max_relative = 0.0), "{iv:?} vs ({g}, {t_rel})");
+        assert!(approx::relative_eq!(iv[0].1, t_rel, epsilon = tol_t, max_relative = 0.0), "{iv:?} vs ({g}, {t_rel})");
         let lam = -(e * rho).sqrt();
         let tol = 16.0 * EPS * (1.0 + g + t_end);
         for t in grid(400, 0.0, t_end) {
             let in_contact = t > g + tol_t && t < t_rel - tol_t;
             if t < g - tol_t {
-                assert!((c.u0(t) + t).abs() <= tol, "flight t={t}");
+                assert!(approx::relative_eq!(c.u0(t), -t, epsilon = tol, max_relative = 0.0), "flight t={t}");
                 assert_eq!(c.lambda(t), 0.0);
             } else if in_contact {
-                assert!((c.u0(t) + g).abs() <= tol, "contact t={t}: u0 = {}", c.u0(t));
-                assert!((c.lambda(t) - lam).abs() <= 16.0 * EPS * lam.abs(), "t={t}: λ = {}", c.lambda(t));
+                assert!(
+                    approx::relative_eq!(c.u0(t), -g, epsilon = tol, max_relative = 0.0),
+                    "contact t={t}: u0 = {}",
+                    c.u0(t)
+                );
+                assert!(
+                    approx::relative_eq!(c.lambda(t), lam, epsilon = 16.0 * EPS * lam.abs(), max_relative = 0.0),
+                    "t={t}: λ = {}",
+                    c.lambda(t)
+                );
             } else if t > t_rel + tol_t {
                 assert_eq!(c.lambda(t), 0.0);
                 for y in grid(10, 0.0, l) {
-                    assert!((c.u_t(y, t) - 1.0).abs() <= tol, "u_t({y}, {t}) = {}", c.u_t(y, t));
-                    assert!(c.u_x(y, t).abs() <= tol / c_speed, "u_x({y}, {t}) = {}", c.u_x(y, t));
-                    assert!((c.u(y, t) - (t - t_rel - g)).abs() <= tol, "u({y}, {t}) = {}", c.u(y, t));
+                    assert!(
+                        approx::relative_eq!(c.u_t(y, t), 1.0, epsilon = tol, max_relative = 0.0),
+                        "u_t({y}, {t}) = {}",
+                        c.u_t(y, t)
+                    );
+                    assert!(
+                        approx::relative_eq!(c.u_x(y, t), 0.0, epsilon = tol / c_speed, max_relative = 0.0),
+                        "u_x({y}, {t}) = {}",
+                        c.u_x(y, t)
+                    );
+                    assert!(
+                        approx::relative_eq!(c.u(y, t), t - t_rel - g, epsilon = tol, max_relative = 0.0),
+                        "u({y}, {t}) = {}",
+                        c.u(y, t)
+                    );
                 }
             }
         }
         // Energy ½ρL·1² throughout.
         for t in grid(50, 0.0, t_end) {
-            assert!((c.energy(t) - 0.5 * rho * l).abs() <= 64.0 * EPS * rho * l, "t={t}");
+            assert!(
+                approx::relative_eq!(c.energy(t), 0.5 * rho * l, epsilon = 64.0 * EPS * rho * l, max_relative = 0.0),
+                "t={t}"
+            );
         }
     }
 }
@@ -296,19 +345,39 @@ fn wave_equation_boundary_conditions_and_complementarity() {
             {
                 let fx = (c.u(y + dx, t) - c.u(y - dx, t)) / (2.0 * dx);
                 let ft = (c.u(y, t + dt) - c.u(y, t - dt)) / (2.0 * dt);
-                assert!((fx - c.u_x(y, t)).abs() <= fd_tol, "u_x({y}, {t}): {fx} vs {}", c.u_x(y, t));
-                assert!((ft - c.u_t(y, t)).abs() <= cs * fd_tol, "u_t({y}, {t}): {ft} vs {}", c.u_t(y, t));
+                assert!(
+                    approx::relative_eq!(fx, c.u_x(y, t), epsilon = fd_tol, max_relative = 0.0),
+                    "u_x({y}, {t}): {fx} vs {}",
+                    c.u_x(y, t)
+                );
+                assert!(
+                    approx::relative_eq!(ft, c.u_t(y, t), epsilon = cs * fd_tol, max_relative = 0.0),
+                    "u_t({y}, {t}): {ft} vs {}",
+                    c.u_t(y, t)
+                );
                 checked += 1;
             }
             // d'Alembert on a parallelogram inside the domain.
             let tau = rng.random_range(0.0..1.0) * t.min(c.t_end() - t).min(y / cs).min((l - y) / cs);
             let lhs = c.u(y, t + tau) + c.u(y, t - tau);
             let rhs = c.u(y + cs * tau, t) + c.u(y - cs * tau, t);
-            assert!((lhs - rhs).abs() <= 16.0 * EPS * u_max, "{:?} x={y} t={t} τ={tau}: {lhs} vs {rhs}", b.far_end);
+            assert!(
+                approx::relative_eq!(lhs, rhs, epsilon = 16.0 * EPS * u_max, max_relative = 0.0),
+                "{:?} x={y} t={t} τ={tau}: {lhs} vs {rhs}",
+                b.far_end
+            );
             // Boundary at L (u_x one-sided from the inside).
             match b.far_end {
-                FarEnd::Clamped => assert!(c.u(l, t).abs() <= 4.0 * EPS * u_max, "u(L, {t}) = {}", c.u(l, t)),
-                FarEnd::Free => assert!(c.u_x(l, t).abs() <= 16.0 * EPS, "u_x(L, {t}) = {}", c.u_x(l, t)),
+                FarEnd::Clamped => assert!(
+                    approx::relative_eq!(c.u(l, t), 0.0, epsilon = 4.0 * EPS * u_max, max_relative = 0.0),
+                    "u(L, {t}) = {}",
+                    c.u(l, t)
+                ),
+                FarEnd::Free => assert!(
+                    approx::relative_eq!(c.u_x(l, t), 0.0, epsilon = 16.0 * EPS, max_relative = 0.0),
+                    "u_x(L, {t}) = {}",
+                    c.u_x(l, t)
+                ),
             }
             // Complementarity at x = 0.
             let (u0, lam) = (c.u0(t), c.lambda(t));
@@ -316,7 +385,15 @@ fn wave_equation_boundary_conditions_and_complementarity() {
             assert!(u0 >= -g - tol && lam <= 0.0, "t={t}: u0 = {u0}, λ = {lam}");
             assert!(((u0 + g) * lam).abs() <= tol * lam.abs(), "t={t}: (u0 + g) λ = {}", (u0 + g) * lam);
             if c.in_contact(t) {
-                assert!((lam - b.modulus * c.u_x(0.0, t)).abs() <= 16.0 * EPS * b.modulus, "λ = E u_x(0+) at t={t}");
+                assert!(
+                    approx::relative_eq!(
+                        lam,
+                        b.modulus * c.u_x(0.0, t),
+                        epsilon = 16.0 * EPS * b.modulus,
+                        max_relative = 0.0
+                    ),
+                    "λ = E u_x(0+) at t={t}"
+                );
             } else {
                 assert!(c.u_x(0.0, t).abs() <= 16.0 * EPS || t == 0.0, "free end at x = 0, t={t}");
             }
@@ -360,7 +437,11 @@ fn l2_error_is_exact_on_cells() {
             let values: Vec<f64> = nodes.iter().map(|_| rng.random_range(-0.2..0.2) * l).collect();
             let got = c.l2_error_p1(&nodes, &values, t);
             let brute = midpoint_norm(l, 400_000, |x| p1(&nodes, &values, x) - c.u(x, t));
-            assert!((got - brute).abs() <= 1e-8 * brute, "{:?} t={t}: {got} vs {brute}", b.far_end);
+            assert!(
+                approx::relative_eq!(got, brute, epsilon = 1e-8 * brute, max_relative = 0.0),
+                "{:?} t={t}: {got} vs {brute}",
+                b.far_end
+            );
         }
     }
     for l in [1.0, 2.5] {
@@ -372,7 +453,10 @@ fn l2_error_is_exact_on_cells() {
             assert!(err <= 8.0 * EPS * l * l.sqrt(), "L={l} t={t}: ‖I_h u − u‖ = {err:e}");
             let zeros = vec![0.0; nodes.len()];
             let (norm_i, norm) = (c.l2_norm_interpolant(&nodes, t), c.l2_error_p1(&nodes, &zeros, t));
-            assert!((norm_i - norm).abs() <= 8.0 * EPS * l * l.sqrt(), "L={l} t={t}: {norm_i} vs {norm}");
+            assert!(
+                approx::relative_eq!(norm_i, norm, epsilon = 8.0 * EPS * l * l.sqrt(), max_relative = 0.0),
+                "L={l} t={t}: {norm_i} vs {norm}"
+            );
         }
     }
 }
@@ -430,7 +514,10 @@ fn smooth_data_meet_the_stated_accuracy() {
         let worst4 = grid(400, 0.0, t_end).map(|t| (smooth.u0(t) - coarser.u0(t)).abs()).fold(0.0, f64::max);
         let rate = (worst4 / worst_u0).ln() / 4f64.ln();
         eprintln!("  max|Δu0| with 2^16 elements: {worst4:.2e}, observed order {rate:.3}");
-        assert!((rate - 2.0).abs() <= 0.1, "{far_end:?}: order {rate} from {worst4:e}, {worst_u0:e}");
+        assert!(
+            approx::relative_eq!(rate, 2.0, epsilon = 0.1, max_relative = 0.0),
+            "{far_end:?}: order {rate} from {worst4:e}, {worst_u0:e}"
+        );
         assert!(worst_u0 <= 1e-10, "{far_end:?}: u0 differs by {worst_u0:e}");
         assert!(worst_l2 <= 5e-10 && worst_e <= 5e-10, "{far_end:?}: L² {worst_l2:e}, {worst_e:e}");
         assert!(start <= 1e-9, "{far_end:?}: contact starts differ by {start:e}");

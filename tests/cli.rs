@@ -79,7 +79,7 @@ fn output_contract() {
     assert_eq!(rows.len(), 31, "every = 10 over 300 steps, t = 0 included");
     assert_eq!(rows[0], vec![0.0, 0.0, 0.5, 0.0], "t = 0: λ = 0, u0 = 1/2, interpolant error 0");
     for (k, r) in rows.iter().enumerate() {
-        assert!((r[0] - k as f64 * 0.1).abs() < 1e-12);
+        approx::assert_relative_eq!(r[0], k as f64 * 0.1, epsilon = 1e-12, max_relative = 0.0);
     }
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
@@ -110,7 +110,7 @@ fn output_contract() {
     let recorded_max = rows.iter().map(|r| r[3]).fold(0.0, f64::max);
     assert!(s["linf_l2_error"].as_f64().unwrap() >= recorded_max);
     // Exact energy at t = 0: ½ U⁰ᵀ S U⁰ with u_x = −1/2 is 1/8 up to rounding.
-    assert!((s["energy_initial"].as_f64().unwrap() - 0.125).abs() < 1e-15);
+    approx::assert_relative_eq!(s["energy_initial"].as_f64().unwrap(), 0.125, epsilon = 1e-15, max_relative = 0.0);
     let resolved = std::fs::read_to_string(dir.join("scene.resolved.toml")).unwrap();
     assert!(resolved.contains("formulation = \"full\"") && resolved.contains("force = 0.0"));
 }

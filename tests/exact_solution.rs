@@ -26,7 +26,10 @@ fn wave_equation_holds_on_characteristic_parallelograms() {
                     let (a, b) = (a * l, b * l);
                     let lhs = e.u(x, t) + e.u(x + a - b, t + a + b);
                     let rhs = e.u(x + a, t + a) + e.u(x - b, t + b);
-                    assert!((lhs - rhs).abs() <= tol(l), "L={l} x={x} t={t}: {lhs} vs {rhs}");
+                    assert!(
+                        approx::relative_eq!(lhs, rhs, epsilon = tol(l), max_relative = 0.0),
+                        "L={l} x={x} t={t}: {lhs} vs {rhs}"
+                    );
                 }
             }
         }
@@ -59,16 +62,27 @@ fn initial_data_periodicity_and_continuity() {
     for l in [1.0, 2.5] {
         let e = ImpactingBar { length: l };
         for x in grid(50, 0.0, l) {
-            assert!((e.u(x, 0.0) - (l - x) / 2.0).abs() <= tol(l), "u(x, 0) = (L − x)/2 at x = {x}");
+            assert!(
+                approx::relative_eq!(e.u(x, 0.0), (l - x) / 2.0, epsilon = tol(l), max_relative = 0.0),
+                "u(x, 0) = (L − x)/2 at x = {x}"
+            );
             if x > 0.0 {
                 assert_eq!(e.u_t(x, 0.0), 0.0);
             }
             for t in grid(60, 0.0, 3.0 * l) {
-                assert!((e.u(x, t + 3.0 * l) - e.u(x, t)).abs() <= tol(l), "period 3L at x={x} t={t}");
+                assert!(
+                    approx::relative_eq!(e.u(x, t + 3.0 * l), e.u(x, t), epsilon = tol(l), max_relative = 0.0),
+                    "period 3L at x={x} t={t}"
+                );
                 // Lipschitz with constant 1/2 in x and t (|u_x|, |u_t| ≤ 1/2): continuity across kinks.
                 let d = 1e-7 * l;
-                assert!((e.u(x, t + d) - e.u(x, t)).abs() <= 0.5 * d + tol(l));
-                assert!((e.u((x + d).min(l), t) - e.u(x, t)).abs() <= 0.5 * d + tol(l));
+                approx::assert_relative_eq!(e.u(x, t + d), e.u(x, t), epsilon = 0.5 * d + tol(l), max_relative = 0.0);
+                approx::assert_relative_eq!(
+                    e.u((x + d).min(l), t),
+                    e.u(x, t),
+                    epsilon = 0.5 * d + tol(l),
+                    max_relative = 0.0
+                );
             }
         }
     }
@@ -95,7 +109,11 @@ fn energy_is_l_over_8_at_all_times() {
     for l in [1.0, 2.5] {
         let e = ImpactingBar { length: l };
         for t in grid(901, 0.0, 9.0 * l) {
-            assert!((energy(&e, t) - l / 8.0).abs() <= tol(l), "L={l} t={t}: {}", energy(&e, t));
+            assert!(
+                approx::relative_eq!(energy(&e, t), l / 8.0, epsilon = tol(l), max_relative = 0.0),
+                "L={l} t={t}: {}",
+                energy(&e, t)
+            );
         }
     }
 }
@@ -120,8 +138,16 @@ fn u_t_and_u_x_are_the_derivatives_of_u() {
             let ut = (e.u(x, t + d) - e.u(x, t - d)) / (2.0 * d);
             let ux = (e.u(x + d, t) - e.u(x - d, t)) / (2.0 * d);
             // Rounding of a difference quotient of O(1) values: ~ε/d ≈ 2e-10.
-            assert!((ut - e.u_t(x, t)).abs() < 1e-8, "u_t at x={x} t={t}: {ut} vs {}", e.u_t(x, t));
-            assert!((ux - e.u_x(x, t)).abs() < 1e-8, "u_x at x={x} t={t}: {ux} vs {}", e.u_x(x, t));
+            assert!(
+                approx::relative_eq!(ut, e.u_t(x, t), epsilon = 1e-8, max_relative = 0.0),
+                "u_t at x={x} t={t}: {ut} vs {}",
+                e.u_t(x, t)
+            );
+            assert!(
+                approx::relative_eq!(ux, e.u_x(x, t), epsilon = 1e-8, max_relative = 0.0),
+                "u_x at x={x} t={t}: {ux} vs {}",
+                e.u_x(x, t)
+            );
         }
     }
 }
@@ -140,6 +166,6 @@ fn contact_phase_region_one_is_minus_t_minus_t1_over_two() {
         let x = t - t1;
         let paper = (t - t1) / 2.0;
         assert!((paper - (-x / 2.0)).abs() > 0.0);
-        assert!((e.u(x, t) - (-x / 2.0)).abs() <= tol(1.0));
+        approx::assert_relative_eq!(e.u(x, t), -x / 2.0, epsilon = tol(1.0), max_relative = 0.0);
     }
 }

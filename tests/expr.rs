@@ -60,7 +60,10 @@ fn values_match_rust() {
         for x in grid(12, 0.0, L) {
             for t in grid(7, 0.0, 2.0) {
                 let (ours, reference) = (e.eval(&[x, t]), rust(x, t));
-                assert!((ours - reference).abs() <= tol(reference), "{text} at x={x}, t={t}: {ours} vs {reference}");
+                assert!(
+                    approx::relative_eq!(ours, reference, epsilon = tol(reference), max_relative = 0.0),
+                    "{text} at x={x}, t={t}: {ours} vs {reference}"
+                );
             }
         }
     }
@@ -94,7 +97,10 @@ fn precedence_is_mathematical() {
     ];
     for (text, expected) in cases {
         let got = initial(text).unwrap().eval(&[x]);
-        assert!((got - expected).abs() <= tol(expected), "{text} at x = 3: {got}, expected {expected}");
+        assert!(
+            approx::relative_eq!(got, expected, epsilon = tol(expected), max_relative = 0.0),
+            "{text} at x = 3: {got}, expected {expected}"
+        );
     }
 }
 
@@ -292,7 +298,10 @@ fn evaluation_is_thread_safe() {
     let parallel: Vec<f64> = points.par_iter().map(|p| e.eval(p)).collect();
     for (p, value) in points.iter().zip(&parallel) {
         let reference = (PI * p[0] / L).sin() * (-p[1]).exp() + p[0].min(p[1]);
-        assert!((value - reference).abs() <= tol(reference), "{p:?}: {value} vs {reference}");
+        assert!(
+            approx::relative_eq!(*value, reference, epsilon = tol(reference), max_relative = 0.0),
+            "{p:?}: {value} vs {reference}"
+        );
     }
 }
 
@@ -412,7 +421,7 @@ proptest! {
         let e = force(&text).unwrap_or_else(|err| panic!("{text}: {err}"));
         let (ours, reference) = (e.eval(&[x, time]), t.eval(x, time));
         if reference.is_finite() {
-            prop_assert!((ours - reference).abs() <= tol(reference), "{text}: {ours} vs {reference}");
+            prop_assert!(approx::relative_eq!(ours, reference, epsilon = tol(reference), max_relative = 0.0), "{text}: {ours} vs {reference}");
         } else {
             prop_assert!(ours.is_nan() == reference.is_nan() && (reference.is_nan() || ours == reference),
                 "{text}: {ours} vs {reference}");

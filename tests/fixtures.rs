@@ -1,5 +1,5 @@
 //! The Rust assembly and integrators against the stored dolfinx / scikit-fem fixtures
-//! (`python/gen_fixtures.py`; provenance in `fixtures/provenance.json`). No Python needed.
+//! (`python/scripts/gen_fixtures.py`; provenance in `fixtures/provenance.json`). No Python needed.
 
 mod common;
 
@@ -56,8 +56,16 @@ fn one_d_matrices_match_dolfinx_and_scikit_fem() {
         let (tm, ts) = (eps_n * mr.diag.iter().fold(0.0f64, |a, b| a.max(*b)), eps_n * sr.diag[1]);
         for i in 0..=m {
             for j in 0..=m {
-                assert!((mr.get(i, j) - mp[i][j]).abs() <= tm, "{}: M[{i}][{j}]", path.display());
-                assert!((sr.get(i, j) - sp[i][j]).abs() <= ts, "{}: S[{i}][{j}]", path.display());
+                assert!(
+                    approx::relative_eq!(mr.get(i, j), mp[i][j], epsilon = tm, max_relative = 0.0),
+                    "{}: M[{i}][{j}]",
+                    path.display()
+                );
+                assert!(
+                    approx::relative_eq!(sr.get(i, j), sp[i][j], epsilon = ts, max_relative = 0.0),
+                    "{}: S[{i}][{j}]",
+                    path.display()
+                );
             }
         }
         count += 1;
@@ -95,7 +103,11 @@ fn trajectories_match_the_independent_python_steppers() {
             let du = common::max_abs_diff(&ours[n].u[first..], &row[first..]);
             // Same tolerance as `massredist crosscheck`: 1e-10 on U, 1e-10/h on λ.
             assert!(du <= 1e-10, "{}: n={n} |ΔU| = {du:e}", path.display());
-            assert!((ours[n].lambda - lam[k]).abs() <= 1e-10 * m as f64 / l, "{}: n={n} λ", path.display());
+            assert!(
+                approx::relative_eq!(ours[n].lambda, lam[k], epsilon = 1e-10 * m as f64 / l, max_relative = 0.0),
+                "{}: n={n} λ",
+                path.display()
+            );
         }
         count += 1;
     }

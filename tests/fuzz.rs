@@ -4,7 +4,7 @@
 //! run through `massredist check` and `massredist run --out <tmp>/out`. Asserted for every case:
 //!
 //! - no panic: no "panicked" on stderr, no exit 101 (Rust panic) or 134 (abort);
-//! - the exit code is one of the documented 0, 1, 2, 3 (`src/exit.rs`, README "exit codes");
+//! - the exit code is one of the documented 0, 1, 2, 3 (`src/exit.rs`, `docs/scenes.md` "Exit codes");
 //! - a failed run (exit 1 or 2) leaves nothing behind: no `out`, no `.out.tmp-*` sibling;
 //!   no run leaves a `.tmp-` folder;
 //! - a scene that passes `check` starts its run: the run ends with 0 (ok) or 3 (diverged), never
@@ -405,6 +405,34 @@ fn a_twice_stiffened_bar_is_refused_at_once() {
     apply(&mut scene, &Mutation::Stiff);
     let codes = one_case(&scene, &[], false).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(codes, (2, 2));
+    // The refusal names the crossings: their count c·T/L, computed here from the scene's own
+    // keys (c = √(E/ρ); defaults ρ = 1, L = 1), and the key to change, for `check` and `run` alike.
+    let bar = scene["bar"].as_table().unwrap();
+    let number = |t: &Table, key: &str, default: f64| {
+        t.get(key).map_or(default, |v| v.as_float().or(v.as_integer().map(|i| i as f64)).unwrap())
+    };
+    let wave_speed = (number(bar, "modulus", 1.0) / number(bar, "density", 1.0)).sqrt();
+    let crossings =
+        wave_speed * number(scene["time"].as_table().unwrap(), "end", f64::NAN) / number(bar, "length", 1.0);
+    let count = format!("{crossings:.3e}");
+    assert_eq!(count, "5.000e10", "the case of the doc comment");
+    let (tmp, logs) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    let path = tmp.path().join("scene.toml");
+    std::fs::write(&path, toml::to_string(&scene).unwrap()).unwrap();
+    let out = tmp.path().join("out");
+    for args in [
+        vec!["check".as_ref(), path.as_os_str()],
+        vec!["run".as_ref(), path.as_os_str(), "--out".as_ref(), out.as_os_str()],
+    ] {
+        let o = massredist(&args, logs.path());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(code(&o), 2, "{args:?}: {err}");
+        assert!(
+            err.contains(&format!("{count} crossings of the bar")),
+            "{args:?} does not name the {count} crossings: {err}"
+        );
+        assert!(err.contains("time.end"), "{args:?} does not name time.end: {err}");
+    }
 }
 
 /// The engine's surface (issue 22 item 7): the shipped plate and solid scenes, shortened and

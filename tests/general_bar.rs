@@ -123,22 +123,35 @@ fn the_rebounding_bar_hits_at_t_gap_stays_2l_over_c_and_leaves_with_velocity_one
             }
             let impact = tr.u0.iter().position(|&u| u <= -gap).unwrap();
             let tol = ReboundBar::impact_tolerance(dt);
-            assert!((tr.t[impact] - exact.impact).abs() <= tol, "{label}: impact at {}", tr.t[impact]);
+            assert!(
+                approx::relative_eq!(tr.t[impact], exact.impact, epsilon = tol, max_relative = 0.0),
+                "{label}: impact at {}",
+                tr.t[impact]
+            );
             let release = (impact..tr.t.len()).find(|&n| tr.u0[n] > -gap).unwrap();
             let duration = tr.t[release] - tr.t[impact];
             let tol = model.duration_tolerance(dt);
-            assert!((duration - exact.contact_duration).abs() <= tol, "{label}: contact {duration}");
+            assert!(
+                approx::relative_eq!(duration, exact.contact_duration, epsilon = tol, max_relative = 0.0),
+                "{label}: contact {duration}"
+            );
             // Mean contact force over the middle half of the contact: −sqrt(Eρ).
             let (a, b) = (impact + (release - impact) / 4, impact + 3 * (release - impact) / 4);
             let mean = tr.lambda[a..b].iter().sum::<f64>() / (b - a) as f64;
             let expect = exact.contact_force;
-            assert!((mean - expect).abs() <= ReboundBar::RELATIVE * expect.abs(), "{label}: λ {mean} vs {expect}");
+            assert!(
+                approx::relative_eq!(mean, expect, epsilon = ReboundBar::RELATIVE * expect.abs(), max_relative = 0.0),
+                "{label}: λ {mean} vs {expect}"
+            );
             // Departure: the mean velocity after release is +1 (momentum ρL·1 is restored);
             // backward Euler loses energy at the impact, so only the conservative schemes.
             let v_end = *tr.v_mean.last().unwrap();
             if scheme != "backward-euler" {
                 let tol = ReboundBar::RELATIVE * exact.departure_velocity;
-                assert!((v_end - exact.departure_velocity).abs() <= tol, "{label}: departure velocity {v_end}");
+                assert!(
+                    approx::relative_eq!(v_end, exact.departure_velocity, epsilon = tol, max_relative = 0.0),
+                    "{label}: departure velocity {v_end}"
+                );
             } else {
                 assert!(v_end > 0.0 && v_end < 1.0 + 1e-12, "{label}: departure velocity {v_end}");
             }
@@ -159,7 +172,10 @@ fn density_and_modulus_scale_time_exactly() {
         let (_, b) = track(&bar_scene(&format!("{base}\n{}\ndensity = 4.0", data("-0.5")), scheme, 0.02, 2.0));
         assert_eq!(a.u0, b.u0, "{scheme}");
         for (ea, eb) in a.energy.iter().zip(&b.energy) {
-            assert!((ea - eb).abs() <= 8.0 * f64::EPSILON * ea.abs(), "{scheme}: {ea} vs {eb}");
+            assert!(
+                approx::relative_eq!(ea, eb, epsilon = 8.0 * f64::EPSILON * ea.abs(), max_relative = 0.0),
+                "{scheme}: {ea} vs {eb}"
+            );
         }
     }
 }
@@ -182,10 +198,17 @@ fn a_free_bar_away_from_the_obstacle_moves_rigidly() {
         let st = s.state();
         for &u in st.u {
             // Each step rounds u + Δt v once: linear growth, 64 ε per step.
-            assert!((u - st.t).abs() <= 100.0 * 64.0 * f64::EPSILON, "{scheme}: u = {u} at t = {}", st.t);
+            assert!(
+                approx::relative_eq!(u, st.t, epsilon = 100.0 * 64.0 * f64::EPSILON, max_relative = 0.0),
+                "{scheme}: u = {u} at t = {}",
+                st.t
+            );
         }
         let e = p.energy(st.u, st.v);
-        assert!((e - 0.5 * 2.0 * 1.0).abs() <= 100.0 * 64.0 * f64::EPSILON, "{scheme}: energy {e}");
+        assert!(
+            approx::relative_eq!(e, 0.5 * 2.0 * 1.0, epsilon = 100.0 * 64.0 * f64::EPSILON, max_relative = 0.0),
+            "{scheme}: energy {e}"
+        );
     }
 }
 
@@ -203,11 +226,17 @@ fn a_force_field_integrates_the_weighted_load() {
     assert_eq!(a.system.system.load, b.system.system.load);
     let p = scene("\"x\"");
     let total: f64 = p.system.system.load.iter().sum();
-    assert!((total - 0.5).abs() <= 16.0 * f64::EPSILON, "Σ F = {total}, ∫ x dx = 1/2");
+    assert!(
+        approx::relative_eq!(total, 0.5, epsilon = 16.0 * f64::EPSILON, max_relative = 0.0),
+        "Σ F = {total}, ∫ x dx = 1/2"
+    );
     let p = scene("\"x^2\"");
     let first = p.system.system.load[0];
     // ∫_0^h x² (1 − x/h) dx = h³/12 with h = 1/10.
-    assert!((first - 1e-3 / 12.0).abs() <= 16.0 * f64::EPSILON * 1e-3, "F_0 = {first}");
+    assert!(
+        approx::relative_eq!(first, 1e-3 / 12.0, epsilon = 16.0 * f64::EPSILON * 1e-3, max_relative = 0.0),
+        "F_0 = {first}"
+    );
 }
 
 /// L∞(0,T; L²) error against the exact solution by characteristics, for m elements and Δt = h/c.
@@ -295,6 +324,9 @@ fn a_time_dependent_force_converges_at_the_schemes_orders() {
         }
         let slope = common::fitted_slope(&hs, &errs);
         eprintln!("{scheme}: errors {errs:?}, slope {slope:.3}");
-        assert!((slope - order).abs() <= 0.25, "{scheme}: slope {slope} (order {order}), errors {errs:?}");
+        assert!(
+            approx::relative_eq!(slope, order, epsilon = 0.25, max_relative = 0.0),
+            "{scheme}: slope {slope} (order {order}), errors {errs:?}"
+        );
     }
 }

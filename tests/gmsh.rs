@@ -83,7 +83,12 @@ fn four_formats_read_as_meshio_reads_them_and_give_one_body_mesh() {
         let m = &meshes[0];
         // The group "bottom" is the one node at the origin.
         assert_eq!(m.groups["bottom"].len(), 1);
-        assert!(m.points[m.groups["bottom"][0]].iter().all(|x| x.abs() <= 1e-12));
+        assert!(m.points[m.groups["bottom"][0]].iter().all(|x| approx::relative_eq!(
+            *x,
+            0.0,
+            epsilon = 1e-12,
+            max_relative = 0.0
+        )));
         // Every edge node lies near its edge's midpoint (VTK edges): within a quarter of the
         // edge (boundary edges bulge by their sagitta, far less at these sizes). A swapped
         // tetra10 pair would sit half an edge away.
@@ -113,11 +118,25 @@ fn curved_p2_bodies_measure_nearly_the_exact_shape() {
     assert!(a1 < area && (a2 - area).abs() < 1e-4 * area && (a2 - area).abs() < (a1 - area).abs(), "{a1} {a2} {area}");
     let vol = 4.0 / 3.0 * std::f64::consts::PI * 8000.0;
     let s = read_body("solid.mesh", &fixture("sphere_tet10_22b.msh"), 3).unwrap();
-    assert!((s.total_measure() - vol).abs() < 1e-2 * vol, "{}", s.total_measure());
+    assert!(
+        approx::relative_eq!(s.total_measure(), vol, epsilon = 1e-2 * vol, max_relative = 0.0),
+        "{}",
+        s.total_measure()
+    );
     let top = &read_body("solid.mesh", &fixture("half_disc_p2.msh"), 2).unwrap();
-    assert!(top.groups["top"].iter().all(|&v| (top.points[v][1] - 20.0).abs() <= 1e-12));
+    assert!(top.groups["top"].iter().all(|&v| approx::relative_eq!(
+        top.points[v][1],
+        20.0,
+        epsilon = 1e-12,
+        max_relative = 0.0
+    )));
     let hemi = read_body("solid.mesh", &fixture("hemisphere_tet.msh"), 3).unwrap();
-    assert!(hemi.groups["top"].iter().all(|&v| (hemi.points[v][2] - 20.0).abs() <= 1e-12));
+    assert!(hemi.groups["top"].iter().all(|&v| approx::relative_eq!(
+        hemi.points[v][2],
+        20.0,
+        epsilon = 1e-12,
+        max_relative = 0.0
+    )));
     assert_eq!(hemi.kind, Cell::Tet);
 }
 

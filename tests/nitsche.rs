@@ -7,12 +7,11 @@ mod common;
 
 use massredist::bar::assembly::{Bar, BarSystem, Load};
 use massredist::contact::law::ContactLaw;
-use massredist::contact::nitsche::NitscheTerm;
+use massredist::contact::nitsche::{NitscheTerm, trapezoid_defect};
 use massredist::material::{FarEnd, Material};
 use massredist::problem::Problem;
 use massredist::scene::SchemeSpec;
-use massredist::schemes::nitsche::{NitscheNewmark, NitscheVerlet, trapezoid_defect};
-use massredist::schemes::{Formulation, Scheme, SchemeError};
+use massredist::schemes::{Beta, CentralDifference, Formulation, Gamma, Newmark, Scheme, SchemeError};
 use std::process::Command;
 
 const CN: SchemeSpec = SchemeSpec::CrankNicolson { formulation: Formulation::Full };
@@ -110,7 +109,7 @@ fn crank_nicolson_is_second_order_without_contact() {
     }
 }
 
-/// CHR's energy with θ = 1 and CN (docs of `NitscheNewmark`): `E^{n+1} − Eⁿ = −δ_n` at every
+/// CHR's energy with θ = 1 and CN (docs of `NitscheStep`): `E^{n+1} − Eⁿ = −δ_n` at every
 /// step, δ_n = 0 unless P changes sign, |δ_n| ≤ |p_n p_{n+1}|/2γ. Checked to 1e-13 (round-off
 /// on an energy of 1/8 over sums of ~80 terms) from step 2 on (step 1 starts from an A⁰ that a
 /// massless row does not satisfy), on the paper's bar, standard mass, γ₀ = 10 and 100, 300
@@ -123,22 +122,32 @@ fn energy_identity_of_theta_1_with_crank_nicolson() {
         let p = paper(40, 1.0);
         let term = NitscheTerm::new(&p.system.system.stiffness, &[0], &[0.0], 1.0, gamma0).unwrap();
         let (u, v) = (p.u0.clone(), p.v0.clone());
-        let mut s = NitscheNewmark::new(&p.system.system, term, 0.25, 0.5, 1.0 / 80.0, u, v).unwrap();
+        let law = nitsche(1.0, gamma0);
+        let mut s = Newmark::with_law(&p.system.system, &law, Beta::DEFAULT, Gamma::DEFAULT, 1.0 / 80.0, u, v).unwrap();
         s.step().unwrap();
-        let (mut e_old, mut p_old) = (s.energy(), term.p(s.state().u));
+        let (mut e_old, mut p_old) = (s.energy().unwrap(), term.p(s.state().u));
         let mut transitions = 0;
         for n in 2..=300 {
             s.step().unwrap();
-            let (e, pn) = (s.energy(), term.p(s.state().u));
+            let (e, pn) = (s.energy().unwrap(), term.p(s.state().u));
             // The closed-form step is the exact root: λ = −[p*]_+/(1 + c) is −[P(U^{n+1})]_+
             // evaluated on the final state (round-off of P's ~γ-sized terms: 1e-9 absolute).
             let lambda = s.state().lambda[0];
-            assert!((lambda - term.lambda(s.state().u)).abs() <= 1e-9, "step {n}: λ = {lambda}");
-            let delta = s.last_defect();
-            assert_eq!(delta, trapezoid_defect(p_old, pn, term.gamma));
-            assert!((e - e_old + delta).abs() <= 1e-13, "γ₀ = {gamma0}, step {n}: ΔE + δ = {}", e - e_old + delta);
+            assert!(
+                approx::relative_eq!(lambda, term.lambda(s.state().u), epsilon = 1e-9, max_relative = 0.0),
+                "step {n}: λ = {lambda}"
+            );
+            let delta = trapezoid_defect(p_old, pn, term.gamma);
+            assert!(
+                approx::relative_eq!(e - e_old, -delta, epsilon = 1e-13, max_relative = 0.0),
+                "γ₀ = {gamma0}, step {n}: ΔE + δ = {}",
+                e - e_old + delta
+            );
             if (p_old > 0.0) == (pn > 0.0) {
-                assert!(delta.abs() <= 1e-15, "step {n}: δ = {delta} without a sign change");
+                assert!(
+                    approx::relative_eq!(delta, 0.0, epsilon = 1e-15, max_relative = 0.0),
+                    "step {n}: δ = {delta} without a sign change"
+                );
             } else {
                 transitions += 1;
                 assert!(delta.abs() <= (p_old * pn).abs() / (2.0 * term.gamma) * (1.0 + 1e-12));
@@ -185,8 +194,8 @@ fn verlet_refuses_above_its_stable_limit() {
         p.system.lumped_mass().unwrap()
     };
     let sys = &p.system.system;
-    let term = NitscheTerm::new(&sys.stiffness, &[0], &[0.0], 1.0, 100.0).unwrap();
-    let build = |dt: f64| NitscheVerlet::new(sys, term, lumped.clone(), dt, p.u0.clone(), p.v0.clone());
+    let law = nitsche(1.0, 100.0);
+    let build = |dt: f64| CentralDifference::new(sys, lumped.clone(), &law, dt, p.u0.clone(), p.v0.clone());
     let (limit, _) = build(1e-6).unwrap().stable_limit();
     let exact = p.scheme(&SchemeSpec::CentralDifference, 1e-6).unwrap();
     let exact_limit: f64 = {
@@ -207,13 +216,14 @@ fn verlet_refuses_above_its_stable_limit() {
     for _ in 0..2000 {
         s.step().unwrap();
     }
-    assert!((s.energy() - e0).abs() <= 0.05 * e0, "{} vs {e0}", s.energy());
+    assert!(approx::relative_eq!(s.energy(), e0, epsilon = 0.05 * e0, max_relative = 0.0), "{} vs {e0}", s.energy());
 }
 
-/// Plates and solids are refused with exit 2 naming `contact.method` and the geometry; on a bar,
-/// the refusals of Nitsche's own limits, and a run that goes through.
-/// (Mutation: the `geometry.name != "bar"` refusal disabled -> the plate is still refused, by
-/// the P1-cell check, but its message lacks "bars only": this test fails.)
+/// Plates and solids are refused with exit 2 naming `contact.method`, the geometry and the laws
+/// allowed there (the scenes' compatibility rule); on a bar, the refusals of Nitsche's own
+/// limits, and a run that goes through. (Mutation: `one_cell_contact_row: true` in the default
+/// `SceneGeometry::offer` -> the plate passes validation and is refused at set-up by the P1-cell
+/// check, without the allowed laws: this test fails.)
 #[test]
 fn nitsche_is_refused_where_it_is_not_built() {
     let dir = std::env::temp_dir().join(format!("nitsche-refusal-{}", std::process::id()));
@@ -227,7 +237,7 @@ fn nitsche_is_refused_where_it_is_not_built() {
             .args(["run", scene.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()])
             .output()
             .unwrap();
-        common::assert_refused(&out, &["contact.method", geometry, "bars only"]);
+        common::assert_refused(&out, &["contact.method = \"nitsche\"", geometry, "allowed: exact"]);
     }
     // On a bar: Verlet above its stable limit and γ₀ ≤ 1 are refused (exit 2, the key named);
     // Crank–Nicolson with Nitsche runs (exit 0).
@@ -235,7 +245,7 @@ fn nitsche_is_refused_where_it_is_not_built() {
     let cases: [(&str, Option<Vec<&str>>); 3] = [
         (
             "[mass]\nkind = \"standard\"\n[scheme]\nkind = \"central-difference\"\n[contact]\nmethod = \"nitsche\"\n",
-            Some(vec!["time.dt = 0.01", "stable limit", "Nitsche"]),
+            Some(vec!["time.dt = 0.01", "stable limit", "2γ e_0e_0ᵀ"]),
         ),
         (
             "[contact]\nmethod = \"nitsche\"\nnitsche_gamma0 = 0.5\n",
@@ -268,7 +278,7 @@ fn nitsche_is_refused_where_it_is_not_built() {
 /// 3e-13); for γ₀ = 100 (θ = 1, 0) over the first 110 steps (past the impact near t = 1) to 1e-10
 /// (measured 7e-12, 1e-12). Beyond, the γ₀ = 100 runs amplify round-off about 30-fold per 10
 /// steps (3e-10 at step 120, 5e-6 at 150, 2e-2 at 300 for θ = 1): the standard mass chatters on
-/// the stiff contact and each release gains energy (the identity of `NitscheNewmark`), so two
+/// the stiff contact and each release gains energy (the identity of `NitscheStep`), so two
 /// round-off-different algebras separate; both agree that far. Gated on `python` as
 /// tests/getfem_live.rs is (CI installs GetFEM there). (Mutation: θ's sign flipped in
 /// `NitscheTerm::add_force` (`t = −θ/γ`) -> the θ = ±1 cases disagree.)
@@ -348,7 +358,7 @@ print(json.dumps({"getfem": gf.__version__ if hasattr(gf, '__version__') else "5
 "#;
 
 /// Verlet at its Δt_c for θ = 0 and −1 (no stability proof claimed: the bound only dominates
-/// the symmetric parts of their tangents; docs of `NitscheVerlet`): measured bounded on the
+/// the symmetric parts of their tangents; docs of `NitscheExplicit`): measured bounded on the
 /// paper's bar (standard mass, m = 40, t ∈ [0, 3], γ₀ = 5 and 100): every |u| ≤ 0.51 (the exact
 /// solution's ≤ ½; observed 0.500) and E^θ within 10% of its start (observed at most 7.2%; for
 /// θ = 1 at most 4.8%). A blow-up fails both. (Mutation: the `2.0 * g` term dropped from the
@@ -360,8 +370,8 @@ fn verlet_at_its_limit_stays_bounded_for_theta_0_and_minus_1() {
     let lumped = p.system.lumped_mass().unwrap();
     let sys = &p.system.system;
     for (theta, g0) in [(0.0, 5.0), (0.0, 100.0), (-1.0, 5.0), (-1.0, 100.0)] {
-        let term = NitscheTerm::new(&sys.stiffness, &[0], &[0.0], theta, g0).unwrap();
-        let build = |dt: f64| NitscheVerlet::new(sys, term, lumped.clone(), dt, p.u0.clone(), p.v0.clone());
+        let law = nitsche(theta, g0);
+        let build = |dt: f64| CentralDifference::new(sys, lumped.clone(), &law, dt, p.u0.clone(), p.v0.clone());
         let (limit, _) = build(1e-6).unwrap().stable_limit();
         // Just below Δt_c: Δt_c itself is refused (not stable: issue 32, E7).
         let mut s = build(limit * (1.0 - 1e-9)).unwrap();
@@ -370,7 +380,11 @@ fn verlet_at_its_limit_stays_bounded_for_theta_0_and_minus_1() {
             s.step().unwrap();
             let umax = s.state().u.iter().fold(0.0f64, |a, b| a.max(b.abs()));
             assert!(umax <= 0.51, "θ = {theta}, γ₀ = {g0}, step {n}: |u| = {umax}");
-            assert!((s.energy() - e0).abs() <= 0.1 * e0, "θ = {theta}, γ₀ = {g0}, step {n}: E = {}", s.energy());
+            assert!(
+                approx::relative_eq!(s.energy(), e0, epsilon = 0.1 * e0, max_relative = 0.0),
+                "θ = {theta}, γ₀ = {g0}, step {n}: E = {}",
+                s.energy()
+            );
         }
     }
 }

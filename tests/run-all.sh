@@ -15,7 +15,9 @@ cargo fmt --all -- --check
 echo "== tests (with live dolfinx / scikit-fem cross-checks)"
 # Open MPI would otherwise start an orted daemon when mpi4py is imported (TOOLCHAIN.md).
 export OMPI_MCA_ess_singleton_isolated=1
-cargo test --features python --all-targets
+# The solver (root package) and the study beside it (study/: massredist-study); the study's
+# engine_live finds the binary the first package's tests built.
+cargo test -p massredist -p massredist-study --features massredist/python,massredist-study/python --all-targets
 
 echo "== the crosscheck command"
 cargo run --quiet --features python -- crosscheck --json target/crosscheck.json

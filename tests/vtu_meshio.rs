@@ -4,9 +4,9 @@
 //! values), and the scene's mesh-file reader on meshes written by meshio.
 #![cfg(feature = "python")]
 
-use massredist::bridge::{self, MeshArrays};
 use massredist::fem::{Cell, Mesh};
 use massredist::plate::vtu::read_vtu;
+use massredist::python::{self as bridge, MeshArrays};
 use massredist::scene::mesh_file::read;
 use std::process::Command;
 
@@ -47,7 +47,7 @@ vtu_every = 20
     assert_eq!(frames.len(), 4, "frames at steps 0, 20, 40, 60");
     for frame in [&frames[0], frames.last().unwrap()] {
         let ours = read_vtu(std::fs::read(frame).unwrap()).unwrap();
-        let (points, u, comps) = massredist::bridge::read_point_data(frame, "u").expect("meshio reads the frame");
+        let (points, u, comps) = massredist::python::read_point_data(frame, "u").expect("meshio reads the frame");
         assert_eq!(comps, 1);
         // Values are written as raw little-endian f64 (appended data), so meshio reads back the
         // same f64 bit for bit.
@@ -182,7 +182,7 @@ fn solid_vtu_frames_read_back_through_meshio() {
 /// Issue 22, D8: meshio reads a gmsh node tag 0 as index −1 and then as the last point (its tag
 /// map indexed with −1), so the file below read as the unit square [0,1,2], [0,2,3]: a
 /// different mesh, silently. The scene's reader refuses it, naming the key, the element and the
-/// tag. mutation, as run: python/mesh_io.py::_read without `_check_gmsh_node_tags` -> the file
+/// tag. mutation, as run: python/crosscheck/mesh_io.py::_read without `_check_gmsh_node_tags` -> the file
 /// reads as the square and this test fails.
 #[test]
 fn a_gmsh_node_tag_zero_is_refused_naming_the_element() {

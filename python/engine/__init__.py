@@ -3,8 +3,8 @@ MPI, step for step the schemes of the Rust solver, so that trajectories compare.
 
 Modules (pure ones first; only ``problem``, ``qp``, ``schemes`` and ``run`` touch dolfinx/PETSc):
 
-- ``scene``: the resolved scene (``scene.resolved.toml``, ``[plate]`` or ``[solid]``) as data;
-  scene expressions.
+- ``scene``: the scene as massredist hands it over (``scene.engine.json``: a plate, a solid box
+  or a body, every value written out; src/engine/document.rs) as data; scene expressions.
 - ``layers``: the structured 2D/3D mesh arrays and the cell weights (src/fem/{mesh,layers}.rs).
 - ``exact``: the paper's impacting bar (scaled to any wave speed for solids) and exact L² errors
   (chord integration on 2D cells, Gauss lines on boxes).
@@ -17,7 +17,7 @@ Modules (pure ones first; only ``problem``, ``qp``, ``schemes`` and ``run`` touc
 - ``run``: the loop, each state's diagnostics (reduced over the ranks), engine.json and the
   XDMF time series.
 
-A solid is a vector field (``Scene.field = "vector"``): a ``VectorFunctionSpace`` with the elastic
+A solid is a vector field (``Scene.solid``): a ``VectorFunctionSpace`` with the elastic
 ``λ div u div v + 2μ ε(u):ε(v)``; the contact dofs are the x-components of the nodes on x = 0
 (block index × d), the held dofs every component on x = L and, with roller faces, the normal
 component on the lateral faces. ``qp`` and ``schemes`` work on dof vectors and index lists alike

@@ -87,7 +87,7 @@ class Problem:
     def _held(self, tol):
         """The dolfinx conditions ``u = 0`` and the owned dofs they hold (module docs)."""
         scene, V, msh, bs = self.scene, self.V, self.msh, self.bs
-        if scene.far_end != "clamped":
+        if scene.far_end == "free":  # a plate's free end (a solid is clamped on x = L)
             return [], np.empty(0, np.int32)
         at_l = fem.locate_dofs_geometrical(V, lambda x: np.abs(x[0] - scene.length) <= tol)
         held = [(at_l[:, None] * bs + np.arange(bs)).ravel()]

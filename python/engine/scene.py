@@ -1,43 +1,69 @@
-"""The resolved plate or solid scene that ``massredist`` writes (``scene.resolved.toml``), as
-plain data.
+"""The scene as the engine reads it: the JSON document that ``massredist`` writes
+(``scene.engine.json``, src/engine/document.rs), as plain data.
 
-Pure: reads a TOML text, returns a :class:`Scene`; no dolfinx, no MPI. Every default is already
-filled in by the Rust side (``massredist check`` / ``run`` write the resolved scene), so this
-reader only takes values and rejects what the engine does not run yet, naming the key.
+Pure: reads a JSON text, returns a :class:`Scene`; no dolfinx, no MPI. The document is the
+resolved, validated scene with every value written out, and massredist has already refused what
+the engine cannot run (naming the key to change), so this reader decides nothing: it takes each
+value, and a key missing from the document, or a document of another ``format``, is an error
+(massredist and this folder from different trees), never a default.
 """
 import ast
+import json
 import math
-import tomllib
-from dataclasses import dataclass, field as dc_field
+from dataclasses import dataclass
 
 import numpy as np
 
-# Scheme kinds the engine steps (src/schemes/*.rs): Newmark family, backward Euler, hybrid.
-SCHEMES = ("crank-nicolson", "newmark", "backward-euler", "hybrid")
+# The document's version (src/engine/document.rs FORMAT).
+FORMAT = 1
+
+# The keys of each table of the document, by geometry kind (src/engine/document.rs).
+GEOMETRY_KEYS = {
+    "plate": ("length", "height", "nx", "ny", "cells", "density", "modulus", "far_end", "gap", "initial",
+              "force"),
+    "solid": ("dim", "length", "height", "depth", "nx", "ny", "nz", "cells", "density", "lame_lambda",
+              "lame_mu", "gap", "lateral", "force", "initial"),
+    "body": ("dim", "density", "lame_lambda", "lame_mu"),
+}
+MASS_KEYS = ("kind", "weights")
+TIME_KEYS = ("dt", "end", "steps")
+OUTPUT_KEYS = ("series", "every", "summary_l2", "vtu_every", "divergence_factor")
+# The parameters of each scheme kind (src/engine/document.rs SchemeDoc).
+SCHEME_KEYS = {"crank-nicolson": ("beta", "gamma"), "newmark": ("beta", "gamma"), "backward-euler": (),
+               "hybrid": ()}
 
 
 class SceneError(ValueError):
-    """A scene the engine cannot run; the message names the key and what is allowed."""
+    """A document the engine cannot read; the message names the key."""
 
 
 @dataclass
 class Scene:
-    length: float
-    height: float
-    nx: int
-    ny: int
-    cells: str            # "quad" | "triangle"
+    """The document's values, one attribute each; ``None`` where a key does not apply to the
+    geometry (a plate's Lamé parameters, a 2D solid's depth), as in the document."""
+    geometry: str          # "plate" | "solid" (the structured box) | "body" (body.json, engine.body)
+    length: float | None
+    height: float | None
+    depth: float | None
+    nx: int | None
+    ny: int | None
+    nz: int | None
+    dim: int | None
+    cells: str | None      # "quad" | "triangle" | "hex" | "tet"
     density: float
-    modulus: float
-    far_end: str          # "clamped" | "free"
-    gap: float
-    initial: object       # "paper" | "bump" | {"displacement": str, "velocity": str}
-    force: object         # float | str (expression in x, y)
-    mass: str             # standard | mod1 | mod2 | mod3 | custom
+    modulus: float | None  # plates
+    far_end: str | None    # plates: "clamped" | "free" (a solid is clamped on x = L)
+    gap: float | None
+    lateral: str | None    # solids: "free" | "roller"
+    lame_lambda: float | None
+    lame_mu: float | None
+    initial: object        # "paper" | "bump" | {"displacement": ..., "velocity": ...}
+    force: object          # plates: float | str (expression in x, y); solids: one float per component
+    mass: str              # standard | mod1 | mod2 | mod3 | custom
     weights: list | None
     scheme: str
-    beta: float
-    gamma: float
+    beta: float | None
+    gamma: float | None
     dt: float
     end: float
     steps: int
@@ -46,21 +72,20 @@ class Scene:
     summary_l2: bool
     vtu_every: int | None
     divergence_factor: float
-    field: str = "scalar"  # "scalar" (plates) | "vector" (elastic solids, issue 11)
-    raw: dict = dc_field(default_factory=dict)
-    # Solids only (field = "vector"; the [solid] table, src/solid/spec.rs).
-    dim: int = 2
-    depth: float = 0.0
-    nz: int = 0
-    lame_lambda: float = 0.0
-    lame_mu: float = 0.5
-    lateral: str = "free"   # "free" | "roller"
-    # A body against a plane (an [obstacle] table): its data are in body.json (engine.body).
-    body: bool = False
 
     @property
     def solid(self):
-        return self.field == "vector"
+        """An elastic solid (a vector field, issue 11): the box or a body."""
+        return self.geometry != "plate"
+
+    @property
+    def body(self):
+        """A body against a plane (its data in body.json, engine.body)."""
+        return self.geometry == "body"
+
+    @property
+    def field(self):
+        return "vector" if self.solid else "scalar"
 
     @property
     def extent(self):
@@ -80,83 +105,49 @@ class Scene:
                 and self.force == 0.0)
 
 
+def _take(table, keys, name=None):
+    """The values of ``keys`` in the document's ``table`` (named ``name`` in messages; None: the
+    document itself)."""
+    if not isinstance(table, dict):
+        raise SceneError(f"{name or 'the document'}: a table expected in the engine's scene document, "
+                         f"found {table!r}")
+    missing = [k for k in keys if k not in table]
+    if missing:
+        path = f"{name}.{missing[0]}" if name else missing[0]
+        raise SceneError(f"{path}: missing from the engine's scene document (format {FORMAT}: "
+                         "massredist writes every key; are massredist and python/engine/ from one tree?)")
+    return {k: table[k] for k in keys}
+
+
+def _kind(table, name, kinds):
+    kind = _take(table, ("kind",), name)["kind"]
+    if kind not in kinds:
+        raise SceneError(f'{name}.kind = "{kind}": not a kind of the document\'s format {FORMAT} '
+                         f'({" | ".join(kinds)})')
+    return kind
+
+
 def parse(text):
-    """A :class:`Scene` from the text of ``scene.resolved.toml``."""
-    raw = tomllib.loads(text)
-    if "plate" not in raw and "solid" not in raw:
-        raise SceneError("the engine runs [plate] and [solid] scenes (bars are 1D and serial)")
-    p, m, s, t, o = (raw.get(k, {}) for k in ("plate", "mass", "scheme", "time", "output"))
-    if "solid" in raw:
-        p = raw["solid"]
-    if "obstacle" in raw and "solid" in raw:
-        p = raw["solid"]
-    elif "mesh" in p:
-        raise SceneError("plate.mesh: mesh files are not run by the engine yet (structured plates only)")
-    kind = s.get("kind", "crank-nicolson")
-    if kind not in SCHEMES:
-        raise SceneError(f'scheme.kind = "{kind}": the engine runs {", ".join(SCHEMES)}')
-    if s.get("formulation", "full") != "full":
-        raise SceneError('scheme.formulation: only "full" on plates')
-    beta, gamma = (0.25, 0.5) if kind != "newmark" else (s["beta"], s["gamma"])
-    dt, end = float(t["dt"]), float(t["end"])
-    steps = round(end / dt)
-    vtu_every = o.get("vtu_every") if o.get("vtu", False) else None
-    common = dict(mass=m.get("kind", "mod3"), weights=m.get("weights"), scheme=kind, beta=float(beta),
-                  gamma=float(gamma), dt=dt, end=end, steps=steps, series=list(o.get("series", [])),
-                  every=int(o.get("every", 1)), summary_l2=bool(o.get("summary_l2", True)),
-                  vtu_every=int(vtu_every) if vtu_every else None,
-                  divergence_factor=float(o.get("divergence_factor", 1e6)), raw=raw)
-    if "obstacle" in raw:
-        return _body(p, common)
-    if "solid" in raw:
-        return _solid(p, common)
-    return Scene(
-        length=float(p["length"]), height=float(p["height"]), nx=int(p["nx"]), ny=int(p["ny"]),
-        cells=p.get("cells", "quad"), density=float(p.get("density", 1.0)),
-        modulus=float(p.get("modulus", 1.0)), far_end=p.get("far_end", "clamped"),
-        gap=float(p.get("gap", 0.0)), initial=p.get("initial", "paper"),
-        force=p.get("force", 0.0) if isinstance(p.get("force", 0.0), str) else float(p.get("force", 0.0)),
-        **common)
-
-
-# The cells of each dimension (src/solid/spec.rs parse_solid).
-SOLID_CELLS = {2: ("quad", "triangle"), 3: ("hex", "tet")}
-
-
-def _solid(p, common):
-    """A solid :class:`Scene` from the resolved ``[solid]`` table (CONTRACT: every key written)."""
-    dim = int(p.get("dim", 2))
-    if dim not in SOLID_CELLS:
-        raise SceneError(f"solid.dim = {dim}: allowed 2 | 3")
-    cells = p.get("cells", SOLID_CELLS[dim][0])
-    if cells not in SOLID_CELLS[dim]:
-        raise SceneError(f'solid.cells = "{cells}": allowed {" | ".join(SOLID_CELLS[dim])} (dim = {dim})')
-    lateral = p.get("lateral", "free")
-    if lateral not in ("free", "roller"):
-        raise SceneError(f'solid.lateral = "{lateral}": allowed "free" | "roller"')
-    force = [float(f) for f in p.get("force", [0.0] * dim)]
-    if len(force) != dim:
-        raise SceneError(f"solid.force = {force}: one number per component ({dim})")
-    initial = p.get("initial", "paper")
-    if not (initial == "paper" or isinstance(initial, dict)):
-        raise SceneError(f'solid.initial = {initial!r}: allowed "paper" or {{ displacement, velocity }}')
-    return Scene(
-        length=float(p.get("length", 1.0)), height=float(p.get("height", 1.0)), nx=int(p.get("nx", 20)),
-        ny=int(p.get("ny", 20)), cells=cells, density=float(p.get("density", 1.0)), modulus=math.nan,
-        far_end="clamped", gap=float(p.get("gap", 0.0)), initial=initial, force=force,
-        field="vector", dim=dim, depth=float(p.get("depth", 1.0)) if dim == 3 else 0.0,
-        nz=int(p.get("nz", 20)) if dim == 3 else 0, lame_lambda=float(p.get("lame_lambda", 0.0)),
-        lame_mu=float(p.get("lame_mu", 0.5)), lateral=lateral, **common)
-
-
-def _body(p, common):
-    """A body :class:`Scene`: the mesh, weights, contact set, initial fields and force are in
-    body.json (written by massredist, read by engine.body); the table gives the dimension."""
-    dim = int(p.get("dim", 2))
-    return Scene(length=1.0, height=1.0, nx=1, ny=1, cells="body", density=float(p.get("density", 1.0)),
-                 modulus=math.nan, far_end="body", gap=0.0, initial="body", force=[0.0] * dim,
-                 field="vector", dim=dim, lame_lambda=float(p.get("lame_lambda", 0.0)),
-                 lame_mu=float(p.get("lame_mu", 0.5)), body=True, **common)
+    """A :class:`Scene` from the text of ``scene.engine.json``."""
+    doc = json.loads(text)
+    top = _take(doc, ("format", "geometry", "mass", "scheme", "time", "output"))
+    if top["format"] != FORMAT:
+        raise SceneError(f"format = {top['format']!r}: this engine reads format {FORMAT} "
+                         "(massredist and python/engine/ are from different trees)")
+    kind = _kind(top["geometry"], "geometry", tuple(GEOMETRY_KEYS))
+    g = _take(top["geometry"], GEOMETRY_KEYS[kind], "geometry")
+    scheme = _kind(top["scheme"], "scheme", tuple(SCHEME_KEYS))
+    s = _take(top["scheme"], SCHEME_KEYS[scheme], "scheme")
+    m = _take(top["mass"], MASS_KEYS, "mass")
+    t = _take(top["time"], TIME_KEYS, "time")
+    o = _take(top["output"], OUTPUT_KEYS, "output")
+    # Every attribute not in this geometry's table does not apply to it (None).
+    values = {name: None for name in ("length", "height", "depth", "nx", "ny", "nz", "dim", "modulus",
+                                      "far_end", "gap", "lateral", "lame_lambda", "lame_mu", "initial",
+                                      "force", "cells")}
+    values.update(g)
+    return Scene(geometry=kind, **values, mass=m["kind"], weights=m["weights"], scheme=scheme,
+                 beta=s.get("beta"), gamma=s.get("gamma"), **t, **o)
 
 
 # --- scene expressions (src/expr: x, y, L, H, pi; + - * / ^ **; sin cos tan exp log sqrt abs
@@ -217,13 +208,13 @@ def initial_fields(scene):
         fu = expression(scene.initial["displacement"], ("x", "y", "L", "H", "pi"))
         fv = expression(scene.initial["velocity"], ("x", "y", "L", "H", "pi"))
         return (lambda x, y: fu(x=x, y=y, **env) + 0.0 * x), (lambda x, y: fv(x=x, y=y, **env) + 0.0 * x)
-    raise SceneError(f"plate.initial = {scene.initial!r}: allowed \"paper\", \"bump\" or expressions")
+    raise SceneError(f"geometry.initial = {scene.initial!r}: not a value of the document's format {FORMAT}")
 
 
 def solid_initial_fields(scene):
     """Component functions ``(i, x, y, z)`` of u⁰ and v⁰ of a solid: ``"paper"`` is
     u = ((L − x)/2, 0[, 0]), v = 0; otherwise one expression per component in x, y[, z] and
-    L, H[, D], pi (a missing array is all zeros)."""
+    L, H[, D], pi (massredist writes both arrays, one expression per component)."""
     L = scene.length
     if scene.initial == "paper":
         return (lambda i, x, y, z: (L - x) / 2.0 if i == 0 else 0.0 * x), (lambda i, x, y, z: 0.0 * x)
@@ -232,7 +223,7 @@ def solid_initial_fields(scene):
     env = {"L": L, "H": scene.height, "pi": math.pi, **({"D": scene.depth} if three else {})}
 
     def field(key):
-        exprs = [str(e) for e in scene.initial.get(key, ["0"] * scene.dim)]
+        exprs = [str(e) for e in scene.initial[key]]
         fs = [expression(e, names) for e in exprs]
         def f(i, x, y, z):
             coords = {"x": x, "y": y, **({"z": z} if three else {})}

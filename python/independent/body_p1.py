@@ -8,7 +8,7 @@ written here from the definitions (README, "A body of any shape against a rigid 
 - the structured (0, L) x (0, H) mesh split along the diagonal (x_i, y_j)-(x_i+1, y_j+1);
 - contact in WORLD coordinates, not in a rotated frame: B U >= -g with one row n^T per contact
   node, the reaction mu >= 0 along n, the step's LCP  d = q + W mu >= 0, mu >= 0, d.mu = 0
-  (W = sigma B K^-1 B^T) solved by enumerating the active sets (a handful of nodes);
+  (W = sigma B K^-1 B^T) solved by `shared.lcp`;
 - Newmark(1/4, 1/2) on the massive unknowns, the massless ones quasi-static with
   v = (u^{n+1} - u^n)/dt, a = 0 (the scheme's definition for massless rows); backward Euler
   U^{n+1} = U^n + dt V^{n+1}, V^{n+1} = V^n + dt A^{n+1} (every unknown);
@@ -19,7 +19,6 @@ written here from the definitions (README, "A body of any shape against a rigid 
 Usage: /usr/bin/python3 python/independent/body_p1.py MASSREDIST_BINARY
 Exits 1 if a summary key differs by more than 1e-7 (relative to max(1, |value|)).
 """
-import itertools
 import json
 import math
 import os
@@ -30,7 +29,7 @@ import tempfile
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import scene_toml  # noqa: E402
+import shared  # noqa: E402
 
 CASES = [
     # A free block dropped on y = 0 under gravity, contact "auto", mod3.
@@ -114,17 +113,8 @@ def simulate(c):
     else:
         contact = face[c["contact"]].copy()
     contact &= ~clamped
-    # Layers and weights.
-    layer = np.full(len(tris), 2)
-    layer[[contact[t].any() for t in tris]] = 0
-    near = np.zeros(nn, bool)
-    for t in tris[layer == 0]:
-        near[t] = True
-    layer[[(layer[k] != 0) and near[t].any() for k, t in enumerate(tris)]] = 1
     areas = np.array([element(pts[t], 0, 1)[2] for t in tris])
-    a0, a1, tot = areas[layer == 0].sum(), areas[layer == 1].sum(), areas.sum()
-    w = {"standard": np.ones(3), "mod1": np.array([0.0, 1, 1]), "mod2": np.array([0, 1, 1]) * tot / (tot - a0),
-         "mod3": np.array([0, 1 + a0 / a1, 1])}[c["mass"]][layer]
+    w, _ = shared.layer_weights(tris, contact, areas, c["mass"])
     N = 2 * nn
     M, S, M1 = np.zeros((N, N)), np.zeros((N, N)), np.zeros((N, N))
     for k, t in enumerate(tris):
@@ -185,7 +175,7 @@ def simulate(c):
         rhs = Mf @ pred + sigma * Ff
         Ufree = Kinv @ rhs
         q = B @ Ufree + g
-        mu = lcp(q, W)
+        mu = shared.lcp(q, W)
         Unew = Ufree + sigma * Kinv @ (B.T @ mu)
         Anew = (Unew - pred) / sigma
         Vnew = V + dt * ((1 - gamma) * A + gamma * Anew)
@@ -198,22 +188,6 @@ def simulate(c):
     return rep
 
 
-def lcp(q, W):
-    """The solution of d = q + W mu >= 0, mu >= 0, d.mu = 0 (W SPD) by enumerating active sets."""
-    m = len(q)
-    if (q >= 0).all():
-        return np.zeros(m)
-    for size in range(1, m + 1):
-        for act in itertools.combinations(range(m), size):
-            act = list(act)
-            mu = np.zeros(m)
-            mu[act] = np.linalg.solve(W[np.ix_(act, act)], -q[act])
-            d = q + W @ mu
-            if (mu >= -1e-14).all() and (d >= -1e-12 * max(1.0, abs(q).max())).all():
-                return np.maximum(mu, 0.0)
-    raise RuntimeError("no active set solves the LCP")
-
-
 def scene_text(c):
     fmt = lambda v: ", ".join(repr(float(x)) for x in v)
     lines = [
@@ -222,7 +196,7 @@ def scene_text(c):
         f"force = [{fmt(c['force'])}]",
         f"initial = {{ displacement = [0, 0], velocity = [{fmt(c['vel'])}] }}",
     ]
-    lines += scene_toml.body_tail(c, c.get("scheme", "crank-nicolson"))
+    lines += shared.body_tail(c, c.get("scheme", "crank-nicolson"))
     return "\n".join(lines) + "\n"
 
 

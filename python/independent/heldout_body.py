@@ -21,6 +21,7 @@ import math
 import numpy as np
 
 import heldout_fem as fem
+from shared import collapsed_gauss, grundmann_moller, layer_weights, lcp, tensor_gauss
 
 EXPR = {"sin": math.sin, "cos": math.cos, "exp": math.exp, "sqrt": math.sqrt, "pi": math.pi}
 
@@ -30,30 +31,12 @@ def evaluate(text, point, t=0.0):
     return float(eval(text, {"__builtins__": {}}, names))
 
 
-def lcp(q, W):
-    """Murty's least-index method for d = q + W mu >= 0 <= mu, d.mu = 0 (W SPD)."""
-    m = len(q)
-    act = np.zeros(m, bool)
-    tol_d = 1e-13 * max(1e-300, np.abs(q).max(initial=0.0))
-    for _ in range(100 * m + 100):
-        mu = np.zeros(m)
-        if act.any():
-            mu[act] = np.linalg.solve(W[np.ix_(act, act)], -q[act])
-        d = q + W @ mu
-        tol_mu = 1e-13 * max(1e-300, np.abs(mu).max(initial=0.0))
-        bad = np.flatnonzero((act & (mu < -tol_mu)) | (~act & (d < -tol_d)))
-        if len(bad) == 0:
-            return np.where(act, mu, 0.0)
-        act[bad[0]] = ~act[bad[0]]
-    raise RuntimeError("Murty's method did not finish")
-
-
 def build(case):
     """The discrete body of a case: matrices on the free unknowns, contact rows, report data."""
     pts, cells, order = case["mesh"]
     d = pts.shape[1]
     nn = len(pts)
-    rule = {"gm5": fem.grundmann_moller, "gauss": fem.collapsed_gauss, "tensor": fem.tensor_gauss}[case["rule"]](d)
+    rule = {"gm5": grundmann_moller, "gauss": collapsed_gauss, "tensor": tensor_gauss}[case["rule"]](d)
     n = np.array(case["normal"], float)
     n /= np.linalg.norm(n)
     gap_all = (pts - np.array(case["point"])) @ n
@@ -82,7 +65,7 @@ def build(case):
         w = np.array([0.0 if k in on else 1.0 for k in range(len(cells))])
         case["weights"] = w
     else:
-        w, _ = fem.layer_weights(cells, contact, volumes, case["mass"])
+        w, _ = layer_weights(cells, contact, volumes, case["mass"])
     N = d * nn
     M, S, M1 = np.zeros((N, N)), np.zeros((N, N)), np.zeros((nn, nn))
     for (m, s, _), c, wc in zip(elems, cells, w):

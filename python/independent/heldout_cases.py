@@ -22,7 +22,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import heldout_body  # noqa: E402
 import heldout_fem  # noqa: E402
 import heldout_meshes as hm  # noqa: E402
-import scene_toml  # noqa: E402
+import shared  # noqa: E402
 
 
 def disc_mesh(order, gap, half=False):
@@ -134,7 +134,7 @@ def scene_text(c, mesh_file):
     lines = ["[solid]", f"dim = {c['mesh'][0].shape[1]}", f'mesh = "{mesh_file}"', f"lame_lambda = {c['lam']!r}",
              f"lame_mu = {c['mu']!r}", f"density = {c['rho']!r}", f"force = [{s(c['force'])}]",
              f"initial = {{ displacement = [{s(c['u0'])}], velocity = [{s(c['v0'])}] }}"]
-    return "\n".join(lines + scene_toml.body_tail(c, c["scheme"])) + "\n"
+    return "\n".join(lines + shared.body_tail(c, c["scheme"])) + "\n"
 
 
 def scales(mine, ours):
@@ -244,7 +244,7 @@ def main(argv):
     binary = argv[1]
     keep = argv[argv.index("--keep") + 1] if "--keep" in argv else None
     names = [a for a in argv[2:] if not a.startswith("--") and a != keep]
-    heldout_fem.check_rules()
+    shared.check_rules()
     worst = 0.0
     with tempfile.TemporaryDirectory() as tmp:
         root = keep or tmp

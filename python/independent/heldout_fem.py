@@ -1,8 +1,8 @@
 """Finite elements for the held-out body scenes (issue 19), written from the definitions only:
 P1 and P2 (isoparametric) triangles and tetrahedra, Q1 quadrangles and hexahedra (on
-parallelograms and parallelepipeds), three quadrature rules, the element mass and
-plane-strain / 3D stiffness, boundary facets with their outward normals, contact sets, the
-shares of the contact area, and the layer weights (standard, mod1, mod2, mod3).
+parallelograms and parallelepipeds), the element mass and plane-strain / 3D stiffness on one of
+the quadrature rules of `shared`, boundary facets with their outward normals, contact sets and
+the shares of the contact area (the layer weights: `shared.layer_weights`).
 
 Nothing of massredist is imported or read; numpy only.
 
@@ -13,77 +13,11 @@ the edges (0,1), (1,2), (2,0) [triangle6]; (0,1), (1,2), (2,0), (3,0), (3,2), (3
 P2 shape functions: vertex i: lambda_i (2 lambda_i - 1); edge (i, j): 4 lambda_i lambda_j.
 Isoparametric map x(xi) = sum_a X_a phi_a(xi), J = dx/dxi, grad_x phi = J^-T grad_xi phi.
 
-Quadrature:
-- `gauss`: a collapsed (Duffy) tensor Gauss-Legendre rule with 6 points per direction, exact
-  for polynomials of degree <= 9 on the simplex: on straight-sided cells it integrates the P2
-  mass (degree 4) and stiffness (degree 2) exactly, so it checks the other side's claim of
-  exactness with a rule that has nothing in common with it;
-- `gm5`: the Grundmann-Moller rule of degree 5 (A. Grundmann, H. M. Moller, SIAM J. Numer.
-  Anal. 15 (1978), Theorem 4), computed here from its closed formula. On curved P2 cells the
-  integrands are not polynomials (det J and J^-1 vary), the integrals depend on the rule, and
-  the issue/README fix the rule as degree-5 Grundmann-Moller: the held-out curved scenes use it;
-- `tensor`: Gauss-Legendre with 4 points per direction on [0, 1]^n for Q1 cells, exact on
-  parallelograms and parallelepipeds (the only Q1 cells the held-out scenes have).
+Quadrature: `shared` (`gauss`, `gm5`, `tensor`).
 """
-import math
-import itertools
-
 import numpy as np
 
 EDGES = {2: [(0, 1), (1, 2), (2, 0)], 3: [(0, 1), (1, 2), (2, 0), (3, 0), (3, 2), (3, 1)]}
-
-
-def compositions(total, parts):
-    """All beta in N^parts with |beta| = total."""
-    if parts == 1:
-        return [(total,)]
-    return [(first,) + rest for first in range(total, -1, -1) for rest in compositions(total - first, parts - 1)]
-
-
-def grundmann_moller(n, s=2):
-    """Points xi (m x n) and weights of the degree 2s+1 Grundmann-Moller rule (module docs):
-    sum_i (-1)^i 2^-2s (d+n-2i)^d / (i! (d+n-i)!) sum_{|beta|=s-i} f((2 beta + 1)/(d+n-2i))."""
-    d = 2 * s + 1
-    pts, wts = [], []
-    for i in range(s + 1):
-        denom = d + n - 2 * i
-        w = (-1) ** i * 2.0 ** (-2 * s) * denom ** d / (math.factorial(i) * math.factorial(d + n - i))
-        for beta in compositions(s - i, n + 1):
-            lam = [(2 * b + 1) / denom for b in beta]
-            pts.append(lam[1:])
-            wts.append(w)
-    return np.array(pts), np.array(wts)
-
-
-def collapsed_gauss(n, m=6):
-    """Duffy-collapsed Gauss-Legendre on the reference simplex (module docs)."""
-    x, w = np.polynomial.legendre.leggauss(m)
-    x, w = (x + 1) / 2, w / 2
-    pts, wts = [], []
-    for idx in itertools.product(range(m), repeat=n):
-        u = [x[k] for k in idx]
-        wu = np.prod([w[k] for k in idx])
-        if n == 2:
-            pts.append((u[0], (1 - u[0]) * u[1]))
-            wts.append(wu * (1 - u[0]))
-        else:
-            pts.append((u[0], (1 - u[0]) * u[1], (1 - u[0]) * (1 - u[1]) * u[2]))
-            wts.append(wu * (1 - u[0]) ** 2 * (1 - u[1]))
-    return np.array(pts), np.array(wts)
-
-
-def check_rules():
-    """Both rules integrate every monomial of degree <= 5 exactly (the Dirichlet integral
-    a! b! c! / (a + b + c + n)!) and sum to 1/n!: a self-check run before every comparison."""
-    for n in (2, 3):
-        for rule in (grundmann_moller(n), collapsed_gauss(n)):
-            p, w = rule
-            for e in itertools.product(range(6), repeat=n):
-                if sum(e) > 5:
-                    continue
-                exact = np.prod([math.factorial(k) for k in e]) / math.factorial(sum(e) + n)
-                got = w @ np.prod(p ** np.array(e), axis=1)
-                assert abs(got - exact) < 1e-15, (n, e, got, exact)
 
 
 def shape(n, order, xi):
@@ -118,16 +52,6 @@ def tensor_shape(n, xi):
         phi.append(np.prod(f))
         grad.append([df[k] * np.prod([f[j] for j in range(n) if j != k]) for k in range(n)])
     return np.array(phi), np.array(grad)
-
-
-def tensor_gauss(n, m=4):
-    """Gauss-Legendre, m points per direction on [0, 1]^n: exact on parallelogram and
-    parallelepiped Q1 cells for the mass (degree 2 per variable) and the stiffness."""
-    x, w = np.polynomial.legendre.leggauss(m)
-    x, w = (x + 1) / 2, w / 2
-    grid = np.array(np.meshgrid(*[x] * n, indexing="ij")).reshape(n, -1).T
-    wts = np.prod(np.array(np.meshgrid(*[w] * n, indexing="ij")).reshape(n, -1), axis=0)
-    return grid, wts
 
 
 def element(X, order, lam, mu, rule):
@@ -202,21 +126,3 @@ def area_shares(n_nodes_facet, dim):
     if dim == 3 and n_nodes_facet == 6:
         return [0, 0, 0, 1 / 3, 1 / 3, 1 / 3]
     return [1 / n_nodes_facet] * n_nodes_facet
-
-
-def layer_weights(cells, contact, volumes, kind):
-    """Layer 0: cells holding a contact node; layer 1: other cells sharing a node with layer 0;
-    weights standard 1 | mod1 (0, 1, 1) | mod2 (0, W, W), W = |Omega|/(|Omega| - A0) |
-    mod3 (0, 1 + A0/A1, 1)."""
-    layer = np.full(len(cells), 2)
-    layer[[contact[c].any() for c in cells]] = 0
-    near = np.zeros(len(contact), bool)
-    for c in cells[layer == 0]:
-        near[c] = True
-    for k, c in enumerate(cells):
-        if layer[k] != 0 and near[c].any():
-            layer[k] = 1
-    a0, a1, tot = volumes[layer == 0].sum(), volumes[layer == 1].sum(), volumes.sum()
-    table = {"standard": [1, 1, 1], "mod1": [0, 1, 1], "mod2": [0, tot / (tot - a0), tot / (tot - a0)],
-             "mod3": [0, 1 + a0 / a1, 1]}[kind]
-    return np.array(table, float)[layer], layer

@@ -45,12 +45,15 @@ prints one JSON object per scene: {"scene", "summary": {...}, "series": {"t", "u
 """
 import json
 import math
+import os
 import sys
 import tomllib
 
 import numpy as np
 
-GAUSS3 = [(0.5 - 0.3872983346207417, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + 0.3872983346207417, 5.0 / 18.0)]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from shared import GAUSS3, bar_weights  # noqa: E402
+
 
 
 def expression(text, length):
@@ -59,21 +62,6 @@ def expression(text, length):
              "log": math.log, "sqrt": math.sqrt, "abs": abs, "min": min, "max": max}
     code = compile(str(text).replace("^", "**"), "<scene>", "eval")
     return lambda x: float(eval(code, {"__builtins__": {}}, dict(names, x=x)))
-
-
-def weights(kind, m):
-    """Element weights of a named mass (paper section 3)."""
-    w = np.ones(m)
-    if kind == "standard":
-        return w
-    w[0] = 0.0
-    if kind == "mod2":
-        w[1:] = m / (m - 1.0)
-    elif kind == "mod3":
-        w[1] = 2.0
-    elif kind != "mod1":
-        raise ValueError(f"mass {kind}")
-    return w
 
 
 def assemble(length, m, rho, modulus, w, far_end, force):
@@ -224,7 +212,7 @@ def run_scene(scene):
     far_end, gap = bar.get("far_end", "clamped"), float(bar.get("gap", 0.0))
     force = bar.get("force", 0.0)
     force = expression(force, length) if isinstance(force, str) else float(force)
-    w = weights(scene["mass"]["kind"], m)
+    w = bar_weights(scene["mass"]["kind"], m)
     M, K, F, lumped = assemble(length, m, rho, modulus, w, far_end, force)
     n = len(F)
     xs = np.array([length * i / m for i in range(n)])

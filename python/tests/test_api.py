@@ -191,3 +191,42 @@ def test_exact_of_a_general_bar_and_refusals():
         ex.u(0.0, ex.end * 2)
     with pytest.raises(mr.SceneError, match=r"\[bar\] scene"):
         mr.exact(SCENES / "solid-2d-roller-triangle.toml")
+
+
+# One scene per kind of refusal and the one key it names (issue 28): the compatibility rule of
+# geometry, mass, scheme and contact law, and the parser's own refusals. `load` refuses them
+# (not only `check` or `run`), and the CLI's `check` prints the same key first.
+REFUSALS = [
+    ('[bar]\n[mass]\nkind = "mod3"\n[scheme]\nkind = "hybrid"\n[contact]\nmethod = "penalty"\npenalty = 1e4\n',
+     "contact.method"),
+    ('[bar]\n[mass]\nkind = "mod3"\n[scheme]\nkind = "moreau-jean"\n', "mass.kind"),
+    ('[solid]\n[contact]\nmethod = "nitsche"\n', "contact.method"),
+    ('[bar]\ncolour = "red"\n', "bar.colour"),
+    ("[colour]\nshade = 1\n", "colour"),
+    ('[bar]\ninitial = { displacement = "1 +", velocity = "0" }\n', "bar.initial.displacement"),
+    ('[bar]\nforce = "1/x"\n', "bar.force"),
+    ('[bar]\nelements = 3\n[mass]\nkind = "custom"\nweights = [0.0, -1.0, 1.0]\n', "mass.weights"),
+    ('[solid]\nmesh = "no/such/mesh.msh"\n', "solid.mesh"),
+]
+
+
+@pytest.mark.parametrize("text, key", REFUSALS)
+def test_load_names_the_one_key_as_the_cli_does(text, key, cli, tmp_path):
+    with pytest.raises(mr.SceneError) as info:
+        mr.load(text)
+    assert info.value.key == key, str(info.value)
+    path = tmp_path / "scene.toml"
+    path.write_text(text)
+    out = subprocess.run([str(cli), "check", str(path)], capture_output=True, text=True)
+    assert out.returncode == 2
+    # `error: <scene path>: <message>`: the message opens with the key.
+    first = out.stderr.splitlines()[0].removeprefix("error: ").removeprefix(f"{path}: ")
+    assert first.startswith(key) or first.startswith(f"[{key}]"), first
+
+
+def test_replace_refuses_a_conflict_at_once():
+    # Penalty with the hybrid scheme is refused by `replace` itself, naming contact.method.
+    scene = mr.load('[bar]\n[mass]\nkind = "mod3"\n[scheme]\nkind = "hybrid"\n')
+    with pytest.raises(mr.SceneError) as info:
+        scene.replace({"contact.method": "penalty", "contact.penalty": 1e4})
+    assert info.value.key == "contact.method"

@@ -1,16 +1,16 @@
 //! The bar as a [`Geometry`] of the one driver: its contact node u_0, its exact L² norms
-//! ([`super::norms`]), its fast per-step diagnostics (one-pass tridiagonal kernels) and the
-//! bar-only schemes, which need its one contact node.
+//! ([`super::norms`]), its fast per-step diagnostics (one-pass tridiagonal kernels) and its
+//! one-node contact system (Paoli–Schatzman and the reduced formulation need it).
 
 use super::assembly::BarSystem;
 use super::norms::Energy;
 use crate::exact::Exact;
 use crate::problem::{Diagnostics, Geometry, GeometryView};
-use crate::schemes::{Beta, Gamma, NewmarkReduced, OneNodeContact, PaoliSchatzman, Scheme, SchemeError, SchemeSpec};
+use crate::schemes::OneNodeContact;
 use crate::system::ContactSystem;
 
 impl BarSystem {
-    /// What the bar-only schemes need of this bar ([`OneNodeContact`]).
+    /// Its one-node contact system ([`OneNodeContact`]).
     pub fn one_node(&self) -> OneNodeContact<'_> {
         OneNodeContact { system: &self.system, h: self.h(), w0: self.weights[0] }
     }
@@ -88,22 +88,8 @@ impl Geometry for BarSystem {
         &self.system
     }
 
-    /// Paoli–Schatzman and the reduced Newmark formulation (Crank–Nicolson is its β = ¼, γ = ½).
-    fn bar_only_scheme(
-        &self,
-        spec: &SchemeSpec,
-        dt: f64,
-        u: Vec<f64>,
-        v: Vec<f64>,
-    ) -> Result<Box<dyn Scheme>, SchemeError> {
-        let bar = self.one_node();
-        Ok(match *spec {
-            SchemeSpec::PaoliSchatzman { beta, restitution } => {
-                Box::new(PaoliSchatzman::new(bar, beta, restitution, dt, u, v)?)
-            }
-            SchemeSpec::Newmark { beta, gamma, .. } => Box::new(NewmarkReduced::new(bar, beta, gamma, dt, u, v)?),
-            _ => Box::new(NewmarkReduced::new(bar, Beta::DEFAULT, Gamma::DEFAULT, dt, u, v)?),
-        })
+    fn one_node(&self) -> Option<OneNodeContact<'_>> {
+        Some(BarSystem::one_node(self))
     }
 
     fn lumped_mass(&self) -> Option<Vec<f64>> {

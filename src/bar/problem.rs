@@ -4,9 +4,9 @@
 
 use super::assembly::{AssemblyError, Bar, BarSystem, Load, load_into};
 use super::spec::{BarSpec, Initial};
-use crate::body::Force;
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
+use crate::medium::Force;
 use crate::problem::Problem;
 use crate::run::{GeometrySpec, Totals};
 use crate::scene::Scene;

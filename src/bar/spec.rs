@@ -1,9 +1,9 @@
 //! A bar's specification, [`BarSpec`]: what the `[bar]` table of a scene validates into
 //! (`crate::scene`'s bar table), and what the bar's problem is built from (`super::problem`).
 
-use crate::body::Force;
 use crate::expr::Expr;
 use crate::material::{FarEnd, Material};
+use crate::medium::Force;
 
 /// Initial data of the bar.
 #[derive(Debug, Clone, PartialEq)]

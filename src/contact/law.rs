@@ -8,22 +8,102 @@
 //!   by h: κ is a stiffness, force per length). Its energy `½ κ (d_i⁻)²` is part of the
 //!   reported energy.
 //! - [`ContactLaw::Nitsche`]: Nitsche's method (Chouly–Hild–Renard 2015), `θ ∈ {1, 0, −1}` and
-//!   `γ = γ₀ E / h`; built for bars ([`crate::contact::nitsche`], [`crate::schemes::nitsche`]:
-//!   Newmark/CN and explicit Verlet, γ₀ > 1), refused elsewhere in one place
-//!   ([`crate::schemes::nitsche::build`]).
+//!   `γ = γ₀ E / h`; built for bars ([`crate::contact::nitsche`]: one contact point whose σ_n
+//!   comes from its P1 cell, γ₀ > 1).
+//!
+//! Each law is one file of `crate::contact` implementing [`StepLaw`] and [`ExplicitLaw`];
+//! [`ContactLaw::step_law`] and [`ContactLaw::explicit_law`] build them, [`ContactLaw::needs`]
+//! declares what each needs of the scheme and the geometry (checked once, by the scenes'
+//! compatibility rule).
 
+use super::exact::{ExactExplicit, ExactStep};
+use super::nitsche::{NitscheExplicit, NitscheShape, NitscheStep, NitscheTerm};
+use super::penalty::{PenaltyExplicit, PenaltySolver};
+use super::{Backend, ExplicitLaw, StepLaw};
+use crate::linalg::SymMatrix;
+use crate::system::ContactSystem;
+use serde::{Deserialize, Deserializer, Serialize};
 use thiserror::Error;
 
-/// The contact law (module docs).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// The contact law (module docs): the `[contact]` table, serde internally tagged by `method`,
+/// each variant with its own keys (a key of another method is refused naming it, by the scene
+/// reader `crate::scene`'s `read_tagged`). Ranges are checked where a value is read.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(tag = "method", rename_all = "lowercase", deny_unknown_fields)]
 pub enum ContactLaw {
     #[default]
     Exact,
-    /// `R_i = penalty · max(0, −d_i)`, penalty > 0 and finite.
-    Penalty { penalty: f64 },
-    /// Nitsche with `nitsche_theta` ∈ {1, 0, −1} and `nitsche_gamma0` > 1.
-    Nitsche { theta: i8, gamma0: f64 },
+    /// `R_i = penalty · max(0, −d_i)`, penalty > 0 and finite (required).
+    Penalty {
+        #[serde(deserialize_with = "penalty_in_range")]
+        penalty: f64,
+    },
+    /// Nitsche with `nitsche_theta` ∈ {1, 0, −1} (default 1) and `nitsche_gamma0` > 1
+    /// (default [`ContactLaw::DEFAULT_GAMMA0`]).
+    Nitsche {
+        #[serde(rename = "nitsche_theta", default = "theta_default", deserialize_with = "theta_in_range")]
+        theta: i8,
+        #[serde(rename = "nitsche_gamma0", default = "gamma0_default", deserialize_with = "gamma0_in_range")]
+        gamma0: f64,
+    },
 }
+
+fn theta_default() -> i8 {
+    1
+}
+
+fn gamma0_default() -> f64 {
+    ContactLaw::DEFAULT_GAMMA0
+}
+
+fn penalty_in_range<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    let p = f64::deserialize(d)?;
+    ContactLaw::penalty(p).map(|_| p).map_err(serde::de::Error::custom)
+}
+
+fn theta_in_range<'de, D: Deserializer<'de>>(d: D) -> Result<i8, D::Error> {
+    let t = f64::deserialize(d)?;
+    match ContactLaw::nitsche(t, ContactLaw::DEFAULT_GAMMA0) {
+        Ok(ContactLaw::Nitsche { theta, .. }) => Ok(theta),
+        Ok(_) => unreachable!("nitsche() builds a Nitsche law"),
+        Err(e) => Err(serde::de::Error::custom(e)),
+    }
+}
+
+fn gamma0_in_range<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    let g = f64::deserialize(d)?;
+    ContactLaw::nitsche(1.0, g).map(|_| g).map_err(serde::de::Error::custom)
+}
+
+/// How a scheme treats contact, which decides the laws it takes (the scheme declares it:
+/// `crate::schemes::SchemeSpec::needs`; the law says which it is built for: [`LawNeeds`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Treatment {
+    /// One implicit solve per step, `K U = r − σ Σ_c λ_c(U) e_c` with the law's λ (Newmark,
+    /// Crank–Nicolson, backward Euler: generic over the law).
+    ImplicitStep,
+    /// The law's force of the current state on massive contact nodes and its quasi-static rows
+    /// on massless ones (central differences: generic over the law).
+    Explicit,
+    /// The scheme's own contact treatment of the exact condition (Paoli–Schatzman's and
+    /// Moreau–Jean's impact laws, the reduced and hybrid schemes' `u_0 = u_1⁺`).
+    Own,
+}
+
+/// What a law needs of the scheme and the geometry (checked once, by the scene's compatibility
+/// rule, `crate::scene`'s `compat`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LawNeeds {
+    /// The scheme treatments it is built for.
+    pub treatments: &'static [Treatment],
+    /// A contact unknown whose stiffness row is one P1 cell (Nitsche's σ_n: a bar).
+    pub one_cell_contact_row: bool,
+    /// With [`Treatment::Explicit`]: no massless unknown beside the contact unknowns (a contact
+    /// layer's free massless unknowns have no quasi-static map with this law).
+    pub explicit_without_layer: bool,
+}
+
+pub use super::SetupError;
 
 /// A contact law parameter outside its range (the message names the key and the range).
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -41,10 +121,10 @@ impl ContactLaw {
     pub const PENALTY_RANGE: &'static str = "(0, ∞)";
     pub const THETA_KEY: &'static str = "contact.nitsche_theta";
     pub const THETA_RANGE: &'static str = "1 | 0 | -1";
-    pub const GAMMA0_KEY: &'static str = "contact.nitsche_gamma0";
+    pub const GAMMA0_KEY: &'static str = super::nitsche::GAMMA0_KEY;
     /// γ₀ > 1: the coercivity of Nitsche's term for θ = 1 and the monotonicity of its contact
     /// rows for every θ ([`crate::contact::nitsche`]).
-    pub const GAMMA0_RANGE: &'static str = "(1, ∞)";
+    pub const GAMMA0_RANGE: &'static str = super::nitsche::GAMMA0_RANGE;
     /// The default `nitsche_gamma0`.
     pub const DEFAULT_GAMMA0: f64 = 100.0;
 
@@ -68,6 +148,85 @@ impl ContactLaw {
         Ok(ContactLaw::Nitsche { theta: theta as i8, gamma0 })
     }
 
+    /// Every law, one of each method (the penalty's value is a placeholder), in the order
+    /// messages list them.
+    pub const ALL: [ContactLaw; 3] = [
+        ContactLaw::Exact,
+        ContactLaw::Penalty { penalty: 1.0 },
+        ContactLaw::Nitsche { theta: 1, gamma0: Self::DEFAULT_GAMMA0 },
+    ];
+
+    /// What the law needs (the compatibility rule reads it).
+    pub const fn needs(&self) -> LawNeeds {
+        use Treatment::*;
+        match self {
+            ContactLaw::Exact => LawNeeds {
+                treatments: &[ImplicitStep, Explicit, Own],
+                one_cell_contact_row: false,
+                explicit_without_layer: false,
+            },
+            ContactLaw::Penalty { .. } => LawNeeds {
+                treatments: &[ImplicitStep, Explicit],
+                one_cell_contact_row: false,
+                explicit_without_layer: true,
+            },
+            ContactLaw::Nitsche { .. } => LawNeeds {
+                treatments: &[ImplicitStep, Explicit],
+                one_cell_contact_row: true,
+                explicit_without_layer: true,
+            },
+        }
+    }
+
+    /// The law's implicit step on `system` for `K = k` (factored here once) and the scheme's σ
+    /// (`K U = r − σ Σ λ_c(U) e_c`).
+    pub fn step_law<A: Backend>(
+        &self,
+        system: &ContactSystem<A>,
+        k: &A,
+        matrix: &'static str,
+        sigma: f64,
+    ) -> Result<Box<dyn StepLaw>, SetupError> {
+        let plain = k.contact_solver(&system.contact, matrix)?;
+        Ok(match *self {
+            ContactLaw::Exact => Box::new(ExactStep { solver: plain, sigma }),
+            ContactLaw::Penalty { penalty } => {
+                Box::new(PenaltySolver::new(plain, system.n(), &system.contact, sigma, penalty)?)
+            }
+            ContactLaw::Nitsche { .. } => {
+                Box::new(NitscheStep::new(plain, system.n(), self.nitsche_term(system)?, sigma)?)
+            }
+        })
+    }
+
+    /// The law in central differences on `system` with the lumped mass `lumped`.
+    pub fn explicit_law<A: SymMatrix>(
+        &self,
+        system: &ContactSystem<A>,
+        lumped: &[f64],
+    ) -> Result<Box<dyn ExplicitLaw>, SetupError> {
+        Ok(match *self {
+            ContactLaw::Exact => Box::new(ExactExplicit::new(system, lumped)?),
+            ContactLaw::Penalty { penalty } => Box::new(PenaltyExplicit::new(system, lumped, penalty)?),
+            ContactLaw::Nitsche { .. } => Box::new(NitscheExplicit::new(self.nitsche_term(system)?, lumped)?),
+        })
+    }
+
+    /// Nitsche's term on a system: its contact row must be one P1 cell.
+    fn nitsche_term<A: SymMatrix>(&self, system: &ContactSystem<A>) -> Result<NitscheTerm, SetupError> {
+        let ContactLaw::Nitsche { theta, gamma0 } = *self else {
+            return Err(SetupError::Shape("not a Nitsche law"));
+        };
+        NitscheTerm::new(&system.stiffness, &system.contact, &system.lower, f64::from(theta), gamma0).map_err(|e| {
+            match e {
+                NitscheShape::Gamma0(g) => super::nitsche::gamma0_error(g, Self::GAMMA0_RANGE),
+                NitscheShape::ContactCount(_) | NitscheShape::NotOneCell => {
+                    SetupError::Shape("Nitsche contact needs one contact node whose stiffness row is one P1 cell")
+                }
+            }
+        })
+    }
+
     /// The scene name (`contact.method`).
     pub const fn method(&self) -> &'static str {
         match self {
@@ -89,9 +248,7 @@ impl ContactLaw {
     /// (`d = u_c − lb_c`); 0 for the other laws.
     pub fn energy(&self, uc: impl Iterator<Item = f64>, lower: &[f64]) -> f64 {
         match *self {
-            ContactLaw::Penalty { penalty } => {
-                uc.zip(lower).map(|(u, lb)| (u - lb).min(0.0)).map(|d| 0.5 * penalty * d * d).sum()
-            }
+            ContactLaw::Penalty { penalty } => super::penalty::spring_energy(penalty, uc, lower),
             _ => 0.0,
         }
     }

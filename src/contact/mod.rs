@@ -12,7 +12,23 @@
 //! and [`Schur`] (plates and solids: many nodes, an LCP on the contact Schur complement solved
 //! exactly by [`lcp::Lcp`]). [`QuasiStatic`] solves the quasi-static contact rows of massless
 //! contact nodes (the hybrid scheme's `u_0 = u_1⁺` in 1D).
+//!
+//! **Contact laws.** A law is how the contact force enters a scheme; each is one file behind
+//! two traits, and the schemes that take a law (Newmark/Crank–Nicolson, backward Euler, central
+//! differences) are written once for all of them:
+//! - [`StepLaw`]: one implicit step `K U = r − σ Σ_c λ_c(U) e_c` solved exactly, with the law's
+//!   own force and energy;
+//! - [`ExplicitLaw`]: central differences' treatment (the force of the current state on massive
+//!   contact nodes, the quasi-static rows of massless ones, the term the law adds to the stable
+//!   limit).
+//!
+//! The laws: [`exact`] (the Signorini condition, solved by the back-end's [`ContactSolver`]),
+//! [`penalty`] and [`nitsche`]; [`law::ContactLaw`] (the scene's `[contact]`) builds them and
+//! declares what each needs. A new law (Tresca, Coulomb) is one file here implementing both
+//! traits and one variant of [`law::ContactLaw`] (with its tangential unknowns passed in its
+//! constructor, as the contact unknowns are now).
 
+pub mod exact;
 pub mod law;
 pub mod lcp;
 pub mod nitsche;
@@ -24,12 +40,13 @@ use crate::linalg::{LinalgError, SymMatrix};
 use lcp::{Lcp, LcpError};
 pub use schur::Schur;
 use std::fmt::Debug;
+use thiserror::Error;
 
 /// A matrix back-end with its exact contact solver: what the schemes need to factor an iteration
 /// matrix `K` once and solve each step's contact problem with it.
 pub trait Backend: SymMatrix {
     /// The exact solver of one implicit step with contact for `K = self`.
-    type Solver: ContactSolver;
+    type Solver: ContactSolver + 'static;
 
     /// Factors `self` once and prepares the contact solves on the unknowns `contact`.
     fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<Self::Solver, LinalgError>;
@@ -59,6 +76,101 @@ pub trait ContactSolver: Debug + Send {
     /// exit) and writes λ (one entry per contact unknown). On active nodes `u_c = lb_c` is set
     /// exactly, so complementarity holds bit for bit. Returns the principal pivots used.
     fn solve(&mut self, rhs: &mut [f64], lower: &[f64], sigma: f64, lambda: &mut [f64]) -> Result<usize, LcpError>;
+}
+
+/// Why a law cannot be built on a system (a caller of the library past the scenes'
+/// compatibility rule, or a matrix that cannot be factored).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SetupError {
+    #[error(transparent)]
+    Linalg(#[from] LinalgError),
+    #[error(transparent)]
+    Contact(#[from] LcpError),
+    /// A parameter outside the range this system allows (Nitsche's γ₀ with θ = 0, −1).
+    #[error("{key} = {value}: allowed range is {range}", value = crate::numfmt::fmt_f64(*value))]
+    Parameter { key: &'static str, value: f64, range: &'static str },
+    /// The system does not have what the law needs.
+    #[error("{0}")]
+    Shape(&'static str),
+}
+
+/// One implicit step with a contact law (module docs), built once per scheme for its K and σ:
+/// the seam every implicit scheme is generic over.
+pub trait StepLaw: Debug + Send {
+    /// Solves `K U = r − σ Σ_c λ_c e_c` with the law's λ(U) in place (`rhs` = r on entry, U on
+    /// exit) and writes λ (one entry per contact unknown). Returns the principal pivots used.
+    fn solve(&mut self, rhs: &mut [f64], lower: &[f64], lambda: &mut [f64]) -> Result<usize, LcpError>;
+    /// Whether the law has a force of the state (penalty, Nitsche: in A⁰ and the energy); the
+    /// exact law's is a multiplier of the step only.
+    fn has_force(&self) -> bool {
+        false
+    }
+    /// Adds `scale ·` the law's contact force at U (the force vector in `M Ü + K U + N(U) = F`)
+    /// to `out`.
+    fn add_force(&self, _u: &[f64], _lower: &[f64], _scale: f64, _out: &mut [f64]) {}
+    /// λ of the state U (the data at t = 0); the exact law leaves 0.
+    fn lambda_of(&self, _u: &[f64], _lower: &[f64], _lambda: &mut [f64]) {}
+    /// The law's energy at U (penalty springs, Nitsche's θΦ); None for the exact law.
+    fn energy(&self, _u: &[f64], _lower: &[f64]) -> Option<f64> {
+        None
+    }
+    /// How Newmark forms `A^{n+1} = (U^{n+1} − Ũ)/σ`: as a product with 1/σ (true: the exact
+    /// law's scheme as first written) or as a division (the other laws, written later). Both
+    /// are kept so every number stays bit-identical (they differ by one rounding).
+    fn reciprocal_sigma(&self) -> bool {
+        false
+    }
+}
+
+/// What central differences hand a law at the massive contact nodes after `A = M_L⁻¹(F − KU)`
+/// (docs of `crate::schemes::central_difference`).
+pub struct Massive<'a> {
+    pub u: &'a [f64],
+    pub v: &'a [f64],
+    pub a: &'a mut [f64],
+    pub lumped: &'a [f64],
+    pub inv_mass: &'a [f64],
+    pub dt: f64,
+    /// 1 in a step, ½ at n = 0 (the forward increment's coefficient).
+    pub kappa: f64,
+    pub lambda: &'a mut [f64],
+}
+
+/// A contact law in explicit central differences (module docs), built once for the system and
+/// its lumped mass M_L (the massless unknowns are those with `M_L,ii = 0`).
+pub trait ExplicitLaw: Debug + Send {
+    /// `y += B x` with B the term the law adds to K in the stable-limit bound (0 by default).
+    fn stiffen(&self, _x: &[f64], _y: &mut [f64]) {}
+    /// The rows of B and the bound of their absolute row sums, for Gershgorin's bound.
+    fn gershgorin(&self) -> (Vec<usize>, f64) {
+        (Vec::new(), 0.0)
+    }
+    /// B as messages write it (` + κ E_Cᵀ E_C`), "" without one.
+    fn bound(&self) -> &'static str {
+        ""
+    }
+    /// Whether [`ExplicitLaw::add_residual`] adds anything.
+    fn has_residual(&self) -> bool {
+        false
+    }
+    /// Adds the law's force at U to the residual `F − K U` before `M_L⁻¹` (Nitsche: −N(U)).
+    fn add_residual(&self, _u: &[f64], _r: &mut [f64]) {}
+    /// The contact forces of the massive contact nodes after `A = M_L⁻¹(F − KU)`: writes their λ
+    /// and corrects their A.
+    fn massive(&self, _s: Massive<'_>) {}
+    /// The quasi-static massless unknowns at the current time (`load` = F(t), `forced`: F depends
+    /// on t); writes their λ. Returns the pivots.
+    fn quasi_static(
+        &mut self,
+        u: &mut [f64],
+        load: &[f64],
+        forced: bool,
+        lambda: &mut [f64],
+    ) -> Result<usize, LcpError>;
+    /// The law's energy at U (0 for the exact law).
+    fn energy(&self, _u: &[f64]) -> f64 {
+        0.0
+    }
 }
 
 /// The one-node Signorini solve in closed form.

@@ -21,8 +21,11 @@
 //! (`f64::MIN`: no multiplier, the factor's solve untouched), so both back-ends (the bar's
 //! closed form and the sparse Schur solver) serve unchanged. Z costs n_c solves once.
 
-use super::ContactSolver;
+use super::exact::{MasslessRows, QuasiRows, Split};
 use super::lcp::{Lcp, LcpError};
+use super::{ContactSolver, ExplicitLaw, Massive, StepLaw};
+use crate::linalg::{LinalgError, SymMatrix};
+use crate::system::ContactSystem;
 
 #[derive(Debug)]
 pub struct PenaltySolver<S: ContactSolver> {
@@ -35,6 +38,7 @@ pub struct PenaltySolver<S: ContactSolver> {
     r: Vec<f64>,
     q: Vec<f64>,
     sigma: f64,
+    kappa: f64,
 }
 
 impl<S: ContactSolver> PenaltySolver<S> {
@@ -70,6 +74,7 @@ impl<S: ContactSolver> PenaltySolver<S> {
             r: vec![0.0; n],
             q: vec![0.0; nc],
             sigma,
+            kappa,
         })
     }
 
@@ -98,6 +103,122 @@ impl<S: ContactSolver> PenaltySolver<S> {
     }
 }
 
+/// The springs' energy `Σ ½ κ (d_c⁻)²` of the contact values `u_c` with bounds `lb_c`
+/// (`d = u_c − lb_c`).
+pub fn spring_energy(kappa: f64, uc: impl Iterator<Item = f64>, lower: &[f64]) -> f64 {
+    uc.zip(lower).map(|(u, lb)| (u - lb).min(0.0)).map(|d| 0.5 * kappa * d * d).sum()
+}
+
+/// The penalty law's implicit step (module docs); its force is the springs' `λ_c e_c`.
+impl<S: ContactSolver> StepLaw for PenaltySolver<S> {
+    fn solve(&mut self, rhs: &mut [f64], lower: &[f64], lambda: &mut [f64]) -> Result<usize, LcpError> {
+        PenaltySolver::solve(self, rhs, lower, lambda)
+    }
+
+    fn has_force(&self) -> bool {
+        true
+    }
+
+    fn add_force(&self, u: &[f64], lower: &[f64], scale: f64, out: &mut [f64]) {
+        for (&c, lb) in self.contact.iter().zip(lower) {
+            out[c] += scale * (self.kappa * (u[c] - lb).min(0.0));
+        }
+    }
+
+    fn lambda_of(&self, u: &[f64], lower: &[f64], lambda: &mut [f64]) {
+        for ((l, &c), lb) in lambda.iter_mut().zip(&self.contact).zip(lower) {
+            *l = self.kappa * (u[c] - lb).min(0.0);
+        }
+    }
+
+    fn energy(&self, u: &[f64], lower: &[f64]) -> Option<f64> {
+        Some(spring_energy(self.kappa, self.contact.iter().map(|&c| u[c]), lower))
+    }
+}
+
+/// The penalty law in central differences: on a massive contact node the spring of the current
+/// displacement (`λ_c = κ min(0, u_cⁿ − lb_c)`, force at t_n), on massless ones the quasi-static
+/// rows with the spring ([`PenaltyQuasiStatic`]); the springs of the massive nodes enter the
+/// stable limit (`K + κ Σ_{c massive} e_c e_cᵀ`: all engaged, which bounds every contact state).
+#[derive(Debug)]
+pub struct PenaltyExplicit {
+    kappa: f64,
+    massive: Vec<(usize, usize)>,
+    contact: Vec<usize>,
+    lower: Vec<f64>,
+    springs: Vec<usize>,
+    massless: MasslessRows<PenaltyQuasiStatic>,
+}
+
+impl PenaltyExplicit {
+    /// Fails if a contact layer has free massless unknowns (no quasi-static map for them here;
+    /// the scenes' compatibility rule refuses such a scene first) or K_CC is not definite.
+    pub fn new<A: SymMatrix>(system: &ContactSystem<A>, lumped: &[f64], kappa: f64) -> Result<Self, LinalgError> {
+        let split = Split::new(system, lumped);
+        let any_massless = lumped.iter().any(|&m| m <= 0.0);
+        let phi = if !any_massless {
+            None
+        } else if !split.free.is_empty() {
+            let detail = "penalty contact with free massless unknowns (a contact layer) is not built".into();
+            return Err(LinalgError::Unsupported { matrix: "stiffness", detail });
+        } else {
+            let q =
+                PenaltyQuasiStatic::new(&system.stiffness, &system.load, &split.massless, kappa).map_err(|pivot| {
+                    LinalgError::Unsupported {
+                        matrix: "stiffness",
+                        detail: format!("its contact block is not positive definite (pivot {pivot})"),
+                    }
+                })?;
+            Some(q)
+        };
+        let springs = split.massive.iter().map(|&(_, c)| c).collect();
+        Ok(Self {
+            kappa,
+            massless: MasslessRows::new(&split, phi),
+            massive: split.massive,
+            contact: system.contact.clone(),
+            lower: system.lower.clone(),
+            springs,
+        })
+    }
+}
+
+impl ExplicitLaw for PenaltyExplicit {
+    fn stiffen(&self, x: &[f64], y: &mut [f64]) {
+        self.springs.iter().for_each(|&c| y[c] += self.kappa * x[c]);
+    }
+
+    fn gershgorin(&self) -> (Vec<usize>, f64) {
+        (self.springs.clone(), self.kappa)
+    }
+
+    fn bound(&self) -> &'static str {
+        if self.springs.is_empty() { "" } else { " + κ E_Cᵀ E_C" }
+    }
+
+    fn massive(&self, s: Massive<'_>) {
+        for &(k, c) in &self.massive {
+            let l = self.kappa * (s.u[c] - self.lower[k]).min(0.0);
+            s.lambda[k] = l;
+            s.a[c] -= l * s.inv_mass[c];
+        }
+    }
+
+    fn quasi_static(
+        &mut self,
+        u: &mut [f64],
+        load: &[f64],
+        forced: bool,
+        lambda: &mut [f64],
+    ) -> Result<usize, LcpError> {
+        self.massless.solve(u, load, forced, lambda)
+    }
+
+    fn energy(&self, u: &[f64]) -> f64 {
+        spring_energy(self.kappa, self.contact.iter().map(|&c| u[c]), &self.lower)
+    }
+}
+
 /// The quasi-static rows of massless contact unknowns with the penalty law (explicit schemes):
 ///
 /// ```text
@@ -123,12 +244,7 @@ pub struct PenaltyQuasiStatic {
 
 impl PenaltyQuasiStatic {
     /// Fails (with the pivot) if K_CC is not positive definite.
-    pub fn new<A: crate::linalg::SymMatrix>(
-        stiffness: &A,
-        load: &[f64],
-        contact: &[usize],
-        kappa: f64,
-    ) -> Result<Self, usize> {
+    pub fn new<A: SymMatrix>(stiffness: &A, load: &[f64], contact: &[usize], kappa: f64) -> Result<Self, usize> {
         let nc = contact.len();
         let mut slot = vec![usize::MAX; stiffness.dim()];
         for (c, &i) in contact.iter().enumerate() {
@@ -181,6 +297,16 @@ impl PenaltyQuasiStatic {
             lambda[a] = -mu[a];
         }
         Ok(self.lcp.pivots())
+    }
+}
+
+impl QuasiRows for PenaltyQuasiStatic {
+    fn set_load(&mut self, load: &[f64]) {
+        PenaltyQuasiStatic::set_load(self, load)
+    }
+
+    fn apply(&mut self, u: &mut [f64], lower: &[f64], lambda: &mut [f64]) -> Result<usize, LcpError> {
+        PenaltyQuasiStatic::apply(self, u, lower, lambda)
     }
 }
 

@@ -7,9 +7,8 @@
 //! −g_i (+e_k) or above by g_i (−e_k), a SNES VI bound (python/engine/body.py).
 
 use crate::fem::Cell;
-use crate::fem::layers::cell_weights_of;
 use crate::mass::MassKind;
-use crate::solid::{SolidInitial, SolidSpec, body};
+use crate::solid::{SolidInitial, SolidSpec};
 use serde::Serialize;
 
 /// What `body.json` holds (python/engine/body.py reads it).
@@ -52,7 +51,7 @@ pub fn axis_of(normal: [f64; 3], dim: usize) -> Option<(usize, f64)> {
 
 /// Why the engine cannot run this body (None if it can).
 pub fn refusal(spec: &SolidSpec) -> Option<String> {
-    let b = spec.body.as_ref()?;
+    let b = spec.support.body()?;
     let n = b.obstacle.normal;
     if axis_of(n, spec.dim).is_none() {
         return Some(format!(
@@ -64,7 +63,7 @@ pub fn refusal(spec: &SolidSpec) -> Option<String> {
     if b.force.iter().any(|e| e.depends_on("t")) {
         return Some("solid.force: the fenicsx engine runs forces that do not depend on t only".into());
     }
-    match spec.mesh() {
+    match spec.built() {
         Ok(_) => None,
         Err(e) => Some(e.to_string()),
     }
@@ -72,13 +71,13 @@ pub fn refusal(spec: &SolidSpec) -> Option<String> {
 
 /// `body.json` of a body scene (None for the box), with `|Γ_C|`, `L` and h for the observers.
 pub fn data(spec: &SolidSpec, mass: &MassKind, t_end: f64) -> Result<Option<(String, [f64; 3])>, String> {
-    let Some(b) = spec.body.as_ref() else { return Ok(None) };
+    let Some(b) = spec.support.body() else { return Ok(None) };
     let problem = spec.problem(mass, t_end).map_err(|e| e.to_string())?;
     let load_energy = crate::driver::reference_load_energy(crate::problem::Geometry::system(&problem.system), t_end);
     let (axis, sign) = axis_of(b.obstacle.normal, spec.dim).ok_or("obstacle.normal")?;
-    let mesh = spec.mesh().map_err(|e| e.to_string())?;
-    let contact = body::contact(&mesh, b).map_err(|e| e.to_string())?;
-    let weights = cell_weights_of(&mesh, mass, &contact.contact, &contact.clamped).map_err(|e| e.to_string())?;
+    // The mesh, contact set and weights the problem was assembled with.
+    let (mesh, weights) = (&problem.system.mesh, problem.system.weights.clone());
+    let contact = spec.built().map_err(|e| e.to_string())?.contact.clone();
     let d = spec.dim;
     let nodal = |f: &dyn Fn(usize, &[f64]) -> f64| -> Vec<f64> {
         mesh.points.iter().flat_map(|p| (0..d).map(move |i| f(i, &p[..d]))).collect()
@@ -109,6 +108,7 @@ pub fn data(spec: &SolidSpec, mass: &MassKind, t_end: f64) -> Result<Option<(Str
             _ => "tetrahedron",
         },
         cells: mesh.cells.clone(),
+        points: mesh.points.clone(),
         weights,
         density: spec.lame.density,
         lame_lambda: spec.lame.lambda,
@@ -124,7 +124,6 @@ pub fn data(spec: &SolidSpec, mass: &MassKind, t_end: f64) -> Result<Option<(Str
         v0,
         force,
         load_energy,
-        points: mesh.points,
     };
     serde_json::to_string(&data).map(|j| Some((j, out))).map_err(|e| e.to_string())
 }

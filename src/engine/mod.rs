@@ -2,11 +2,12 @@
 //! for plate and solid scenes (issue 12). The engine streams, Rust observes.
 //!
 //! The scene is validated exactly as for a Rust run (`crate::scene::AnyScene::from_file`: keys,
-//! mesh, cell weights, schemes), its resolved form is written into the output folder's
-//! temporary sibling, and
+//! mesh, cell weights, schemes), what the engine cannot run is refused ([`document`]), the
+//! resolved scene with every value written out is written as JSON into the output folder's
+//! temporary sibling ([`document::EngineScene`]), and
 //!
 //! ```text
-//! mpirun -n N /usr/bin/python3 python/fenicsx_engine.py DIR.tmp/scene.resolved.toml DIR.tmp
+//! mpirun -n N /usr/bin/python3 python/fenicsx_engine.py DIR.tmp/scene.engine.json DIR.tmp
 //! ```
 //!
 //! steps it with dolfinx and PETSc (python/engine/: its own mesh, the weighted mass as a DG0
@@ -29,6 +30,7 @@
 //! `MASSREDIST_ENGINE` (the entry point, default `python/fenicsx_engine.py` of this source tree).
 
 pub mod body;
+pub mod document;
 pub mod stream;
 
 use crate::driver::{DivergenceCriterion, DivergenceWatch, Observer};
@@ -149,6 +151,8 @@ pub fn check_available() -> Result<(), EngineError> {
 pub trait EngineGeometry: crate::run::GeometrySpec {
     /// Why the engine cannot run this geometry (None if it can).
     fn engine_refusal(&self) -> Option<String>;
+    /// The geometry as the engine reads it ([`document`]), or why the engine cannot run it.
+    fn document(&self) -> Result<document::GeometryDoc, String>;
     /// The exact solution up to `t_end` that a Rust run of this scene compares with (None if
     /// none is known); the error names the scene's data.
     fn exact(&self, t_end: f64) -> Result<Option<Exact>, String>;
@@ -166,6 +170,10 @@ impl EngineGeometry for PlateSpec {
         self.mesh_file.as_ref().map(|_| "plate.mesh: the fenicsx engine runs structured plates only (for now)".into())
     }
 
+    fn document(&self) -> Result<document::GeometryDoc, String> {
+        document::plate(self)
+    }
+
     fn exact(&self, t_end: f64) -> Result<Option<Exact>, String> {
         PlateSpec::exact(self, t_end).map_err(|e| e.to_string())
     }
@@ -178,7 +186,8 @@ impl EngineGeometry for PlateSpec {
             length: self.length,
             section: self.height,
             integrates: true,
-            body: Default::default(),
+            is_body: false,
+            body: None,
         }
     }
 }
@@ -187,10 +196,15 @@ impl EngineGeometry for PlateSpec {
 /// bodies against an axis plane ([`body`]).
 impl EngineGeometry for SolidSpec {
     fn engine_refusal(&self) -> Option<String> {
-        if self.body.is_some() {
+        if self.support.body().is_some() {
             return body::refusal(self);
         }
-        self.mesh_file.as_ref().map(|_| "solid.mesh: the fenicsx engine runs structured solids only (for now)".into())
+        let structured = matches!(self.source, crate::solid::MeshSource::Box);
+        (!structured).then(|| "solid.mesh: the fenicsx engine runs structured solids only (for now)".into())
+    }
+
+    fn document(&self) -> Result<document::GeometryDoc, String> {
+        Ok(document::solid(self))
     }
 
     fn exact(&self, t_end: f64) -> Result<Option<Exact>, String> {
@@ -208,7 +222,8 @@ impl EngineGeometry for SolidSpec {
             length: l,
             section: if self.dim == 3 { h * d } else { h },
             integrates: self.cells.is_tensor(),
-            body: Default::default(),
+            is_body: self.support.body().is_some(),
+            body: None,
         }
     }
 
@@ -217,15 +232,9 @@ impl EngineGeometry for SolidSpec {
     }
 }
 
-/// What the engine cannot run yet ([`EngineGeometry::engine_refusal`]).
+/// What the engine cannot run (the refusals of [`document::document`], each naming its key).
 pub fn validate<G: EngineGeometry>(scene: &Scene<G>) -> Result<(), EngineError> {
-    if scene.contact != crate::contact::law::ContactLaw::Exact {
-        let method = scene.contact.method();
-        return Err(EngineError::Scene(format!(
-            "contact.method = \"{method}\": the fenicsx engine runs exact contact only (issue 20's laws are Rust-only)"
-        )));
-    }
-    scene.geometry.engine_refusal().map_or(Ok(()), |m| Err(EngineError::Scene(m)))
+    document::document(scene).map(drop)
 }
 
 /// Runs `scene` with the engine on `ranks` MPI ranks and writes the run folder `out` (module
@@ -233,13 +242,12 @@ pub fn validate<G: EngineGeometry>(scene: &Scene<G>) -> Result<(), EngineError> 
 /// states ([`stream`]); this process's observers write `series.csv` and `summary.json` as for a
 /// Rust run and its divergence rule stops the engine; then the folder is committed.
 pub fn run<G: EngineGeometry>(scene: &Scene<G>, out: OutputDir, ranks: usize) -> Result<EngineOutcome, EngineError> {
-    validate(scene)?;
+    let doc = document::document(scene)?;
     let exact = scene.geometry.exact(scene.time.exact_end()).map_err(EngineError::Scene)?;
     check_available()?;
-    let resolved = scene.resolved_toml();
     let staging = out.staging().to_path_buf();
-    let scene_file = staging.join("scene.resolved.toml");
-    std::fs::write(&scene_file, &resolved).map_err(EngineError::Output)?;
+    let scene_file = staging.join(document::FILE);
+    std::fs::write(&scene_file, document::to_json(&doc)).map_err(EngineError::Output)?;
     let data = scene.geometry.engine_data(&scene.mass, scene.time.end).map_err(EngineError::Scene)?;
     if let Some((json, _)) = &data {
         std::fs::write(staging.join("body.json"), json).map_err(EngineError::Output)?;
@@ -259,7 +267,7 @@ pub fn run<G: EngineGeometry>(scene: &Scene<G>, out: OutputDir, ranks: usize) ->
     // `summary.json`: the keys of the Rust run (the same code), with the engine's own totals.
     let totals = crate::run::Totals { total_mass: head.total_mass, unknowns: head.unknowns };
     let json = crate::run::summary_json_of(scene, &totals, &summary);
-    commit_run(out, &json, &resolved).map_err(|e| EngineError::Output(std::io::Error::other(e)))?;
+    commit_run(out, &json, &scene.resolved_toml()).map_err(|e| EngineError::Output(std::io::Error::other(e)))?;
     Ok(if diverged { EngineOutcome::Diverged } else { EngineOutcome::Completed })
 }
 

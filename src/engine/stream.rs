@@ -21,10 +21,11 @@
 //! `"nan"`, `"inf"` or `"-inf"`. Standard output and input are what every MPI launcher forwards
 //! from rank 0 to the launching process (mpirun, srun), also across the nodes of a cluster.
 
+use crate::column::Column;
 use crate::driver::ContactStats;
 use crate::driver::{Divergence, DivergenceReason, DivergenceWatch, Observer, Sample, Verdict};
 use crate::exact::Exact;
-use crate::problem::{BodyStats, GeometryView};
+use crate::problem::{GeometryView, OwnSummary};
 use crate::schemes::StateView;
 use serde::Deserialize;
 
@@ -85,8 +86,9 @@ pub struct Record {
     /// The step's solver iterations (SNES), in the place of a Rust run's pivots.
     pub iterations: usize,
     pub contact: ContactStats,
-    /// A body's reports (world components), absent for the other geometries.
-    pub body: Option<BodyStats>,
+    /// A body's reports (world components; `crate::solid::report::COLUMNS` order), absent
+    /// for the other geometries.
+    pub body: Option<[f64; 9]>,
 }
 
 /// One protocol record.
@@ -189,12 +191,9 @@ pub fn parse(line: &str) -> Option<Result<Message, String>> {
             exact_interp_norm: exact_interp_norm.0,
             iterations,
             contact: ContactStats { min_u: min_u.0, max_lambda: max_lambda.0, max_product: max_product.0, touching },
-            body: body.map(|b| BodyStats {
-                contact_force: b.contact_force.0,
-                active: b.active,
-                min_distance: b.min_distance.0,
-                momentum: b.momentum.map(|x| x.0),
-                mean_u: b.mean_u.map(|x| x.0),
+            body: body.map(|b| {
+                let (momentum, mean_u) = (b.momentum.map(|x| x.0), b.mean_u.map(|x| x.0));
+                crate::solid::report::values(b.contact_force.0, b.active, b.min_distance.0, momentum, mean_u)
             }),
         }),
         Wire::NonFinite { n, t } => Message::NonFinite { n, t: t.0 },
@@ -215,8 +214,11 @@ pub struct StreamedGeometry {
     pub section: f64,
     /// Whether the engine integrates the exact L² error (structured tensor cells, and plates).
     pub integrates: bool,
-    /// A body's reports of the state being shown (set by [`Observed::show`] on its copy).
-    pub body: Option<BodyStats>,
+    /// Whether the scene is a body against a plane (its summary keys: `crate::solid::report`).
+    pub is_body: bool,
+    /// A body's reports of the state being shown (set by [`Observed::show`] on its copy;
+    /// `crate::solid::report::COLUMNS` order).
+    pub body: Option<[f64; 9]>,
 }
 
 impl GeometryView for StreamedGeometry {
@@ -260,8 +262,17 @@ impl GeometryView for StreamedGeometry {
         0
     }
     fn nodal_values(&self, _u: &[f64], _out: &mut [f64]) {}
-    fn body_stats(&self, _u: &[f64], _v: &[f64], _lambda: &[f64]) -> Option<BodyStats> {
-        self.body
+    /// A body's columns, when the engine streamed them for the state being shown.
+    fn own_columns(&self) -> &[Column] {
+        if self.body.is_some() { &crate::solid::report::COLUMNS } else { &[] }
+    }
+    fn own_values(&self, _u: &[f64], _v: &[f64], _lambda: &[f64], out: &mut [f64]) {
+        if let Some(b) = &self.body {
+            out.copy_from_slice(b);
+        }
+    }
+    fn own_summary(&self) -> Option<Box<dyn OwnSummary>> {
+        self.is_body.then(|| Box::new(crate::solid::report::BodyKeys::new(self.dim)) as Box<dyn OwnSummary>)
     }
 }
 

@@ -23,8 +23,8 @@
 //! (tests/plate.rs checks this to round-off). P1 triangles on one-diagonal meshes are not
 //! tensor products, so their solutions vary in y. The hybrid scheme keeps the paper's Lemma 5.1
 //! on any mesh and with any contact states along Γ_C (proof in [`crate::schemes::hybrid`],
-//! checked per step in tests/plate.rs). Paoli–Schatzman and the reduced Newmark formulation are
-//! bar-only ([`crate::schemes::SchemeSpec::bar_only`]).
+//! checked per step in tests/plate.rs). Paoli–Schatzman and the reduced Newmark formulation need
+//! a bar's one-node system ([`crate::schemes::SchemeSpec::needs`]).
 
 pub mod assembly;
 pub mod cells;

@@ -4,13 +4,13 @@
 
 use super::assembly::{PlateAssemblyError, PlateLoad, PlateSystem};
 use super::spec::{PlateInitial, PlateSpec};
-use crate::body::{Body, Force};
 use crate::characteristics::{Characteristics, CharacteristicsError, InitialData};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::fem::frames::VtuFrames;
 use crate::fem::layers::cell_weights;
 use crate::fem::{Mesh, MeshError};
 use crate::mass::MassKind;
+use crate::medium::{Force, Medium};
 use crate::run::{GeometrySpec, Totals};
 use crate::scene::Scene;
 use serde::Serialize;
@@ -36,7 +36,7 @@ impl PlateProblem {
     /// characteristics are traced).
     pub fn new(spec: &PlateSpec, mass: &MassKind) -> Result<Self, PlateError> {
         let mesh = Mesh::clone(spec.mesh()?.as_ref());
-        Self::from_mesh(mesh, mass, &spec.initial, &spec.body)
+        Self::from_mesh(mesh, mass, &spec.initial, &spec.medium)
     }
 
     /// [`PlateProblem::new`] with the plane-wave exact solution up to `t_end` where the data allow
@@ -49,12 +49,12 @@ impl PlateProblem {
 
     /// Any mesh of (0, L) × (y_min, y_min + H) (e.g. a triangle mesh read from a file with
     /// [`Mesh::from_arrays`]); the initial data use `y − y_min`.
-    pub fn from_mesh(mesh: Mesh, mass: &MassKind, initial: &PlateInitial, body: &Body) -> Result<Self, PlateError> {
+    pub fn from_mesh(mesh: Mesh, mass: &MassKind, initial: &PlateInitial, medium: &Medium) -> Result<Self, PlateError> {
         let [l, h, _] = mesh.extent;
         let ymin = mesh.points.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
         let weights = cell_weights(&mesh, mass).map_err(PlateAssemblyError::from)?;
         let field;
-        let load = match &body.force {
+        let load = match &medium.force {
             Force::Constant(f) => PlateLoad::Constant(*f),
             Force::Field(e) => {
                 field = move |x: f64, y: f64| e.eval(&[x, y - ymin]);
@@ -62,14 +62,15 @@ impl PlateProblem {
             }
             Force::Transient(_) => PlateLoad::Constant(0.0), // F(t) below
         };
-        let mut plate = PlateSystem::assemble(mesh, weights, body.material, body.far_end, &load)?.with_gap(body.gap);
-        if let Force::Transient(e) = &body.force {
+        let mut plate =
+            PlateSystem::assemble(mesh, weights, medium.material, medium.far_end, &load)?.with_gap(medium.gap);
+        if let Force::Transient(e) = &medium.force {
             let forcing = transient_load(&plate, e, ymin)?;
             plate.system = plate.system.with_forcing(forcing);
         }
         let u0 = plate.interpolate(|x, y| initial.displacement(l, h, x, y - ymin));
         let v0 = plate.interpolate(|x, y| initial.velocity(x, y - ymin));
-        let paper = *initial == PlateInitial::Paper && *body == Body::default();
+        let paper = *initial == PlateInitial::Paper && *medium == Medium::default();
         let exact = paper.then_some(Exact::Paper(ImpactingBar { length: l }));
         Ok(Self { system: plate, u0, v0, exact })
     }
@@ -119,7 +120,7 @@ impl PlateSpec {
 /// The plane-wave solution of a plate with y-independent data and no force: the bar's solution
 /// by characteristics, extended in y (None otherwise).
 fn plane_wave(spec: &PlateSpec, t_end: f64) -> Result<Option<Characteristics>, PlateError> {
-    let b = &spec.body;
+    let b = &spec.medium;
     if !spec.initial.y_independent() || b.force.constant() != Some(0.0) {
         return Ok(None);
     }

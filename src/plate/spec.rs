@@ -2,9 +2,9 @@
 //! (`crate::scene`'s plate table), and what the plate's problem is built from
 //! (`super::problem`).
 
-use crate::body::Body;
 use crate::expr::Expr;
 use crate::fem::{Cell, Mesh, MeshError};
+use crate::medium::Medium;
 use std::sync::Arc;
 
 /// Initial data of the plate.
@@ -73,7 +73,7 @@ pub struct PlateSpec {
     pub cells: Cell,
     pub initial: PlateInitial,
     /// Material, far end (x = L), gap and force.
-    pub body: Body,
+    pub medium: Medium,
     /// The mesh file (read by meshio) that replaced the structured mesh; `length`, `height` and
     /// `cells` then describe the file's mesh.
     pub mesh_file: Option<std::path::PathBuf>,
@@ -85,7 +85,7 @@ pub struct PlateSpec {
 impl PlateSpec {
     /// The structured plate (0, L) × (0, H) with nx × ny cells (its mesh built with the problem).
     pub fn structured(length: f64, height: f64, nx: usize, ny: usize, cells: Cell, initial: PlateInitial) -> Self {
-        PlateSpec { length, height, nx, ny, cells, initial, body: Body::default(), mesh_file: None, mesh: None }
+        PlateSpec { length, height, nx, ny, cells, initial, medium: Medium::default(), mesh_file: None, mesh: None }
     }
 
     /// The mesh: the one validated with the scene, or the structured one of the spec.
@@ -98,12 +98,12 @@ impl PlateSpec {
 
     /// Whether the paper's closed form is this plate's exact solution (its data on its body).
     pub fn has_paper_solution(&self) -> bool {
-        self.initial == PlateInitial::Paper && self.body == Body::default()
+        self.initial == PlateInitial::Paper && self.medium == Medium::default()
     }
 
     /// Whether the plate's solution is a plane wave (y-independent data, no force): the bar's
     /// solution by characteristics extended in y.
     pub fn has_plane_wave(&self) -> bool {
-        self.initial.y_independent() && self.body.force.constant() == Some(0.0)
+        self.initial.y_independent() && self.medium.force.constant() == Some(0.0)
     }
 }

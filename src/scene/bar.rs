@@ -11,9 +11,9 @@ pub(crate) struct RawBar {
     #[serde(skip_serializing_if = "Option::is_none")]
     elements: Option<i64>,
     #[serde(flatten)]
-    body: RawBody,
+    medium: RawMedium,
     /// Keys no field takes (serde's `deny_unknown_fields` does not combine with `flatten`):
-    /// refused by [`RawBody::refuse_unknown`].
+    /// refused by [`RawMedium::refuse_unknown`].
     #[serde(flatten, skip_serializing)]
     unknown: std::collections::BTreeMap<String, toml::Value>,
 }
@@ -27,18 +27,19 @@ impl BarSpec {
             return Err(SceneError::Range { key: "bar.elements", value: elements.to_string(), range: "[2, 10000000]" });
         }
         let elements = elements as usize;
-        RawBody::refuse_unknown(
+        RawMedium::refuse_unknown(
             "bar",
             &bar.unknown,
             "length, elements, density, modulus, far_end, gap, initial, force",
         )?;
-        let body = bar.body;
-        let keys = BodyKeys { density: "bar.density", modulus: "bar.modulus", far_end: "bar.far_end", gap: "bar.gap" };
+        let medium = bar.medium;
+        let keys =
+            MediumKeys { density: "bar.density", modulus: "bar.modulus", far_end: "bar.far_end", gap: "bar.gap" };
         let (material, far_end, gap) =
-            parse_body(&keys, body.density, body.modulus, body.far_end.as_deref(), body.gap)?;
+            parse_medium(&keys, medium.density, medium.modulus, medium.far_end.as_deref(), medium.gap)?;
         let consts = [("L", length), ("pi", std::f64::consts::PI)];
         let field = |key: &'static str, raw: Option<RawField>, vars: &[&str]| parse_field(key, raw, vars, &consts);
-        let initial = match body.initial {
+        let initial = match medium.initial {
             None => Initial::Paper,
             Some(RawInitial::Name(name)) if name == "paper" => Initial::Paper,
             Some(RawInitial::Name(other)) => {
@@ -53,7 +54,7 @@ impl BarSpec {
                 velocity: field("bar.initial.velocity", f.velocity, &["x"])?,
             },
         };
-        let force = parse_force("bar.force", body.force, &["x"], &consts)?;
+        let force = parse_force("bar.force", medium.force, &["x"], &consts)?;
         let nodes = || (0..=elements).map(|i| [length * i as f64 / elements as f64]);
         if let Initial::Fields { displacement, velocity } = &initial {
             displacement.eval_at_nodes(nodes())?;
@@ -78,7 +79,6 @@ impl SceneGeometry for BarSpec {
     const COLUMN_LIST: &'static str = "any subset of u0, u1, lambda, energy, l2_error, exact_u0, exact_lambda";
     const SIZE_KEYS: &'static str = "bar.elements";
     const VTU: bool = false;
-    const BAR_ONLY_SCHEMES: bool = true;
 
     fn unknowns(&self) -> usize {
         self.elements
@@ -90,6 +90,19 @@ impl SceneGeometry for BarSpec {
 
     fn contact_weight(&self, mass: &MassKind) -> Result<f64, SceneError> {
         Ok(mass.weights(self.elements)?[0])
+    }
+
+    /// One contact node over a tridiagonal system, its row one P1 cell; only node 0 can be
+    /// massless (the mass's weights refuse the others), so no contact layer.
+    fn offer(&self, mass: &MassKind) -> Result<super::Offer, SceneError> {
+        Ok(super::Offer {
+            one_node_system: true,
+            lumped_mass: true,
+            w0: self.contact_weight(mass)?,
+            contact_layer: false,
+            one_cell_contact_row: true,
+            zero_gap: self.gap == 0.0,
+        })
     }
 
     fn unavailable(&self, column: Column) -> Option<String> {
@@ -113,7 +126,7 @@ impl SceneGeometry for BarSpec {
         let bar = RawBar {
             length: Some(Number::Float(self.length)),
             elements: Some(self.elements as i64),
-            body: RawBody::resolved(self.material, self.far_end, self.gap, initial, &self.force),
+            medium: RawMedium::resolved(self.material, self.far_end, self.gap, initial, &self.force),
             unknown: Default::default(),
         };
         RawScene { bar: Some(bar), ..Default::default() }

@@ -1,6 +1,7 @@
 //! The sections every scene shares: `[mass]`, `[scheme]`, `[time]` (and the output's
 //! divergence factor): raw tables, validation, and the resolved form.
 
+use super::tagged::{RawSection, Tagged, list_of, read_tagged};
 use super::*;
 use crate::mass::MassKind;
 
@@ -11,45 +12,6 @@ pub(crate) type RawMass = RawSection<MassKind>;
 /// The `[scheme]` table: read as a TOML table ([`read_tagged`]), written as the resolved
 /// [`SchemeSpec`].
 pub(crate) type RawScheme = RawSection<SchemeSpec>;
-
-/// A section that is a serde internally tagged enum (`kind = "…"`): as read, the TOML table
-/// (validated by [`read_tagged`], whose messages name the key); as resolved, the value itself
-/// (serde writes every key of its kind).
-#[derive(Debug)]
-pub(crate) enum RawSection<T> {
-    Read(toml::Table),
-    Resolved(T),
-}
-
-impl<'de, T> Deserialize<'de> for RawSection<T> {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        toml::Table::deserialize(d).map(RawSection::Read)
-    }
-}
-
-impl<T: Serialize> Serialize for RawSection<T> {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        match self {
-            RawSection::Read(t) => t.serialize(s),
-            RawSection::Resolved(v) => v.serialize(s),
-        }
-    }
-}
-
-/// A section read by [`read_tagged`]: a serde internally tagged enum with one value of each kind
-/// (its defaults) and a name per kind.
-pub(crate) trait Tagged: Serialize + serde::de::DeserializeOwned + Sized {
-    /// The section (`scheme`), and its tag key (`scheme.kind`).
-    const SECTION: &'static str;
-    const KIND_KEY: &'static str;
-    /// One value of every kind, in the order messages list them.
-    fn kinds() -> Vec<Self>;
-    /// The kind of a section without `kind`.
-    fn default_kind() -> Self;
-    fn kind_name(&self) -> &'static str;
-    /// The kinds as messages list them (`standard | mod1 | …`).
-    fn kind_list() -> &'static str;
-}
 
 impl Tagged for SchemeSpec {
     const SECTION: &'static str = "scheme";
@@ -87,76 +49,6 @@ impl Tagged for MassKind {
     }
 }
 
-fn list_of<T: Tagged>() -> String {
-    T::kinds().iter().map(T::kind_name).collect::<Vec<_>>().join(" | ")
-}
-
-/// The keys a value writes (its kind's keys: the resolved scene writes every key).
-fn keys_of<T: Tagged>(value: &T) -> Vec<String> {
-    toml::Table::try_from(value).map(|t| t.keys().cloned().collect()).unwrap_or_default()
-}
-
-/// Reads a tagged section: its kind (default [`Tagged::default_kind`]), then its keys (those of
-/// another kind refused as not applying to this one, unknown ones as unknown), then the value by
-/// serde (parameter ranges checked by their types). Every message names the key and its allowed
-/// range or values.
-pub(crate) fn read_tagged<T: Tagged>(raw: Option<RawSection<T>>) -> Result<T, SceneError> {
-    let mut table = match raw {
-        None => toml::Table::new(),
-        Some(RawSection::Read(t)) => t,
-        Some(RawSection::Resolved(v)) => return Ok(v),
-    };
-    let section = T::SECTION;
-    let kind = match table.get("kind") {
-        None => T::default_kind(),
-        Some(v) => T::kinds()
-            .into_iter()
-            .find(|k| v.as_str() == Some(k.kind_name()))
-            .ok_or_else(|| SceneError::Range { key: T::KIND_KEY, value: v.to_string(), range: T::kind_list() })?,
-    };
-    let name = kind.kind_name();
-    let own = keys_of(&kind);
-    let kinds = T::kinds();
-    let mut all: Vec<String> = vec!["kind".into()];
-    for k in kinds.iter().flat_map(keys_of) {
-        if !all.contains(&k) {
-            all.push(k);
-        }
-    }
-    for key in table.keys().filter(|k| !own.contains(k)) {
-        if !all.contains(key) {
-            return Err(SceneError::Parse(format!(
-                "unknown field `{key}` in [{section}], expected one of {}",
-                all.join(", ")
-            )));
-        }
-        let takers: Vec<String> =
-            kinds.iter().filter(|k| keys_of(*k).contains(key)).map(|k| format!("\"{}\"", k.kind_name())).collect();
-        return Err(SceneError::Parse(format!(
-            "{section}.{key} does not apply to {} = \"{name}\" (only to {})",
-            T::KIND_KEY,
-            takers.join(" | ")
-        )));
-    }
-    table.insert("kind".into(), toml::Value::String(name.into()));
-    toml::Value::Table(table.clone()).try_into::<T>().map_err(|e| {
-        // The key at fault: the first whose value alone, on the kind's defaults, fails.
-        let defaults = toml::Table::try_from(&kind).unwrap_or_default();
-        let culprit = table.iter().filter(|(k, _)| *k != "kind").find(|(k, v)| {
-            let mut one = defaults.clone();
-            one.insert((*k).clone(), (*v).clone());
-            toml::Value::Table(one).try_into::<T>().is_err()
-        });
-        let message = e.message().trim_end().to_string();
-        match culprit {
-            Some((k, _)) if !message.starts_with(&format!("{section}.{k}")) => {
-                SceneError::Parse(format!("{section}.{k}: {message}"))
-            }
-            _ => SceneError::Parse(message),
-        }
-    })
-}
-
 /// The `[mass]` table as a [`MassKind`] (its weights are validated by the caller, who knows the
 /// mesh).
 pub(crate) fn parse_mass(raw: Option<RawMass>) -> Result<MassKind, SceneError> {
@@ -172,32 +64,10 @@ pub(crate) fn parse_mass(raw: Option<RawMass>) -> Result<MassKind, SceneError> {
     read_tagged(raw)
 }
 
-/// The `[scheme]` table; `w0` is the weight of the cells at the contact node (0 iff it is
-/// massless), which the reduced formulation and the hybrid scheme need.
-pub(crate) fn parse_scheme(raw: Option<RawScheme>, w0: f64, mass: &MassKind) -> Result<SchemeSpec, SceneError> {
-    let scheme: SchemeSpec = read_tagged(raw)?;
-    let reduced = matches!(
-        scheme,
-        SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
-            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. }
-    );
-    if reduced && w0 != 0.0 {
-        return Err(SceneError::Inapplicable {
-            key: "scheme.formulation = \"reduced\"",
-            context: format!("a mass with w_0 = {} (it needs a massless contact node: mod1, mod2, mod3)", w0),
-        });
-    }
-    if scheme == SchemeSpec::Hybrid && w0 != 0.0 {
-        return Err(SceneError::Inapplicable {
-            key: "scheme.kind = \"hybrid\"",
-            context: format!(
-                "mass.kind = \"{}\" (w_0 = {}): the hybrid scheme works on the reduced system and needs w_0 = 0 (mod1, mod2, mod3 or custom with weights[0] = 0)",
-                mass.name(),
-                w0
-            ),
-        });
-    }
-    Ok(scheme)
+/// The `[scheme]` table (what goes with the geometry and the mass is the compatibility rule's:
+/// [`super::compat`]).
+pub(crate) fn parse_scheme(raw: Option<RawScheme>) -> Result<SchemeSpec, SceneError> {
+    read_tagged(raw)
 }
 
 /// The `[time]` table (shared with the plate scenes).
@@ -369,19 +239,16 @@ impl RawOutput {
 }
 
 /// The sections every scene shares, validated on its geometry: `[mass]` (weights checked on the
-/// mesh), `[scheme]` (bar-only schemes refused for other geometries, the one place scenes do it),
+/// mesh), `[scheme]` and `[contact]` (with the geometry and the mass: the one compatibility rule,
+/// [`super::compat::check`]),
 /// `[time]` (the work limit over the geometry's unknowns) and `[output]` (the geometry's columns,
 /// those its exact solution allows, VTU frames where the geometry writes them).
 pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) -> Result<Scene<G>, SceneError> {
     let mass = parse_mass(raw.mass)?;
-    let w0 = geometry.contact_weight(&mass)?;
-    let scheme = parse_scheme(raw.scheme, w0, &mass)?;
-    if !G::BAR_ONLY_SCHEMES {
-        if let Some((key, why)) = scheme.bar_only() {
-            return Err(SceneError::Inapplicable { key, context: format!("[{}] scenes ({why})", G::TABLE) });
-        }
-    }
+    let offer = geometry.offer(&mass)?;
+    let scheme = parse_scheme(raw.scheme)?;
     let contact = super::contact::parse_contact(raw.contact)?;
+    super::compat::check(G::TABLE, &offer, &mass, &scheme, &contact)?;
     let time = parse_time(raw.time, 3.0 * geometry.length(), geometry.unknowns(), geometry.size_keys())?;
     let o = raw.output.unwrap_or_default();
     let series = match o.series {
@@ -432,7 +299,7 @@ mod tests {
 
     fn scheme(text: &str) -> Result<SchemeSpec, String> {
         let raw = toml::from_str::<RawScheme>(text).unwrap();
-        parse_scheme(Some(raw), 0.0, &MassKind::Mod3).map_err(|e| e.to_string())
+        parse_scheme(Some(raw)).map_err(|e| e.to_string())
     }
 
     /// serde ignores unknown keys of a unit variant (`BackwardEuler`, `Hybrid`) even with
@@ -448,7 +315,7 @@ mod tests {
         let e = scheme("kind = \"hybrid\"\nrestitution = 0.5").unwrap_err();
         assert!(e.starts_with("scheme.restitution does not apply"), "{e}");
         let e = scheme("kind = \"newmark\"\nbeat = 0.5").unwrap_err();
-        assert!(e.starts_with("unknown field `beat` in [scheme], expected one of kind, "), "{e}");
+        assert!(e.starts_with("scheme.beat: unknown field `beat` in [scheme], expected one of kind, "), "{e}");
     }
 
     #[test]

@@ -1,5 +1,5 @@
 //! The `[contact]` table: the contact law of every scheme of the scene
-//! ([`crate::contact::law::ContactLaw`]).
+//! ([`crate::contact::law::ContactLaw`], serde internally tagged by `method`).
 //!
 //! ```toml
 //! [contact]                     # default: method = "exact"
@@ -9,85 +9,53 @@
 //! nitsche_gamma0 = 100.0        # nitsche: gamma = gamma0 * E / h, in (1, ∞) (default 100)
 //! ```
 //!
-//! A scene without the table, or with `method = "exact"` alone, is a scene of before the table
-//! existed: its resolved file does not write it.
+//! A key of another method is refused naming it (`contact.nitsche_theta does not apply to
+//! contact.method = "penalty"`), an unknown key as unknown: the reader of every tagged table
+//! (`super::common::read_tagged`). A scene without the table, or with `method = "exact"` alone,
+//! is a scene of before the table existed: its resolved file does not write it.
 
-use super::{Number, SceneError, forbid};
+use super::SceneError;
+use super::tagged::{RawSection, Tagged, read_tagged};
 use crate::contact::law::ContactLaw;
-use serde::{Deserialize, Serialize};
 
 /// The `[contact]` table as read, and as resolved.
-#[derive(Debug, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawContact {
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) method: Option<String>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) penalty: Option<Number>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) nitsche_theta: Option<Number>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) nitsche_gamma0: Option<Number>,
+pub(crate) type RawContact = RawSection<ContactLaw>;
+
+impl Tagged for ContactLaw {
+    const SECTION: &'static str = "contact";
+    const KIND_KEY: &'static str = "contact.method";
+    const TAG: &'static str = "method";
+    fn kinds() -> Vec<Self> {
+        ContactLaw::ALL.to_vec()
+    }
+    fn default_kind() -> Self {
+        ContactLaw::Exact
+    }
+    fn kind_name(&self) -> &'static str {
+        self.method()
+    }
+    fn kind_list() -> &'static str {
+        "exact | penalty | nitsche"
+    }
 }
 
 /// The law of a `[contact]` table; every error names its key and allowed range.
 pub(crate) fn parse_contact(raw: Option<RawContact>) -> Result<ContactLaw, SceneError> {
-    let raw = raw.unwrap_or_default();
-    let method = raw.method.as_deref().unwrap_or("exact");
-    let law_err = |e: crate::contact::law::LawError| SceneError::Range {
-        key: e.key,
-        value: super::short(e.value),
-        range: e.range,
-    };
-    let context = |m: &str| format!("contact.method = \"{m}\"");
-    match method {
-        "exact" => {
-            forbid("contact.penalty", &raw.penalty, &context(method))?;
-            forbid("contact.nitsche_theta", &raw.nitsche_theta, &context(method))?;
-            forbid("contact.nitsche_gamma0", &raw.nitsche_gamma0, &context(method))?;
-            Ok(ContactLaw::Exact)
+    if let Some(RawSection::Read(t)) = &raw {
+        if t.get("method").and_then(|m| m.as_str()) == Some("penalty") && !t.contains_key("penalty") {
+            return Err(SceneError::Missing {
+                key: ContactLaw::PENALTY_KEY,
+                hint: " for contact.method = \"penalty\" (the spring stiffness per contact node, in (0, ∞))",
+            });
         }
-        "penalty" => {
-            forbid("contact.nitsche_theta", &raw.nitsche_theta, &context(method))?;
-            forbid("contact.nitsche_gamma0", &raw.nitsche_gamma0, &context(method))?;
-            let Some(p) = raw.penalty else {
-                return Err(SceneError::Missing {
-                    key: "contact.penalty",
-                    hint: " for contact.method = \"penalty\" (the spring stiffness per contact node, in (0, ∞))",
-                });
-            };
-            ContactLaw::penalty(p.get()).map_err(law_err)
-        }
-        "nitsche" => {
-            forbid("contact.penalty", &raw.penalty, &context(method))?;
-            let theta = raw.nitsche_theta.map_or(1.0, Number::get);
-            let gamma0 = raw.nitsche_gamma0.map_or(ContactLaw::DEFAULT_GAMMA0, Number::get);
-            ContactLaw::nitsche(theta, gamma0).map_err(law_err)
-        }
-        other => Err(SceneError::Range {
-            key: "contact.method",
-            value: format!("\"{other}\""),
-            range: "exact | penalty | nitsche",
-        }),
     }
+    read_tagged(raw)
 }
 
 /// The resolved `[contact]` table: None for the exact law (the default; such scenes resolve as
 /// before the table existed).
 pub(crate) fn raw_contact(law: &ContactLaw) -> Option<RawContact> {
-    let method = Some(law.method().to_string());
-    match *law {
-        ContactLaw::Exact => None,
-        ContactLaw::Penalty { penalty } => {
-            Some(RawContact { method, penalty: Some(Number::Float(penalty)), ..Default::default() })
-        }
-        ContactLaw::Nitsche { theta, gamma0 } => Some(RawContact {
-            method,
-            nitsche_theta: Some(Number::Int(theta as i64)),
-            nitsche_gamma0: Some(Number::Float(gamma0)),
-            ..Default::default()
-        }),
-    }
+    (*law != ContactLaw::Exact).then_some(RawSection::Resolved(*law))
 }
 
 #[cfg(test)]
@@ -99,7 +67,7 @@ mod tests {
         parse_contact(Some(raw)).map_err(|e| e.to_string())
     }
 
-    /// Defaults, ranges and inapplicable keys, each naming its key. (Mutation: `p > 0.0` ->
+    /// Defaults, ranges and keys of other methods, each naming its key. (Mutation: `p > 0.0` ->
     /// `p >= 0.0` in `ContactLaw::penalty` -> the `penalty = 0` line fails.)
     #[test]
     fn the_contact_table_names_its_keys() {
@@ -115,14 +83,23 @@ mod tests {
             law("method = \"nitsche\"\nnitsche_theta = 2").unwrap_err(),
             "contact.nitsche_theta = 2: allowed range is 1 | 0 | -1"
         );
-        assert!(
-            law("penalty = 3").unwrap_err().starts_with("contact.penalty does not apply to contact.method = \"exact\"")
+        assert_eq!(
+            law("method = \"nitsche\"\nnitsche_gamma0 = 1").unwrap_err(),
+            "contact.nitsche_gamma0 = 1: allowed range is (1, ∞)"
+        );
+        assert_eq!(
+            law("penalty = 3").unwrap_err(),
+            "contact.penalty does not apply to contact.method = \"exact\" (only to \"penalty\")"
+        );
+        assert_eq!(
+            law("method = \"penalty\"\npenalty = 3\nnitsche_theta = 1").unwrap_err(),
+            "contact.nitsche_theta does not apply to contact.method = \"penalty\" (only to \"nitsche\")"
         );
         assert_eq!(
             law("method = \"lagrange\"").unwrap_err(),
             "contact.method = \"lagrange\": allowed range is exact | penalty | nitsche"
         );
-        assert!(law("gamma = 1").is_err());
+        assert!(law("gamma = 1").unwrap_err().starts_with("contact.gamma: unknown field `gamma`"));
         // Resolved tables read back to the same law; the exact law writes none.
         for l in [ContactLaw::Penalty { penalty: 2.5 }, ContactLaw::Nitsche { theta: -1, gamma0: 7.0 }] {
             let text = toml::to_string(&raw_contact(&l).unwrap()).unwrap();

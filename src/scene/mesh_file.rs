@@ -2,7 +2,9 @@
 //! anything opens it, read — gmsh `.msh` by [`super::gmsh`] in every build, other formats by
 //! meshio through the Python bridge (feature `python`) — and its cells picked and checked here;
 //! [`crate::fem::Mesh::from_arrays`] (box scenes) and [`crate::fem::Mesh::body_from_arrays`]
-//! (bodies of any shape, [`read_body`]) get arrays and do no I/O.
+//! (bodies of any shape, [`read_body`]) get arrays and do no I/O. A mesh given as arrays
+//! ([`ArrayMesh`], the Python package's `mesh=`) is passed to the scene's validation with its
+//! files ([`MeshInputs`]) and checked as a file's.
 //!
 //! - Only a regular file of at most [`MAX_MESH_FILE_BYTES`] is read (a symlink to /dev/zero
 //!   would be read for ever, a FIFO blocks).
@@ -92,7 +94,7 @@ pub struct Blocks<'a> {
     pub blocks: &'a [Block],
 }
 
-/// The file name that stands for a mesh given as arrays ([`with_array_mesh`]).
+/// The value of a `mesh` key that names the arrays passed with the scene ([`MeshInputs`]).
 pub const ARRAY_MESH: &str = "<arrays>";
 
 /// A mesh given as arrays, as a file would give it (points, `columns` coordinates each, and
@@ -104,18 +106,57 @@ pub struct ArrayMesh {
     pub blocks: Vec<Block>,
 }
 
-thread_local! {
-    static ARRAY_MESHES: std::cell::RefCell<Option<ArrayMesh>> = const { std::cell::RefCell::new(None) };
+impl ArrayMesh {
+    fn blocks(&self) -> Blocks<'_> {
+        Blocks { points: &self.points, columns: self.columns, blocks: &self.blocks }
+    }
 }
 
-/// Runs `f` (a scene's validation) with `mesh` standing for the mesh file named
-/// [`ARRAY_MESH`] (`plate.mesh = "<arrays>"`, `solid.mesh = "<arrays>"`) on this thread: its
-/// arrays go through the checks of a file's ([`mesh_of`]), no file is opened.
-pub fn with_array_mesh<T>(mesh: ArrayMesh, f: impl FnOnce() -> T) -> T {
-    let previous = ARRAY_MESHES.with(|m| m.replace(Some(mesh)));
-    let out = f();
-    ARRAY_MESHES.with(|m| m.replace(previous));
-    out
+/// What a scene's `mesh` key (`plate.mesh`, `solid.mesh`) can name, passed to the scene's
+/// validation: a file relative to `base`, or, as `mesh = "<arrays>"` ([`ARRAY_MESH`]), the
+/// arrays the caller gave with the scene (without them, `"<arrays>"` is a file name).
+#[derive(Debug, Clone, Copy)]
+pub struct MeshInputs<'a> {
+    pub base: &'a Path,
+    pub arrays: Option<&'a ArrayMesh>,
+}
+
+/// A `mesh` key's value resolved against [`MeshInputs`].
+#[derive(Debug, Clone)]
+pub enum MeshInput<'a> {
+    File(std::path::PathBuf),
+    Arrays(&'a ArrayMesh),
+}
+
+impl<'a> MeshInputs<'a> {
+    /// Files relative to `base`, no arrays.
+    pub fn files(base: &'a Path) -> Self {
+        MeshInputs { base, arrays: None }
+    }
+
+    /// The arrays for `"<arrays>"` when given, else the file `base/value`.
+    pub fn resolve(&self, value: &str) -> MeshInput<'a> {
+        match self.arrays {
+            Some(a) if value == ARRAY_MESH => MeshInput::Arrays(a),
+            _ => MeshInput::File(self.base.join(value)),
+        }
+    }
+}
+
+/// The mesh of a box scene from `input` (the value of `key`; module docs for what is checked).
+pub fn read_input(key: &'static str, input: &MeshInput) -> Result<Mesh, MeshFileError> {
+    match *input {
+        MeshInput::Arrays(a) => mesh_of(key, ARRAY_MESH, &a.blocks()),
+        MeshInput::File(ref path) => read(key, path),
+    }
+}
+
+/// The mesh of a body of any shape from `input` ([`read_body`]; arrays have no groups).
+pub fn read_body_input(key: &'static str, input: &MeshInput, dim: usize) -> Result<Mesh, MeshFileError> {
+    match *input {
+        MeshInput::Arrays(a) => body_of(key, ARRAY_MESH, &a.blocks(), BTreeMap::new(), dim),
+        MeshInput::File(ref path) => read_body(key, path, dim),
+    }
 }
 
 impl Blocks<'_> {
@@ -138,12 +179,6 @@ impl Blocks<'_> {
 
 /// The mesh of a box scene in `path`, the value of `key` (module docs for what is checked).
 pub fn read(key: &'static str, path: &Path) -> Result<Mesh, MeshFileError> {
-    if path.file_name().is_some_and(|n| n == ARRAY_MESH) {
-        let given = ARRAY_MESHES.with(|m| m.borrow().clone());
-        if let Some(a) = given {
-            return mesh_of(key, ARRAY_MESH, &Blocks { points: &a.points, columns: a.columns, blocks: &a.blocks });
-        }
-    }
     check_file(key, path)?;
     let shown = path.display().to_string();
     if is_gmsh(path) {
@@ -160,12 +195,6 @@ pub fn read(key: &'static str, path: &Path) -> Result<Mesh, MeshFileError> {
 /// tetra10, hexahedron), checked by [`Mesh::body_from_arrays`]; a gmsh file's physical groups
 /// become [`Mesh::groups`] (other formats: none).
 pub fn read_body(key: &'static str, path: &Path, dim: usize) -> Result<Mesh, MeshFileError> {
-    if path.file_name().is_some_and(|n| n == ARRAY_MESH)
-        && let Some(a) = ARRAY_MESHES.with(|m| m.borrow().clone())
-    {
-        let view = Blocks { points: &a.points, columns: a.columns, blocks: &a.blocks };
-        return body_of(key, ARRAY_MESH, &view, BTreeMap::new(), dim);
-    }
     check_file(key, path)?;
     let shown = path.display().to_string();
     if is_gmsh(path) {
@@ -312,8 +341,8 @@ fn file_type(_meta: &std::fs::Metadata) -> &'static str {
 }
 
 #[cfg(feature = "python")]
-fn read_blocks(key: &'static str, path: &Path) -> Result<crate::bridge::MeshBlocks, MeshFileError> {
-    crate::bridge::read_mesh_blocks(path).map_err(|e| MeshFileError::Read {
+fn read_blocks(key: &'static str, path: &Path) -> Result<crate::python::MeshBlocks, MeshFileError> {
+    crate::python::read_mesh_blocks(path).map_err(|e| MeshFileError::Read {
         key,
         path: path.display().to_string(),
         reason: e.to_string(),
@@ -330,7 +359,7 @@ fn read_blocks(key: &'static str, path: &Path) -> Result<NoBlocks, MeshFileError
     })
 }
 
-/// The shape of [`crate::bridge::MeshBlocks`] in a build without Python (never built).
+/// The shape of [`crate::python::MeshBlocks`] in a build without Python (never built).
 #[cfg(not(feature = "python"))]
 struct NoBlocks {
     points: Vec<f64>,

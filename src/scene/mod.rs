@@ -27,22 +27,27 @@
 //! serialises back to TOML.
 
 mod bar;
-mod body;
 mod common;
+mod compat;
 mod contact;
 pub mod gmsh;
+mod medium;
 pub mod mesh_file;
+mod obstacle;
 mod plate;
 mod solid;
+mod tagged;
 
-pub(crate) use body::*;
 pub use common::*;
-pub use contact::RawContact;
+pub use compat::Offer;
+pub(crate) use contact::RawContact;
+pub(crate) use medium::*;
+pub(crate) use obstacle::*;
 pub use plate::*;
 pub use solid::*;
 // The geometries' specifications, which the tables validate into.
 pub use crate::bar::spec::{BarSpec, Initial};
-pub use crate::body::{Body, Force};
+pub use crate::medium::{Force, Medium};
 pub use crate::plate::spec::{PlateInitial, PlateSpec};
 // The scheme and column vocabularies live with the code that uses them; scenes name them.
 pub use crate::observe::Column;
@@ -147,11 +152,54 @@ pub enum SceneError {
     Expr(#[from] crate::expr::ExprError),
     #[error(transparent)]
     Body(#[from] crate::solid::BodyError),
+    /// A geometry, mass, scheme and contact law that do not go together ([`compat`]): `key` is
+    /// the one key to change, `allowed` its values that go with the rest.
+    #[error("{key} = {value} does not go with {with}: {why}; allowed: {allowed}")]
+    Conflict { key: &'static str, value: String, with: String, why: String, allowed: String },
     /// The problem a valid-looking scene poses cannot be set up (a matrix that cannot be
     /// factored, an exact solution that cannot be built): found by `check` and by `run` before
     /// stepping.
     #[error("the scene cannot be set up ({keys}): {reason}")]
     Setup { keys: String, reason: String },
+}
+
+impl SceneError {
+    /// The one key the error names (the CLI prints it first, the Python package's
+    /// `SceneError.key`): the key of the variants that carry one, else the dotted key that opens
+    /// the message (`bar.colour: unknown field …`, `mass.weights[2] = -1: …` gives
+    /// `mass.weights`, `[colour]: …` the table `colour`); None if the message opens with none.
+    pub fn key(&self) -> Option<String> {
+        use SceneError as E;
+        match self {
+            E::Range { key, .. } | E::Missing { key, .. } | E::Inapplicable { key, .. } | E::Conflict { key, .. } => {
+                Some((*key).to_string())
+            }
+            E::NotAnInteger { .. } => Some("time.dt".into()),
+            E::TooManyValues { .. } => Some("output.every".into()),
+            E::TooManyFrames { .. } => Some("output.vtu_every".into()),
+            E::DuplicateColumn(_) => Some("output.series".into()),
+            E::TooMuchWork { size, .. } => Some((*size).to_string()),
+            E::TooMuchMemory { keys, .. } => Some((*keys).to_string()),
+            E::Setup { keys, .. } => Some(keys.clone()),
+            E::Io { .. } | E::TooLarge { .. } => None,
+            // A weight that makes a node massless names no key in its message.
+            E::Mass(_) | E::LayerMass(_) => leading_key(&self.to_string()).or_else(|| Some("mass.weights".into())),
+            other => leading_key(&other.to_string()),
+        }
+    }
+}
+
+/// The key that opens a message (docs of [`SceneError::key`]).
+fn leading_key(message: &str) -> Option<String> {
+    let head = message.split([' ', ':', '\n']).next().unwrap_or("");
+    if let Some(table) = head.strip_prefix('[').and_then(|h| h.strip_suffix(']')) {
+        let ok = !table.is_empty() && table.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+        return ok.then(|| table.to_string());
+    }
+    let head = head.split('[').next().unwrap_or("");
+    let is_key = head.contains('.')
+        && head.split('.').all(|p| !p.is_empty() && p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'));
+    is_key.then(|| head.to_string())
 }
 
 /// A number in the shortest form that reads back to it (`1e308`, not 309 digits).
@@ -263,7 +311,7 @@ pub struct RawScene {
     pub(crate) solid: Option<solid::RawSolid>,
     /// The rigid plane of a body (`[solid]` scenes only).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) obstacle: Option<body::RawObstacle>,
+    pub(crate) obstacle: Option<obstacle::RawObstacle>,
     pub(crate) mass: Option<RawMass>,
     pub(crate) scheme: Option<RawScheme>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -289,8 +337,9 @@ pub trait SceneGeometry: Sized {
     }
     /// Whether the geometry writes VTU frames (`output.vtu`).
     const VTU: bool;
-    /// Whether the bar-only schemes (Paoli–Schatzman, reduced Newmark) apply.
-    const BAR_ONLY_SCHEMES: bool = false;
+    /// Whether the contact nodes carry unknowns without a contact condition (a solid's
+    /// tangential components), massless with them when w_0 = 0: a contact layer ([`Offer`]).
+    const MASSLESS_TANGENTS: bool = false;
     /// Unknowns per step (the work limit's measure).
     fn unknowns(&self) -> usize;
     /// The extent along x (the default `time.end` is 3 L).
@@ -298,6 +347,20 @@ pub trait SceneGeometry: Sized {
     /// The mass weights validated on this geometry; returns the largest weight of the cells at
     /// the contact boundary (0 iff the contact unknowns are massless).
     fn contact_weight(&self, mass: &crate::mass::MassKind) -> Result<f64, SceneError>;
+    /// What the geometry offers the schemes and laws with this mass (the compatibility rule,
+    /// [`compat`]). The default: many contact nodes over a sparse back-end, a lumped mass, the
+    /// contact weight of [`SceneGeometry::contact_weight`].
+    fn offer(&self, mass: &crate::mass::MassKind) -> Result<Offer, SceneError> {
+        let w0 = self.contact_weight(mass)?;
+        Ok(Offer {
+            one_node_system: false,
+            lumped_mass: true,
+            w0,
+            contact_layer: Self::MASSLESS_TANGENTS && w0 == 0.0,
+            one_cell_contact_row: false,
+            zero_gap: false,
+        })
+    }
     /// Why `column` cannot be recorded for this geometry's data (None if it can).
     fn unavailable(&self, column: Column) -> Option<String>;
     /// The series recorded without `output.series`.
@@ -321,7 +384,7 @@ impl AnyScene {
     /// relative to the scene's folder and read here, once.
     pub fn from_file(path: &std::path::Path) -> Result<AnyScene, SceneError> {
         let text = read_scene_text(path)?;
-        AnyScene::parse(&text, path.parent().unwrap_or(std::path::Path::new(".")))
+        AnyScene::parse(&text, mesh_file::MeshInputs::files(path.parent().unwrap_or(std::path::Path::new("."))))
     }
 
     /// The files a scene file names besides itself (`plate.mesh`, `solid.mesh`, relative to its
@@ -342,16 +405,22 @@ impl AnyScene {
 
     /// Parses and validates scene text; a mesh file is relative to the current folder.
     pub fn from_toml(text: &str) -> Result<AnyScene, SceneError> {
-        AnyScene::parse(text, std::path::Path::new("."))
+        AnyScene::parse(text, mesh_file::MeshInputs::files(std::path::Path::new(".")))
     }
 
     /// Parses and validates scene text; a mesh file is relative to `base` (the folder of the
     /// file the text came from, for the Python package's scenes changed key by key).
     pub fn from_toml_at(text: &str, base: &std::path::Path) -> Result<AnyScene, SceneError> {
-        AnyScene::parse(text, base)
+        AnyScene::parse(text, mesh_file::MeshInputs::files(base))
     }
 
-    fn parse(text: &str, base: &std::path::Path) -> Result<AnyScene, SceneError> {
+    /// Parses and validates scene text whose `mesh` keys name files relative to `inputs.base`
+    /// or, as `"<arrays>"`, the arrays given in `inputs` (the Python package's `mesh=`).
+    pub fn from_toml_with(text: &str, inputs: mesh_file::MeshInputs) -> Result<AnyScene, SceneError> {
+        AnyScene::parse(text, inputs)
+    }
+
+    fn parse(text: &str, inputs: mesh_file::MeshInputs) -> Result<AnyScene, SceneError> {
         let mut raw: RawScene = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
         if raw.obstacle.is_some() && raw.solid.is_none() {
             let context = "[bar] and [plate] scenes (a [solid] body meets a plane)".into();
@@ -368,10 +437,12 @@ impl AnyScene {
                     tables.join(" and ")
                 )))
             }
-            (None, Some(p), None) => Ok(AnyScene::Plate(validate_sections(fits(PlateSpec::validate(p, base)?)?, raw)?)),
+            (None, Some(p), None) => {
+                Ok(AnyScene::Plate(validate_sections(fits(PlateSpec::validate(p, inputs)?)?, raw)?))
+            }
             (None, None, Some(s)) => {
-                let body = validate_solid(s, raw.obstacle.take(), base)?;
-                Ok(AnyScene::Solid(validate_sections(fits(body)?, raw)?))
+                let solid = validate_solid(s, raw.obstacle.take(), inputs)?;
+                Ok(AnyScene::Solid(validate_sections(fits(solid)?, raw)?))
             }
             (b, _, _) => Ok(AnyScene::Bar(validate_sections(BarSpec::validate(b.unwrap_or_default())?, raw)?)),
         }

@@ -28,6 +28,7 @@
 //! divergence_factor = 1e6    # stop as diverged when |E| > factor · max(|E⁰|, E_F), in (1, ∞)
 //! ```
 
+use super::mesh_file::{MeshInput, MeshInputs};
 use super::*;
 use crate::fem::layers::{cell_weights, layers};
 use crate::fem::{Cell, Mesh};
@@ -55,15 +56,16 @@ pub(crate) struct RawPlate {
     #[serde(skip_serializing_if = "Option::is_none")]
     mesh: Option<String>,
     #[serde(flatten)]
-    body: RawBody,
-    /// Keys no field takes, refused by `RawBody::refuse_unknown`.
+    medium: RawMedium,
+    /// Keys no field takes, refused by `RawMedium::refuse_unknown`.
     #[serde(flatten, skip_serializing)]
     unknown: std::collections::BTreeMap<String, toml::Value>,
 }
 
 impl PlateSpec {
-    /// The `[plate]` table, validated; a mesh file is relative to `base` and read here, once.
-    pub(crate) fn validate(p: RawPlate, base: &std::path::Path) -> Result<PlateSpec, SceneError> {
+    /// The `[plate]` table, validated; a mesh file is relative to `inputs.base` (or the arrays
+    /// given for `"<arrays>"`) and read here, once.
+    pub(crate) fn validate(p: RawPlate, inputs: MeshInputs) -> Result<PlateSpec, SceneError> {
         let (mesh, mesh_file) = match &p.mesh {
             Some(file) => {
                 let context = "plate.mesh (the mesh file gives the geometry)";
@@ -72,17 +74,17 @@ impl PlateSpec {
                 forbid("plate.nx", &p.nx, context)?;
                 forbid("plate.ny", &p.ny, context)?;
                 forbid("plate.cells", &p.cells, context)?;
-                let path = base.join(file);
-                (plate_file_mesh(&path)?, Some(path))
+                let path = inputs.base.join(file);
+                (plate_file_mesh(&path, &inputs.resolve(file))?, Some(path))
             }
             None => (structured_mesh(&p)?, None),
         };
         let [nx, ny, _] = mesh.grid.unwrap_or([0; 3]);
         let contact = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count();
         check_contact_memory(contact, if mesh_file.is_some() { "its edge x = 0 in plate.mesh" } else { "plate.ny" })?;
-        let (initial, body) = parse_plate_body(p.body, &p.unknown, &mesh)?;
+        let (initial, medium) = parse_plate_medium(p.medium, &p.unknown, &mesh)?;
         let ([length, height, _], cells) = (mesh.extent, mesh.kind);
-        Ok(PlateSpec { length, height, nx, ny, cells, initial, body, mesh_file, mesh: Some(Arc::new(mesh)) })
+        Ok(PlateSpec { length, height, nx, ny, cells, initial, medium, mesh_file, mesh: Some(Arc::new(mesh)) })
     }
 }
 
@@ -186,7 +188,13 @@ impl SceneGeometry for PlateSpec {
             nx: structured.then_some(self.nx as i64),
             ny: structured.then_some(self.ny as i64),
             cells: structured.then(|| self.cells.name().into()),
-            body: RawBody::resolved(self.body.material, self.body.far_end, self.body.gap, initial, &self.body.force),
+            medium: RawMedium::resolved(
+                self.medium.material,
+                self.medium.far_end,
+                self.medium.gap,
+                initial,
+                &self.medium.force,
+            ),
             unknown: Default::default(),
             mesh: self.mesh_file.as_ref().map(|m| m.display().to_string()),
         };
@@ -230,18 +238,18 @@ impl Scene<PlateSpec> {
     }
 }
 
-/// The plate's body keys (shared with bars) and its initial data, checked at the mesh nodes.
-fn parse_plate_body(
-    b: RawBody,
+/// The plate's medium keys (shared with bars) and its initial data, checked at the mesh nodes.
+fn parse_plate_medium(
+    b: RawMedium,
     unknown: &std::collections::BTreeMap<String, toml::Value>,
     mesh: &Mesh,
-) -> Result<(PlateInitial, Body), SceneError> {
+) -> Result<(PlateInitial, Medium), SceneError> {
     let [length, height, _] = mesh.extent;
     let keys =
-        BodyKeys { density: "plate.density", modulus: "plate.modulus", far_end: "plate.far_end", gap: "plate.gap" };
+        MediumKeys { density: "plate.density", modulus: "plate.modulus", far_end: "plate.far_end", gap: "plate.gap" };
     let expected = "length, height, nx, ny, cells, mesh, density, modulus, far_end, gap, initial, force";
-    RawBody::refuse_unknown("plate", unknown, expected)?;
-    let (material, far_end, gap) = parse_body(&keys, b.density, b.modulus, b.far_end.as_deref(), b.gap)?;
+    RawMedium::refuse_unknown("plate", unknown, expected)?;
+    let (material, far_end, gap) = parse_medium(&keys, b.density, b.modulus, b.far_end.as_deref(), b.gap)?;
     let consts = [("L", length), ("H", height), ("pi", std::f64::consts::PI)];
     let initial = parse_initial(b.initial, &consts)?;
     let force = parse_force("plate.force", b.force, &["x", "y"], &consts)?;
@@ -251,8 +259,8 @@ fn parse_plate_body(
         velocity.eval_at_nodes(points()).map_err(SceneError::from)?;
     }
     force.check_at_nodes(points())?;
-    let body = Body { material, far_end, gap, force };
-    Ok((initial, body))
+    let medium = Medium { material, far_end, gap, force };
+    Ok((initial, medium))
 }
 
 /// `plate.initial`: "paper", "bump" or a table of expressions in x, y.
@@ -285,8 +293,8 @@ pub(crate) fn check_contact_memory(contact: usize, keys: &'static str) -> Result
 }
 
 /// The mesh of `plate.mesh` ([`super::mesh_file`]): a triangle or quad mesh.
-fn plate_file_mesh(path: &std::path::Path) -> Result<Mesh, SceneError> {
-    let mesh = super::mesh_file::read("plate.mesh", path)?;
+fn plate_file_mesh(path: &std::path::Path, input: &MeshInput) -> Result<Mesh, SceneError> {
+    let mesh = super::mesh_file::read_input("plate.mesh", input)?;
     if mesh.dim != 2 {
         return Err(SceneError::Range {
             key: "plate.mesh",

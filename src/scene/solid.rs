@@ -29,10 +29,15 @@
 
 use super::*;
 use crate::expr::Expr;
-use crate::fem::layers::{cell_weights, cell_weights_of, layers, layers_of};
+mod mesh;
+
+use super::mesh_file::{MeshInput, MeshInputs};
+use crate::fem::layers::layers_of;
 use crate::fem::mesh::{Cell, Mesh};
 use crate::mass::MassKind;
-use crate::solid::{BodySpec, Lame, Lateral, SolidInitial, SolidSpec};
+use crate::solid::spec::BuildError;
+use crate::solid::{BodySpec, Lame, Lateral, MeshSource, SolidInitial, SolidSpec, Support};
+use mesh::{body_file_mesh, file_mesh, structured};
 use std::sync::Arc;
 
 /// The `[solid]` table as written (closed: unknown keys are refused, naming the key).
@@ -104,30 +109,22 @@ fn non_negative(key: &'static str, v: Option<Number>) -> Result<f64, SceneError>
     finite_in(key, v, v >= 0.0, "[0, ∞)")
 }
 
-/// A cell count in [min, 10000] (default 20).
-fn count(key: &'static str, v: Option<i64>, min: i64, range: &'static str) -> Result<usize, SceneError> {
-    match v.unwrap_or(20) {
-        k if (min..=10_000).contains(&k) => Ok(k as usize),
-        k => Err(SceneError::Range { key, value: k.to_string(), range }),
-    }
-}
-
 /// The `[solid]` table (as a TOML table) validated into a [`SolidSpec`], a mesh file relative to
 /// the current folder (library users; scene files go through [`crate::scene::AnyScene`]).
 pub fn parse_solid(t: &toml::Table) -> Result<SolidSpec, SceneError> {
     let raw = RawSolid::deserialize(toml::Value::Table(t.clone()))
         .map_err(|e| SceneError::Parse(format!("[solid]: {}", e.to_string().trim_end())))?;
-    validate_solid(raw, None, std::path::Path::new("."))
+    validate_solid(raw, None, MeshInputs::files(std::path::Path::new(".")))
 }
 
 /// The `[solid]` table validated into a [`SolidSpec`]: every error names the key (`solid.…`)
 /// and its allowed range. The size is checked before any mesh is built (cells, contact nodes,
-/// cell aspect ratios), the initial data at the mesh nodes; `mesh = "…"` is relative to `base`
-/// (the scene's folder) and read here, once.
+/// cell aspect ratios), the initial data at the mesh nodes; `mesh = "…"` is relative to
+/// `inputs.base` (the scene's folder), or the arrays given for `"<arrays>"`, and read here, once.
 pub(crate) fn validate_solid(
     t: RawSolid,
     obstacle: Option<RawObstacle>,
-    base: &std::path::Path,
+    inputs: MeshInputs,
 ) -> Result<SolidSpec, SceneError> {
     let dim = match t.dim.unwrap_or(2) {
         d @ (2 | 3) => d as usize,
@@ -143,15 +140,24 @@ pub(crate) fn validate_solid(
     } else {
         forbid("solid.clamped", &t.clamped, "a box without [obstacle] (clamped on x = L)")?;
     }
-    let (extent, n, cells, mesh, mesh_file) = match &t.mesh {
+    let (extent, n, cells, source) = match &t.mesh {
         Some(file) => {
-            let path = base.join(file);
-            let mesh = if obstacle.is_some() { body_file_mesh(&t, dim, &path)? } else { file_mesh(&t, dim, &path)? };
-            (mesh.extent, [0; 3], mesh.kind, Some(Arc::new(mesh)), Some(path))
+            let input = inputs.resolve(file);
+            let path = inputs.base.join(file);
+            let mesh = match obstacle.is_some() {
+                true => body_file_mesh(&t, dim, &input)?,
+                false => file_mesh(&t, dim, &input, &path)?,
+            };
+            let (extent, cells, mesh) = (mesh.extent, mesh.kind, Arc::new(mesh));
+            let source = match input {
+                MeshInput::Arrays(_) => MeshSource::Arrays(mesh),
+                MeshInput::File(_) => MeshSource::File { path, mesh },
+            };
+            (extent, [0; 3], cells, source)
         }
         None => {
             let (extent, n, cells) = structured(&t, dim)?;
-            (extent, n, cells, None, None)
+            (extent, n, cells, MeshSource::Box)
         }
     };
     let lame = Lame {
@@ -168,34 +174,42 @@ pub(crate) fn validate_solid(
             return Err(SceneError::Range { key: "solid.lateral", value: format!("\"{other}\""), range });
         }
     };
-    let (mut force, mut body) = ([0.0; 3], None);
-    if let Some(o) = obstacle {
-        let (vars, consts) = variables(dim, extent);
-        let force = parse_body_force(t.force, dim, vars, &consts)?;
-        body = Some(BodySpec { obstacle: parse_obstacle(o, dim)?, clamped: t.clamped, force });
-    } else if let Some(v) = &t.force {
-        force = box_force(v, dim)?;
-    }
-    let initial = match (&body, t.initial) {
-        (Some(_), None) => zero_initial(dim, extent)?,
-        (Some(_), Some(RawSolidInitial::Name(s))) => {
+    let support = match obstacle {
+        Some(o) => {
+            let (vars, consts) = variables(dim, extent);
+            let force = parse_body_force(t.force, dim, vars, &consts)?;
+            Support::Plane(BodySpec { obstacle: parse_obstacle(o, dim)?, clamped: t.clamped, force })
+        }
+        None => Support::Face { gap, lateral, force: t.force.as_deref().map_or(Ok([0.0; 3]), |v| box_force(v, dim))? },
+    };
+    let initial = match (&support, t.initial) {
+        (Support::Plane(_), None) => zero_initial(dim, extent)?,
+        (Support::Plane(_), Some(RawSolidInitial::Name(s))) => {
             let range = "{ displacement = [...], velocity = [...] } (the paper's data are the box's)";
             return Err(SceneError::Range { key: "solid.initial", value: format!("\"{s}\""), range });
         }
         (_, raw) => parse_initial(raw, dim, extent)?,
     };
-    let spec =
-        SolidSpec { dim, extent, cells_per_axis: n, cells, lame, gap, lateral, force, initial, mesh_file, mesh, body };
-    if let Some(body) = &spec.body {
+    let cache = Default::default();
+    let spec = SolidSpec { dim, extent, cells_per_axis: n, cells, lame, initial, source, support, cache };
+    if let Support::Plane(body) = &spec.support {
         check_body(&spec, body)?;
     }
     if let SolidInitial::Fields { displacement, velocity } = &spec.initial {
-        let mesh = spec.mesh()?;
+        let built = spec.built().map_err(setup_error)?;
         for e in displacement.iter().chain(velocity) {
-            e.eval_at_nodes(mesh.points.iter().map(|p| &p[..dim])).map_err(SceneError::from)?;
+            e.eval_at_nodes(built.mesh.points.iter().map(|p| &p[..dim])).map_err(SceneError::from)?;
         }
     }
     Ok(spec)
+}
+
+/// A solid's build error at validation (its mesh, or a body's contact set) as a scene error.
+fn setup_error(e: BuildError) -> SceneError {
+    match e {
+        BuildError::Mesh(m) => SceneError::Mesh(m),
+        BuildError::Body(b) => SceneError::Body(b),
+    }
 }
 
 /// `initial = "paper"` or `{ displacement = [..], velocity = [..] }` (one entry per component,
@@ -279,120 +293,18 @@ fn zero_initial(dim: usize, extent: [f64; 3]) -> Result<SolidInitial, SceneError
 /// ([`crate::solid::body::contact`]), the size of its contact Schur complement, its force
 /// finite at the nodes at t = 0.
 fn check_body(spec: &SolidSpec, body: &BodySpec) -> Result<(), SceneError> {
-    let mesh = spec.mesh()?;
-    let contact = crate::solid::body::contact(&mesh, body)?;
-    let keys = if spec.mesh_file.is_some() {
-        "obstacle.contact, or solid.mesh"
-    } else {
+    let built = spec.built().map_err(setup_error)?;
+    let keys = if matches!(spec.source, MeshSource::Box) {
         "obstacle.contact, or solid.nx, solid.ny[, solid.nz]"
+    } else {
+        "obstacle.contact, or solid.mesh"
     };
-    check_contact_memory(contact.nodes.len(), keys)?;
+    check_contact_memory(built.contact.nodes.len(), keys)?;
     let d = spec.dim;
     for e in &body.force {
-        e.eval_at_nodes(mesh.points.iter().map(|p| [&p[..d], &[0.0][..]].concat())).map_err(SceneError::from)?;
+        e.eval_at_nodes(built.mesh.points.iter().map(|p| [&p[..d], &[0.0][..]].concat())).map_err(SceneError::from)?;
     }
     Ok(())
-}
-
-/// The mesh of `solid.mesh` for a body: read at the edge, of the table's `dim`; any shape.
-fn body_file_mesh(t: &RawSolid, dim: usize, path: &std::path::Path) -> Result<Mesh, SceneError> {
-    let context = "solid.mesh (the mesh file gives the geometry)";
-    for (key, v) in [("solid.length", &t.length), ("solid.height", &t.height), ("solid.depth", &t.depth)] {
-        forbid(key, v, context)?;
-    }
-    for (key, v) in [("solid.nx", &t.nx), ("solid.ny", &t.ny), ("solid.nz", &t.nz)] {
-        forbid(key, v, context)?;
-    }
-    forbid("solid.cells", &t.cells, context)?;
-    Ok(super::mesh_file::read_body("solid.mesh", path, dim)?)
-}
-
-/// The structured box of a `[solid]` table without `mesh`: extent, cells per axis, cell kind,
-/// its size checked before any mesh is built.
-fn structured(t: &RawSolid, dim: usize) -> Result<([f64; 3], [usize; 3], Cell), SceneError> {
-    let length = |key, v: Option<Number>| length_in(key, v.map_or(1.0, Number::get));
-    let extent =
-        [length("solid.length", t.length)?, length("solid.height", t.height)?, length("solid.depth", t.depth)?];
-    let n = [
-        count("solid.nx", t.nx, 2, "integers in [2, 10000]")?,
-        count("solid.ny", t.ny, 1, "integers in [1, 10000]")?,
-        count("solid.nz", t.nz, 1, "integers in [1, 10000]")?,
-    ];
-    let cells = match (dim, t.cells.as_deref().unwrap_or(if dim == 2 { "quad" } else { "hex" })) {
-        (2, "quad") => Cell::Quad,
-        (2, "triangle") => Cell::Triangle,
-        (3, "hex") => Cell::Hex,
-        (3, "tet") => Cell::Tet,
-        (d, other) => {
-            let range = if d == 2 { "quad | triangle (dim = 2)" } else { "hex | tet (dim = 3)" };
-            return Err(SceneError::Range { key: "solid.cells", value: format!("\"{other}\""), range });
-        }
-    };
-    check_size(dim, extent, n)?;
-    Ok((extent, n, cells))
-}
-
-/// The mesh of `solid.mesh`: read by meshio, of the table's `dim`, filling the box
-/// (0, L) × (0, H) [× (0, D)] (the contact face x = 0 and the lateral faces are the box's).
-fn file_mesh(t: &RawSolid, dim: usize, path: &std::path::Path) -> Result<Mesh, SceneError> {
-    let context = "solid.mesh (the mesh file gives the geometry)";
-    forbid("solid.length", &t.length, context)?;
-    forbid("solid.height", &t.height, context)?;
-    forbid("solid.depth", &t.depth, context)?;
-    forbid("solid.nx", &t.nx, context)?;
-    forbid("solid.ny", &t.ny, context)?;
-    forbid("solid.nz", &t.nz, context)?;
-    forbid("solid.cells", &t.cells, context)?;
-    let mesh = super::mesh_file::read("solid.mesh", path)?;
-    let bad = |what: String| SceneError::Range {
-        key: "solid.mesh",
-        value: format!("\"{}\" ({what})", path.display()),
-        range: "a triangle or quad mesh (solid.dim = 2), a tetrahedron or hexahedron mesh (solid.dim = 3), filling the box (0, L) × (0, H) [× (0, D)]",
-    };
-    if mesh.dim != dim {
-        return Err(bad(format!("a {}D mesh", mesh.dim)));
-    }
-    for axis in 1..dim {
-        let lo = mesh.points.iter().map(|p| p[axis]).fold(f64::INFINITY, f64::min);
-        if lo.abs() > 1e-12 * mesh.extent[axis] {
-            return Err(bad(format!("smallest {} = {}", ["x", "y", "z"][axis], short(lo))));
-        }
-    }
-    mesh.check_fills_box().map_err(|e| bad(e.to_string()))?;
-    check_contact_memory((0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count(), "its face x = 0 in solid.mesh")?;
-    Ok(mesh)
-}
-
-/// Sizes refused before a mesh is built: more than [`MAX_ELEMENTS`] cells, more contact nodes
-/// than the dense contact Schur complement allows ([`MAX_CONTACT_VALUES`]), or cells so far from
-/// cubes that the stiffness cannot be factored in double precision (as for plates).
-fn check_size(dim: usize, extent: [f64; 3], n: [usize; 3]) -> Result<(), SceneError> {
-    let axes = if dim == 2 { 2 } else { 3 };
-    let cells: f64 = n[..axes].iter().map(|&k| k as f64).product();
-    if cells > MAX_ELEMENTS as f64 {
-        let keys = if dim == 2 { "solid.nx × solid.ny" } else { "solid.nx × solid.ny × solid.nz" };
-        return Err(SceneError::Range {
-            key: keys_of(dim),
-            value: format!("{cells:e} cells ({keys})"),
-            range: "at most 1e7 cells",
-        });
-    }
-    let contact = n[1..axes].iter().map(|&k| k + 1).product::<usize>();
-    check_contact_memory(contact, if dim == 2 { "solid.ny" } else { "solid.ny, solid.nz" })?;
-    let h: Vec<f64> = (0..axes).map(|a| extent[a] / n[a] as f64).collect();
-    let (lo, hi) = h.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
-    if hi / lo > 1e6 {
-        return Err(SceneError::Range {
-            key: "solid.height",
-            value: short(extent[1]),
-            range: "cell edges (length/nx, height/ny[, depth/nz]) within a ratio of 1e6 of each other",
-        });
-    }
-    Ok(())
-}
-
-fn keys_of(dim: usize) -> &'static str {
-    if dim == 2 { "solid.nx, solid.ny" } else { "solid.nx, solid.ny, solid.nz" }
 }
 
 /// The series columns of a solid (the body ones need an [obstacle]).
@@ -404,60 +316,38 @@ impl SceneGeometry for SolidSpec {
     const COLUMN_LIST: &'static str = SOLID_SERIES_NAMES;
     const SIZE_KEYS: &'static str = "solid.nx, solid.ny[, solid.nz]";
     const VTU: bool = true;
+    const MASSLESS_TANGENTS: bool = true;
 
     fn size_keys(&self) -> &'static str {
-        if self.mesh_file.is_some() { "solid.mesh (a coarser mesh)" } else { keys_of(self.dim) }
+        if matches!(self.source, MeshSource::Box) { mesh::keys_of(self.dim) } else { "solid.mesh (a coarser mesh)" }
     }
 
-    /// Free nodes (all but x = L) times the components, less the normal components a roller
-    /// face removes.
+    /// The free unknowns: the components of the nodes not clamped (x = L for the box), less the
+    /// normal components a roller face removes, on the mesh built for the contact weight.
     fn unknowns(&self) -> usize {
-        if let Some(body) = &self.body {
-            // Validated: the contact set builds (check_body).
-            let mesh = self.mesh().expect("a validated body has its mesh");
-            let clamped =
-                crate::solid::body::contact(&mesh, body).map_or(0, |c| c.clamped.iter().filter(|&&k| k).count());
-            return (mesh.n_nodes() - clamped) * self.dim;
-        }
-        if let Some(mesh) = &self.mesh {
-            let d = self.dim;
-            let roller = self.lateral == Lateral::Roller;
-            let free = |v: usize| (0..d).filter(|&c| !(c >= 1 && roller && mesh.on_lateral(v, c))).count();
-            return (0..mesh.n_nodes()).filter(|&v| !mesh.on_dirichlet(v)).map(free).sum();
-        }
-        let [nx, ny, nz] = self.cells_per_axis;
-        let nz = if self.dim == 2 { 0 } else { nz };
-        let (sy, sz) = (ny + 1, nz + 1);
-        let mut count = nx * sy * sz * self.dim;
-        if self.lateral == Lateral::Roller {
-            count -= nx * 2 * sz; // u_y on y = 0, H
-            if self.dim == 3 {
-                count -= nx * 2 * sy; // u_z on z = 0, D
-            }
-        }
-        count
+        // Validated: the mesh and the contact set build (contact_weight, check_body).
+        let built = self.built().expect("a validated solid has its mesh and contact set");
+        let (mesh, d) = (&built.mesh, self.dim);
+        let roller = self.support.lateral() == Lateral::Roller;
+        let free = |v: usize| (0..d).filter(|&c| !(c >= 1 && roller && mesh.on_lateral(v, c))).count();
+        (0..mesh.n_nodes()).filter(|&v| !built.contact.clamped[v]).map(free).sum()
     }
 
     fn length(&self) -> f64 {
         self.extent[0]
     }
 
-    /// The largest weight of the cells touching x = 0 (0 iff every component of a contact-face
-    /// node is massless).
+    /// The largest weight of the cells holding a contact node (0 iff every component of a
+    /// contact node is massless), on the mesh and contact set built once ([`SolidSpec::built`]).
     fn contact_weight(&self, mass: &MassKind) -> Result<f64, SceneError> {
-        let mesh: Mesh = self.mesh()?;
-        let (weights, layer) = match &self.body {
-            None => (cell_weights(&mesh, mass)?, layers(&mesh)),
-            Some(body) => {
-                let c = crate::solid::body::contact(&mesh, body)?;
-                (cell_weights_of(&mesh, mass, &c.contact, &c.clamped)?, layers_of(&mesh, &c.contact))
-            }
-        };
+        let built = self.built().map_err(setup_error)?;
+        let weights = built.weights(mass)?;
+        let layer = layers_of(&built.mesh, &built.contact.contact);
         Ok(layer.iter().zip(&weights).filter(|(l, _)| **l == 0).map(|(_, w)| *w).fold(0.0, f64::max))
     }
 
     fn unavailable(&self, column: Column) -> Option<String> {
-        if column.is_body() && self.body.is_none() {
+        if column.is_body() && self.support.body().is_none() {
             return Some("a body's columns need an [obstacle] (a body against a rigid plane)".into());
         }
         if column.component().is_some_and(|k| k >= self.dim) {
@@ -471,7 +361,7 @@ impl SceneGeometry for SolidSpec {
         if column != Column::L2Error {
             return None;
         }
-        if self.mesh_file.is_some() {
+        if !matches!(self.source, MeshSource::Box) {
             return Some("solid.mesh: the exact L² error is integrated on structured quad and hex meshes only".into());
         }
         (!self.cells.is_tensor()).then(|| {
@@ -483,7 +373,7 @@ impl SceneGeometry for SolidSpec {
     }
 
     fn default_series(&self) -> Vec<Column> {
-        if self.body.is_some() {
+        if self.support.body().is_some() {
             let mut series = vec![Column::Energy, Column::ContactForce];
             series.extend(Column::BODY.into_iter().filter(|c| c.component().is_none_or(|k| k < self.dim)));
             return series;
@@ -497,7 +387,7 @@ impl SceneGeometry for SolidSpec {
 
     fn raw(&self) -> RawScene {
         let (f, i) = (|x: f64| Some(Number::Float(x)), |k: usize| Some(k as i64));
-        let (three, structured) = (self.dim == 3, self.mesh_file.is_none());
+        let (three, structured) = (self.dim == 3, matches!(self.source, MeshSource::Box));
         let initial = match &self.initial {
             SolidInitial::Paper => RawSolidInitial::Name("paper".into()),
             SolidInitial::Fields { displacement, velocity } => {
@@ -507,7 +397,11 @@ impl SceneGeometry for SolidSpec {
         };
         let solid = RawSolid {
             dim: i(self.dim),
-            mesh: self.mesh_file.as_ref().map(|m| m.display().to_string()),
+            mesh: match &self.source {
+                MeshSource::Box => None,
+                MeshSource::File { path, .. } => Some(path.display().to_string()),
+                MeshSource::Arrays(_) => Some(super::mesh_file::ARRAY_MESH.into()),
+            },
             length: f(self.extent[0]).filter(|_| structured),
             height: f(self.extent[1]).filter(|_| structured),
             depth: f(self.extent[2]).filter(|_| structured && three),
@@ -518,24 +412,34 @@ impl SceneGeometry for SolidSpec {
             lame_lambda: f(self.lame.lambda),
             lame_mu: f(self.lame.mu),
             density: f(self.lame.density),
-            gap: f(self.gap).filter(|_| self.body.is_none()),
-            lateral: Some(self.lateral.name().into()).filter(|_| self.body.is_none()),
-            force: Some(match &self.body {
-                None => self.force[..self.dim].iter().map(|&x| RawField::Number(Number::Float(x))).collect(),
-                Some(b) => b.force.iter().map(|e| RawField::Expr(e.text().into())).collect(),
-            }),
+            gap: None,
+            lateral: None,
+            force: None,
             initial: Some(initial),
-            clamped: self.body.as_ref().and_then(|b| b.clamped.clone()),
+            clamped: None,
         };
-        let obstacle = self.body.as_ref().map(|b| raw_obstacle(&b.obstacle, self.dim));
+        let solid = match &self.support {
+            Support::Face { gap, lateral, force } => RawSolid {
+                gap: f(*gap),
+                lateral: Some(lateral.name().into()),
+                force: Some(force[..self.dim].iter().map(|&x| RawField::Number(Number::Float(x))).collect()),
+                ..solid
+            },
+            Support::Plane(b) => RawSolid {
+                force: Some(b.force.iter().map(|e| RawField::Expr(e.text().into())).collect()),
+                clamped: b.clamped.clone(),
+                ..solid
+            },
+        };
+        let obstacle = self.support.body().map(|b| raw_obstacle(&b.obstacle, self.dim));
         RawScene { solid: Some(solid), obstacle, ..Default::default() }
     }
 
     fn header(&self, time: &TimeSpec) -> String {
-        if self.body.is_some() {
+        if self.support.body().is_some() {
             return format!("# Resolved body scene (every default filled in); {} steps.\n", time.steps);
         }
-        if self.mesh_file.is_some() {
+        if !matches!(self.source, MeshSource::Box) {
             return format!(
                 "# Resolved solid scene (every default filled in); {} steps, mesh from a file.\n",
                 time.steps
@@ -557,7 +461,7 @@ impl SceneGeometry for SolidSpec {
     /// and the pattern's row index and slot: 48 bytes per triplet, k the cell's vertices
     /// (measured: a 40³ hex, 2.4 GB by this count, peaks at about 2.8 GB before its factor).
     fn assembly_bytes(&self) -> f64 {
-        let cells = match &self.mesh {
+        let cells = match self.source.given() {
             Some(m) => m.n_cells() as f64,
             None => {
                 let axes = &self.cells_per_axis[..self.dim];

@@ -37,27 +37,25 @@
 //! is refused naming Δt_c, the margin being the stated accuracy of Δt_c
 //! ([`super::stable_limit::REL_TOL`] relative; [`super::stable_limit::refuses`]).
 //!
-//! **Penalty** (`[contact] method = "penalty"`): on a massive contact node the spring force of
-//! the current displacement enters Aⁿ (force at t_n, `λ_c = κ min(0, u_cⁿ − lb_c)`); on massless
-//! contact nodes the quasi-static rows carry the spring, solved exactly
-//! ([`crate::contact::penalty::PenaltyQuasiStatic`]). The springs enter the stable limit through
-//! the massive contact nodes only: Δt_c is computed for `K + κ Σ_{c massive} e_c e_cᵀ` (all
-//! springs engaged: adding a positive semi-definite term can only raise λ_max, so this bounds every
-//! contact state; on massless nodes the spring stiffens the quasi-static rows, whose condensed
-//! stiffness stays ≤ K_II).
+//! **Other laws** ([`crate::contact::ExplicitLaw`]): the scheme is written once for every law.
+//! The law adds its force of the current state (Nitsche: −N(Uⁿ) in the residual before M_L⁻¹;
+//! the penalty: its springs on the massive contact nodes), solves the quasi-static rows of the
+//! massless unknowns with its own condition, and adds its term B to K in the stable limit
+//! (`Δt_c = 2/√λ_max(M_L,II⁻¹ (K + B)_II)`; the penalty's `κ Σ_{c massive} e_c e_cᵀ`, all
+//! springs engaged: adding a positive semi-definite term can only raise λ_max, so this bounds
+//! every contact state; Nitsche's in [`crate::contact::nitsche::NitscheExplicit`]).
 //!
 //! **Parallel**: `K U` ([`SymMatrix::par_mul_into`]) and the element-wise force and update loops
 //! run on rayon's threads ([`PAR_ROWS`] entries per task at least, so small systems stay on one
 //! thread); every entry is computed as in the sequential loops, so the results do not depend on
 //! the number of threads (bit for bit).
 //!
-//! **Energy**: `½ V·M_L V + ½ U·K U − F·U (+ Σ ½κ (d_c⁻)²)` ([`CentralDifference::energy`]); without contact and
+//! **Energy**: `½ V·M_L V + ½ U·K U − F·U` plus the law's ([`CentralDifference::energy`]); without contact and
 //! with Δt < Δt_c it stays within O(Δt²) of its initial value (a shadow energy is conserved).
 
 use super::{SchemeError, StateView, check_finite, check_range, contact_err};
-use crate::contact::QuasiStatic;
 use crate::contact::law::ContactLaw;
-use crate::contact::penalty::PenaltyQuasiStatic;
+use crate::contact::{ExplicitLaw, Massive};
 use crate::linalg::SymMatrix;
 use crate::linalg::sparse::PAR_ROWS;
 use crate::system::ContactSystem;
@@ -113,23 +111,6 @@ impl<A: SymMatrix> Stiffness<A> {
     }
 }
 
-/// The quasi-static map of the massless unknowns under the contact law.
-#[derive(Debug)]
-enum Phi {
-    Exact(QuasiStatic),
-    Penalty(PenaltyQuasiStatic),
-}
-
-/// The quasi-static massless contact unknowns: Φ with its contact subset (slots into the
-/// contact order) and bounds.
-#[derive(Debug)]
-struct Massless {
-    phi: Phi,
-    slots: Vec<usize>,
-    lower: Vec<f64>,
-    lambda: Vec<f64>,
-}
-
 #[derive(Debug)]
 pub struct CentralDifference<A: SymMatrix> {
     dt: f64,
@@ -139,13 +120,8 @@ pub struct CentralDifference<A: SymMatrix> {
     lumped: Vec<f64>,
     /// `1/M_L,ii` on I, 0 on C.
     inv_mass: Vec<f64>,
-    lower: Vec<f64>,
-    contact: Vec<usize>,
-    /// Massive contact nodes: (slot in contact order, unknown).
-    kinematic: Vec<(usize, usize)>,
-    /// The penalty κ (None: exact contact).
-    kappa: Option<f64>,
-    quasi: Option<Massless>,
+    /// The contact law (its force, quasi-static rows and stable-limit term).
+    law: Box<dyn ExplicitLaw>,
     /// All massless unknowns and their value at the start of the step.
     massless: Vec<usize>,
     massless_old: Vec<f64>,
@@ -202,34 +178,18 @@ impl<A: SymMatrix> CentralDifference<A> {
     ) -> Result<Self, SchemeError> {
         let system = source.get();
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
-        let kappa = match *law {
-            ContactLaw::Exact => None,
-            ContactLaw::Penalty { penalty } => {
-                check_range(Self::NAME, ContactLaw::PENALTY_KEY, penalty, penalty > 0.0, ContactLaw::PENALTY_RANGE)?;
-                Some(penalty)
-            }
-            ContactLaw::Nitsche { .. } => {
-                let reason = "Nitsche contact is not built for central differences";
-                return Err(SchemeError::Unsupported { key: "contact.method", geometry: "central-difference", reason });
-            }
-        };
+        let law = law.explicit_law(system, &lumped)?;
         let n = system.n();
         let inv_mass: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
-        let (limit, lanczos_steps, converged) = stable_limit_of(system, &lumped, kappa);
-        let springs = system.contact.iter().filter(|&&c| lumped[c] > 0.0).count();
+        let (limit, lanczos_steps, converged) = stable_limit_of(system, &lumped, Some(law.as_ref()));
         // dt = Δt_c is not stable, and Δt_c is known to REL_TOL: refused from Δt_c (1 − REL_TOL)
         // down (a free–free uniform chain has Δt_c = h/c exactly: Courant 1 is refused there).
         if super::stable_limit::refuses(dt, limit) {
-            let spring = if kappa.is_some() && springs > 0 { " + κ E_Cᵀ E_C" } else { "" };
-            return Err(SchemeError::AboveStableLimit { scheme: Self::NAME, dt, limit, spring });
+            return Err(SchemeError::AboveStableLimit { scheme: Self::NAME, dt, limit, spring: law.bound() });
         }
         let massless: Vec<usize> = (0..n).filter(|&i| lumped[i] <= 0.0).collect();
-        let kinematic: Vec<(usize, usize)> =
-            system.contact.iter().enumerate().filter(|&(_, &c)| lumped[c] > 0.0).map(|(s, &c)| (s, c)).collect();
-        let quasi = if massless.is_empty() { None } else { Some(massless_map(system, &lumped, &massless, kappa)?) };
-        let (load, forcing, lower, contact) =
-            (system.load.clone(), system.forcing.clone(), system.lower.clone(), system.contact.clone());
-        let lambda = vec![0.0; contact.len()];
+        let (load, forcing) = (system.load.clone(), system.forcing.clone());
+        let lambda = vec![0.0; system.contact.len()];
         let mut s = Self {
             dt,
             stiffness: source.stiffness(),
@@ -237,11 +197,7 @@ impl<A: SymMatrix> CentralDifference<A> {
             forcing,
             lumped,
             inv_mass,
-            lower,
-            contact,
-            kinematic,
-            kappa,
-            quasi,
+            law,
             massless_old: vec![0.0; massless.len()],
             massless,
             limit,
@@ -256,7 +212,7 @@ impl<A: SymMatrix> CentralDifference<A> {
             pivots: 0,
         };
         s.quasi_static(0, 0.0)?;
-        s.accelerations(0.0, 0.5);
+        s.accelerations(0.5);
         Ok(s)
     }
 
@@ -265,85 +221,72 @@ impl<A: SymMatrix> CentralDifference<A> {
         (self.limit, self.lanczos_steps)
     }
 
-    /// `½ V·M_L V + ½ U·K U − F(t_n)·U` of the current state, `+ Σ ½κ (d_c⁻)²` with the
-    /// penalty.
+    /// `½ V·M_L V + ½ U·K U − F(t_n)·U` of the current state plus the law's energy (the
+    /// penalty's `Σ ½κ (d_c⁻)²`, Nitsche's θΦ; 0 for the exact law).
     pub fn energy(&self) -> f64 {
         let kinetic: f64 = self.v.iter().zip(&self.lumped).map(|(v, m)| m * v * v).sum();
         let work: f64 = self.u.iter().zip(&self.load).map(|(u, f)| u * f).sum();
-        let spring = self.kappa.map_or(0.0, |penalty| {
-            ContactLaw::Penalty { penalty }.energy(self.contact.iter().map(|&c| self.u[c]), &self.lower)
-        });
-        0.5 * kinetic + 0.5 * self.stiffness.quad_form(&self.u) - work + spring
+        0.5 * kinetic + 0.5 * self.stiffness.quad_form(&self.u) - work + self.law.energy(&self.u)
     }
 
     /// The massless unknowns from the quasi-static rows at t (F(t) already in `load`).
     fn quasi_static(&mut self, step: usize, time: f64) -> Result<(), SchemeError> {
-        if let Some(q) = &mut self.quasi {
-            let err = contact_err(step, time);
-            self.pivots = match &mut q.phi {
-                Phi::Exact(phi) => {
-                    if self.forcing.is_some() {
-                        phi.set_load(&self.load);
-                    }
-                    phi.apply(&mut self.u, &q.lower, &mut q.lambda).map_err(err)?
-                }
-                Phi::Penalty(phi) => {
-                    if self.forcing.is_some() {
-                        phi.set_load(&self.load);
-                    }
-                    phi.apply(&mut self.u, &q.lower, &mut q.lambda).map_err(err)?
-                }
-            };
-            for (&s, &l) in q.slots.iter().zip(&q.lambda) {
-                self.lambda[s] = l;
-            }
+        if !self.massless.is_empty() {
+            let forced = self.forcing.is_some();
+            self.pivots = self
+                .law
+                .quasi_static(&mut self.u, &self.load, forced, &mut self.lambda)
+                .map_err(contact_err(step, time))?;
         }
         Ok(())
     }
 
-    /// `A = M_L⁻¹ (F − K U − λ)` on I, with the forward-increment multipliers of the massive
-    /// contact nodes (module docs; `kappa` = 1 in a step, ½ at n = 0; `v` holds the half-step
-    /// velocity in a step, V⁰ at n = 0).
-    fn accelerations(&mut self, _time: f64, kappa: f64) {
+    /// `A = M_L⁻¹ (F − K U − the law's force)` on I (module docs; `kappa` = 1 in a step, ½ at
+    /// n = 0; `v` holds the half-step velocity in a step, V⁰ at n = 0).
+    fn accelerations(&mut self, kappa: f64) {
         self.stiffness.par_mul_into(&self.u, &mut self.ku);
-        (&mut self.a[..], &self.inv_mass[..], &self.load[..], &self.ku[..])
-            .into_par_iter()
-            .with_min_len(PAR_ROWS)
-            .for_each(|(a, m, f, ku)| *a = m * (f - ku));
-        let dt2 = kappa * self.dt * self.dt;
-        for &(s, c) in &self.kinematic {
-            let l = match self.kappa {
-                // Penalty: the spring at the current displacement (force at t_n).
-                Some(k) => k * (self.u[c] - self.lower[s]).min(0.0),
-                None => {
-                    let predicted = self.u[c] + self.dt * self.v[c] + dt2 * self.a[c];
-                    ((predicted - self.lower[s]) * self.lumped[c] / dt2).min(0.0)
-                }
-            };
-            self.lambda[s] = l;
-            self.a[c] -= l * self.inv_mass[c];
+        if self.law.has_residual() {
+            (&mut self.a[..], &self.load[..], &self.ku[..])
+                .into_par_iter()
+                .with_min_len(PAR_ROWS)
+                .for_each(|(a, f, ku)| *a = f - ku);
+            self.law.add_residual(&self.u, &mut self.a);
+            (&mut self.a[..], &self.inv_mass[..]).into_par_iter().with_min_len(PAR_ROWS).for_each(|(a, m)| *a *= m);
+        } else {
+            (&mut self.a[..], &self.inv_mass[..], &self.load[..], &self.ku[..])
+                .into_par_iter()
+                .with_min_len(PAR_ROWS)
+                .for_each(|(a, m, f, ku)| *a = m * (f - ku));
         }
+        self.law.massive(Massive {
+            u: &self.u,
+            v: &self.v,
+            a: &mut self.a,
+            lumped: &self.lumped,
+            inv_mass: &self.inv_mass,
+            dt: self.dt,
+            kappa,
+            lambda: &mut self.lambda,
+        });
     }
 }
 
 /// `(Δt_c, Lanczos steps, converged)` of central differences on `system` with the lumped mass
-/// `lumped` and the penalty κ (None: exact contact), module docs: Lanczos on
-/// `M_L,II^{−½} (K + κ Σ_{c massive} e_c e_cᵀ) M_L,II^{−½}`, or the Gershgorin bound if it did
-/// not converge.
+/// `lumped` and the law `law` (module docs): Lanczos on `M_L,II^{−½} (K + B) M_L,II^{−½}` with
+/// the law's term B (None: no term, as the exact law), or the Gershgorin bound if it did not
+/// converge.
 pub fn stable_limit_of<A: SymMatrix>(
     system: &ContactSystem<A>,
     lumped: &[f64],
-    kappa: Option<f64>,
+    law: Option<&dyn ExplicitLaw>,
 ) -> (f64, usize, bool) {
     let inv_sqrt: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { (1.0 / m).sqrt() } else { 0.0 }).collect();
-    // With the penalty, the springs of the massive contact nodes all engaged: K + κ Σ e_c e_cᵀ
-    // bounds K's λ_max in every contact state (module docs).
-    let springs: Vec<usize> = system.contact.iter().copied().filter(|&c| lumped[c] > 0.0).collect();
-    let k_spring = kappa.unwrap_or(0.0);
     let (theta, lanczos_steps, converged) = super::stable_limit::lambda_max_of(
         |x, y| {
             system.stiffness.par_mul_into(x, y);
-            springs.iter().for_each(|&c| y[c] += k_spring * x[c]);
+            if let Some(law) = law {
+                law.stiffen(x, y);
+            }
         },
         &inv_sqrt,
     );
@@ -351,38 +294,10 @@ pub fn stable_limit_of<A: SymMatrix>(
     let lam = if converged {
         theta
     } else {
-        super::stable_limit::gershgorin(&system.stiffness, &inv_sqrt, &springs, k_spring)
+        let (rows, extra) = law.map_or((Vec::new(), 0.0), |l| l.gershgorin());
+        super::stable_limit::gershgorin(&system.stiffness, &inv_sqrt, &rows, extra)
     };
     (if lam > 0.0 { 2.0 / lam.sqrt() } else { f64::INFINITY }, lanczos_steps, converged)
-}
-
-/// The quasi-static map of the massless unknowns `massless` under the law (κ: penalty).
-fn massless_map<A: SymMatrix>(
-    system: &ContactSystem<A>,
-    lumped: &[f64],
-    massless: &[usize],
-    kappa: Option<f64>,
-) -> Result<Massless, SchemeError> {
-    let mut is_contact = vec![false; system.n()];
-    system.contact.iter().for_each(|&c| is_contact[c] = true);
-    let slots: Vec<usize> = (0..system.contact.len()).filter(|&s| lumped[system.contact[s]] <= 0.0).collect();
-    let qc: Vec<usize> = slots.iter().map(|&s| system.contact[s]).collect();
-    let free: Vec<usize> = massless.iter().copied().filter(|&i| !is_contact[i]).collect();
-    let phi = match kappa {
-        None => Phi::Exact(QuasiStatic::with_free(&system.stiffness, &system.load, &qc, &free)?),
-        Some(_) if !free.is_empty() => {
-            let reason = "penalty contact with free massless unknowns (a contact layer) is not built";
-            return Err(SchemeError::Unsupported { key: "contact.method", geometry: "central-difference", reason });
-        }
-        Some(k) => Phi::Penalty(PenaltyQuasiStatic::new(&system.stiffness, &system.load, &qc, k).map_err(|pivot| {
-            crate::linalg::LinalgError::Unsupported {
-                matrix: "stiffness",
-                detail: format!("its contact block is not positive definite (pivot {pivot})"),
-            }
-        })?),
-    };
-    let lower = slots.iter().map(|&s| system.lower[s]).collect();
-    Ok(Massless { phi, lambda: vec![0.0; slots.len()], slots, lower })
 }
 
 impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
@@ -402,7 +317,7 @@ impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
         Some(format!(
             "central-difference: stable limit Δt_c = {} (2/√λ_max(M_L,II⁻¹ K_II{}), {}); time.dt = {}",
             crate::numfmt::fmt_f64(self.limit),
-            if self.kappa.is_some() && !self.kinematic.is_empty() { " + κ E_Cᵀ E_C" } else { "" },
+            self.law.bound(),
             if self.converged {
                 format!("Lanczos, {} steps, to ~{:e} relative", self.lanczos_steps, super::stable_limit::REL_TOL)
             } else {
@@ -430,7 +345,7 @@ impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
             (f.0)(time, &mut self.load);
         }
         self.quasi_static(step, time)?;
-        self.accelerations(time, 1.0);
+        self.accelerations(1.0);
         (&mut self.v[..], &self.a[..]).into_par_iter().with_min_len(PAR_ROWS).for_each(|(v, a)| *v += 0.5 * dt * a);
         for (&old, &i) in self.massless_old.iter().zip(&self.massless) {
             self.v[i] = (self.u[i] - old) / dt;

@@ -12,21 +12,21 @@
 //! - a massless unknown's velocity and acceleration enter no equation (its row and column of M
 //!   vanish); the schemes report `v = (u^{n+1} − uⁿ)/Δt` and keep `a = 0`.
 //!
-//! Bar-only (they use the bar's structure; rejected for other geometries in
-//! [`crate::problem`]): [`PaoliSchatzman`] (its projection of S on (ker M)^⊥ and its one-node
+//! On a bar's one-node system only ([`OneNodeContact`]; what each scheme needs is declared by
+//! [`SchemeSpec::needs`]): [`PaoliSchatzman`] (its projection of S on (ker M)^⊥ and its one-node
 //! impact law) and [`NewmarkReduced`] (the reduced unknowns 1..m−1 with `u_0 = u_1⁺`).
+//!
+//! The contact law is a seam ([`crate::contact::StepLaw`] for the implicit step,
+//! [`crate::contact::ExplicitLaw`] for central differences): Newmark/Crank–Nicolson, backward
+//! Euler and central differences are written once for every law.
 
 pub mod backward_euler;
 pub mod central_difference;
 pub mod hybrid;
-pub mod methods;
 pub mod moreau_jean;
 pub mod newmark;
 pub mod newmark_reduced;
-pub mod nitsche;
 pub mod paoli_schatzman;
-pub mod parts;
-pub mod penalty_implicit;
 mod spec;
 pub mod stable_limit;
 
@@ -37,10 +37,10 @@ use thiserror::Error;
 
 pub use crate::system::ContactSystem;
 
-/// What the bar-only schemes (Paoli–Schatzman, the reduced Newmark formulation) need of a bar:
-/// its tridiagonal contact system, whose one contact unknown is u_0, its mesh size h and the
-/// weight w_0 of its contact element (for messages). The bar builds it
-/// (`crate::bar::geometry`); no other geometry has one ([`SchemeSpec::bar_only`]).
+/// What Paoli–Schatzman and the reduced Newmark formulation need of a bar: its tridiagonal
+/// contact system, whose one contact unknown is u_0, its mesh size h and the weight w_0 of its
+/// contact element (for messages). The bar offers it (`crate::problem::Geometry::one_node`);
+/// the scenes' compatibility rule refuses these schemes elsewhere ([`SchemeSpec::needs`]).
 #[derive(Debug, Clone, Copy)]
 pub struct OneNodeContact<'a> {
     pub system: &'a ContactSystem<crate::linalg::tridiag::SymTridiag>,
@@ -61,7 +61,7 @@ pub use moreau_jean::MoreauJean;
 pub use newmark::Newmark;
 pub use newmark_reduced::NewmarkReduced;
 pub use paoli_schatzman::PaoliSchatzman;
-pub use spec::{Beta, Formulation, Gamma, ImpactRestitution, ParamError, Restitution, SchemeSpec, Theta};
+pub use spec::{Beta, Formulation, Gamma, ImpactRestitution, ParamError, Restitution, SchemeNeeds, SchemeSpec, Theta};
 
 /// The discrete state at `t_n = n Δt`, borrowed from the scheme (no copy).
 #[derive(Debug, Clone, Copy)]
@@ -102,6 +102,10 @@ pub trait Scheme: Send {
 pub enum SchemeError {
     #[error(transparent)]
     Linalg(#[from] LinalgError),
+    /// The system lacks what the contact law needs (a caller of the library past the scenes'
+    /// compatibility rule).
+    #[error("contact.method: {0}")]
+    Law(&'static str),
     #[error("{scheme}: {key} = {value} is outside the allowed range {range}")]
     Parameter { scheme: &'static str, key: &'static str, value: f64, range: &'static str },
     #[error(
@@ -118,6 +122,20 @@ pub enum SchemeError {
     AboveStableLimit { scheme: &'static str, dt: f64, limit: f64, spring: &'static str },
     #[error("{key}: {scheme} needs {what}, got {value} ({reason})")]
     Needs { scheme: &'static str, key: &'static str, what: &'static str, value: f64, reason: &'static str },
+}
+
+/// A law that cannot be built: its factor, its contact solve and its parameters keep the
+/// variants (and messages) of the schemes' own.
+impl From<crate::contact::law::SetupError> for SchemeError {
+    fn from(e: crate::contact::law::SetupError) -> Self {
+        use crate::contact::law::SetupError as E;
+        match e {
+            E::Linalg(e) => SchemeError::Linalg(e),
+            E::Contact(source) => SchemeError::Contact { step: 0, time: 0.0, source },
+            E::Parameter { key, value, range } => SchemeError::Parameter { scheme: "contact law", key, value, range },
+            E::Shape(reason) => SchemeError::Law(reason),
+        }
+    }
 }
 
 pub(crate) fn factor_err(matrix: &'static str) -> impl Fn(FactorError) -> SchemeError {

@@ -59,7 +59,7 @@ impl NewmarkReduced {
             return Err(SchemeError::NeedsMasslessContact { scheme: Self::NAME, w0: bar.w0 });
         }
         if bar.gap() != 0.0 {
-            // Its closed form u_0 = u_1⁺ is written for the obstacle at 0 (bar-only scheme).
+            // Its closed form u_0 = u_1⁺ is written for the obstacle at 0 (a bar's one-node system).
             return Err(SchemeError::Parameter { scheme: Self::NAME, key: "gap", value: bar.gap(), range: "0" });
         }
         let (beta, gamma) = (beta.get(), gamma.get());

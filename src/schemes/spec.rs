@@ -228,39 +228,67 @@ impl SchemeSpec {
         }
     }
 
-    /// The method classes of issue 20 (central differences, Moreau–Jean), built by
-    /// `super::methods::build` with any contact law.
-    pub const fn method_class(&self) -> bool {
-        matches!(self, SchemeSpec::CentralDifference | SchemeSpec::MoreauJean { .. })
-    }
-
     /// The scheme of kind `name` with its defaults.
     pub fn from_name(name: &str) -> Option<SchemeSpec> {
         SchemeSpec::ALL.into_iter().find(|s| s.name() == name)
     }
 
-    /// Why other geometries reject this scheme, if it is bar-only (Paoli–Schatzman and the
-    /// reduced Newmark formulation use the bar's one contact node): the scene key and the reason.
-    /// The one place that decides it, for scenes (`crate::scene::validate_sections`) and problems
-    /// ([`crate::problem::Problem::scheme`]) alike.
-    pub fn bar_only(&self) -> Option<(&'static str, &'static str)> {
-        static WHY: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
-            let others: Vec<&str> =
-                SchemeSpec::ALL.iter().filter(|s| s.bar_only_key().is_none()).map(|s| s.name()).collect();
-            let (last, first) = others.split_last().expect("schemes for every geometry");
-            format!("a bar-only scheme (it uses the bar's one contact node); use {} or {last}", first.join(", "))
-        });
-        self.bar_only_key().map(|key| (key, WHY.as_str()))
-    }
-
-    fn bar_only_key(&self) -> Option<&'static str> {
+    /// What the scheme needs of the geometry, the mass and the contact law: declared here once,
+    /// checked once by the scene's compatibility rule (`crate::scene`'s `compat`).
+    pub const fn needs(&self) -> SchemeNeeds {
+        use crate::contact::law::Treatment::*;
+        let base = SchemeNeeds {
+            one_node_system: false,
+            lumped_mass: false,
+            contact_mass: None,
+            zero_gap: false,
+            contact: ImplicitStep,
+        };
         match self {
-            SchemeSpec::PaoliSchatzman { .. } => Some("scheme.kind = \"paoli-schatzman\""),
+            SchemeSpec::CrankNicolson { formulation: Formulation::Full }
+            | SchemeSpec::Newmark { formulation: Formulation::Full, .. }
+            | SchemeSpec::BackwardEuler => base,
+            // The reduced unknowns 1..m−1 of the bar's tridiagonal system, u_0 = u_1⁺.
             SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
-            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. } => Some("scheme.formulation = \"reduced\""),
-            _ => None,
+            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. } => {
+                SchemeNeeds { one_node_system: true, contact_mass: Some(false), zero_gap: true, contact: Own, ..base }
+            }
+            // Its projection of S on (ker M)^⊥ and its one-node impact law.
+            SchemeSpec::PaoliSchatzman { .. } => SchemeNeeds { one_node_system: true, contact: Own, ..base },
+            SchemeSpec::Hybrid => SchemeNeeds { contact_mass: Some(false), contact: Own, ..base },
+            SchemeSpec::CentralDifference => SchemeNeeds { lumped_mass: true, contact: Explicit, ..base },
+            // An impact law has no meaning without inertia.
+            SchemeSpec::MoreauJean { .. } => SchemeNeeds { contact_mass: Some(true), contact: Own, ..base },
         }
     }
+
+    /// The key a conflict with the geometry names, and its value: `scheme.formulation` for the
+    /// reduced formulation (its kind works in full form), `scheme.kind` otherwise.
+    pub fn key_and_value(&self) -> (&'static str, &'static str) {
+        match self {
+            SchemeSpec::CrankNicolson { formulation: Formulation::Reduced }
+            | SchemeSpec::Newmark { formulation: Formulation::Reduced, .. } => {
+                (Formulation::KEY, Formulation::Reduced.name())
+            }
+            _ => ("scheme.kind", self.name()),
+        }
+    }
+}
+
+/// What a scheme needs ([`SchemeSpec::needs`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SchemeNeeds {
+    /// The bar's tridiagonal one-node contact system ([`super::OneNodeContact`]).
+    pub one_node_system: bool,
+    /// A lumped mass (explicit schemes).
+    pub lumped_mass: bool,
+    /// `Some(true)`: mass at every contact node (w_0 > 0); `Some(false)`: massless contact
+    /// nodes (w_0 = 0); None: either.
+    pub contact_mass: Option<bool>,
+    /// The obstacle at gap 0 (`bar.gap = 0`).
+    pub zero_gap: bool,
+    /// How it treats contact (which laws it takes).
+    pub contact: crate::contact::law::Treatment,
 }
 
 #[cfg(test)]
@@ -306,16 +334,5 @@ mod tests {
         );
         let e = toml::from_str::<SchemeSpec>("kind = \"newmark\"\nformulation = \"half\"").unwrap_err();
         assert_eq!(e.message(), "scheme.formulation = \"half\": allowed range is full | reduced");
-    }
-
-    #[test]
-    fn the_bar_only_reason_lists_the_other_schemes() {
-        let (key, why) = SchemeSpec::PAOLI_SCHATZMAN.bar_only().unwrap();
-        assert_eq!(key, "scheme.kind = \"paoli-schatzman\"");
-        assert!(
-            why.ends_with("use crank-nicolson, newmark, backward-euler, hybrid, central-difference or moreau-jean"),
-            "{why}"
-        );
-        assert_eq!(SchemeSpec::NEWMARK.bar_only(), None);
     }
 }

@@ -20,10 +20,13 @@
 //! (frictionless), which the schemes handle as massless unknowns without a contact condition
 //! (`crate::schemes::hybrid`).
 
+use super::body::BodyContact;
+use super::spec::Support;
 use crate::fem::Mesh;
 use crate::fem::layers::LayerMassError;
 use crate::linalg::sparse::{self, SpMat, SparseError};
-use crate::system::ContactSystem;
+use crate::system::{ContactSystem, Forcing};
+use std::sync::Arc;
 use thiserror::Error;
 
 pub use super::spec::Lateral;
@@ -73,47 +76,43 @@ pub fn assemble(mesh: &Mesh, weights: &[f64], lame: &Lame) -> Result<(SpMat, SpM
     Ok((sparse::from_triplets(n, &tm, "mass")?, sparse::from_triplets(n, &ts, "stiffness")?))
 }
 
-/// `∫_{Γ_C} φ_c` for each contact node: every cell face on x = 0 (a segment in 2D, a rectangle
-/// of a hexahedron or a triangle of a tetrahedron in 3D) gives each of its k vertices |face|/k,
-/// the exact integral of a P1 or Q1 basis function over it.
-fn contact_areas(mesh: &Mesh, contact_nodes: &[usize]) -> Vec<f64> {
-    let mut slot = vec![usize::MAX; mesh.n_nodes()];
-    for (k, &v) in contact_nodes.iter().enumerate() {
-        slot[v] = k;
-    }
-    let d = mesh.dim;
-    let face_verts = if mesh.kind.is_tensor() { 1 << (d - 1) } else { d };
-    let mut areas = vec![0.0; contact_nodes.len()];
-    for c in 0..mesh.n_cells() {
-        let on: Vec<usize> = mesh.cell(c).iter().copied().filter(|&v| slot[v] != usize::MAX).collect();
-        if on.len() != face_verts {
-            continue;
+/// The unknowns that are not eliminated: free unknown → full index `node·d + component`
+/// (increasing), and back.
+pub(super) struct Free {
+    pub dofs: Vec<usize>,
+    pub dof_of: Vec<Option<usize>>,
+}
+
+impl Free {
+    pub fn new(mesh: &Mesh, eliminated: impl Fn(usize) -> bool) -> Self {
+        let n = mesh.n_nodes() * mesh.dim;
+        let dofs: Vec<usize> = (0..n).filter(|&g| !eliminated(g)).collect();
+        let mut dof_of = vec![None; n];
+        for (k, &g) in dofs.iter().enumerate() {
+            dof_of[g] = Some(k);
         }
-        let p: Vec<[f64; 3]> = on.iter().map(|&v| mesh.points[v]).collect();
-        let span = |k: usize| {
-            p.iter().map(|q| q[k]).fold(f64::NEG_INFINITY, f64::max)
-                - p.iter().map(|q| q[k]).fold(f64::INFINITY, f64::min)
-        };
-        let area = match (d, mesh.kind.is_tensor()) {
-            (2, _) => span(1),
-            (_, true) => span(1) * span(2),
-            _ => {
-                let (a, b) = ([p[1][1] - p[0][1], p[1][2] - p[0][2]], [p[2][1] - p[0][1], p[2][2] - p[0][2]]);
-                0.5 * (a[0] * b[1] - a[1] * b[0]).abs()
-            }
-        };
-        for &v in &on {
-            areas[slot[v]] += area / face_verts as f64;
-        }
+        Free { dofs, dof_of }
     }
-    areas
+}
+
+/// What a support assembles before the eliminations: the weighted and unit masses and the
+/// stiffness over all full indices, the load on the free unknowns (F(0) if it depends on
+/// time, with its `forcing`), a body's frame, and `|Γ_C|`.
+pub(super) struct Parts {
+    pub mass_all: SpMat,
+    pub stiff_all: SpMat,
+    pub unit_all: SpMat,
+    pub load: Vec<f64>,
+    pub forcing: Option<Forcing>,
+    pub frame: Option<super::body::BodyFrame>,
+    pub contact_area: f64,
 }
 
 /// The solid on its free unknowns: mesh, weights, material, the contact system and what the
 /// reports need (module docs for the layout).
 #[derive(Debug, Clone)]
 pub struct SolidSystem {
-    pub mesh: Mesh,
+    pub mesh: Arc<Mesh>,
     pub weights: Vec<f64>,
     pub lame: Lame,
     pub lateral: Lateral,
@@ -124,56 +123,82 @@ pub struct SolidSystem {
     pub system: ContactSystem<SpMat>,
     /// The unweighted vector mass with ρ = 1 on the free unknowns (for L² norms).
     pub mass_unit: SpMat,
-    /// The mesh nodes on x = 0 (contact order).
+    /// The mesh nodes that meet the obstacle (contact order).
     pub contact_nodes: Vec<usize>,
     /// `∫_{Γ_C} φ_c` per contact node (its share of the face area; they sum to |Γ_C|).
     pub contact_areas: Vec<f64>,
-    /// A body against a rigid plane: its frame and lumped masses (None: the box;
-    /// [`super::body_system`]). Unknowns are then components in the frame.
-    pub body: Option<super::body::BodyFrame>,
+    /// `|Γ_C|`: the box's face x = 0 (`Mesh::face_area`), a body's `Σ_i a_i`.
+    pub contact_area: f64,
+    /// A body against a plane: its frame and lumped masses (None: the box, whose frame is the
+    /// world's; [`super::body_system`]). Unknowns are then components in the frame.
+    pub frame: Option<super::body::BodyFrame>,
 }
 
 impl SolidSystem {
-    /// Assembles M, S, F on the free unknowns for validated cell weights, with the obstacle at
-    /// u_x = −gap on every contact node.
+    /// Assembles M, S, F on the free unknowns of `support` on `mesh` with validated cell
+    /// `weights` and the contact set of the support (`contact`): the box's load is the constant
+    /// force weighted as the mass (module docs), a body's the interpolated force per unit volume
+    /// in its frame ([`super::body_system`]).
     pub fn assemble(
-        mesh: Mesh,
+        mesh: Arc<Mesh>,
+        weights: Vec<f64>,
+        lame: Lame,
+        support: &Support,
+        contact: &BodyContact,
+    ) -> Result<Self, SolidAssemblyError> {
+        match support {
+            Support::Face { gap: _, lateral, force } => {
+                if force.iter().any(|f| !f.is_finite()) {
+                    return Err(SolidAssemblyError::Force(*force));
+                }
+                crate::fem::layers::validate_weights(&mesh, &weights)?;
+                let (mass_all, stiff_all) = assemble(&mesh, &weights, &lame)?;
+                let unit = Lame { density: 1.0, ..lame };
+                let (unit_all, _) = assemble(&mesh, &vec![1.0; mesh.n_cells()], &unit)?;
+                let d = mesh.dim;
+                let eliminated = |g: usize| {
+                    let (node, comp) = (g / d, g % d);
+                    contact.clamped[node] || (*lateral == Lateral::Roller && comp >= 1 && mesh.on_lateral(node, comp))
+                };
+                let free = Free::new(&mesh, eliminated);
+                // F_(a,i) = f_i ∫ w_h φ_a = f_i Σ_b M_(a,i),(b,i) / ρ (the basis sums to 1).
+                let mut row_sums = vec![0.0; mesh.n_nodes() * d];
+                for (i, _, v) in sparse::triplets(&mass_all) {
+                    row_sums[i] += v;
+                }
+                let load = free.dofs.iter().map(|&g| force[g % d] * row_sums[g] / lame.density).collect();
+                let contact_area = mesh.face_area();
+                let parts = Parts { mass_all, stiff_all, unit_all, load, forcing: None, frame: None, contact_area };
+                Self::on_free(mesh, weights, lame, *lateral, free, parts, contact)
+            }
+            Support::Plane(body) => Self::assemble_body(mesh, weights, lame, body, contact),
+        }
+    }
+
+    /// The system on the free unknowns from the assembled parts (contact unknowns: component 0
+    /// of the contact nodes, bounded below by `0 − g_i`).
+    pub(super) fn on_free(
+        mesh: Arc<Mesh>,
         weights: Vec<f64>,
         lame: Lame,
         lateral: Lateral,
-        force: [f64; 3],
-        gap: f64,
+        free: Free,
+        parts: Parts,
+        contact: &BodyContact,
     ) -> Result<Self, SolidAssemblyError> {
-        if force.iter().any(|f| !f.is_finite()) {
-            return Err(SolidAssemblyError::Force(force));
-        }
-        crate::fem::layers::validate_weights(&mesh, &weights)?;
+        let Free { dofs, dof_of } = free;
         let d = mesh.dim;
-        let (mass_all, stiff_all) = assemble(&mesh, &weights, &lame)?;
-        let unit = Lame { density: 1.0, ..lame };
-        let (unit_all, _) = assemble(&mesh, &vec![1.0; mesh.n_cells()], &unit)?;
-        let eliminated = |g: usize| {
-            let (node, comp) = (g / d, g % d);
-            mesh.on_dirichlet(node) || (lateral == Lateral::Roller && comp >= 1 && mesh.on_lateral(node, comp))
-        };
-        let dofs: Vec<usize> = (0..mesh.n_nodes() * d).filter(|&g| !eliminated(g)).collect();
-        let mut dof_of = vec![None; mesh.n_nodes() * d];
-        for (k, &g) in dofs.iter().enumerate() {
-            dof_of[g] = Some(k);
+        let mass = sparse::principal(&parts.mass_all, &dofs, "mass")?;
+        let stiffness = sparse::principal(&parts.stiff_all, &dofs, "stiffness")?;
+        let mass_unit = sparse::principal(&parts.unit_all, &dofs, "mass")?;
+        let unknowns = contact.nodes.iter().map(|&v| dof_of[v * d].expect("contact nodes are not clamped")).collect();
+        let mut system = ContactSystem::new(mass, stiffness, parts.load, unknowns, 0.0);
+        // 0 − g, not −g: no −0.0 bound (the box's 0 − gap).
+        system.lower = contact.gaps.iter().map(|&g| 0.0 - g).collect();
+        if let Some(forcing) = parts.forcing {
+            system = system.with_forcing(forcing);
         }
-        // F_(a,i) = f_i ∫ w_h φ_a = f_i Σ_b M_(a,i),(b,i) / ρ (the basis sums to 1).
-        let mut row_sums = vec![0.0; mesh.n_nodes() * d];
-        for (i, _, v) in sparse::triplets(&mass_all) {
-            row_sums[i] += v;
-        }
-        let load: Vec<f64> = dofs.iter().map(|&g| force[g % d] * row_sums[g] / lame.density).collect();
-        let mass = sparse::principal(&mass_all, &dofs, "mass")?;
-        let stiffness = sparse::principal(&stiff_all, &dofs, "stiffness")?;
-        let mass_unit = sparse::principal(&unit_all, &dofs, "mass")?;
-        let contact_nodes: Vec<usize> = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).collect();
-        let contact = contact_nodes.iter().map(|&v| dof_of[v * d].expect("x = 0 is not x = L")).collect();
-        let system = ContactSystem::new(mass, stiffness, load, contact, gap);
-        let contact_areas = contact_areas(&mesh, &contact_nodes);
+        let contact_area = parts.contact_area;
         Ok(Self {
             mesh,
             weights,
@@ -183,9 +208,10 @@ impl SolidSystem {
             dof_of,
             system,
             mass_unit,
-            contact_nodes,
-            contact_areas,
-            body: None,
+            contact_nodes: contact.nodes.clone(),
+            contact_areas: contact.areas.clone(),
+            contact_area,
+            frame: parts.frame,
         })
     }
 
@@ -193,7 +219,7 @@ impl SolidSystem {
     /// components) on the free unknowns (a body's: in its frame, Rᵀ g).
     pub fn interpolate(&self, g: impl Fn(usize, [f64; 3]) -> f64) -> Vec<f64> {
         let d = self.mesh.dim;
-        let Some(frame) = &self.body else {
+        let Some(frame) = &self.frame else {
             return self.dofs.iter().map(|&k| g(k % d, self.mesh.points[k / d])).collect();
         };
         let at = |node: usize| {
@@ -218,7 +244,7 @@ impl SolidSystem {
         for (g, k) in self.dof_of.iter().enumerate() {
             out[g] = k.map_or(0.0, |k| u[k]);
         }
-        if let Some(frame) = &self.body {
+        if let Some(frame) = &self.frame {
             let d = self.mesh.dim;
             for node in out.chunks_mut(d) {
                 let mut w = [0.0; 3];

@@ -24,10 +24,41 @@
 //!   n = e_x, R = I exactly. Linear isotropic elasticity is invariant under rotations, so the
 //!   stiffness and mass in X' are those of the body in X written in the rotated frame.
 
-use super::spec::{BodySpec, ContactSet};
+use crate::expr::Expr;
 use crate::fem::Mesh;
 use std::collections::HashMap;
 use thiserror::Error;
+
+/// Which nodes meet the obstacle.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ContactSet {
+    /// Every node of every boundary facet whose outward unit normal n_f has
+    /// n_f · normal < −0.01 (GetFEM's rule).
+    Auto,
+    /// The nodes of a physical group of the mesh.
+    Group(String),
+}
+
+/// The rigid plane `{x : normal · (x − point) = 0}`, the body on the side `normal` points to.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Obstacle {
+    /// Unit normal, pointing from the plane into the body (entries beyond `dim` are 0).
+    pub normal: [f64; 3],
+    /// A point of the plane (entries beyond `dim` are 0).
+    pub point: [f64; 3],
+    pub contact: ContactSet,
+}
+
+/// What a body scene adds to the solid: the obstacle, the clamped group, and the body force as
+/// expressions in x, y[, z], t (force per unit volume).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodySpec {
+    pub obstacle: Obstacle,
+    /// The physical group whose nodes are fixed (None: a free body).
+    pub clamped: Option<String>,
+    /// One expression per component, variables x, y[, z], t.
+    pub force: Vec<Expr>,
+}
 
 /// GetFEM's threshold: a boundary facet is in contact when n_f · n < −0.01.
 pub const AUTO_THRESHOLD: f64 = -0.01;
@@ -79,7 +110,7 @@ pub struct BodyContact {
 pub fn unit_normal(normal: &[f64], dim: usize) -> Result<[f64; 3], BodyError> {
     let largest = normal.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     if normal.len() != dim || normal.iter().any(|x| !x.is_finite()) || largest == 0.0 {
-        let shown = normal.iter().map(|x| crate::scene::short(*x)).collect::<Vec<_>>().join(", ");
+        let shown = normal.iter().map(|x| crate::numfmt::fmt_f64(*x)).collect::<Vec<_>>().join(", ");
         return Err(BodyError::Normal(shown));
     }
     let scale = if (1e-150..=1e150).contains(&largest) { 1.0 } else { largest };
@@ -224,7 +255,7 @@ pub fn contact(mesh: &Mesh, body: &BodySpec) -> Result<BodyContact, BodyError> {
     let (normal, point) = (body.obstacle.normal, body.obstacle.point);
     let gap = |v: usize| (0..3).map(|a| normal[a] * (mesh.points[v][a] - point[a])).sum::<f64>();
     let at = |node: usize| {
-        let at = mesh.points[node][..mesh.dim].iter().map(|x| crate::scene::short(*x)).collect::<Vec<_>>();
+        let at = mesh.points[node][..mesh.dim].iter().map(|x| crate::numfmt::fmt_f64(*x)).collect::<Vec<_>>();
         at.join(", ")
     };
     // A gap that overflows is refused here, at validation (issue 32, E11).
@@ -290,6 +321,55 @@ pub fn contact(mesh: &Mesh, body: &BodySpec) -> Result<BodyContact, BodyError> {
     }
     let gaps = nodes.iter().map(|&v| gap(v)).collect();
     Ok(BodyContact { nodes, gaps, areas, clamped, contact })
+}
+
+/// The contact data of the box (`super::Support::Face`): the nodes on x = 0 (node order),
+/// each at the distance `gap` from the plane x = −gap, with its share of the face's area
+/// ([`face_areas`]); the nodes on x = L clamped. Nothing is refused: the box's size was checked
+/// before its mesh was built.
+pub fn face_contact(mesh: &Mesh, gap: f64) -> BodyContact {
+    let n = mesh.n_nodes();
+    let contact: Vec<bool> = (0..n).map(|v| mesh.on_contact(v)).collect();
+    let clamped = (0..n).map(|v| mesh.on_dirichlet(v)).collect();
+    let nodes: Vec<usize> = (0..n).filter(|&v| contact[v]).collect();
+    let areas = face_areas(mesh, &nodes);
+    BodyContact { gaps: vec![gap; nodes.len()], nodes, areas, clamped, contact }
+}
+
+/// `∫_{Γ_C} φ_c` for each node on the box's face x = 0: every cell face on it (a segment in
+/// 2D, a rectangle of a hexahedron or a triangle of a tetrahedron in 3D) gives each of its k
+/// vertices |face|/k, the exact integral of a P1 or Q1 basis function over it.
+fn face_areas(mesh: &Mesh, contact_nodes: &[usize]) -> Vec<f64> {
+    let mut slot = vec![usize::MAX; mesh.n_nodes()];
+    for (k, &v) in contact_nodes.iter().enumerate() {
+        slot[v] = k;
+    }
+    let d = mesh.dim;
+    let face_verts = facet_vertices(mesh);
+    let mut areas = vec![0.0; contact_nodes.len()];
+    for c in 0..mesh.n_cells() {
+        let on: Vec<usize> = mesh.cell(c).iter().copied().filter(|&v| slot[v] != usize::MAX).collect();
+        if on.len() != face_verts {
+            continue;
+        }
+        let p: Vec<[f64; 3]> = on.iter().map(|&v| mesh.points[v]).collect();
+        let span = |k: usize| {
+            p.iter().map(|q| q[k]).fold(f64::NEG_INFINITY, f64::max)
+                - p.iter().map(|q| q[k]).fold(f64::INFINITY, f64::min)
+        };
+        let area = match (d, mesh.kind.is_tensor()) {
+            (2, _) => span(1),
+            (_, true) => span(1) * span(2),
+            _ => {
+                let (a, b) = ([p[1][1] - p[0][1], p[1][2] - p[0][2]], [p[2][1] - p[0][1], p[2][2] - p[0][2]]);
+                0.5 * (a[0] * b[1] - a[1] * b[0]).abs()
+            }
+        };
+        for &v in &on {
+            areas[slot[v]] += area / face_verts as f64;
+        }
+    }
+    areas
 }
 
 /// The frame and the lumped masses of a body (`super::body_system`'s module docs).

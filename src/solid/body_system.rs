@@ -18,15 +18,14 @@
 //! mean displacement `ū_k = Σ_b m¹_b u_b,k / |Ω|` with the unweighted, ρ = 1 lumped mass m¹
 //! (both computed in the frame and rotated back by R).
 
-use super::assembly::{SolidAssemblyError, SolidSystem, assemble};
+use super::assembly::{Free, Parts, SolidAssemblyError, SolidSystem, assemble};
 pub use super::body::BodyFrame;
-use super::body::{BodyContact, from_frame, rotation, to_frame};
-use super::spec::BodySpec;
+use super::body::{BodyContact, BodySpec, from_frame, rotation, to_frame};
 use crate::expr::Expr;
 use crate::fem::Mesh;
 use crate::linalg::sparse;
 use crate::material::Lame;
-use crate::system::{ContactSystem, Forcing};
+use crate::system::Forcing;
 use std::sync::Arc;
 
 /// The load `F(t)` on the free unknowns (module docs): scalar unit-mass triplets (node a, node
@@ -72,27 +71,24 @@ impl BodyLoad {
 impl SolidSystem {
     /// Assembles a body (module docs) on `mesh` (world coordinates) with validated cell
     /// `weights` and its contact data.
-    pub fn assemble_body(
-        mesh: Mesh,
+    pub(super) fn assemble_body(
+        mesh: Arc<Mesh>,
         weights: Vec<f64>,
         lame: Lame,
         body: &BodySpec,
-        contact: BodyContact,
+        contact: &BodyContact,
     ) -> Result<Self, SolidAssemblyError> {
         let d = mesh.dim;
         let rot = rotation(body.obstacle.normal, d);
-        let mut frame_mesh = mesh.clone();
+        let mut frame_mesh = Mesh::clone(&mesh);
         for p in frame_mesh.points.iter_mut() {
             *p = to_frame(&rot, *p);
         }
         let (mass_all, stiff_all) = assemble(&frame_mesh, &weights, &lame)?;
         let unit = Lame { density: 1.0, ..lame };
         let (unit_all, _) = assemble(&frame_mesh, &vec![1.0; mesh.n_cells()], &unit)?;
-        let dofs: Vec<usize> = (0..mesh.n_nodes() * d).filter(|&g| !contact.clamped[g / d]).collect();
-        let mut dof_of = vec![None; mesh.n_nodes() * d];
-        for (k, &g) in dofs.iter().enumerate() {
-            dof_of[g] = Some(k);
-        }
+        drop(frame_mesh);
+        let free = Free::new(&mesh, |g| contact.clamped[g / d]);
         let (mut lumped, mut lumped_unit) = (vec![0.0; mesh.n_nodes()], vec![0.0; mesh.n_nodes()]);
         for (i, j, v) in sparse::triplets(&mass_all) {
             if i % d == 0 && j % d == 0 {
@@ -108,50 +104,25 @@ impl SolidSystem {
         }
         let load = BodyLoad {
             unit: scalar_unit,
-            dof_of: dof_of.clone(),
+            dof_of: free.dof_of.clone(),
             rot,
             force: body.force.clone(),
             points: mesh.points.clone(),
             dim: d,
         };
-        let mut f0 = vec![0.0; dofs.len()];
+        let mut f0 = vec![0.0; free.dofs.len()];
         load.at(0.0, &mut f0);
         let transient = body.force.iter().any(|e| e.depends_on("t"));
-        let mass = sparse::principal(&mass_all, &dofs, "mass")?;
-        let stiffness = sparse::principal(&stiff_all, &dofs, "stiffness")?;
-        let mass_unit = sparse::principal(&unit_all, &dofs, "mass")?;
-        let unknowns = contact.nodes.iter().map(|&v| dof_of[v * d].expect("contact nodes are not clamped")).collect();
-        let mut system = ContactSystem::new(mass, stiffness, f0, unknowns, 0.0);
-        // 0 − g, not −g: no −0.0 bound (as the box's 0 − gap).
-        system.lower = contact.gaps.iter().map(|&g| 0.0 - g).collect();
-        if transient {
-            system = system.with_forcing(Forcing(Arc::new(move |t, out: &mut [f64]| load.at(t, out))));
-        }
-        let frame = BodyFrame {
-            rot,
-            lumped,
-            volume: lumped_unit.iter().sum(),
-            lumped_unit,
-            contact_area: contact.areas.iter().sum(),
-        };
-        Ok(Self {
-            mesh,
-            weights,
-            lame,
-            lateral: super::Lateral::Free,
-            dofs,
-            dof_of,
-            system,
-            mass_unit,
-            contact_nodes: contact.nodes,
-            contact_areas: contact.areas,
-            body: Some(frame),
-        })
+        let forcing = transient.then(|| Forcing(Arc::new(move |t, out: &mut [f64]| load.at(t, out))));
+        let contact_area = contact.areas.iter().sum();
+        let frame = BodyFrame { rot, lumped, volume: lumped_unit.iter().sum(), lumped_unit, contact_area };
+        let parts = Parts { mass_all, stiff_all, unit_all, load: f0, forcing, frame: Some(frame), contact_area };
+        Self::on_free(mesh, weights, lame, super::Lateral::Free, free, parts, contact)
     }
 
     /// Momentum `P = 1ᵀ M V` and mean displacement `ū` (module docs), world components.
     pub fn moments(&self, u: &[f64], v: &[f64]) -> Option<([f64; 3], [f64; 3])> {
-        let frame = self.body.as_ref()?;
+        let frame = self.frame.as_ref()?;
         let d = self.mesh.dim;
         let (mut p, mut m) = ([0.0; 3], [0.0; 3]);
         for (k, &g) in self.dofs.iter().enumerate() {

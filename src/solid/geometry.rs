@@ -19,9 +19,10 @@
 
 use super::assembly::SolidSystem;
 use crate::bar::assembly::Bar;
+use crate::column::Column;
 use crate::exact::Exact;
 use crate::linalg::sparse;
-use crate::problem::{BodyStats, Geometry, GeometryView};
+use crate::problem::{Geometry, GeometryView, OwnSummary};
 use crate::system::ContactSystem;
 
 impl SolidSystem {
@@ -40,7 +41,7 @@ impl SolidSystem {
 
     /// `|Γ_C|`: the box's face x = 0, or a body's contact area `Σ_i a_i`.
     pub fn contact_area(&self) -> f64 {
-        self.body.as_ref().map_or_else(|| self.mesh.face_area(), |b| b.contact_area)
+        self.contact_area
     }
 
     /// `∫_Ω (u_{h,x} − u(x, t))² ` on a structured Q1 mesh (module docs); NaN otherwise.
@@ -157,7 +158,7 @@ impl GeometryView for SolidSystem {
     /// largest transverse component, on structured meshes (0 otherwise).
     fn y_variation(&self, u: &[f64]) -> f64 {
         let (d, n1) = (self.mesh.dim, self.mesh.grid.map_or(0, |g| g[0] + 1));
-        if n1 == 0 || self.body.is_some() {
+        if n1 == 0 || self.frame.is_some() {
             return 0.0;
         }
         let mut worst: f64 = 0.0;
@@ -181,18 +182,19 @@ impl GeometryView for SolidSystem {
         self.to_nodes(u, out)
     }
 
-    /// A body's reports (`crate::solid::body_system`): reactions, distances, momentum, mean
-    /// displacement; None for the box.
-    fn body_stats(&self, u: &[f64], v: &[f64], lambda: &[f64]) -> Option<BodyStats> {
-        let (momentum, mean_u) = self.moments(u, v)?;
-        let s = &self.system;
-        let mut stats = BodyStats { contact_force: 0.0, active: 0, min_distance: f64::INFINITY, momentum, mean_u };
-        for ((&c, &lb), &l) in s.contact.iter().zip(&s.lower).zip(lambda) {
-            stats.contact_force -= l;
-            stats.active += usize::from(u[c] <= lb);
-            stats.min_distance = stats.min_distance.min(u[c] - lb);
-        }
-        Some(stats)
+    /// A body's reactions, distances, momentum and mean displacement ([`super::report`]);
+    /// none for the box.
+    fn own_columns(&self) -> &[Column] {
+        if self.frame.is_some() { &super::report::COLUMNS } else { &[] }
+    }
+
+    fn own_values(&self, u: &[f64], v: &[f64], lambda: &[f64], out: &mut [f64]) {
+        self.report(u, v, lambda, out)
+    }
+
+    fn own_summary(&self) -> Option<Box<dyn OwnSummary>> {
+        let keys = super::report::BodyKeys::new(self.mesh.dim);
+        self.frame.as_ref().map(|_| Box::new(keys) as Box<dyn OwnSummary>)
     }
 }
 

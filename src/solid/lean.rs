@@ -13,8 +13,8 @@
 //! (`tests/central_solid.rs`). The load is the box's `F_(a,i) = f_i ∫ w_h φ_a` (P1/Q1: the
 //! lumped mass over ρ; a P2 box has no structured mesh).
 
-use super::assembly::SolidAssemblyError;
-use super::spec::{Lateral, SolidInitial, SolidSpec};
+use super::assembly::{Free, SolidAssemblyError};
+use super::spec::{Lateral, SolidInitial, SolidSpec, Support};
 use crate::fem::Mesh;
 use crate::linalg::sparse::{self, SpMat};
 use crate::mass::MassKind;
@@ -84,27 +84,27 @@ pub fn stiffness(mesh: &Mesh, lame: &crate::material::Lame, dof_of: &[Option<usi
 impl SolidSpec {
     /// The box of this spec (no `[obstacle]`, P1/Q1) for central differences (module docs).
     pub fn explicit_box(&self, mass: &MassKind) -> Result<ExplicitBox, super::SolidError> {
-        let mesh = self.mesh()?;
-        let weights = crate::fem::layers::cell_weights(&mesh, mass).map_err(SolidAssemblyError::from)?;
+        let Support::Face { gap, lateral, force } = self.support else {
+            return Err(super::SolidError::NotABox);
+        };
+        let built = self.built()?;
+        let mesh = &built.mesh;
+        let weights = self.weights(&built, mass)?;
         let d = mesh.dim;
         let eliminated = |g: usize| {
             let (node, comp) = (g / d, g % d);
-            mesh.on_dirichlet(node) || (self.lateral == Lateral::Roller && comp >= 1 && mesh.on_lateral(node, comp))
+            built.contact.clamped[node] || (lateral == Lateral::Roller && comp >= 1 && mesh.on_lateral(node, comp))
         };
-        let dofs: Vec<usize> = (0..mesh.n_nodes() * d).filter(|&g| !eliminated(g)).collect();
-        let mut dof_of = vec![None; mesh.n_nodes() * d];
-        for (k, &g) in dofs.iter().enumerate() {
-            dof_of[g] = Some(k);
-        }
+        let Free { dofs, dof_of } = Free::new(mesh, eliminated);
         let n = dofs.len();
-        let stiffness = stiffness(&mesh, &self.lame, &dof_of, n);
-        let nodes = super::lumped::node_masses(&mesh, &weights, self.lame.density);
+        let stiffness = stiffness(mesh, &self.lame, &dof_of, n);
+        let nodes = super::lumped::node_masses(mesh, &weights, self.lame.density);
         let lumped: Vec<f64> = dofs.iter().map(|&g| nodes[g / d]).collect();
-        let load = dofs.iter().map(|&g| self.force[g % d] * nodes[g / d] / self.lame.density).collect();
+        let load = dofs.iter().map(|&g| force[g % d] * nodes[g / d] / self.lame.density).collect();
         let diag: Vec<(usize, usize, f64)> = lumped.iter().enumerate().map(|(i, &m)| (i, i, m)).collect();
         let mass_matrix = sparse::from_triplets(n, &diag, "mass").map_err(SolidAssemblyError::from)?;
-        let contact = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).filter_map(|v| dof_of[v * d]).collect();
-        let system = ContactSystem::new(mass_matrix, stiffness, load, contact, self.gap);
+        let contact = built.contact.nodes.iter().filter_map(|&v| dof_of[v * d]).collect();
+        let system = ContactSystem::new(mass_matrix, stiffness, load, contact, gap);
         let l = self.extent[0];
         let at = |f: &dyn Fn(usize, &[f64; 3]) -> f64| dofs.iter().map(|&g| f(g % d, &mesh.points[g / d])).collect();
         let (u0, v0) = match &self.initial {

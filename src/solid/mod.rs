@@ -11,10 +11,18 @@
 //! [`crate::fem`]'s (shared with dimension 2 and 3), the mass redistribution by cell layers is
 //! [`crate::fem::layers`] (shared with plates), the contact system, the sparse back-end with
 //! its exact many-node contact solver, the schemes, the driver and the observers are the same
-//! as for bars and plates. What is solid-specific: the vector assembly ([`assembly`]), the
-//! solid as a [`crate::problem::Geometry`] ([`geometry`]), its specification ([`spec`], parsed
-//! from the `[solid]` table in `crate::scene`), the problem it poses ([`problem`]), and VTU frames with the displacement and velocity vectors and
-//! the contact pressure ([`vtu`]).
+//! as for bars and plates.
+//!
+//! One elastic body: its mesh comes from a [`MeshSource`] (the box generator, a mesh file, or
+//! arrays passed with the scene), its [`Support`] says where it meets the rigid obstacle and
+//! where it is held — the box's face x = 0 against the plane x = −gap, clamped on x = L
+//! ([`Support::Face`]), or any body against the plane of `[obstacle]` ([`Support::Plane`],
+//! [`body`]) — and its mesh and contact set are built once ([`SolidSpec::built`]). What is
+//! solid-specific: the vector assembly ([`assembly`], a body's frame and load in
+//! [`body_system`]), the solid as a [`crate::problem::Geometry`] ([`geometry`]) with a body's
+//! own reports ([`report`]), its specification ([`spec`], parsed from the `[solid]` table in
+//! `crate::scene`), the problem it poses ([`problem`]), and VTU frames with the displacement and
+//! velocity vectors and the contact pressure ([`vtu`]).
 //!
 //! With Q1 cells on a structured mesh, x-only weights and data u = (u¹ᴰ(x), 0[, 0]), and either
 //! λ = 0 or roller lateral faces, the discrete solution is the 1D solution with modulus λ + 2μ
@@ -28,10 +36,11 @@ pub mod geometry;
 pub mod lean;
 pub mod lumped;
 pub mod problem;
+pub mod report;
 pub mod spec;
 pub mod vtu;
 
 pub use assembly::{Lame, Lateral, SolidSystem};
 pub use body::{BodyContact, BodyError};
 pub use problem::{SolidError, SolidProblem};
-pub use spec::{BodySpec, ContactSet, Obstacle, SolidInitial, SolidSpec};
+pub use spec::{BodySpec, Built, ContactSet, MeshSource, Obstacle, SolidInitial, SolidSpec, Support};

@@ -3,19 +3,19 @@
 //! applies), and the solid's place in the one run path ([`GeometrySpec`]).
 
 use super::assembly::{SolidAssemblyError, SolidSystem};
-use super::spec::{SolidInitial, SolidSpec};
+use super::spec::{Built, SolidInitial, SolidSpec, Support};
 use crate::characteristics::{CharacteristicsError, InitialData};
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::expr::Expr;
 use crate::fem::MeshError;
 use crate::fem::frames::VtuFrames;
-use crate::fem::layers::{cell_weights, cell_weights_of};
 use crate::mass::MassKind;
 use crate::material::{FarEnd, Material};
 use crate::problem::Problem;
 use crate::run::{GeometrySpec, Totals};
 use crate::scene::Scene;
 use serde::Serialize;
+use std::sync::Arc;
 use thiserror::Error;
 
 /// A solid problem.
@@ -27,19 +27,9 @@ impl SolidSpec {
     /// (the paper's closed form for λ + 2μ = ρ = 1 without gap, else the solution by
     /// characteristics of the bar with density ρ and modulus λ + 2μ).
     pub fn problem(&self, mass: &MassKind, t_end: f64) -> Result<Problem<SolidSystem>, SolidError> {
-        let mesh = self.mesh()?;
-        let solid = match &self.body {
-            None => {
-                let weights = cell_weights(&mesh, mass).map_err(SolidAssemblyError::from)?;
-                SolidSystem::assemble(mesh, weights, self.lame, self.lateral, self.force, self.gap)?
-            }
-            Some(body) => {
-                let contact = super::body::contact(&mesh, body)?;
-                let weights = cell_weights_of(&mesh, mass, &contact.contact, &contact.clamped)
-                    .map_err(SolidAssemblyError::from)?;
-                SolidSystem::assemble_body(mesh, weights, self.lame, body, contact)?
-            }
-        };
+        let built = self.built()?;
+        let weights = self.weights(&built, mass)?;
+        let solid = SolidSystem::assemble(Arc::clone(&built.mesh), weights, self.lame, &self.support, &built.contact)?;
         let l = self.extent[0];
         let (u0, v0) = match &self.initial {
             SolidInitial::Paper => {
@@ -53,6 +43,11 @@ impl SolidSpec {
         Ok(Problem { system: solid, u0, v0, exact: self.exact(t_end)? })
     }
 
+    /// The cell weights of a mass redistribution on the built mesh ([`Built::weights`]).
+    pub fn weights(&self, built: &Built, mass: &MassKind) -> Result<Vec<f64>, SolidError> {
+        Ok(built.weights(mass).map_err(SolidAssemblyError::from)?)
+    }
+
     /// The plane wave up to `t_end` where it applies (module docs of [`crate::solid`]): the
     /// paper's closed form for λ + 2μ = ρ = 1 without gap, else the solution by characteristics
     /// of the bar with density ρ and modulus λ + 2μ; None for other data.
@@ -63,12 +58,12 @@ impl SolidSpec {
         } else if self.initial == SolidInitial::Paper
             && self.lame.p_modulus() == 1.0
             && self.lame.density == 1.0
-            && self.gap == 0.0
+            && self.support.gap() == 0.0
         {
             Some(Exact::Paper(ImpactingBar { length: l }))
         } else {
             let material = Material { density: self.lame.density, modulus: self.lame.p_modulus() };
-            let exact = |data| by_characteristics(l, material, FarEnd::Clamped, self.gap, data, t_end);
+            let exact = |data| by_characteristics(l, material, FarEnd::Clamped, self.support.gap(), data, t_end);
             let c = match &self.initial {
                 SolidInitial::Paper => {
                     let (x, u, v) = paper_data(l);
@@ -87,6 +82,15 @@ impl SolidSpec {
     }
 }
 
+impl From<super::spec::BuildError> for SolidError {
+    fn from(e: super::spec::BuildError) -> Self {
+        match e {
+            super::spec::BuildError::Mesh(m) => SolidError::Mesh(m),
+            super::spec::BuildError::Body(b) => SolidError::Body(b),
+        }
+    }
+}
+
 #[derive(Debug, Error)]
 pub enum SolidError {
     #[error(transparent)]
@@ -97,6 +101,9 @@ pub enum SolidError {
     Exact(CharacteristicsError),
     #[error(transparent)]
     Body(#[from] super::body::BodyError),
+    /// The lean system of central differences is the box's (`super::lean`).
+    #[error("a body with an [obstacle] has no lean explicit system (the box's, without [obstacle])")]
+    NotABox,
 }
 
 /// The solid keys of `summary.json`.
@@ -142,7 +149,12 @@ impl GeometrySpec for SolidSpec {
 
     fn summary_head(scene: &Scene<Self>, totals: &Totals) -> SolidHead {
         let s = &scene.geometry;
-        let (three, boxed) = (s.dim == 3, s.body.is_none());
+        let three = s.dim == 3;
+        // The box's lateral faces and gap (a body's plane is its `[obstacle]`).
+        let face = match s.support {
+            Support::Face { gap, lateral, .. } => Some((gap, lateral.name())),
+            Support::Plane(_) => None,
+        };
         SolidHead {
             dim: s.dim,
             height: s.extent[1],
@@ -151,11 +163,11 @@ impl GeometrySpec for SolidSpec {
             ny: s.cells_per_axis[1],
             nz: three.then_some(s.cells_per_axis[2]),
             cells: s.cells.name(),
-            lateral: boxed.then_some(s.lateral.name()),
+            lateral: face.map(|f| f.1),
             lame_lambda: s.lame.lambda,
             lame_mu: s.lame.mu,
             density: s.lame.density,
-            gap: boxed.then_some(s.gap),
+            gap: face.map(|f| f.0),
             initial: s.initial.name(),
             total_mass: totals.total_mass,
             unknowns: totals.unknowns,

@@ -40,9 +40,14 @@
 //! contact = "auto"         # or a group name
 //! ```
 
+use super::body::{BodyContact, BodyError};
+pub use super::body::{BodySpec, ContactSet, Obstacle};
 use crate::expr::Expr;
+use crate::fem::layers::{LayerMassError, cell_weights_of};
 use crate::fem::mesh::{Cell, Mesh, MeshError};
+use crate::mass::MassKind;
 use crate::material::Lame;
+use std::sync::{Arc, Mutex};
 
 /// The condition on the faces other than x = 0 and x = L.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,60 +95,113 @@ impl SolidInitial {
     }
 }
 
+/// Where a solid's mesh comes from.
+#[derive(Debug, Clone)]
+pub enum MeshSource {
+    /// The box generator: (0, L) × (0, H) [× (0, D)] of [`SolidSpec::extent`] in
+    /// [`SolidSpec::cells_per_axis`] cells of kind [`SolidSpec::cells`], its faces grouped
+    /// ([`face_groups`]).
+    Box,
+    /// A mesh file (the path resolved against the scene's folder), read once when the scene is
+    /// validated.
+    File { path: std::path::PathBuf, mesh: Arc<Mesh> },
+    /// Arrays the caller passed with the scene (the Python package's `mesh=`), checked as a
+    /// file's when the scene is validated; the scene names them `mesh = "<arrays>"`.
+    Arrays(Arc<Mesh>),
+}
+
+impl PartialEq for MeshSource {
+    /// Meshes read or given are the same source when they are the same mesh (the same object,
+    /// or equal).
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (MeshSource::Box, MeshSource::Box) => true,
+            (MeshSource::File { path: a, mesh: m }, MeshSource::File { path: b, mesh: n }) => {
+                a == b && (Arc::ptr_eq(m, n) || m == n)
+            }
+            (MeshSource::Arrays(m), MeshSource::Arrays(n)) => Arc::ptr_eq(m, n) || m == n,
+            _ => false,
+        }
+    }
+}
+
+impl MeshSource {
+    /// The mesh read or given (None: generated).
+    pub fn given(&self) -> Option<&Arc<Mesh>> {
+        match self {
+            MeshSource::Box => None,
+            MeshSource::File { mesh, .. } | MeshSource::Arrays(mesh) => Some(mesh),
+        }
+    }
+
+    /// The file's path (None: generated or given as arrays).
+    pub fn path(&self) -> Option<&std::path::Path> {
+        match self {
+            MeshSource::File { path, .. } => Some(path),
+            _ => None,
+        }
+    }
+}
+
+/// Where the solid meets its rigid obstacle, where it is held, and the force on it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Support {
+    /// The box of a scene without `[obstacle]`: its face x = 0 against the plane x = −gap
+    /// (normal e_x; each node of the face starts at the distance `gap`), clamped on the face
+    /// x = L, the lateral faces free or on rollers, and a constant force f weighted as the
+    /// mass, `F_(a,i) = f_i ∫ w_h φ_a` (`super::assembly`).
+    Face { gap: f64, lateral: Lateral, force: [f64; 3] },
+    /// A body of any shape against the plane of `[obstacle]` ([`BodySpec`], `super::body`).
+    Plane(BodySpec),
+}
+
+impl Support {
+    /// The paper's box: no gap, free lateral faces, no force.
+    pub const PAPER: Support = Support::Face { gap: 0.0, lateral: Lateral::Free, force: [0.0; 3] };
+
+    /// The obstacle's initial distance to the face x = 0 (a body's plane is placed by
+    /// `obstacle.point`: 0).
+    pub fn gap(&self) -> f64 {
+        match self {
+            Support::Face { gap, .. } => *gap,
+            Support::Plane(_) => 0.0,
+        }
+    }
+
+    /// The lateral faces' condition (a body's boundary is free but where clamped).
+    pub fn lateral(&self) -> Lateral {
+        match self {
+            Support::Face { lateral, .. } => *lateral,
+            Support::Plane(_) => Lateral::Free,
+        }
+    }
+
+    /// The body of `[obstacle]` (None: the box).
+    pub fn body(&self) -> Option<&BodySpec> {
+        match self {
+            Support::Face { .. } => None,
+            Support::Plane(b) => Some(b),
+        }
+    }
+}
+
 /// A validated `[solid]` table (module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolidSpec {
     pub dim: usize,
-    /// `[L, H, D]` (D ignored in 2D).
+    /// `[L, H, D]` (D ignored in 2D): the generated box's, or the extent of the mesh read.
     pub extent: [f64; 3],
-    /// `[nx, ny, nz]` (nz ignored in 2D).
+    /// `[nx, ny, nz]` (nz ignored in 2D; `[0, 0, 0]` for a mesh read or given).
     pub cells_per_axis: [usize; 3],
     pub cells: Cell,
     pub lame: Lame,
-    pub gap: f64,
-    pub lateral: Lateral,
-    /// Constant body force (entries beyond `dim` are 0).
-    pub force: [f64; 3],
     pub initial: SolidInitial,
-    /// The mesh file (read by meshio) that replaced the structured mesh; `extent` and `cells`
-    /// then describe the file's mesh and `cells_per_axis` is `[0, 0, 0]`.
-    pub mesh_file: Option<std::path::PathBuf>,
-    /// The file's mesh, read once when the scene is validated (None: the structured mesh).
-    pub mesh: Option<std::sync::Arc<Mesh>>,
-    /// A body of any shape against a rigid plane (`[obstacle]`; module docs of
-    /// [`super::body`]); None: the box, in contact on x = 0 and clamped on x = L.
-    pub body: Option<BodySpec>,
-}
-
-/// Which nodes meet the obstacle.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ContactSet {
-    /// Every node of every boundary facet whose outward unit normal n_f has
-    /// n_f · normal < −0.01 (GetFEM's rule).
-    Auto,
-    /// The nodes of a physical group of the mesh.
-    Group(String),
-}
-
-/// The rigid plane `{x : normal · (x − point) = 0}`, the body on the side `normal` points to.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Obstacle {
-    /// Unit normal, pointing from the plane into the body (entries beyond `dim` are 0).
-    pub normal: [f64; 3],
-    /// A point of the plane (entries beyond `dim` are 0).
-    pub point: [f64; 3],
-    pub contact: ContactSet,
-}
-
-/// What a body scene adds to the solid: the obstacle, the clamped group, and the body force as
-/// expressions in x, y[, z], t (force per unit volume).
-#[derive(Debug, Clone, PartialEq)]
-pub struct BodySpec {
-    pub obstacle: Obstacle,
-    /// The physical group whose nodes are fixed (None: a free body).
-    pub clamped: Option<String>,
-    /// One expression per component, variables x, y[, z], t.
-    pub force: Vec<Expr>,
+    /// Where the mesh comes from.
+    pub source: MeshSource,
+    /// Where the solid meets its obstacle and is held, and the force on it.
+    pub support: Support,
+    /// The mesh and contact set, built once ([`SolidSpec::built`]).
+    pub cache: BuildCache,
 }
 
 impl SolidSpec {
@@ -156,40 +214,128 @@ impl SolidSpec {
             cells_per_axis: n,
             cells: if dim == 2 { Cell::Quad } else { Cell::Hex },
             lame: Lame::PAPER,
-            gap: 0.0,
-            lateral: Lateral::Free,
-            force: [0.0; 3],
             initial: SolidInitial::Paper,
-            mesh_file: None,
-            mesh: None,
-            body: None,
+            source: MeshSource::Box,
+            support: Support::PAPER,
+            cache: BuildCache::default(),
         }
     }
 
-    /// The mesh: the file's, read with the scene, or the structured mesh of the spec (a body's
-    /// with the groups of its faces, [`face_groups`]).
-    pub fn mesh(&self) -> Result<Mesh, MeshError> {
-        if let Some(m) = &self.mesh {
-            return Ok(Mesh::clone(m));
+    /// The mesh and contact set of this spec, built on the first call and kept (a scene builds
+    /// them once, when it is validated, and its run uses them); a spec changed since is built
+    /// again ([`BuildCache`]).
+    pub fn built(&self) -> Result<Arc<Built>, BuildError> {
+        self.cache.get(self)
+    }
+
+    /// The mesh: the one read or given, or the generated box with the groups of its faces
+    /// ([`face_groups`]).
+    pub fn mesh(&self) -> Result<Arc<Mesh>, MeshError> {
+        if let Some(m) = self.source.given() {
+            return Ok(Arc::clone(m));
         }
         let ([l, h, d], [nx, ny, nz]) = (self.extent, self.cells_per_axis);
         let mut mesh = match self.cells {
             Cell::Quad | Cell::Triangle | Cell::Triangle6 => Mesh::structured_2d(l, h, nx, ny, self.cells),
             Cell::Hex | Cell::Tet | Cell::Tet10 => Mesh::structured_3d([l, h, d], [nx, ny, nz], self.cells),
         }?;
-        if self.body.is_some() {
-            face_groups(&mut mesh);
-        }
-        Ok(mesh)
+        face_groups(&mut mesh);
+        Ok(Arc::new(mesh))
     }
 
-    /// Whether the solution is a plane wave (module docs of [`crate::solid`]): x-only data, no
-    /// force, and λ = 0 or roller lateral faces.
+    /// Whether the solution is a plane wave (module docs of [`crate::solid`]): the box, x-only
+    /// data, no force, and λ = 0 or roller lateral faces.
     pub fn is_plane_wave(&self) -> bool {
-        self.body.is_none()
-            && self.initial.x_only()
-            && self.force.iter().all(|&f| f == 0.0)
-            && (self.lame.lambda == 0.0 || self.lateral == Lateral::Roller)
+        let Support::Face { lateral, force, .. } = self.support else { return false };
+        self.initial.x_only()
+            && force.iter().all(|&f| f == 0.0)
+            && (self.lame.lambda == 0.0 || lateral == Lateral::Roller)
+    }
+}
+
+/// Why a spec's mesh or contact set cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BuildError {
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error(transparent)]
+    Body(#[from] BodyError),
+}
+
+/// What [`SolidSpec::built`] builds: the mesh and its contact set, and the cell weights of the
+/// last mass redistribution asked for ([`Built::weights`]).
+#[derive(Debug)]
+pub struct Built {
+    pub mesh: Arc<Mesh>,
+    pub contact: BodyContact,
+    weights: Mutex<Option<(MassKind, Vec<f64>)>>,
+}
+
+impl Built {
+    /// The cell weights of `mass` on this mesh, its contact layer the cells holding a contact
+    /// node ([`crate::fem::layers`]), validated; computed once per mass (a scene's validation
+    /// learns w_0 from them, its run assembles them).
+    pub fn weights(&self, mass: &MassKind) -> Result<Vec<f64>, LayerMassError> {
+        let mut slot = self.weights.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((m, w)) = slot.as_ref()
+            && m == mass
+        {
+            return Ok(w.clone());
+        }
+        let c = &self.contact;
+        let w = cell_weights_of(&self.mesh, mass, &c.contact, &c.clamped)?;
+        *slot = Some((mass.clone(), w.clone()));
+        Ok(w)
+    }
+}
+
+/// The spec's inputs that the mesh and the contact set depend on.
+#[derive(Debug, Clone, PartialEq)]
+struct BuildKey {
+    dim: usize,
+    extent: [f64; 3],
+    cells_per_axis: [usize; 3],
+    cells: Cell,
+    source: MeshSource,
+    support: Support,
+}
+
+impl BuildKey {
+    fn of(s: &SolidSpec) -> Self {
+        let (dim, extent, cells_per_axis, cells) = (s.dim, s.extent, s.cells_per_axis, s.cells);
+        BuildKey { dim, extent, cells_per_axis, cells, source: s.source.clone(), support: s.support.clone() }
+    }
+}
+
+/// The mesh and contact set of a spec, kept with the inputs they were built from: a spec whose
+/// fields changed since (library users and tests edit specs) is built again. Shared between
+/// clones of the spec; not part of its value (two specs are equal whatever their caches hold).
+#[derive(Debug, Clone, Default)]
+pub struct BuildCache(Arc<Mutex<Option<(BuildKey, Arc<Built>)>>>);
+
+impl PartialEq for BuildCache {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl BuildCache {
+    fn get(&self, spec: &SolidSpec) -> Result<Arc<Built>, BuildError> {
+        let key = BuildKey::of(spec);
+        let mut slot = self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((k, built)) = slot.as_ref()
+            && *k == key
+        {
+            return Ok(Arc::clone(built));
+        }
+        let mesh = spec.mesh()?;
+        let contact = match &spec.support {
+            Support::Face { gap, .. } => super::body::face_contact(&mesh, *gap),
+            Support::Plane(body) => super::body::contact(&mesh, body)?,
+        };
+        let built = Arc::new(Built { mesh, contact, weights: Mutex::new(None) });
+        *slot = Some((key, Arc::clone(&built)));
+        Ok(built)
     }
 }
 

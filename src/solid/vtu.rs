@@ -24,7 +24,7 @@ pub fn layout(solid: &SolidSystem) -> Layout {
     let mesh = &solid.mesh;
     let grid = Grid { points: &mesh.points, cells: &mesh.cells, verts: mesh.kind.verts(), kind: vtk_type(mesh.kind) };
     let point_arrays = [("contact_pressure", 1), ("displacement", 3), ("velocity", 3), ("contact_state", 1)];
-    let arrays = if solid.body.is_some() { 4 } else { 3 };
+    let arrays = if solid.frame.is_some() { 4 } else { 3 };
     Layout::new(
         &grid,
         &point_arrays[..arrays],
@@ -40,17 +40,17 @@ fn point_arrays(solid: &SolidSystem, u: &[f64], v: &[f64], lambda: &[f64], array
     let mesh = &solid.mesh;
     let d = mesh.dim;
     assert!(u.len() == mesh.n_nodes() * d && v.len() == u.len() && lambda.len() == solid.contact_nodes.len());
-    arrays.resize(if solid.body.is_some() { 4 } else { 3 }, Vec::new());
+    arrays.resize(if solid.frame.is_some() { 4 } else { 3 }, Vec::new());
     let pressure = &mut arrays[0];
     pressure.clear();
     pressure.resize(mesh.n_nodes(), 0.0);
-    let sign = if solid.body.is_some() { -1.0 } else { 1.0 };
+    let sign = if solid.frame.is_some() { -1.0 } else { 1.0 };
     for ((&node, &l), &a) in solid.contact_nodes.iter().zip(lambda).zip(&solid.contact_areas) {
         pressure[node] = sign * l / a;
     }
     to_3d(u, d, &mut arrays[1]);
     to_3d(v, d, &mut arrays[2]);
-    if let Some(frame) = &solid.body {
+    if let Some(frame) = &solid.frame {
         let state = &mut arrays[3];
         state.clear();
         state.resize(mesh.n_nodes(), 0.0);

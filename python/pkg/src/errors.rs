@@ -14,33 +14,9 @@ pyo3::create_exception!(
 );
 pyo3::create_exception!(_core, RunError, pyo3::exceptions::PyRuntimeError, "A run failed while stepping.");
 
-/// The key a scene error names, for `SceneError.key`: the key of the variants that carry one,
-/// the key before the first `:` of a parse error (`plate.cells: …`), None otherwise (the
-/// message still says what is wrong).
-fn key_of(e: &CoreSceneError) -> Option<String> {
-    use CoreSceneError as E;
-    match e {
-        E::Range { key, .. } | E::Missing { key, .. } | E::Inapplicable { key, .. } => Some((*key).to_string()),
-        E::NotAnInteger { .. } => Some("time.dt".into()),
-        E::TooManyValues { .. } => Some("output.every".into()),
-        E::TooManyFrames { .. } => Some("output.vtu_every".into()),
-        E::DuplicateColumn(_) => Some("output.series".into()),
-        E::TooMuchWork { size, .. } => Some((*size).to_string()),
-        E::TooMuchMemory { keys, .. } => Some((*keys).to_string()),
-        E::Setup { keys, .. } => Some(keys.clone()),
-        E::Parse(m) => {
-            let head = m.split(':').next().unwrap_or("");
-            let is_key = !head.is_empty() && head.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.');
-            is_key.then(|| head.to_string())
-        }
-        E::Mass(_) | E::LayerMass(_) => Some("mass".into()),
-        _ => None,
-    }
-}
-
 /// A `SceneError` with the message of the CLI and its key.
 pub fn scene_error(py: Python<'_>, e: &CoreSceneError) -> PyErr {
-    scene_error_msg(py, e.to_string(), key_of(e))
+    scene_error_msg(py, e.to_string(), e.key())
 }
 
 /// A `SceneError` from a message and a key (keys changed by `Scene.replace`).

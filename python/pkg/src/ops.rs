@@ -31,7 +31,7 @@ pub struct MeshArrays {
 }
 
 /// What Python reads of a geometry's assembled system besides the contact system.
-pub trait Body: Geometry {
+pub trait Meshed: Geometry {
     fn mesh_arrays(&self) -> MeshArrays;
     /// One weight per cell (the mass redistribution, paper §3).
     fn cell_weights(&self) -> &[f64];
@@ -39,7 +39,7 @@ pub trait Body: Geometry {
     fn contact_nodes(&self) -> Vec<usize>;
 }
 
-impl Body for BarSystem {
+impl Meshed for BarSystem {
     fn mesh_arrays(&self) -> MeshArrays {
         let m = self.bar.elements;
         let points = (0..=m).flat_map(|i| [self.bar.x(i), 0.0, 0.0]).collect();
@@ -65,7 +65,7 @@ fn fem_mesh(mesh: &massredist::fem::Mesh) -> MeshArrays {
     }
 }
 
-impl Body for PlateSystem {
+impl Meshed for PlateSystem {
     fn mesh_arrays(&self) -> MeshArrays {
         fem_mesh(&self.mesh)
     }
@@ -77,7 +77,7 @@ impl Body for PlateSystem {
     }
 }
 
-impl Body for SolidSystem {
+impl Meshed for SolidSystem {
     fn mesh_arrays(&self) -> MeshArrays {
         fem_mesh(&self.mesh)
     }
@@ -91,8 +91,8 @@ impl Body for SolidSystem {
 
 /// Puts the mesh of `body` into `d`: points (n × dim), cells (c × verts), cell_kind, weights,
 /// contact_nodes.
-pub fn put_mesh<B: Body>(py: Python<'_>, body: &B, d: &Bound<'_, PyDict>) -> PyResult<()> {
-    let m = body.mesh_arrays();
+pub fn put_mesh<B: Meshed>(py: Python<'_>, system: &B, d: &Bound<'_, PyDict>) -> PyResult<()> {
+    let m = system.mesh_arrays();
     let n = m.points.len() / 3;
     let points: Vec<f64> = m.points.chunks(3).flat_map(|p| p[..m.dim].to_vec()).collect();
     let points = Array2::from_shape_vec((n, m.dim), points).expect("n × dim values");
@@ -101,8 +101,8 @@ pub fn put_mesh<B: Body>(py: Python<'_>, body: &B, d: &Bound<'_, PyDict>) -> PyR
     d.set_item("points", points.into_pyarray(py))?;
     d.set_item("cells", cells.into_pyarray(py))?;
     d.set_item("cell_kind", m.kind)?;
-    d.set_item("weights", PyArray1::from_slice(py, body.cell_weights()))?;
-    let contact: Vec<i64> = body.contact_nodes().iter().map(|&c| c as i64).collect();
+    d.set_item("weights", PyArray1::from_slice(py, system.cell_weights()))?;
+    let contact: Vec<i64> = system.contact_nodes().iter().map(|&c| c as i64).collect();
     d.set_item("contact_nodes", PyArray1::from_vec(py, contact))?;
     Ok(())
 }
@@ -127,7 +127,7 @@ fn csr<A: SymMatrix>(py: Python<'_>, a: &A) -> PyResult<Py<PyAny>> {
 
 fn operators_of<G: GeometrySpec + Sync>(py: Python<'_>, scene: &massredist::scene::Scene<G>) -> PyResult<Py<PyDict>>
 where
-    G::System: Body + Send,
+    G::System: Meshed + Send,
 {
     let set = py.detach(|| setup(scene)).map_err(|e| run_error(py, &massredist::run::RunError::Setup(e)))?;
     let geometry = &set.problem.system;

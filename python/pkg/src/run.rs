@@ -10,7 +10,7 @@
 //!   nodes (read-only arrays refreshed in place).
 
 use crate::errors::run_error;
-use crate::ops::{Body, put_mesh};
+use crate::ops::{Meshed, put_mesh};
 use crate::scene::Scene;
 use massredist::driver::{Needs, Observer, Sample};
 use massredist::observe::Status;
@@ -146,7 +146,7 @@ fn run_geometry<G>(
 ) -> PyResult<Py<PyDict>>
 where
     G: GeometrySpec + Sync,
-    G::System: Body + Send,
+    G::System: Meshed + Send,
 {
     let mut interrupt = Interrupt { steps: 0, last: Instant::now(), error: None };
     let result = py.detach(|| {

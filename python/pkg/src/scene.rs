@@ -4,7 +4,7 @@
 
 use crate::errors::{scene_error, scene_error_msg};
 use massredist::scene::AnyScene;
-use massredist::scene::mesh_file::{ARRAY_MESH, ArrayMesh, with_array_mesh};
+use massredist::scene::mesh_file::{ARRAY_MESH, ArrayMesh, MeshInputs};
 use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
@@ -36,11 +36,9 @@ impl Scene {
             t.insert("mesh".into(), toml::Value::String(ARRAY_MESH.into()));
         }
         let text = toml::to_string(&source).map_err(|e| scene_error_msg(py, e.to_string(), None))?;
-        // Validation (with the mesh file it may read) runs without the GIL.
-        let parsed = py.detach(|| match &arrays {
-            Some(a) => with_array_mesh(a.clone(), || AnyScene::from_toml_at(&text, &base)),
-            None => AnyScene::from_toml_at(&text, &base),
-        });
+        // Validation (with the mesh file it may read, or the arrays given) runs without the GIL.
+        let inputs = MeshInputs { base: &base, arrays: arrays.as_ref() };
+        let parsed = py.detach(|| AnyScene::from_toml_with(&text, inputs));
         let any = parsed.map_err(|e| scene_error(py, &e))?;
         Ok(Self { any, source, base, arrays })
     }

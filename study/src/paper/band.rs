@@ -1,0 +1,178 @@
+//! Round-off sensitivity of a case: the same run from a few slightly perturbed initial states.
+//!
+//! After its first impact the standard mass with Crank–Nicolson chatters, and Paoli–Schatzman
+//! over 1000 periods amplifies round-off until its energy leaves any bound: perturbing U⁰ by
+//! 1e-13 relative changes their late numbers by orders of magnitude. Digits of such a run are
+//! not results. For every case ([`is_rerun`]; [`is_sensitive`] names the known amplifiers)
+//! [`super::run_case`] also runs [`PERTURBATIONS`] copies from `U⁰_i (1 + δ_{k,i})`, `|δ| ≤` [`PERTURBATION`], and the report
+//! shows only what all runs agree on: the digits they share ([`stable_digits`]), else the band
+//! min–max over the runs, and a verdict (bounded, grows, diverged) per run.
+
+use super::periods::{DRIFT_FACTOR, PeriodEnergy};
+use super::{Case, Experiment, Purpose};
+use massredist::mass::MassKind;
+use massredist::observe::{SeriesRecorder, Summary};
+
+/// Perturbed copies per sensitive case (with the unperturbed run: five runs in the band).
+pub const PERTURBATIONS: usize = 4;
+
+/// Largest relative perturbation of U⁰: a few hundred ulps, far below any data or
+/// discretisation error, so that a number that moves with it is round-off amplification.
+pub const PERTURBATION: f64 = 1e-13;
+
+/// The cases whose late numbers amplify round-off: every long Paoli–Schatzman run, and the
+/// standard mass with Crank–Nicolson (it chatters after its first impact).
+pub fn is_sensitive(case: &Case) -> bool {
+    case.purpose == Purpose::LongEnergy
+        || (case.experiment == Experiment::CrankNicolson && case.mass == MassKind::Standard)
+}
+
+/// The cases rerun from perturbed U⁰: every one (issue 22: every digit the report prints must be
+/// one that a 1e-13 perturbation of the initial data leaves unchanged, and only the reruns show
+/// which digits those are; a 1D run on the paper's mesh costs microseconds). [`is_sensitive`]
+/// says which of them are known to amplify round-off, for the report's wording.
+pub fn is_rerun(_case: &Case) -> bool {
+    true
+}
+
+/// `U⁰` of copy k: `u_i (1 + δ_{k,i})` with δ_{k,i} ∈ {−1, −½, 0, ½, 1}·[`PERTURBATION`] from a
+/// fixed pattern (deterministic: a rerun of `reproduce` gives the same band).
+pub fn perturbed(u0: &[f64], k: usize) -> Vec<f64> {
+    u0.iter()
+        .enumerate()
+        .map(|(i, &u)| {
+            let d = ((7 * i + 3 * k + 1) % 5) as f64 / 2.0 - 1.0;
+            u * (1.0 + d * PERTURBATION)
+        })
+        .collect()
+}
+
+/// What a perturbed copy keeps: its summary, the series of the case's columns (for the values
+/// the report reads off them: events, energy variation) and per-period energy extremes.
+#[derive(Debug, Clone)]
+pub struct PerturbedRun {
+    pub summary: Summary,
+    pub series: SeriesRecorder,
+    pub periods: PeriodEnergy,
+}
+
+/// The verdict on a run's energy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Verdict {
+    Bounded,
+    Grows,
+    Diverged,
+}
+
+impl Verdict {
+    pub fn name(self) -> &'static str {
+        match self {
+            Verdict::Bounded => "bounded",
+            Verdict::Grows => "grows",
+            Verdict::Diverged => "diverged",
+        }
+    }
+
+    /// Diverged (the run stopped), grows (energy above 10 E(0), or the per-period maximum up by
+    /// more than [`DRIFT_FACTOR`]: `growth` = last/first per-period maximum), else bounded.
+    pub fn of(s: &Summary, growth: Option<f64>) -> Verdict {
+        if s.divergence.is_some() {
+            Verdict::Diverged
+        } else if s.energy_max > 10.0 * s.energy_initial || growth.is_some_and(|g| g > DRIFT_FACTOR) {
+            Verdict::Grows
+        } else {
+            Verdict::Bounded
+        }
+    }
+}
+
+/// `x` with the significant digits (at most `digits`) on which every value of `values` agrees,
+/// e.g. `0.1041`; if they do not agree on two, the band `min–max` (2 digits each); `—` if there
+/// is no value, and `varies` if some runs have one and others not.
+pub fn stable_digits(values: &[Option<f64>], digits: usize) -> String {
+    let Some(first) = values.first() else { return "—".into() };
+    if values.iter().any(|v| v.is_some() != first.is_some()) {
+        return "varies".into();
+    }
+    let v: Vec<f64> = values.iter().flatten().copied().collect();
+    let Some(&x) = v.first() else { return "—".into() };
+    if let Some(d) = (2..=digits).rev().find(|&d| v.iter().all(|y| sig(*y, d) == sig(x, d))) {
+        return sig(x, d);
+    }
+    let (lo, hi) = band(&v);
+    format!("{}–{}", sig(lo, 2), sig(hi, 2))
+}
+
+/// The number of significant digits (at most 16) on which all `values` agree; 0 if not even
+/// the first, or if some have a value and others not. All absent: 16.
+pub fn agreed_digits(values: &[Option<f64>]) -> usize {
+    let Some(first) = values.first() else { return 16 };
+    if values.iter().any(|v| v.is_some() != first.is_some()) {
+        return 0;
+    }
+    let v: Vec<f64> = values.iter().flatten().copied().collect();
+    let Some(&x) = v.first() else { return 16 };
+    (1..=16).rev().find(|&d| v.iter().all(|&y| sig(y, d) == sig(x, d))).unwrap_or(0)
+}
+
+/// Counts of several runs: the one value if all agree, else the band `min–max` (`—` if none).
+pub fn count_band(counts: &[usize]) -> String {
+    match (counts.iter().min(), counts.iter().max()) {
+        (Some(lo), Some(hi)) if lo == hi => lo.to_string(),
+        (Some(lo), Some(hi)) => format!("{lo}–{hi}"),
+        _ => "—".into(),
+    }
+}
+
+/// (min, max) of the values.
+pub fn band(values: &[f64]) -> (f64, f64) {
+    values.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shared_digits_or_the_band() {
+        assert_eq!(stable_digits(&[Some(0.104112), Some(0.104113)], 6), "0.10411");
+        assert_eq!(stable_digits(&[Some(0.104112)], 6), "0.104112");
+        assert_eq!(stable_digits(&[Some(0.41), Some(0.52), Some(0.47)], 6), "0.41–0.52");
+        assert_eq!(stable_digits(&[Some(2.0e13), Some(5.0e4)], 3), "50000–2.0e13");
+        assert_eq!(stable_digits(&[None, Some(1.0)], 3), "varies");
+        assert_eq!(stable_digits(&[None, None], 3), "—");
+        assert_eq!(agreed_digits(&[Some(0.104112), Some(0.104113)]), 5);
+        assert_eq!(agreed_digits(&[Some(0.5), Some(0.5)]), 16);
+        assert_eq!(agreed_digits(&[Some(0.41), Some(0.52)]), 0);
+        assert_eq!(agreed_digits(&[None, Some(1.0)]), 0);
+    }
+
+    #[test]
+    fn perturbations_are_small_and_differ_between_copies() {
+        let u = vec![0.5; 7];
+        let a = perturbed(&u, 0);
+        let b = perturbed(&u, 1);
+        assert_ne!(a, b);
+        for (x, y) in a.iter().zip(&u) {
+            // δ·u rounds once more when added: a few ε|u| on top.
+            assert!((x - y).abs() <= (PERTURBATION + 4.0 * f64::EPSILON) * y.abs());
+        }
+    }
+}
+
+/// `x` with `digits` significant digits, plain for moderate magnitudes.
+pub fn sig(x: f64, digits: usize) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let e = x.abs().log10().floor() as i32;
+    if (-3..5).contains(&e) {
+        let decimals = (digits as i32 - 1 - e).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.*e}", digits - 1)
+    }
+}

@@ -1,0 +1,597 @@
+//! Every method class of issue 20 side by side, DEP-style (Doyen, Ern, Piperno, SIAM J. Sci.
+//! Comput. 33(1), 2011): implicit schemes with exact contact (Crank–Nicolson, backward Euler,
+//! hybrid, Paoli–Schatzman), implicit schemes with penalty contact, explicit central differences
+//! with exact (massless contact node, or the forward-increment multiplier on the standard mass)
+//! and penalty contact, and Moreau–Jean's velocity-impulse scheme, on four 1D problems with exact
+//! solutions by characteristics ([`PROBLEMS`]). Shared by `massredist bench --methods` (finer
+//! meshes, `crate::bench::methods`) and the `reproduce` section (coarse, [`MethodsConfig::reproduce`]).
+//!
+//! [`METHODS`] is the one table of methods, one line per method: a new method (Nitsche) is one
+//! more line. Every method runs with every mass it applies to ([`Method::masses`]).
+//!
+//! Each run measures, against the exact solution ([`massredist::exact::Exact`]):
+//!
+//! ```text
+//! L∞(L²)     max_{t_n ≤ T_err} ‖u_h − u‖_L² / max_{t_n ≤ T_err} ‖I_h u‖_L²        (relative)
+//! impact     (t_impact,h − t_impact)/D,  D the exact first contact's duration     (first t_n with u_0 ≤ −gap)
+//! duration   (D_h − D)/D,  D_h = first release − first impact                     (release: first later u_0 > −gap)
+//!            (Nitsche enforces contact weakly: u_0 may sit above −gap by rounding while it
+//!            pushes, so for Nitsche "in contact" is λ < 0, i.e. [P_γ(u)]_+ > 0)
+//! rebound    v̄(T)/V₀,  v̄ = 1ᵀMV / 1ᵀM1 the bar's mean velocity (free rods; exact 1)
+//! force TV   Σ_n |λⁿ⁺¹ − λⁿ| / Σ_n |λ(t_{n+1}) − λ(t_n)|                          (exact: 1; oscillation > 1)
+//! impulse    Σ_n λⁿ / Σ_n λ(t_n)                                                  (exact: 1)
+//! penetration max_n max(0, −gap − u_0ⁿ) / L
+//! drift      (E(T) − E(0))/E(0) of the scheme's own energy, after the exact solution's impacts in (0, T]
+//! CPU        seconds of set-up and stepping alone (no diagnostics), fastest of up to 3 runs; and
+//!            of the stepping alone (central differences' set-up includes its stable limit)
+//! ```
+//!
+//! **Chaos rule.** After an impact the standard mass (massive contact node) and Paoli–Schatzman
+//! amplify round-off (`super::band`): for those cases ([`sensitive`]) the run is repeated from
+//! [`super::band::PERTURBATIONS`] perturbed U⁰ and V⁰ (|δ| ≤ 1e-13, relative, and absolute on V⁰
+//! times a velocity scale of the problem: the free rods start from U⁰ = 0) and tables print only
+//! the digits all five runs share, else the band min–max ([`super::band::stable_digits`]).
+
+use super::band;
+pub use super::band::agreed_digits;
+use massredist::bar::BarProblem;
+use massredist::driver::{DivergenceCriterion, Needs, Observer, Outcome, Sample, integrate, integrate_watched};
+use massredist::scene::BarScene;
+use massredist::schemes::SchemeError;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::time::Instant;
+
+/// A contact law as the `[contact]` table of a scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Law {
+    Exact,
+    /// `penalty = factor · E/h` (a plain spring per contact node; scaled with the mesh so that
+    /// it stiffens as h → 0: κ h/E fixed).
+    Penalty(f64),
+    /// Any other `[contact]` body, verbatim (Nitsche: one line in [`METHODS`]).
+    Toml(&'static str),
+}
+
+/// One method of the comparison.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Method {
+    /// Name in tables, figures and CSV.
+    pub label: &'static str,
+    /// Its class (DEP's families).
+    pub class: &'static str,
+    /// The `[scheme]` table body.
+    pub scheme: &'static str,
+    pub law: Law,
+    /// The masses it applies to.
+    pub masses: &'static [&'static str],
+}
+
+const ALL: &[&str] = &["standard", "mod1", "mod2", "mod3"];
+const MASSLESS: &[&str] = &["mod1", "mod2", "mod3"];
+/// Moreau–Jean needs inertia at the contact node (w_0 > 0).
+const MASSIVE: &[&str] = &["standard"];
+const CN: &str = "kind = \"crank-nicolson\"";
+const BE: &str = "kind = \"backward-euler\"";
+const CD: &str = "kind = \"central-difference\"";
+
+/// The one table of methods, one line each (a new method or law: one more line).
+#[rustfmt::skip]
+pub const METHODS: &[Method] = &[
+    Method { label: "CN", class: "implicit, exact", scheme: CN, law: Law::Exact, masses: ALL },
+    Method { label: "BE", class: "implicit, exact", scheme: BE, law: Law::Exact, masses: ALL },
+    Method { label: "hybrid", class: "implicit, exact", scheme: "kind = \"hybrid\"", law: Law::Exact, masses: MASSLESS },
+    Method { label: "PS e=1", class: "implicit, exact", scheme: "kind = \"paoli-schatzman\"\nbeta = 0.25\nrestitution = 1.0", law: Law::Exact, masses: ALL },
+    Method { label: "CN pen 1", class: "implicit, penalty", scheme: CN, law: Law::Penalty(1.0), masses: ALL },
+    Method { label: "CN pen 100", class: "implicit, penalty", scheme: CN, law: Law::Penalty(100.0), masses: ALL },
+    Method { label: "BE pen 1", class: "implicit, penalty", scheme: BE, law: Law::Penalty(1.0), masses: ALL },
+    Method { label: "BE pen 100", class: "implicit, penalty", scheme: BE, law: Law::Penalty(100.0), masses: ALL },
+    Method { label: "CD", class: "explicit, exact", scheme: CD, law: Law::Exact, masses: ALL },
+    Method { label: "CD pen 1", class: "explicit, penalty", scheme: CD, law: Law::Penalty(1.0), masses: ALL },
+    Method { label: "CD pen 100", class: "explicit, penalty", scheme: CD, law: Law::Penalty(100.0), masses: ALL },
+    Method { label: "CN Nitsche", class: "implicit, Nitsche", scheme: CN, law: Law::Toml("method = \"nitsche\"\nnitsche_theta = 1\nnitsche_gamma0 = 100.0"), masses: ALL },
+    Method { label: "CD Nitsche", class: "explicit, Nitsche", scheme: CD, law: Law::Toml("method = \"nitsche\"\nnitsche_theta = 1\nnitsche_gamma0 = 100.0"), masses: ALL },
+    Method { label: "MJ θ=½ e=0", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 0.5\nrestitution = 0.0", law: Law::Exact, masses: MASSIVE },
+    Method { label: "MJ θ=½ e=½", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 0.5\nrestitution = 0.5", law: Law::Exact, masses: MASSIVE },
+    Method { label: "MJ θ=1 e=0", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 1.0\nrestitution = 0.0", law: Law::Exact, masses: MASSIVE },
+    Method { label: "MJ θ=1 e=½", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 1.0\nrestitution = 0.5", law: Law::Exact, masses: MASSIVE },
+];
+
+/// A 1D test problem with an exact solution (no body force).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Problem1d {
+    pub key: &'static str,
+    pub title: &'static str,
+    pub length: f64,
+    pub density: f64,
+    pub modulus: f64,
+    pub gap: f64,
+    /// The `far_end` and `initial` keys of `[bar]`.
+    pub rest: &'static str,
+    /// Arrival speed V₀ of a free rod (its rebound velocity is measured against it), or None.
+    pub v0: Option<f64>,
+    /// Horizon in crossing times L/c beyond the impact at gap/V₀ (the paper's bar: 30 = 10 periods).
+    pub crossings: f64,
+    /// The L∞(L²) window in crossing times (None: the whole horizon).
+    pub error_window: Option<f64>,
+}
+
+impl Problem1d {
+    pub fn c(&self) -> f64 {
+        (self.modulus / self.density).sqrt()
+    }
+
+    /// T₀ = gap/V₀ + crossings · L/c (the run ends at the first multiple of Δt ≥ T₀).
+    pub fn horizon(&self) -> f64 {
+        self.v0.map_or(0.0, |v| self.gap / v) + self.crossings * self.length / self.c()
+    }
+}
+
+/// SDNV100's uniaxial-strain modulus E(1−ν)/((1+ν)(1−2ν)), E = 2e11, ν = 0.3.
+const SDNV100_MODULUS: f64 = 2e11 * 0.7 / (1.3 * 0.4);
+
+/// (a) the paper's bar (§4.1: clamped, u⁰ = (L−x)/2, 3-periodic, one impact per period), over
+/// ten periods, L∞(L²) over the first; (b) the rebounding free bar (`scenes/rebound-free-bar.toml`);
+/// (c) ANSYS VM265's rod (in, lbf·s²/in⁴, psi; impact at 5.0e-5 s, contact 2L/c, force ρcAV₀);
+/// (d) Code_Aster SDNV100 in 1D (uniaxial strain). The free rods run to 3 crossings after the
+/// impact (2 in contact, 1 of free flight).
+pub const PROBLEMS: [Problem1d; 4] = [
+    Problem1d {
+        key: "paper-bar",
+        title: "(a) paper's bar, 10 periods",
+        length: 1.0,
+        density: 1.0,
+        modulus: 1.0,
+        gap: 0.0,
+        rest: "far_end = \"clamped\"\ninitial = \"paper\"",
+        v0: None,
+        crossings: 30.0,
+        error_window: Some(3.0),
+    },
+    Problem1d {
+        key: "rebound-bar",
+        title: "(b) rebounding free bar",
+        length: 1.0,
+        density: 1.0,
+        modulus: 1.0,
+        gap: 0.1,
+        rest: "far_end = \"free\"\ninitial = { displacement = \"0\", velocity = \"-1\" }",
+        v0: Some(1.0),
+        crossings: 3.0,
+        error_window: None,
+    },
+    Problem1d {
+        key: "vm265",
+        title: "(c) ANSYS VM265 rod",
+        length: 10.0,
+        density: 7.3e-4,
+        modulus: 3.0e7,
+        gap: 0.01,
+        rest: "far_end = \"free\"\ninitial = { displacement = \"0\", velocity = \"-202.2\" }",
+        v0: Some(202.2),
+        crossings: 3.0,
+        error_window: None,
+    },
+    Problem1d {
+        key: "sdnv100",
+        title: "(d) Code_Aster SDNV100 (1D)",
+        length: 0.2,
+        density: 8000.0,
+        modulus: SDNV100_MODULUS,
+        gap: 2e-3,
+        rest: "far_end = \"free\"\ninitial = { displacement = \"0\", velocity = \"-100\" }",
+        v0: Some(100.0),
+        crossings: 3.0,
+        error_window: None,
+    },
+];
+
+/// Meshes of a comparison.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MethodsConfig {
+    /// Element counts of the work–precision sweep (Δt = h/c, or 0.9 Δt_c if the stable limit Δt_c is smaller).
+    pub elements: Vec<usize>,
+    /// The mesh of the tables (one of `elements`).
+    pub table_elements: usize,
+}
+
+impl MethodsConfig {
+    /// `bench --methods`.
+    pub fn bench() -> Self {
+        Self { elements: vec![25, 50, 100, 200, 400], table_elements: 100 }
+    }
+
+    /// The `reproduce` section (small: a few seconds).
+    pub fn reproduce() -> Self {
+        Self { elements: vec![25, 50, 100], table_elements: 50 }
+    }
+}
+
+/// One run: a method with a mass on a problem and mesh.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Case {
+    pub method: &'static Method,
+    pub mass: &'static str,
+    pub problem: &'static Problem1d,
+    pub elements: usize,
+}
+
+/// Every (problem, method, mass, mesh) of `config`.
+pub fn cases(config: &MethodsConfig) -> Vec<Case> {
+    let mut out = Vec::new();
+    for problem in &PROBLEMS {
+        for method in METHODS {
+            for &mass in method.masses {
+                for &elements in &config.elements {
+                    out.push(Case { method, mass, problem, elements });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Whether a case's numbers amplify round-off (module docs): a massive contact node, or
+/// Paoli–Schatzman.
+pub fn sensitive(case: &Case) -> bool {
+    case.mass == "standard" || case.method.scheme.contains("paoli-schatzman")
+}
+
+/// The scene text of a case at time step `dt` over `steps` steps (no series; the exact L²
+/// error is computed by the observer).
+pub fn scene_text(case: &Case, dt: f64, steps: usize) -> String {
+    let p = case.problem;
+    let h = p.length / case.elements as f64;
+    let contact = match case.method.law {
+        Law::Exact => String::new(),
+        Law::Penalty(f) => format!("[contact]\nmethod = \"penalty\"\npenalty = {:?}\n", f * p.modulus / h),
+        Law::Toml(body) => format!("[contact]\n{body}\n"),
+    };
+    format!(
+        "[bar]\nlength = {:?}\nelements = {}\ndensity = {:?}\nmodulus = {:?}\ngap = {:?}\n{}\n[mass]\nkind = \"{}\"\n\
+         [scheme]\n{}\n{contact}[time]\ndt = {dt:?}\nend = {:?}\n[output]\nseries = []\nsummary_l2 = false\n",
+        p.length,
+        case.elements,
+        p.density,
+        p.modulus,
+        p.gap,
+        p.rest,
+        case.mass,
+        case.method.scheme,
+        dt * steps as f64,
+    )
+}
+
+/// The measurements of one run (module docs); None where not applicable.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Metrics {
+    pub l2_error: f64,
+    pub impact_error: Option<f64>,
+    pub duration_error: Option<f64>,
+    pub rebound: Option<f64>,
+    pub force_tv: Option<f64>,
+    pub impulse: Option<f64>,
+    pub penetration: f64,
+    pub energy_drift: f64,
+}
+
+/// A case's result: the unperturbed run and, for a [`sensitive`] case, the perturbed copies.
+#[derive(Debug, Clone, Serialize)]
+pub struct MethodResult {
+    pub method: &'static str,
+    pub class: &'static str,
+    pub mass: &'static str,
+    pub problem: &'static str,
+    pub elements: usize,
+    pub dt: f64,
+    /// c Δt / h.
+    pub courant: f64,
+    pub steps: usize,
+    /// Impacts of the exact solution in (0, T].
+    pub exact_impacts: usize,
+    /// "ok", "diverged" or "failed" (the unperturbed run's).
+    pub status: &'static str,
+    pub failure: Option<String>,
+    /// The unperturbed run first, then the copies (empty unless status is "ok").
+    pub runs: Vec<Metrics>,
+    pub cpu_seconds: f64,
+    /// The stepping alone, in the same fastest run.
+    pub step_seconds: f64,
+}
+
+/// The safety factor on the stable limit where it binds: at Δt_c itself the highest mode is
+/// marginally stable and central differences with mod1 on the paper's bar gain 160 E(0) over ten
+/// periods (measured), at 0.9 Δt_c its energy stays within 1 % (the usual explicit practice).
+pub const SAFETY: f64 = 0.9;
+
+/// Time step of a case: h/c, or [`SAFETY`] times the stable limit of an explicit scheme if h/c
+/// is above that limit.
+fn time_step(case: &Case, problem: &BarProblem, scene: &BarScene) -> Result<f64, SchemeError> {
+    let dt = case.problem.length / case.elements as f64 / case.problem.c();
+    match problem.scheme_with(&scene.scheme, &scene.contact, dt) {
+        Ok(_) => Ok(dt),
+        Err(SchemeError::AboveStableLimit { limit, .. }) => Ok(SAFETY * limit),
+        Err(e) => Err(e),
+    }
+}
+
+/// Parses the scene of a case and builds its problem.
+fn build(case: &Case, dt: f64, steps: usize) -> Result<(BarScene, BarProblem), String> {
+    let text = scene_text(case, dt, steps);
+    let scene = BarScene::from_toml(&text).map_err(|e| e.to_string())?;
+    let problem = BarProblem::from_scene(&scene).map_err(|e| e.to_string())?;
+    Ok((scene, problem))
+}
+
+/// Runs one case (and its perturbed copies when [`sensitive`]).
+pub fn run_case(case: &Case) -> MethodResult {
+    let p = case.problem;
+    let mut r = MethodResult {
+        method: case.method.label,
+        class: case.method.class,
+        mass: case.mass,
+        problem: p.key,
+        elements: case.elements,
+        dt: f64::NAN,
+        courant: f64::NAN,
+        steps: 0,
+        exact_impacts: 0,
+        status: "failed",
+        failure: None,
+        runs: Vec::new(),
+        cpu_seconds: f64::NAN,
+        step_seconds: f64::NAN,
+    };
+    // Δt from a first build at h/c (any horizon: only Δt matters there).
+    let dt = match build(case, p.length / case.elements as f64 / p.c(), 1)
+        .and_then(|(s, pr)| time_step(case, &pr, &s).map_err(|e| e.to_string()))
+    {
+        Ok(dt) => dt,
+        Err(e) => {
+            r.failure = Some(e);
+            return r;
+        }
+    };
+    let steps = (p.horizon() / dt * (1.0 - 1e-12)).ceil() as usize;
+    let (scene, mut problem) = match build(case, dt, steps) {
+        Ok(x) => x,
+        Err(e) => {
+            r.failure = Some(e);
+            return r;
+        }
+    };
+    (r.dt, r.steps, r.courant) = (dt, steps, dt * p.c() / (p.length / case.elements as f64));
+    r.exact_impacts = problem.exact.as_ref().map_or(0, |e| count_impacts(e, steps as f64 * dt, p.length / p.c()));
+    let (u0, v0) = (problem.u0.clone(), problem.v0.clone());
+    let copies = if sensitive(case) { band::PERTURBATIONS } else { 0 };
+    let scale = velocity_scale(p);
+    for k in 0..=copies {
+        problem.u0 = if k == 0 { u0.clone() } else { band::perturbed(&u0, k - 1) };
+        problem.v0 = if k == 0 { v0.clone() } else { perturbed_velocity(&v0, k - 1, scale) };
+        match measure(case, &scene, &problem, dt, steps) {
+            Ok(Ok(m)) => r.runs.push(m),
+            Ok(Err(d)) if k == 0 => {
+                (r.status, r.failure) = ("diverged", Some(d));
+                return r;
+            }
+            Err(e) if k == 0 => {
+                r.failure = Some(e);
+                return r;
+            }
+            // A copy that diverges or fails: the band is then not a result; say so.
+            Ok(Err(d)) | Err(d) => {
+                (r.status, r.failure) = ("failed", Some(format!("perturbed copy {k}: {d}")));
+                r.runs.clear();
+                return r;
+            }
+        }
+    }
+    (problem.u0, problem.v0) = (u0, v0);
+    r.status = "ok";
+    (r.cpu_seconds, r.step_seconds) = cpu_seconds(&scene, &problem, dt, steps);
+    r
+}
+
+/// A velocity scale of a problem: the arrival speed V₀ of a free rod, else c·L/2/L = c/2 (the
+/// paper's bar: u⁰ = (L − x)/2 releases at speed about c/2).
+fn velocity_scale(p: &Problem1d) -> f64 {
+    p.v0.unwrap_or(0.5 * p.c())
+}
+
+/// `V⁰` of copy k: `v_i (1 + δ_{k,i}) + δ_{k,i} · scale`, δ_{k,i} ∈ {−1, −½, 0, ½, 1}·
+/// [`band::PERTURBATION`] from a fixed pattern, distinct for k = 0..4 at every i and shifted
+/// from [`band::perturbed`]'s (so U⁰ and V⁰ are not perturbed alike). The absolute part
+/// perturbs the free rods, whose U⁰ = 0 (a relative perturbation of U⁰ alone left their five
+/// runs identical, issue 22), and any zero entry of V⁰.
+fn perturbed_velocity(v0: &[f64], k: usize, scale: f64) -> Vec<f64> {
+    v0.iter()
+        .enumerate()
+        .map(|(i, &v)| {
+            let d = (((7 * i + 3 * k + 3) % 5) as f64 / 2.0 - 1.0) * band::PERTURBATION;
+            v * (1.0 + d) + d * scale
+        })
+        .collect()
+}
+
+/// Number of contact phases of the exact solution starting in (0, t_end], counted as its sign
+/// changes of λ sampled 64 times per crossing time (contacts last 2 crossings here).
+fn count_impacts(exact: &massredist::exact::Exact, t_end: f64, crossing: f64) -> usize {
+    let n = (t_end / crossing * 64.0).ceil() as usize;
+    let on = |k: usize| exact.lambda(t_end * k as f64 / n as f64) < 0.0;
+    (1..=n).filter(|&k| on(k) && !on(k - 1)).count()
+}
+
+/// The fastest of up to 3 bare runs (set-up and stepping, no observer): (total, stepping) seconds.
+fn cpu_seconds(scene: &BarScene, problem: &BarProblem, dt: f64, steps: usize) -> (f64, f64) {
+    let started = Instant::now();
+    let mut best = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..3 {
+        let t = Instant::now();
+        let Ok(mut s) = problem.scheme_with(&scene.scheme, &scene.contact, dt) else { return (f64::NAN, f64::NAN) };
+        let stepping = Instant::now();
+        if integrate(problem, s.as_mut(), steps, &mut []).is_err() {
+            return (f64::NAN, f64::NAN);
+        }
+        let total = t.elapsed().as_secs_f64();
+        if total < best.0 {
+            best = (total, stepping.elapsed().as_secs_f64());
+        }
+        if started.elapsed().as_secs_f64() > 0.05 {
+            break;
+        }
+    }
+    best
+}
+
+/// One observed run: Ok(Ok(metrics)), Ok(Err(divergence)), or Err(the scheme's error).
+fn measure(
+    case: &Case,
+    scene: &BarScene,
+    problem: &BarProblem,
+    dt: f64,
+    steps: usize,
+) -> Result<Result<Metrics, String>, String> {
+    let p = case.problem;
+    let mut scheme = problem.scheme_with(&scene.scheme, &scene.contact, dt).map_err(|e| e.to_string())?;
+    let window = p.error_window.map_or(f64::INFINITY, |w| w * p.length / p.c());
+    let weak = matches!(scene.contact, massredist::contact::law::ContactLaw::Nitsche { .. });
+    let mut watch = Watch::new(problem, window, weak);
+    let criterion = DivergenceCriterion::default();
+    let outcome =
+        integrate_watched(problem, scheme.as_mut(), steps, &criterion, &mut [&mut watch]).map_err(|e| e.to_string())?;
+    if let Outcome::Diverged(d) = outcome {
+        return Ok(Err(d.to_string()));
+    }
+    Ok(Ok(watch.metrics(problem, p)))
+}
+
+/// The observer of a run (O(1) memory): the module docs' measurements.
+struct Watch {
+    lower: f64,
+    /// Contact read off the force (λ < 0), not the position: Nitsche's weak enforcement.
+    weak: bool,
+    window: f64,
+    /// `M 1` (the consistent weighted mass; row sums = the lumped mass) and its sum.
+    weights: Vec<f64>,
+    total: f64,
+    l2: f64,
+    norm: f64,
+    first_impact: Option<f64>,
+    first_release: Option<f64>,
+    min_u0: f64,
+    tv: f64,
+    tv_exact: f64,
+    impulse: f64,
+    impulse_exact: f64,
+    last: Option<(f64, f64)>,
+    e0: f64,
+    e: f64,
+    mean_velocity: f64,
+}
+
+impl Watch {
+    fn new(problem: &BarProblem, window: f64, weak: bool) -> Self {
+        let system = &problem.system.system;
+        let mut weights = vec![0.0; system.n()];
+        system.mass.mul_into(&vec![1.0; system.n()], &mut weights);
+        Self {
+            lower: system.lower[0],
+            weak,
+            window,
+            total: weights.iter().sum(),
+            weights,
+            l2: 0.0,
+            norm: 0.0,
+            first_impact: None,
+            first_release: None,
+            min_u0: f64::INFINITY,
+            tv: 0.0,
+            tv_exact: 0.0,
+            impulse: 0.0,
+            impulse_exact: 0.0,
+            last: None,
+            e0: f64::NAN,
+            e: f64::NAN,
+            mean_velocity: f64::NAN,
+        }
+    }
+
+    fn metrics(&self, problem: &BarProblem, p: &Problem1d) -> Metrics {
+        let first = problem.exact.as_ref().and_then(|e| e.first_contact());
+        let duration = first.map(|(a, b)| b - a);
+        let impact_error = match (self.first_impact, first, duration) {
+            (Some(t), Some((a, _)), Some(d)) => Some((t - a) / d),
+            _ => None,
+        };
+        let duration_error = match (self.first_impact, self.first_release, duration) {
+            (Some(a), Some(b), Some(d)) => Some((b - a - d) / d),
+            _ => None,
+        };
+        let ratio = |a: f64, b: f64| (b != 0.0).then(|| a / b);
+        Metrics {
+            l2_error: self.l2 / self.norm,
+            impact_error,
+            duration_error,
+            rebound: p.v0.map(|v| self.mean_velocity / v),
+            force_tv: ratio(self.tv, self.tv_exact),
+            impulse: ratio(self.impulse, self.impulse_exact),
+            penetration: (self.lower - self.min_u0).max(0.0) / p.length,
+            energy_drift: (self.e - self.e0) / self.e0.abs(),
+        }
+    }
+}
+
+impl Observer for Watch {
+    fn needs(&self) -> Needs {
+        Needs { energy: true, l2: true, y_variation: false }
+    }
+
+    fn observe(&mut self, s: &Sample) {
+        let t = s.state.t;
+        if t <= self.window * (1.0 + 1e-12) {
+            self.l2 = self.l2.max(s.l2_error);
+            self.norm = self.norm.max(s.exact_interp_norm);
+        }
+        let u0 = s.state.u[0];
+        self.min_u0 = self.min_u0.min(u0);
+        let touching = if self.weak { s.state.lambda[0] < 0.0 } else { u0 <= self.lower };
+        match (self.first_impact, self.first_release) {
+            (None, _) if touching => self.first_impact = Some(t),
+            (Some(_), None) if !touching => self.first_release = Some(t),
+            _ => {}
+        }
+        let (lambda, exact) = (s.state.lambda[0], s.exact.map_or(0.0, |e| e.lambda(t)));
+        if let Some((l, le)) = self.last {
+            self.tv += (lambda - l).abs();
+            self.tv_exact += (exact - le).abs();
+        }
+        self.last = Some((lambda, exact));
+        self.impulse += lambda;
+        self.impulse_exact += exact;
+        if self.e0.is_nan() {
+            self.e0 = s.energy;
+        }
+        self.e = s.energy;
+        let momentum: f64 = self.weights.iter().zip(s.state.v).map(|(w, v)| w * v).sum();
+        self.mean_velocity = momentum / self.total;
+    }
+}
+
+/// Runs every case of `config` in parallel (largest first), calling `tick` after each; results
+/// in the order of [`cases`].
+pub fn compute(config: &MethodsConfig, tick: &(dyn Fn() + Sync)) -> Vec<MethodResult> {
+    let all = cases(config);
+    let mut order: Vec<usize> = (0..all.len()).collect();
+    let work = |c: &Case| (c.elements * c.elements) as f64 * c.problem.crossings * if sensitive(c) { 5.0 } else { 1.0 };
+    order.sort_by(|&a, &b| work(&all[b]).total_cmp(&work(&all[a])));
+    let mut out: Vec<(usize, MethodResult)> = order
+        .par_iter()
+        .map(|&i| {
+            let r = run_case(&all[i]);
+            tick();
+            (i, r)
+        })
+        .collect();
+    out.sort_by_key(|p| p.0);
+    out.into_iter().map(|p| p.1).collect()
+}

@@ -1,0 +1,328 @@
+//! The comparison of [`super::methods`] as files: CSV (one row per run and copy), Markdown tables
+//! (one per problem, at the tables' mesh; round-off sensitive cases as agreed digits or bands),
+//! and the work–precision figure (relative L∞(L²) error against CPU time, one panel per problem,
+//! one colour per method, one marker per mass). Formatting and drawing only.
+
+use super::band::{sig, stable_digits};
+use super::methods::{METHODS, MethodResult, MethodsConfig, Metrics, PROBLEMS, Problem1d};
+use massredist::output::fmt_f64;
+use plotters::prelude::*;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Column names of [`methods_csv`].
+pub const METHODS_COLUMNS: [&str; 21] = [
+    "problem",
+    "method",
+    "class",
+    "mass",
+    "elements",
+    "dt",
+    "courant",
+    "steps",
+    "copy",
+    "status",
+    "l2_error_relative",
+    "impact_error",
+    "duration_error",
+    "rebound_ratio",
+    "force_tv_ratio",
+    "impulse_ratio",
+    "penetration",
+    "energy_drift",
+    "exact_impacts",
+    "cpu_seconds",
+    "step_seconds",
+];
+
+/// Every run as CSV: one row per copy (copy 0 is the unperturbed run); a diverged or failed run
+/// is one row with its status and empty numbers.
+pub fn methods_csv(results: &[MethodResult]) -> String {
+    let mut s = METHODS_COLUMNS.join(",") + "\n";
+    let f = |x: f64| if x.is_finite() { fmt_f64(x) } else { String::new() };
+    let o = |x: Option<f64>| x.map_or(String::new(), f);
+    for r in results {
+        let head = format!(
+            "{},{},{},{},{},{},{},{}",
+            r.problem,
+            r.method,
+            r.class.replace(',', ";"),
+            r.mass,
+            r.elements,
+            f(r.dt),
+            f(r.courant),
+            r.steps
+        );
+        if r.runs.is_empty() {
+            let _ = writeln!(s, "{head},0,{},,,,,,,,,{},,", r.status, r.exact_impacts);
+        }
+        for (k, m) in r.runs.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "{head},{k},{},{},{},{},{},{},{},{},{},{},{},{}",
+                r.status,
+                f(m.l2_error),
+                o(m.impact_error),
+                o(m.duration_error),
+                o(m.rebound),
+                o(m.force_tv),
+                o(m.impulse),
+                f(m.penetration),
+                f(m.energy_drift),
+                r.exact_impacts,
+                if k == 0 { f(r.cpu_seconds) } else { String::new() },
+                if k == 0 { f(r.step_seconds) } else { String::new() }
+            );
+        }
+    }
+    s
+}
+
+/// A column over the runs of a result: the agreed digits (3 at most) or the band.
+fn cell(r: &MethodResult, get: impl Fn(&Metrics) -> Option<f64>) -> String {
+    let v: Vec<Option<f64>> = r.runs.iter().map(get).collect();
+    if v.len() == 1 {
+        return v[0].map_or("—".into(), |x| sig(x, 3));
+    }
+    stable_digits(&v, 3)
+}
+
+/// The exact values a problem's rows are measured against, in its units (by characteristics: a
+/// free rod at V₀ hits the wall at gap/V₀, stays for D = 2L/c under the force ρcV₀ per unit
+/// section, and leaves at V₀; the paper's bar, §4.1: contact on [L, 2L] of each period 3L/c).
+fn exact_values(p: &Problem1d) -> String {
+    let c = p.c();
+    match p.v0 {
+        Some(v0) => format!(
+            "Exact: impact at gap/V₀ = {}, contact D = 2L/c = {}, force ρcV₀ = {} per unit section, rebound V₀ = {} \
+             (L = {}, ρ = {}, E = {}, gap = {}).",
+            sig(p.gap / v0, 4),
+            sig(2.0 * p.length / c, 4),
+            sig(p.density * c * v0, 4),
+            sig(v0, 4),
+            sig(p.length, 4),
+            sig(p.density, 4),
+            sig(p.modulus, 4),
+            sig(p.gap, 4)
+        ),
+        None => format!(
+            "Exact (§4.1): contact on [L/c, 2L/c] = [{}, {}] of each period 3L/c, force −E/2 = {}.",
+            sig(p.length / c, 4),
+            sig(2.0 * p.length / c, 4),
+            sig(-p.modulus / 2.0, 4)
+        ),
+    }
+}
+
+/// One Markdown table per problem at `config.table_elements`.
+pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> String {
+    let mut s = String::new();
+    for p in &PROBLEMS {
+        let rows: Vec<&MethodResult> =
+            results.iter().filter(|r| r.problem == p.key && r.elements == config.table_elements).collect();
+        let impacts = rows.first().map_or(0, |r| r.exact_impacts);
+        let _ = writeln!(
+            s,
+            "### {} (m = {}, Δt = h/c or 0.9 Δt_c)\n\n{}\n\n\
+             | method | class | mass | cΔt/h | L∞(L²) rel. | impact err./D | duration err./D | rebound v̄/V₀ | force TV / exact | impulse / exact | penetration/L | energy drift ({impacts} impacts) | CPU s | of which steps |\n\
+             |---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+            p.title,
+            config.table_elements,
+            exact_values(p)
+        );
+        for r in rows {
+            let head = format!("| {} | {} | {} | {} ", r.method, r.class, r.mass, sig(r.courant, 3));
+            if r.runs.is_empty() {
+                let why = r.failure.as_deref().unwrap_or("").replace('|', "/");
+                let _ = writeln!(s, "{head}| {} ({why}) | | | | | | | | | |", r.status);
+                continue;
+            }
+            let _ = writeln!(
+                s,
+                "{head}| {} | {} | {} | {} | {} | {} | {} | {} | {:.2e} | {:.2e} |",
+                cell(r, |m| Some(m.l2_error)),
+                cell(r, |m| m.impact_error),
+                cell(r, |m| m.duration_error),
+                cell(r, |m| m.rebound),
+                cell(r, |m| m.force_tv),
+                cell(r, |m| m.impulse),
+                cell(r, |m| Some(m.penetration)),
+                cell(r, |m| Some(m.energy_drift)),
+                r.cpu_seconds,
+                r.step_seconds
+            );
+        }
+        let _ = writeln!(s);
+    }
+    s
+}
+
+/// Colours per method, by position in [`METHODS`] (tab20).
+const COLOURS: [(u8, u8, u8); 16] = [
+    (31, 119, 180),
+    (174, 199, 232),
+    (255, 127, 14),
+    (255, 187, 120),
+    (44, 160, 44),
+    (152, 223, 138),
+    (214, 39, 40),
+    (255, 152, 150),
+    (148, 103, 189),
+    (197, 176, 213),
+    (140, 86, 75),
+    (196, 156, 148),
+    (227, 119, 194),
+    (127, 127, 127),
+    (188, 189, 34),
+    (23, 190, 207),
+];
+
+const MASSES: [&str; 4] = ["standard", "mod1", "mod2", "mod3"];
+
+/// (method index, mass index, points (cpu, error) along the meshes) of one problem.
+fn lines(results: &[MethodResult], problem: &str) -> Vec<(usize, usize, Vec<(f64, f64)>)> {
+    let mut out = Vec::new();
+    for (mi, m) in METHODS.iter().enumerate() {
+        for (ki, mass) in MASSES.iter().enumerate() {
+            let mut pts: Vec<(usize, f64, f64)> = results
+                .iter()
+                .filter(|r| r.problem == problem && r.method == m.label && r.mass == *mass)
+                .filter_map(|r| {
+                    // The largest error over the copies (a sensitive case's worst run).
+                    let e = r.runs.iter().map(|x| x.l2_error).fold(f64::NAN, f64::max);
+                    (e > 0.0 && r.cpu_seconds > 0.0).then_some((r.elements, r.cpu_seconds, e))
+                })
+                .collect();
+            pts.sort_by_key(|p| p.0);
+            if !pts.is_empty() {
+                out.push((mi, ki, pts.iter().map(|p| (p.1, p.2)).collect()));
+            }
+        }
+    }
+    out
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    results: &[MethodResult],
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let (top, body) = root.split_vertically(34);
+    top.titled(
+        "Work–precision of the method classes: relative L∞(L²) error against CPU time (Δt = h/c or 0.9 Δt_c; \
+         markers: ● standard ▲ mod1 ■ mod2 ✚ mod3)",
+        ("sans-serif", 16),
+    )
+    .map_err(e)?;
+    let areas = body.split_evenly((2, 2));
+    for (area, p) in areas.iter().zip(&PROBLEMS) {
+        let ls = lines(results, p.key);
+        let span = |f: &dyn Fn(&(f64, f64)) -> f64| {
+            let (lo, hi) = ls
+                .iter()
+                .flat_map(|l| l.2.iter().map(f))
+                .fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+            if lo.is_finite() && lo > 0.0 { (lo / 1.5, hi * 1.5) } else { (1e-6, 1.0) }
+        };
+        let (x, y) = (span(&|q| q.0), span(&|q| q.1));
+        let mut chart =
+            crate::plot::log_log_chart(area, p.title, x, y, ("CPU time [s]", "relative L∞(L²) error"), false)?;
+        let mut labelled = vec![false; METHODS.len()];
+        for (mi, ki, pts) in &ls {
+            let (r, g, b) = COLOURS[mi % COLOURS.len()];
+            let colour = RGBColor(r, g, b);
+            let series = chart.draw_series(LineSeries::new(pts.clone(), colour.stroke_width(1))).map_err(e)?;
+            if !labelled[*mi] {
+                labelled[*mi] = true;
+                series
+                    .label(METHODS[*mi].label)
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(3)));
+            }
+            let style = colour.filled();
+            match ki {
+                0 => chart.draw_series(pts.iter().map(|&q| Circle::new(q, 3, style))).map_err(e)?,
+                1 => chart.draw_series(pts.iter().map(|&q| TriangleMarker::new(q, 4, style))).map_err(e)?,
+                2 => chart
+                    .draw_series(pts.iter().map(|&q| EmptyElement::at(q) + Rectangle::new([(-3, -3), (3, 3)], style)))
+                    .map_err(e)?,
+                _ => chart.draw_series(pts.iter().map(|&q| Cross::new(q, 4, colour.stroke_width(2)))).map_err(e)?,
+            };
+        }
+        crate::plot::draw_log_legend(&mut chart, SeriesLabelPosition::LowerLeft, 11.0)?;
+    }
+    root.present().map_err(e)
+}
+
+/// Draws the work–precision figure to `path` (.png or .svg).
+pub fn methods_figure(path: &Path, results: &[MethodResult]) -> Result<(), String> {
+    let size = (1500, 1200);
+    let r = if path.extension().is_some_and(|e| e == "svg") {
+        draw(SVGBackend::new(path, size).into_drawing_area(), results)
+    } else {
+        draw(BitMapBackend::new(path, size).into_drawing_area(), results)
+    };
+    r.map_err(|m| format!("cannot draw {}: {m}", path.display()))
+}
+
+/// The report's prose and tables (`reproduce`'s section and `bench --methods`' report).
+pub fn methods_markdown(config: &MethodsConfig, results: &[MethodResult], figure: &str) -> String {
+    let mut s = String::new();
+    let failed: Vec<String> = results
+        .iter()
+        .filter(|r| r.status != "ok")
+        .map(|r| {
+            format!(
+                "- {} / {} / {} m = {}: {} ({})",
+                r.problem,
+                r.method,
+                r.mass,
+                r.elements,
+                r.status,
+                r.failure.as_deref().unwrap_or("")
+            )
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "Every method class of issue 20 ({} methods × their masses) on four 1D problems with exact solutions by \
+         characteristics; meshes m = {:?}, Δt = h/c (explicit runs: 0.9 Δt_c when the stable limit Δt_c is below h/c). \
+         Penalty κ = factor · E/h (\"pen 1\", \"pen 100\"). D is the exact first contact's duration; the energy drift \
+         is (E(T) − E(0))/E(0) of each scheme's own energy. CPU time is set-up (factorisations; for central \
+         differences the stable limit: Lanczos, at most 300 steps, else the Gershgorin bound) and stepping, fastest of up \
+         to 3 runs; \"of which steps\" is the stepping alone. Standard-mass and Paoli–Schatzman runs are repeated from \
+         4 perturbed U⁰ and V⁰ (|δ| ≤ 1e-13 relative, and on V⁰ absolute times V₀, or c/2 on the paper's bar): their cells show only the digits all 5 runs share, else the band min–max \
+         (src/paper/methods.rs documents every column).\n\n![work–precision]({figure})\n",
+        METHODS.len(),
+        config.elements
+    );
+    s += &methods_tables(config, results);
+    if !failed.is_empty() {
+        let _ = writeln!(s, "Runs that diverged or failed:\n\n{}\n", failed.join("\n"));
+    }
+    s
+}
+
+/// The files of the comparison in a `reproduce` folder, in the order written.
+pub const METHODS_FILES: [&str; 3] = ["methods.csv", "methods-work-precision.png", "methods-work-precision.svg"];
+
+/// Writes [`METHODS_FILES`] into `dir`.
+pub fn write_methods_files(dir: &Path, results: &[MethodResult]) -> std::io::Result<()> {
+    std::fs::write(dir.join(METHODS_FILES[0]), methods_csv(results))?;
+    for f in &METHODS_FILES[1..] {
+        methods_figure(&dir.join(f), results).map_err(std::io::Error::other)?;
+    }
+    Ok(())
+}
+
+/// `reproduce`'s section: a heading and [`methods_markdown`].
+pub fn methods_section(config: &MethodsConfig, results: &[MethodResult]) -> String {
+    format!(
+        "\n## Beyond the paper: every method class side by side (issue 20)\n\n`massredist bench --methods` runs the same \
+         comparison on finer meshes (m up to 400).\n\n{}",
+        methods_markdown(config, results, METHODS_FILES[1])
+    )
+}

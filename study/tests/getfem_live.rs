@@ -1,0 +1,71 @@
+#![cfg(feature = "python")]
+//! GetFEM as a live peer (issue 19, item 6; `massredist_study::crosscheck::getfem`): GetFEM's disc of
+//! demo_dynamic_contact.m stepped by GetFEM 5.4 (python/crosscheck/getfem_disc.py under /usr/bin/python3)
+//! and by this crate from `scenes/body-getfem-*.toml`, P1 and P2, standard and singular mass:
+//! the same cells, nodes, contact nodes, massless nodes and weights, and every node's
+//! displacement at every step to 1e-6 relative. A 1 % wrong weight and a wrong β fail it.
+//! Gated on the `python` feature because that is where CI installs GetFEM (tests/run-all.sh,
+//! python/install-deps.sh). Run with `cargo test --features python --test getfem_live`.
+
+use massredist_study::crosscheck::getfem::{self as gf, Agreement, CASES, GetfemCase, TOL};
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+/// One GetFEM run at a time (the 2 cores of CI).
+static GETFEM: Mutex<()> = Mutex::new(());
+
+fn scratch(test: &str, name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("massredist-getfem-live-{}-{test}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn run(test: &str, case: &GetfemCase, edit: &dyn Fn(String) -> String) -> Agreement {
+    let _one = GETFEM.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let dir = scratch(test, &case.scene.replace(".toml", ""));
+    let a = gf::run_case(case, &dir, edit).unwrap_or_else(|e| panic!("{}: {e}", case.name));
+    let _ = std::fs::remove_dir_all(&dir);
+    eprintln!("{a:?}");
+    a
+}
+
+fn same(text: String) -> String {
+    text
+}
+
+#[test]
+fn the_disc_agrees_with_getfem_p1_and_p2_standard_and_singular_mass() {
+    for case in &CASES {
+        let a = run("agree", case, &same);
+        // The weights of the scene are GetFEM's singular mass, cell by cell (exactly: 0 and 1).
+        assert_eq!(a.weight_diff, 0.0, "{}", case.name);
+        // GetFEM's contact is exact too: no node below the plane beyond round-off of the
+        // coordinates (20 × ε), and d·λ = 0 to the Newton residual (1e-9 on rows of size 1e4).
+        assert!(a.getfem_min_distance >= -1e-14, "{}: {}", case.name, a.getfem_min_distance);
+        assert!(a.getfem_max_product <= 1e-9, "{}: {}", case.name, a.getfem_max_product);
+        assert!(a.steps >= 200, "{}: {} steps", case.name, a.steps);
+        // The displacement scale is the settling under gravity (0.2 at t = 2, 0.6 at t = 3).
+        assert!(a.scale > 0.1, "{}: {}", case.name, a.scale);
+        assert!(a.relative <= TOL, "{}: relative difference {} > {TOL}", case.name, a.relative);
+    }
+}
+
+#[test]
+fn a_one_percent_wrong_weight_fails_the_comparison() {
+    // Mutation of the data on our side only: the first cell (of weight 1) weighs 1.01.
+    // Measured: relative difference 4.9e-4 on P1 with the singular mass.
+    let case = &CASES[0];
+    let edit = |text: String| text.replacen("weights = [1,", "weights = [1.01,", 1);
+    assert!(edit(gf::scene_text(case).unwrap()).contains("weights = [1.01,"));
+    let a = run("weight", case, &edit);
+    assert!(a.relative > TOL, "a 1 % wrong weight passed: {}", a.relative);
+}
+
+#[test]
+fn a_wrong_beta_fails_the_comparison() {
+    // β = 0.26 here, 0.25 in GetFEM (P2, singular mass). Measured: relative difference 2.5e-5.
+    let case = &CASES[1];
+    let edit = |text: String| text.replace("beta = 0.25", "beta = 0.26");
+    let a = run("beta", case, &edit);
+    assert!(a.relative > TOL, "a wrong beta passed: {}", a.relative);
+}

@@ -1,0 +1,217 @@
+//! The comparison of the method classes (issue 20 item 2: `bench --methods`, the `reproduce`
+//! section), src/paper/methods.rs, on one coarse mesh (m = 50): what the exact solutions and
+//! the schemes' known properties say the table must show.
+
+use massredist_study::paper::methods::{METHODS, MethodResult, MethodsConfig, PROBLEMS, compute, sensitive};
+use massredist_study::paper::methods_report::{METHODS_COLUMNS, methods_csv, methods_tables};
+
+fn row<'a>(rs: &'a [MethodResult], problem: &str, method: &str, mass: &str) -> &'a MethodResult {
+    rs.iter()
+        .find(|r| r.problem == problem && r.method == method && r.mass == mass)
+        .unwrap_or_else(|| panic!("no row {problem} {method} {mass}"))
+}
+
+/// One run of the whole table at m = 50 (about 190 cases), checked against the exact solutions.
+/// (About 130 lines: one computation, checked column by column and then written; split, each part
+/// would rerun it.)
+///
+/// Mutations tried: the penalty not scaled by 1/h (`f * E / h` -> `f * E` in `scene_text`) ->
+/// "rebound-bar mod1: penetration 0.0101 against 0.0002"; the release test `u0 > lower` ->
+/// `u0 >= lower` in `Watch::observe` -> "rebound-bar: duration Some(-0.99)" (released at the
+/// impact step).
+#[test]
+fn every_method_runs_and_the_table_matches_the_exact_solutions() {
+    let config = MethodsConfig { elements: vec![50], table_elements: 50 };
+    let rs = compute(&config, &|| {});
+    let per_problem: usize = METHODS.iter().map(|m| m.masses.len()).sum();
+    assert_eq!(rs.len(), PROBLEMS.len() * per_problem);
+    // Every run goes to its end; the chaos rule's copies are there exactly for the sensitive cases.
+    for r in &rs {
+        assert_eq!(r.status, "ok", "{} {} {}: {:?}", r.problem, r.method, r.mass, r.failure);
+        let sens = r.mass == "standard" || r.method.starts_with("PS");
+        assert_eq!(r.runs.len(), if sens { 5 } else { 1 }, "{} {}", r.method, r.mass);
+        // Explicit runs never exceed the stable limit (0.9 Δt_c where it binds): cΔt/h ≤ 1.
+        assert!(r.courant <= 1.0 + 1e-12 && r.courant > 0.0, "{} {}: {}", r.method, r.mass, r.courant);
+    }
+    // The exact solutions: ten impacts in ten periods of the paper's bar, one for the free rods.
+    for p in &PROBLEMS {
+        let want = if p.key == "paper-bar" { 10 } else { 1 };
+        assert!(rs.iter().filter(|r| r.problem == p.key).all(|r| r.exact_impacts == want), "{}", p.key);
+    }
+    for p in ["rebound-bar", "vm265", "sdnv100"] {
+        // CD with a massless contact node at cΔt/h = 1 is the characteristic scheme of a uniform
+        // free rod (mod3 keeps node 1's lumped mass h): contact for exactly 2L/c (round-off of
+        // the step count), impact within one step (the first t_n in contact), rebound velocity
+        // and impulse exact to the mass lost at the contact node's quasi-static value: within 2 %
+        // (measured 0.2 %; tests/methods_rows.rs asserts the force).
+        let cd = row(&rs, p, "CD", "mod3");
+        let m = cd.runs[0];
+        assert!((cd.courant - 1.0).abs() < 1e-12, "{p}: {}", cd.courant);
+        let step_over_d = cd.courant / 50.0 / 2.0; // Δt / (2L/c) with h = L/50
+        // The rebounding bar's events fall on the grid (gap = 5h): u_0 = −gap also at t = 2.1,
+        // released one step later (the exact contact set is closed).
+        let slack = if p == "rebound-bar" { step_over_d } else { 0.0 };
+        assert!(m.duration_error.unwrap().abs() < slack + 1e-9, "{p}: duration {:?}", m.duration_error);
+        assert!((0.0..=step_over_d + 1e-12).contains(&m.impact_error.unwrap()), "{p}: impact {:?}", m.impact_error);
+        assert!((m.rebound.unwrap() - 1.0).abs() < 0.02, "{p}: rebound {:?}", m.rebound);
+        // Exact contact never penetrates (Signorini solved exactly) but Paoli–Schatzman's
+        // projection leaves the contact node where the average says; Moreau–Jean penetrates.
+        for r in rs.iter().filter(|r| r.problem == p && r.class.ends_with("exact") && !r.method.starts_with("PS")) {
+            assert!(r.runs.iter().all(|x| x.penetration < 1e-12), "{p} {} {}: {:?}", r.method, r.mass, r.runs[0]);
+        }
+        for r in rs.iter().filter(|r| r.problem == p && r.method.starts_with("MJ")) {
+            assert!(r.runs[0].penetration > 0.0, "{p} {}", r.method);
+        }
+        // Backward Euler and Moreau–Jean θ = 1 dissipate: the rebound is slower than V₀.
+        for r in rs.iter().filter(|r| r.problem == p && (r.method == "BE" || r.method.starts_with("MJ θ=1"))) {
+            assert!(r.runs[0].rebound.unwrap() < 0.95, "{p} {} {}: {:?}", r.method, r.mass, r.runs[0].rebound);
+        }
+    }
+    // The penalty's penetration is the spring's: |λ|/κ with the rod's force ρcV₀ and κ = 100 E/h,
+    // so penetration/L ≈ V₀h/(100 c L); within [0.8, 2] of that for CN (it overshoots while the
+    // force builds up; the standard mass chatters and penetrates 3.6 times as deep).
+    for p in PROBLEMS.iter().filter(|p| p.v0.is_some()) {
+        let want = p.v0.unwrap() * p.length / 50.0 / (100.0 * p.c() * p.length);
+        for mass in ["mod1", "mod2", "mod3"] {
+            let got = row(&rs, p.key, "CN pen 100", mass).runs.iter().map(|m| m.penetration).fold(0.0, f64::max);
+            assert!((0.8..=2.0).contains(&(got / want)), "{} {mass}: penetration {got} against {want}", p.key);
+        }
+    }
+    // A stiffer spring penetrates less (penetration ~ force/κ), on every problem and mass.
+    for p in &PROBLEMS {
+        for (soft, stiff) in [("CN pen 1", "CN pen 100"), ("BE pen 1", "BE pen 100"), ("CD pen 1", "CD pen 100")] {
+            for mass in ["mod1", "mod2", "mod3"] {
+                let (a, b) = (row(&rs, p.key, soft, mass), row(&rs, p.key, stiff, mass));
+                assert!(
+                    b.runs[0].penetration < 0.2 * a.runs[0].penetration,
+                    "{}: {stiff} penetrates less than {soft} ({mass}): {} vs {}",
+                    p.key,
+                    b.runs[0].penetration,
+                    a.runs[0].penetration
+                );
+            }
+        }
+    }
+    // Backward Euler loses energy over every run; CN with mod3 loses it only at the impacts, O(h)
+    // each: within 5 % after ten impacts of the paper's bar at m = 50 (measured −3.3 %; −1.5 % at
+    // m = 100) and after the one impact of a free rod (measured below 0.1 %).
+    for r in rs.iter().filter(|r| r.method == "BE") {
+        assert!(r.runs.iter().all(|x| x.energy_drift < 0.0), "{} {}", r.problem, r.mass);
+    }
+    for p in &PROBLEMS {
+        let cn = row(&rs, p.key, "CN", "mod3").runs[0];
+        assert!(cn.energy_drift.abs() < 0.05, "{}: {}", p.key, cn.energy_drift);
+    }
+    // The chaos rule: a sensitive case whose copies disagree is printed as a band (an en dash),
+    // never as the unperturbed run's digits; the CSV has one row per copy.
+    let tables = methods_tables(&config, &rs);
+    for r in rs.iter().filter(|r| r.runs.len() == 5) {
+        let v: Vec<Option<f64>> = r.runs.iter().map(|m| Some(m.l2_error)).collect();
+        if massredist_study::paper::methods::agreed_digits(&v) < 2 {
+            let head = format!("| {} | {} | {} |", r.method, r.class, r.mass);
+            let line = tables
+                .lines()
+                .find(|l| l.starts_with(&head) && tables_problem(&tables, l) == r.problem)
+                .unwrap_or_else(|| panic!("{head}"));
+            assert!(line.split('|').nth(5).unwrap().contains('–'), "{line}");
+        }
+    }
+    let csv = methods_csv(&rs);
+    assert_eq!(csv.lines().next().unwrap(), METHODS_COLUMNS.join(","));
+    assert_eq!(csv.lines().count() - 1, rs.iter().map(|r| r.runs.len().max(1)).sum::<usize>());
+    assert!(rs.iter().all(|r| sensitive_label(r) == (r.runs.len() == 5)));
+    // The VM265 table states its exact values (impact at gap/V₀ = 4.946e-5 s, the published
+    // 5.0e-5 to two digits; contact 2L/c; force ρcV₀ = 29923 lbf on A = 1 in²).
+    assert!(
+        tables
+            .contains("impact at gap/V₀ = 4.946e-5, contact D = 2L/c = 9.866e-5, force ρcV₀ = 29923 per unit section"),
+        "{tables}"
+    );
+    // `bench --methods`' writer: every file, the CSV as computed, figures drawn.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = massredist::output::OutputDir::prepare(&tmp.path().join("m"), false, &[]).unwrap();
+    let report = massredist_study::bench::methods::MethodsReport {
+        environment: massredist_study::bench::env::Environment::detect(),
+        config: config.clone(),
+        results: rs.clone(),
+        disc: Err("not run in this test (the_dropped_disc_separates_the_classes runs it)".into()),
+        seconds: 1.0,
+    };
+    massredist_study::bench::methods::write(dir, &report).unwrap();
+    for f in [
+        "methods.csv",
+        "methods.md",
+        "report.md",
+        "environment.json",
+        "methods-work-precision.png",
+        "methods-work-precision.svg",
+    ] {
+        let len = std::fs::metadata(tmp.path().join("m").join(f)).unwrap().len();
+        assert!(len > 1000 || f == "environment.json" && len > 0, "{f}: {len} bytes");
+    }
+    assert_eq!(std::fs::read_to_string(tmp.path().join("m/methods.csv")).unwrap(), csv);
+}
+
+/// The problem key of the table holding `line` (the last heading above it).
+fn tables_problem(tables: &str, line: &str) -> &'static str {
+    let at = tables.find(line).unwrap();
+    let heading = tables[..at].rfind("### ").unwrap();
+    let title = &tables[heading + 4..];
+    PROBLEMS.iter().find(|p| title.starts_with(p.title)).map(|p| p.key).unwrap()
+}
+
+/// [`sensitive`] of a result's case, from its labels.
+fn sensitive_label(r: &MethodResult) -> bool {
+    let method = METHODS.iter().find(|m| m.label == r.method).unwrap();
+    let problem = PROBLEMS.iter().find(|p| p.key == r.problem).unwrap();
+    sensitive(&massredist_study::paper::methods::Case { method, mass: r.mass, problem, elements: r.elements })
+}
+
+/// Problem (e), the dropped disc (h = 8): free flight is exact, so the first impact is the
+/// step of t = gap/V₀ = 0.5 or the next (the landing is on the step grid: one rounding decides);
+/// exact contact never penetrates (min_distance ≥ −1e-12, round-off of coordinates of size 20);
+/// Crank–Nicolson with a massless contact layer conserves energy while backward Euler
+/// dissipates at first order (|drift_CN| < 1e-3 |drift_BE|); the penalty and Moreau–Jean
+/// penetrate (> 1e-6 R); every method rebounds below the incoming speed. (Mutation: the penalty
+/// not passed to the scene (exact contact instead) fails the penetration assertion.)
+#[test]
+fn the_dropped_disc_separates_the_classes() {
+    use massredist_study::paper::methods_disc::{DISC_METHODS, run_one};
+    let get = |label: &str, mass: &str| {
+        let m = DISC_METHODS.iter().find(|m| m.label == label).expect(label);
+        run_one(m, mass, 0, 0).unwrap().0
+    };
+    let (cn, be) = (get("CN", "mod3"), get("BE", "mod3"));
+    for (name, m) in [("CN", &cn), ("BE", &be), ("CD", &get("CD", "mod3")), ("hybrid", &get("hybrid", "mod3"))] {
+        let t = m.first_impact.expect(name);
+        assert!((t - 0.5).abs() < 1e-9 || (t - 0.51).abs() < 1e-9, "{name}: impact at {t}");
+        assert!(m.min_distance >= -1e-12, "{name}: min_distance {}", m.min_distance);
+        assert!(m.rebound_velocity > 0.0 && m.rebound_velocity < 1.0, "{name}: rebound {}", m.rebound_velocity);
+    }
+    assert!(cn.drift.abs() < 1e-3 * be.drift.abs() && be.drift < 0.0, "CN {} BE {}", cn.drift, be.drift);
+    for (label, mass) in [("CN pen 100", "mod3"), ("MJ θ=½ e=0", "standard")] {
+        let m = get(label, mass);
+        assert!(m.min_distance < -1e-6 * 20.0, "{label}: min_distance {}", m.min_distance);
+    }
+}
+
+/// Issue 22: the chaos rule's copies must differ from the unperturbed run, or the five runs
+/// print one run's digits. The free rods (b)–(d) start from U⁰ = 0, so their copies perturb V⁰
+/// too (relative, and absolute times V₀). For each free rod, Crank–Nicolson and central
+/// differences with the standard mass (m = 25): five runs, and their metrics are not all equal.
+/// Broken on purpose: the V⁰ perturbation removed from `run_case` (U⁰ alone, as before) -> the
+/// five runs of "rebound-bar CN standard" are identical, fails (tried).
+#[test]
+fn the_perturbed_copies_of_the_free_rods_differ() {
+    use massredist_study::paper::methods::{Case, run_case};
+    for problem in PROBLEMS.iter().filter(|p| p.v0.is_some()) {
+        for label in ["CN", "CD"] {
+            let method = METHODS.iter().find(|m| m.label == label).expect(label);
+            let case = Case { method, mass: "standard", problem, elements: 25 };
+            assert!(sensitive(&case));
+            let r = run_case(&case);
+            assert_eq!((r.status, r.runs.len()), ("ok", 5), "{} {label}: {:?}", problem.key, r.failure);
+            assert!(r.runs[1..].iter().any(|m| *m != r.runs[0]), "{} {label}: five identical runs", problem.key);
+        }
+    }
+}
