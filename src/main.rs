@@ -208,10 +208,10 @@ fn main() -> ExitCode {
             Ok((s, estimate))
         }) {
             Ok((s, estimate)) => {
-                if let Some(note) = &estimate.note {
-                    println!("# {note}");
+                let note = estimate.note.as_ref().map_or(String::new(), |n| format!("# {n}\n"));
+                if let Err(e) = print_out(&(note + &s.resolved_toml())) {
+                    return e;
                 }
-                print!("{}", s.resolved_toml());
                 eprintln!("{}: {}", scene.display(), describe(&estimate));
                 ExitCode::SUCCESS
             }
@@ -224,7 +224,7 @@ fn main() -> ExitCode {
             }
             Err(code) => code,
         },
-        Command::Run { scene, out, force, engine, ranks } => match prepare(&out, force, &[&scene]) {
+        Command::Run { scene, out, force, engine, ranks } => match prepare(&out, force, &inputs(&scene)) {
             Ok(dir) => match (AnyScene::from_file(&scene), engine) {
                 (Ok(AnyScene::Plate(s)), Engine::Fenicsx) => run_engine(&scene, s, dir, ranks.into()),
                 (Ok(AnyScene::Solid(s)), Engine::Fenicsx) => run_engine(&scene, s, dir, ranks.into()),
@@ -241,11 +241,17 @@ fn main() -> ExitCode {
     }
 }
 
+/// The scene file and every file it names: the inputs a run never deletes (issue 32, E12).
+fn inputs(scene: &Path) -> Vec<PathBuf> {
+    std::iter::once(scene.to_path_buf()).chain(AnyScene::named_files(scene)).collect()
+}
+
 /// The output folder `out` checked and its temporary sibling created before anything is
 /// computed ([`OutputDir::prepare`]); the command streams into it and commits it at the end.
 /// A refusal is exit code 2.
-fn prepare(out: &Path, force: Force, inputs: &[&Path]) -> Result<OutputDir, ExitCode> {
-    match OutputDir::prepare(out, force.force, inputs) {
+fn prepare(out: &Path, force: Force, inputs: &[PathBuf]) -> Result<OutputDir, ExitCode> {
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    match OutputDir::prepare(out, force.force, &inputs) {
         Ok(dir) => {
             for p in dir.removed_left_overs() {
                 eprintln!("removed {}, the partial output of an interrupted run", p.display());
@@ -367,7 +373,9 @@ fn crosscheck(json: Option<PathBuf>) -> ExitCode {
             return ExitCode::from(exit::FAILURE);
         }
     };
-    print!("{}", crosscheck::table(&report));
+    if let Err(code) = print_out(&crosscheck::table(&report)) {
+        return code;
+    }
     // Trajectory cases: plate and solid scenes stepped by this binary and by the FEniCSx engine.
     let tmp = std::env::temp_dir().join(format!("massredist-crosscheck-{}", std::process::id()));
     let exe = std::env::current_exe().unwrap_or_else(|_| PathBuf::from("massredist"));
@@ -376,7 +384,9 @@ fn crosscheck(json: Option<PathBuf>) -> ExitCode {
         |()| crosscheck_trajectory::run_all(&exe, &tmp),
     );
     let _ = std::fs::remove_dir_all(&tmp);
-    print!("{}", crosscheck_trajectory::table(&traj));
+    if let Err(code) = print_out(&crosscheck_trajectory::table(&traj)) {
+        return code;
+    }
     let failed = report.cases.iter().filter(|c| !c.pass).count() + traj.iter().filter(|c| !c.pass).count();
     if let Some(path) = json {
         let mut value = serde_json::to_value(&report).expect("report serialises");
@@ -394,7 +404,25 @@ fn crosscheck(json: Option<PathBuf>) -> ExitCode {
     }
 }
 
+/// Writes `text` to stdout. A closed stdout (`check X | head -c0`: EPIPE) is a clean exit, 0
+/// with nothing more said (the reader wanted no more); another write error is exit 1.
+fn print_out(text: &str) -> Result<(), ExitCode> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Err(ExitCode::SUCCESS),
+        Err(e) => {
+            eprintln!("error: writing to stdout: {e}");
+            Err(ExitCode::from(exit::FAILURE))
+        }
+    }
+}
+
 fn fail(path: &std::path::Path, msg: String, code: u8) -> ExitCode {
+    // A failure caused by a stopping signal (a child it stopped) is not reported: the signal
+    // thread exits with 128 + the signal.
+    massredist::output::wait_if_signalled();
     eprintln!("error: {}: {msg}", path.display());
     ExitCode::from(code)
 }
@@ -404,8 +432,13 @@ fn describe(e: &massredist::run::Estimate) -> String {
     let head = format!("{} unknowns, set up in {:.3} s", e.unknowns, e.setup_seconds);
     match (e.step_seconds, e.run_seconds()) {
         (Some(step), Some(run)) => format!(
-            "{head}; {:.3e} s per step (mean of the first {}), so about {:.3e} s for the {} steps (without output)",
-            step, e.probe_steps, run, e.steps
+            "{head}; {:.3e} s per step (mean of the first {}, with the summary{}), so about {:.3e} s for the {} steps (without output{})",
+            step,
+            e.probe_steps,
+            if e.exact_error { " and its exact L² error" } else { "" },
+            run,
+            e.steps,
+            if e.touched { "" } else { "; no contact in those steps: steps in contact cost more" }
         ),
         _ => format!("{head}; its first step did not complete, no time estimate"),
     }

@@ -207,6 +207,17 @@ impl Summary {
     }
 }
 
+/// `max(a, b)`, NaN if either is: a summary's maximum never skips a NaN state or comparison
+/// (`f64::max` returns the other operand; issue 32, E5).
+pub(crate) fn max_nan(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) }
+}
+
+/// `min(a, b)`, NaN if either is ([`max_nan`]).
+pub(crate) fn min_nan(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() { f64::NAN } else { a.min(b) }
+}
+
 /// Accumulates a [`Summary`] in the step loop (O(1) memory).
 #[derive(Debug)]
 pub struct SummaryObserver {
@@ -341,17 +352,18 @@ impl SummaryObserver {
             self.energy[0] = e;
         } else {
             let de = e - self.prev_energy;
-            if de > self.max_increase.0 {
+            // The first NaN increase is kept (with its step): no later one compares above it.
+            if !self.max_increase.0.is_nan() && (de > self.max_increase.0 || de.is_nan()) {
                 self.max_increase = (de, n);
             }
             if n >= 2 {
-                self.max_increase_after_first = self.max_increase_after_first.max(de);
+                self.max_increase_after_first = max_nan(self.max_increase_after_first, de);
             }
         }
         self.prev_energy = e;
         self.energy[1] = e;
-        self.energy[2] = self.energy[2].min(e);
-        self.energy[3] = self.energy[3].max(e);
+        self.energy[2] = min_nan(self.energy[2], e);
+        self.energy[3] = max_nan(self.energy[3], e);
     }
 }
 
@@ -369,11 +381,11 @@ impl Observer for SummaryObserver {
         self.final_u0 = u0;
         // Impact and release are decided node by node ([`ContactStats::touching`]).
         let touching = s.contact.touching;
-        self.min_u0 = self.min_u0.min(s.contact.min_u);
-        self.max_lambda = self.max_lambda.max(s.contact.max_lambda);
-        self.max_product = self.max_product.max(s.contact.max_product);
+        self.min_u0 = min_nan(self.min_u0, s.contact.min_u);
+        self.max_lambda = max_nan(self.max_lambda, s.contact.max_lambda);
+        self.max_product = max_nan(self.max_product, s.contact.max_product);
         if self.with_y {
-            self.max_y_variation = self.max_y_variation.max(s.y_variation);
+            self.max_y_variation = max_nan(self.max_y_variation, s.y_variation);
         }
         self.max_pivots = self.max_pivots.max(s.pivots);
         self.final_u_mean = s.u_mean;
@@ -397,13 +409,13 @@ impl Observer for SummaryObserver {
             self.first_release = Some(st.t);
         }
         if let Some(ex) = s.exact {
-            self.max_contact = self.max_contact.max((u0 - ex.u0(st.t)).abs());
+            self.max_contact = max_nan(self.max_contact, (u0 - ex.u0(st.t)).abs());
             let w = if st.n == 0 || st.n == self.steps { 0.5 } else { 1.0 };
             self.last_lambda_term = self.dt * (s.pressure - ex.lambda(st.t)).powi(2);
             self.lambda_sq += w * self.last_lambda_term;
             if self.with_l2 {
-                self.linf_l2 = self.linf_l2.max(s.l2_error);
-                self.linf_interp = self.linf_interp.max(s.exact_interp_norm);
+                self.linf_l2 = max_nan(self.linf_l2, s.l2_error);
+                self.linf_interp = max_nan(self.linf_interp, s.exact_interp_norm);
             }
         }
     }
@@ -412,7 +424,7 @@ impl Observer for SummaryObserver {
     /// (0 at t_0: a rule over [0, 0]).
     fn diverged(&mut self, divergence: &Divergence) {
         if self.last_n != self.steps {
-            self.lambda_sq = (self.lambda_sq - 0.5 * self.last_lambda_term).max(0.0);
+            self.lambda_sq = max_nan(self.lambda_sq - 0.5 * self.last_lambda_term, 0.0);
         }
         self.divergence = Some(*divergence);
     }

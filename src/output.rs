@@ -152,4 +152,4 @@ pub use folder::{OutputDir, OutputError};
 /// folder (`vtu/`, with the slash) written with it, relative to the folder, at any depth.
 pub const MARKER: &str = ".massredist-output";
 
-pub use staging::{ChildGroup, install_signal_cleanup};
+pub use staging::{ChildGroup, install_signal_cleanup, wait_if_signalled};

@@ -142,7 +142,8 @@ fn contact_is_exact_with_both_masses() {
     }
 }
 
-/// `dt = Δt_c` is accepted, a dt above it refused naming `time.dt` and Δt_c; for the standard
+/// `dt` just below Δt_c is accepted, `dt = Δt_c` (not stable: issue 32, E7) and above it refused
+/// naming `time.dt` and Δt_c; for the standard
 /// mass the lumped uniform bar's λ_max is below 4c²/h², so Δt_c > h/c, and within 1% of it.
 #[test]
 fn the_stable_limit_is_computed_and_enforced() {
@@ -154,9 +155,12 @@ fn the_stable_limit_is_computed_and_enforced() {
     let (limit, _) = cd.stable_limit();
     let hc = 1.0 / (m as f64 * 2.0);
     assert!(limit > hc && limit < 1.01 * hc, "Δt_c = {limit}, h/c = {hc}");
-    assert!(p.scheme(&CD, limit).is_ok(), "dt = Δt_c must be accepted");
+    assert!(p.scheme(&CD, limit * (1.0 - 1e-9)).is_ok(), "dt below Δt_c must be accepted");
+    for dt in [limit, limit * (1.0 + 1e-9)] {
+        let e = p.scheme(&CD, dt).err().expect("at or above the limit");
+        assert!(matches!(e, SchemeError::AboveStableLimit { .. }), "{e}");
+    }
     let e = p.scheme(&CD, limit * (1.0 + 1e-9)).err().expect("above the limit");
-    assert!(matches!(e, SchemeError::AboveStableLimit { .. }), "{e}");
     let text = e.to_string();
     assert!(text.starts_with("time.dt = ") && text.contains(&massredist::numfmt::fmt_f64(limit)), "{text}");
 }
@@ -280,4 +284,27 @@ fn the_stable_limit_accuracy_on_a_large_mesh() {
         "relative excess {:e}",
         limit / h - 1.0
     );
+}
+
+/// E7 (issue 32): Δt = Δt_c is not stable: there the highest mode's amplification matrix has the
+/// double eigenvalue −1, its amplitude grows linearly and the energy quadratically (0.5 → 637 in
+/// 20,000 steps on a free rod at Courant 1, status "ok"). The free–free uniform chain with the
+/// standard lumped mass has Δt_c = h/c exactly (the mode (−1)^i). Unfixed: Δt = h/c was accepted
+/// (the refusal was `dt > Δt_c (1 + 1e-12)`). Now Δt ≥ Δt_c (1 − 1e-12) is refused, the margin
+/// being the estimator's stated accuracy ([`massredist::schemes::stable_limit::REL_TOL`]), and
+/// the message says so; Δt = (1 − 1e-9) h/c is accepted.
+#[test]
+fn dt_at_the_stable_limit_is_refused_with_the_estimators_margin() {
+    let m = 40;
+    let bar = Bar { length: 1.0, elements: m };
+    let system =
+        BarSystem::assemble(bar, vec![1.0; m], Material::UNIT, FarEnd::Free, &Load::Constant(0.0)).with_gap(10.0);
+    let p = problem(system, |_| 0.0);
+    let h = 1.0 / m as f64;
+    let e = p.scheme(&CD, h).err().expect("Δt = Δt_c = h/c is refused");
+    let SchemeError::AboveStableLimit { limit, .. } = e else { panic!("{e}") };
+    assert!((limit / h - 1.0).abs() <= 1e-12, "Δt_c = h/c: {limit:e}");
+    let text = e.to_string();
+    assert!(text.starts_with("time.dt = ") && text.contains("1e-12") && text.contains("not stable"), "{text}");
+    assert!(p.scheme(&CD, h * (1.0 - 1e-9)).is_ok(), "below Δt_c by more than the margin");
 }

@@ -239,3 +239,46 @@ fn bad_input_is_a_clear_error() {
     assert!(message.contains("mass.kind = \"standard\" does not go with scheme.kind = \"hybrid\""), "{message}");
     assert!(message.contains("w_0 = 1") && message.contains("allowed: mod1 | mod2 | mod3"), "{message}");
 }
+
+/// E13 (issue 32): `check X | head -c0` closes stdout before `check` prints. A closed stdout is
+/// a clean exit (0, nothing on stderr), not a "Broken pipe" panic (exit 101). The pipe's read end
+/// is closed before the process starts, so the write fails on every run (no race).
+#[test]
+fn closed_stdout_is_a_clean_exit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = tmp.path().join("s.toml");
+    std::fs::write(&scene, GOOD).unwrap();
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let out = bin().arg("check").arg(&scene).stdout(writer).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// E5 (issue 32): Δt = 0.1·0.1 = 0.010000000000000002 and end = 3 give 300 steps whose last time
+/// 300·Δt = 3.0000000000000004 passes `time.end` by one rounding. The exact solution is defined on
+/// the steps' own times (the last step is step 300, whatever its time rounds to), so the last row
+/// of the series is finite, and the summary's maximum is the maximum over every step: it equals
+/// the largest value of the series written at every step (unfixed: the last row was NaN, the
+/// summary's `f64::max` dropped it, exit 0).
+#[test]
+fn the_last_step_is_measured_even_when_its_time_rounds_past_the_end() {
+    let scene = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/rebound-free-bar.toml"))
+        .unwrap()
+        .replace("dt = 0.005", "dt = 0.010000000000000002")
+        .replace("series = [\"u0\", \"lambda\", \"energy\"]", "series = [\"l2_error\"]\nevery = 1");
+    let (out, tmp) = run_text(&scene);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let dir = tmp.path().join("out");
+    let csv = std::fs::read_to_string(dir.join("series.csv")).unwrap();
+    let errors: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(1).unwrap().parse().unwrap()).collect();
+    assert_eq!(errors.len(), 301, "steps 0..=300");
+    assert!(errors.iter().all(|e| e.is_finite()), "last rows: {:?}", &errors[295..]);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    // The same f64 values, maximised in the same order: equal to the bit (the CSV prints
+    // shortest round-trip decimals).
+    let max = errors.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(s["linf_l2_error"].as_f64(), Some(max));
+}

@@ -384,3 +384,32 @@ fn a_free_body_at_rest_under_gravity_does_not_diverge() {
         assert_eq!((s["first_impact_time"].as_f64(), s["min_distance"].as_f64()), (Some(0.0), Some(0.0)), "{scheme}");
     }
 }
+
+/// E5 (issue 32): no summary value skips a NaN. The exact solution here is traced only up to
+/// t = 0.5 of a run to t = 1, so its comparisons after t = 0.5 are NaN; the summary's maxima of
+/// them are then NaN (null in summary.json), never the maximum over the steps before. Unfixed:
+/// `f64::max` dropped every NaN and the summary printed the error over [0, 0.5] as the run's.
+#[test]
+fn no_summary_maximum_skips_a_nan() {
+    use massredist::characteristics::InitialData;
+    use massredist::exact::{Exact, by_characteristics, paper_data};
+    use massredist::material::{FarEnd, Material};
+    let mut p = BarProblem::benchmark(1.0, 12, &MassKind::Mod3).unwrap();
+    let (x, u, v) = paper_data(1.0);
+    let initial = InitialData::PiecewiseLinear { x: &x, u: &u, v: &v };
+    let short = by_characteristics(1.0, Material::UNIT, FarEnd::Clamped, 0.0, initial, 0.5).unwrap();
+    p.exact = Some(Exact::General(std::sync::Arc::new(short)));
+    let (dt, steps) = (p.system.h() / 2.0, 24);
+    let mut s = p.scheme(&massredist::scene::SchemeSpec::CRANK_NICOLSON, dt).unwrap();
+    let mut sum = SummaryObserver::new(&p, steps, dt, true);
+    integrate(&p, s.as_mut(), steps, &mut [&mut sum]).unwrap();
+    let summary = sum.finish();
+    for (key, value) in [
+        ("linf_l2_error", summary.linf_l2_error),
+        ("linf_l2_error_relative", summary.linf_l2_error_relative),
+        ("max_contact_error", summary.max_contact_error),
+        ("l2_lambda_error", summary.l2_lambda_error),
+    ] {
+        assert!(value.is_some_and(f64::is_nan), "{key} = {value:?}");
+    }
+}

@@ -52,3 +52,27 @@ fn check_estimates_the_run_of_the_scene_it_checked() {
         );
     }
 }
+
+/// E14 (issue 32): the estimate was 10–70× low when the cost starts after the timed first steps
+/// (the exact error evaluated by the summary at every step, an impact), and the work cap's
+/// message promised "about 2 minutes". The probe now steps with the run's summary (the exact
+/// L² error included), and `check` says what the estimate covers: the rebounding bar meets the
+/// obstacle at t = 0.1, step 20, after the 16 probe steps, so the line says that no contact was
+/// in them. The work cap names the work, not a time.
+#[test]
+fn the_estimate_says_what_it_covers() {
+    let path = format!("{}/scenes/rebound-free-bar.toml", env!("CARGO_MANIFEST_DIR"));
+    let scene = AnyScene::from_file(std::path::Path::new(&path)).unwrap();
+    let e = massredist::run::check(&scene).unwrap();
+    assert!(e.probe_steps <= 16 && !e.touched && e.exact_error, "{e:?}");
+    let check = Command::new(env!("CARGO_BIN_EXE_massredist")).arg("check").arg(&path).output().unwrap();
+    let err = String::from_utf8_lossy(&check.stderr);
+    assert!(err.contains("exact L² error") && err.contains("no contact"), "{err}");
+    let dir = tempfile::tempdir().unwrap();
+    let long = dir.path().join("long.toml");
+    std::fs::write(&long, std::fs::read_to_string(&path).unwrap().replace("end = 3.0", "end = 3e8")).unwrap();
+    let check = Command::new(env!("CARGO_BIN_EXE_massredist")).arg("check").arg(&long).output().unwrap();
+    let err = String::from_utf8_lossy(&check.stderr);
+    assert_eq!(check.status.code(), Some(2), "{err}");
+    assert!(err.contains("unknowns × steps") && !err.contains("minutes"), "{err}");
+}

@@ -567,3 +567,74 @@ fn mutated_mesh_files_never_panic_and_fail_cleanly() {
     assert!(codes.iter().any(|&(c, _)| c == 0), "no mutated mesh passed check");
     assert!(codes.iter().any(|&(c, _)| c == 2), "no mutated mesh was refused");
 }
+
+// ---------------------------------------------------------------------------------------------
+// Hand-made hostile scenes of issue 32's fault list (each failed before its fix, as said).
+
+/// `massredist check` of a scene given as text.
+fn check_text(text: &str) -> Output {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = tmp.path().join("s.toml");
+    std::fs::write(&scene, text).unwrap();
+    Command::new(env!("CARGO_BIN_EXE_massredist")).arg("check").arg(&scene).output().unwrap()
+}
+
+fn shipped_text(name: &str) -> String {
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name)).unwrap()
+}
+
+/// E10: an obstacle normal is normalised without underflow or overflow (scaled by its largest
+/// entry first). Unfixed: [0, 3e-162] became [0, 0.954…] (its square underflowed to a
+/// subnormal) and the run was silently wrong; [0, 1e200] was refused as "not finite".
+#[test]
+fn tiny_and_huge_obstacle_normals_are_normalised_exactly() {
+    let scene = shipped_text("body-block-drop-mod3.toml");
+    for normal in ["[0.0, 3e-162]", "[0.0, 1e200]", "[0.0, 5e-324]", "[0.0, 1.7e308]"] {
+        let out = check_text(&scene.replace("normal = [0.0, 1.0]", &format!("normal = {normal}")));
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(out.status.code(), Some(0), "{normal}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(text.contains("normal = [0.0, 1.0]"), "{normal}: {text}");
+    }
+    // A tilted one: the same unit normal at every scale (exact powers of 2 apart).
+    let unit = |normal: &str| {
+        let out = check_text(&scene.replace("normal = [0.0, 1.0]", &format!("normal = {normal}")));
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        text.lines().find(|l| l.starts_with("normal = ")).unwrap().to_string()
+    };
+    let reference = unit("[0.5, 1.0]");
+    for p in [-1000, 1000] {
+        let scaled = format!("[{:e}, {:e}]", 2f64.powi(p - 1), 2f64.powi(p));
+        assert_eq!(unit(&scaled), reference, "{scaled}");
+    }
+}
+
+/// E11: a gap that overflows (the tilted plane n = (1, 1)/√2 through p = (−1.3e308, −1.3e308)
+/// gives n·(X − p) ≈ 1.84e308 > f64::MAX: +∞) is refused at validation, naming the keys.
+/// Unfixed: inf in the series, null in the summary, exit 0.
+#[test]
+fn non_finite_gaps_are_refused_at_validation() {
+    let scene = shipped_text("body-block-drop-mod3.toml");
+    for point in ["[-1.3e308, -1.3e308]", "[-1.7e308, -1.7e308]"] {
+        let text = scene
+            .replace("point = [0.0, -0.05]", &format!("point = {point}"))
+            .replace("normal = [0.0, 1.0]", "normal = [1.0, 1.0]");
+        let out = check_text(&text);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{point}: {err}");
+        assert!(err.contains("obstacle.point") && err.contains("gap"), "{point}: {err}");
+    }
+}
+
+/// E16: every refusal names a key of the scene and a reachable range. Unfixed: a body read from
+/// a mesh file was told to "reduce solid.nx, solid.ny[, solid.nz]" (keys it does not have).
+#[test]
+fn refusals_name_keys_of_the_scene_and_reachable_ranges() {
+    let disc = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/body-gmsh/disc.msh");
+    let body = shipped_text("body-gmsh/body-disc-drop-mod3.toml")
+        .replace("mesh = \"disc.msh\"", &format!("mesh = {:?}", disc.display().to_string()))
+        .replace("end = 2.0", "end = 1e9");
+    let out = check_text(&body);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("solid.mesh") && !err.contains("solid.nx") && err.contains("time.end"), "{err}");
+}

@@ -151,3 +151,136 @@ fn wrong_dimension_and_p2_boxes_are_refused() {
     let m = read("plate.mesh", &fixture("square_4x3_tri.msh")).unwrap();
     assert_eq!(m.kind, Cell::Triangle);
 }
+
+/// A binary MSH 2.2 square: 4 nodes, 2 triangles in one block (physical tag 9), `count` in the
+/// `$Elements` header.
+fn binary_22_square(count: usize) -> Vec<u8> {
+    let mut b = b"$MeshFormat\n2.2 1 8\n".to_vec();
+    b.extend(1i32.to_le_bytes());
+    b.extend(b"\n$EndMeshFormat\n$Nodes\n4\n");
+    for (tag, x, y) in [(1, 0.0, 0.0), (2, 1.0, 0.0), (3, 1.0, 1.0), (4, 0.0, 1.0)] {
+        b.extend((tag as i32).to_le_bytes());
+        for v in [x, y, 0.0f64] {
+            b.extend(v.to_le_bytes());
+        }
+    }
+    b.extend(format!("\n$EndNodes\n$Elements\n{count}\n").as_bytes());
+    for v in [2i32, 2, 2] {
+        b.extend(v.to_le_bytes()); // type triangle, 2 elements, 2 tags each
+    }
+    for e in [[1i32, 9, 1, 1, 2, 3], [2, 9, 1, 1, 3, 4]] {
+        e.iter().for_each(|v| b.extend(v.to_le_bytes()));
+    }
+    b.extend(b"\n$EndElements\n");
+    b
+}
+
+/// E3 (issue 32): a 48-byte binary MSH 2.2 file ending right after `$Nodes 0` panicked (exit
+/// 101): the binary reader stepped over the newline past the end. Every truncation of a binary
+/// file is now a refusal naming the file and the section (prefixes of the small square, and of
+/// gmsh's own binary files at a stride).
+#[test]
+fn every_truncation_of_a_binary_file_is_refused_naming_file_and_section() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("cut.msh");
+    let mut repro = b"$MeshFormat\n2.2 1 8\n".to_vec();
+    repro.extend(1i32.to_le_bytes());
+    repro.extend(b"\n$EndMeshFormat\n$Nodes\n0");
+    assert_eq!(repro.len(), 48);
+    std::fs::write(&path, &repro).unwrap();
+    let err = read("solid.mesh", &path).unwrap_err().to_string();
+    assert!(err.contains("cut.msh") && err.contains("$Nodes"), "{err}");
+    let square = binary_22_square(2);
+    assert!(parse(&square).is_ok());
+    let sections = ["$MeshFormat", "$Nodes", "$Elements", "(skipped)"];
+    // Every prefix but the whole file less its last newline (complete after `$EndElements`).
+    for k in 0..square.len() - 1 {
+        let err = parse(&square[..k]).expect_err("a strict prefix is incomplete").to_string();
+        assert!(
+            sections.iter().any(|s| err.contains(s)) || err.contains("not a gmsh file") || err.contains("no $Nodes"),
+            "{k}: {err}"
+        );
+    }
+    for name in ["disc_p2_22b.msh", "disc_p2_41b.msh", "sphere_tet10_22b.msh", "sphere_tet10_41b.msh"] {
+        let bytes = std::fs::read(fixture(name)).unwrap();
+        for k in (0..bytes.len()).step_by(bytes.len() / 1500 + 1) {
+            assert!(parse(&bytes[..k]).is_err(), "{name}[..{k}]");
+        }
+    }
+}
+
+/// E6 (issue 32): an MSH 2.2 `$Elements` count smaller than the elements that follow silently
+/// dropped the rest (half a body). A count that disagrees with the section's content is refused,
+/// naming the section, in ASCII and in binary.
+#[test]
+fn an_elements_count_that_disagrees_with_the_section_is_refused() {
+    let ascii = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n\
+                 $Elements\n2\n1 2 2 9 1 1 2 3\n2 2 2 9 1 1 3 4\n$EndElements\n";
+    assert_eq!(parse(ascii.as_bytes()).unwrap().blocks[0].1.len(), 6);
+    for bad in [ascii.replace("$Elements\n2\n", "$Elements\n1\n"), ascii.replace("$Nodes\n4\n", "$Nodes\n3\n")] {
+        let err = parse(bad.as_bytes()).unwrap_err().to_string();
+        assert!(err.contains("$Elements") || err.contains("$Nodes"), "{err}");
+        assert!(err.contains("count"), "{err}");
+    }
+    let err = parse(&binary_22_square(1)).unwrap_err().to_string();
+    assert!(err.contains("$Elements") && err.contains("count"), "{err}");
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("half.msh");
+    std::fs::write(&path, ascii.replace("$Elements\n2\n", "$Elements\n1\n")).unwrap();
+    let err = read("solid.mesh", &path).unwrap_err().to_string();
+    assert!(err.contains("half.msh") && err.contains("$Elements"), "{err}");
+}
+
+/// An ASCII MSH 4.1 unit square of 10 × 10 × 2 triangles on one surface entity that carries
+/// `tags` physical tags.
+fn square_41_with_tags(tags: usize) -> String {
+    let n = 11;
+    let phys: Vec<String> = (1..=tags).map(|t| t.to_string()).collect();
+    let mut s = format!(
+        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 0 1 0\n1 0 0 0 1 1 0 {tags} {} 0\n$EndEntities\n",
+        phys.join(" ")
+    );
+    s += &format!("$Nodes\n1 {0} 1 {0}\n2 1 0 {0}\n", n * n);
+    (1..=n * n).for_each(|t| s += &format!("{t}\n"));
+    (0..n * n).for_each(|k| s += &format!("{} {} 0\n", (k % n) as f64 / 10.0, (k / n) as f64 / 10.0));
+    s += &format!("$EndNodes\n$Elements\n1 {0} 1 {0}\n2 1 2 {0}\n", 2 * (n - 1) * (n - 1));
+    let mut e = 0;
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let a = j * n + i + 1;
+            for tri in [[a, a + 1, a + n + 1], [a, a + n + 1, a + n]] {
+                e += 1;
+                s += &format!("{e} {} {} {}\n", tri[0], tri[1], tri[2]);
+            }
+        }
+    }
+    s + "$EndElements\n"
+}
+
+/// E1 (issue 32): one entity listing thousands of physical tags made the 4.1 reader copy the
+/// entity's nodes once per tag and per element (a 0.47 MB file allocated over 4 GB). The groups
+/// are now gathered per entity and expanded once, and an expansion larger than the file itself
+/// (one node entry per byte read) is refused by name. Unfixed: the 5000-tag square was read
+/// (600,000 node entries from 46 kB).
+#[test]
+fn many_physical_tags_on_one_entity_are_bounded_by_the_file_size() {
+    let ok = parse(square_41_with_tags(3).as_bytes()).unwrap();
+    assert_eq!(ok.groups.len(), 3);
+    assert!(ok.groups.values().all(|g| g.len() == 121 && g.windows(2).all(|w| w[0] < w[1])));
+    let text = square_41_with_tags(5000);
+    let err = parse(text.as_bytes()).unwrap_err().to_string();
+    assert!(err.contains("$Entities") && err.contains("5000 physical tags"), "{err}");
+}
+
+/// E8 (issue 32): a mesh path that is a symlink to a file of /proc reports size 0, passed the
+/// size cap and was read until memory ran out (/proc/self/pagemap: 256 GB of page entries).
+/// It is refused by name, before meshio or the gmsh reader reads it.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_proc_file_behind_a_symlink_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("pagemap.msh");
+    std::os::unix::fs::symlink("/proc/self/pagemap", &path).unwrap();
+    let err = read_body("solid.mesh", &path, 3).unwrap_err().to_string();
+    assert!(err.contains("solid.mesh") && err.contains("pagemap.msh") && err.contains("/proc"), "{err}");
+}

@@ -62,7 +62,7 @@ impl BarProblem {
         } else if spec.initial == Initial::Paper && spec.is_paper_bar() {
             Some(Exact::Paper(paper))
         } else {
-            Some(Exact::General(std::sync::Arc::new(general_exact(spec, scene.time.end)?)))
+            Some(Exact::General(std::sync::Arc::new(general_exact(spec, scene.time.exact_end())?)))
         };
         Ok(Problem { system, u0, v0, exact })
     }

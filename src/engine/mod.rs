@@ -56,7 +56,7 @@ pub enum EngineError {
     #[error("the fenicsx engine needs {what}, which is not available ({detail}); install it with `{INSTALL}`")]
     Missing { what: &'static str, detail: String },
     /// The engine ran and failed (its own message is on stderr above).
-    #[error("the fenicsx engine ({ranks} ranks) failed with exit status {status}")]
+    #[error("the fenicsx engine ({ranks} ranks) failed ({status})")]
     Failed { ranks: usize, status: String },
     #[error("writing the run folder: {0}")]
     Output(std::io::Error),
@@ -243,7 +243,7 @@ pub fn validate<G: EngineGeometry>(scene: &Scene<G>) -> Result<(), EngineError> 
 /// Rust run and its divergence rule stops the engine; then the folder is committed.
 pub fn run<G: EngineGeometry>(scene: &Scene<G>, out: OutputDir, ranks: usize) -> Result<EngineOutcome, EngineError> {
     let doc = document::document(scene)?;
-    let exact = scene.geometry.exact(scene.time.end).map_err(EngineError::Scene)?;
+    let exact = scene.geometry.exact(scene.time.exact_end()).map_err(EngineError::Scene)?;
     check_available()?;
     let staging = out.staging().to_path_buf();
     let scene_file = staging.join(document::FILE);

@@ -18,7 +18,7 @@
 
 use super::MARKER;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicI32, AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// The first word of a marker's first line: a folder is massredist's only if its marker starts
@@ -226,6 +226,20 @@ impl Drop for ChildGroup {
     }
 }
 
+/// The signal the signal thread is handling (0: none yet).
+static SIGNALLED: AtomicI32 = AtomicI32::new(0);
+
+/// Once a stopping signal arrived, blocks for ever: the signal thread ends the process with
+/// 128 + the signal after it removed the temporary folders. Called by the main thread before it
+/// reports an error or exits, since a child stopped by the forwarded signal makes the main
+/// thread's work fail first (issue 32, E15: `run --engine fenicsx` exited 1, not 143). Returns
+/// at once when no signal arrived.
+pub fn wait_if_signalled() {
+    while SIGNALLED.load(Ordering::SeqCst) != 0 {
+        std::thread::park_timeout(std::time::Duration::from_secs(1));
+    }
+}
+
 /// Sends `signal` to every registered group and waits (at most 5 s) until they are gone, so
 /// that nothing writes into a staging folder while it is removed.
 fn stop_groups(signal: i32) {
@@ -253,6 +267,7 @@ pub fn install_signal_cleanup() -> std::io::Result<()> {
             if signal == SIGXFSZ {
                 continue;
             }
+            SIGNALLED.store(signal, Ordering::SeqCst);
             stop_groups(signal);
             let held = live();
             for (_, staging, parents) in held.iter() {

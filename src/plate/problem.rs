@@ -159,7 +159,7 @@ impl GeometrySpec for PlateSpec {
     }
 
     fn problem(scene: &Scene<Self>) -> Result<PlateProblem, PlateError> {
-        PlateProblem::with_plane_wave(&scene.geometry, &scene.mass, scene.time.end)
+        PlateProblem::with_plane_wave(&scene.geometry, &scene.mass, scene.time.exact_end())
     }
 
     fn summary_head(scene: &Scene<Self>, totals: &Totals) -> PlateHead {

@@ -87,6 +87,16 @@ pub struct TimeSpec {
     pub steps: usize,
 }
 
+impl TimeSpec {
+    /// Where an exact solution must be defined: up to the last step's time as the schemes
+    /// compute it, `steps · dt`, which may pass `end` by a rounding (Δt = 0.1·0.1 and end = 3
+    /// give 300·Δt = 3.0000000000000004). The run ends at step `steps`, an index; its time is
+    /// never compared with `end` (issue 32, E5).
+    pub fn exact_end(&self) -> f64 {
+        self.end.max(self.steps as f64 * self.dt)
+    }
+}
+
 /// The `[time]` table; `default_end` is used without `time.end`, `elements` (the unknowns per
 /// step, set by the keys `size`) bounds the work.
 pub(crate) fn parse_time(
@@ -239,7 +249,7 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
     let scheme = parse_scheme(raw.scheme)?;
     let contact = super::contact::parse_contact(raw.contact)?;
     super::compat::check(G::TABLE, &offer, &mass, &scheme, &contact)?;
-    let time = parse_time(raw.time, 3.0 * geometry.length(), geometry.unknowns(), G::SIZE_KEYS)?;
+    let time = parse_time(raw.time, 3.0 * geometry.length(), geometry.unknowns(), geometry.size_keys())?;
     let o = raw.output.unwrap_or_default();
     let series = match o.series {
         Some(names) => parse_series(names, G::COLUMNS, G::COLUMN_LIST)?,

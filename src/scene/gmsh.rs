@@ -65,6 +65,10 @@ pub enum GmshError {
     BadNodeTag { tag: i64 },
     #[error("the file has no $Nodes or no $Elements section")]
     Missing,
+    #[error(
+        "section $Entities: entity {dim}/{entity} carries {tags} physical tags, so the physical groups would list {entries} nodes, more than the file has bytes ({limit}): at most one group entry per byte read is allowed"
+    )]
+    Groups { dim: usize, entity: i64, tags: usize, entries: usize, limit: usize },
 }
 
 /// One block: meshio type name, node indices (flat, our node order), nodes per element.
@@ -148,17 +152,45 @@ impl<'a> Cursor<'a> {
     /// A count, checked against what the remaining bytes can hold (`min_bytes` each), so that a
     /// corrupt count allocates nothing big.
     fn count(&mut self, v: i64, min_bytes: usize) -> Result<usize, GmshError> {
-        let left = (self.data.len() - self.pos) / min_bytes.max(1);
+        let left = self.data.len().saturating_sub(self.pos) / min_bytes.max(1);
         usize::try_from(v)
             .ok()
             .filter(|&n| n <= left)
             .ok_or_else(|| self.err(format!("count {v} is negative or more than the file holds")))
     }
 
+    /// Steps over the newline between a binary section's text header and its data; the end of
+    /// the file there is a truncation of this section.
+    fn skip_newline(&mut self) -> Result<(), GmshError> {
+        if self.binary {
+            if self.pos >= self.data.len() {
+                return Err(GmshError::Truncated { section: self.section });
+            }
+            self.pos += 1;
+        }
+        Ok(())
+    }
+
+    /// The section's `$End<name>` right after its content: anything else means the count in
+    /// the section's header (`what`) disagrees with what the section holds.
+    fn close(&mut self, name: &str, what: &str) -> Result<(), GmshError> {
+        let tag = format!("$End{name}");
+        self.skip_space();
+        if self.data.get(self.pos..).is_some_and(|rest| rest.starts_with(tag.as_bytes())) {
+            self.pos += tag.len();
+            return Ok(());
+        }
+        let rest = self.data.get(self.pos..).unwrap_or_default();
+        if tag.as_bytes().starts_with(rest) {
+            return Err(GmshError::Truncated { section: self.section });
+        }
+        Err(self.err(format!("more follows the {what} than its count says (expected {tag})")))
+    }
+
     /// Skips to the line after `$End<name>`.
     fn end(&mut self, name: &str) -> Result<(), GmshError> {
         let tag = format!("$End{name}");
-        let rest = &self.data[self.pos..];
+        let rest = self.data.get(self.pos..).unwrap_or_default();
         let at = rest
             .windows(tag.len())
             .position(|w| w == tag.as_bytes())
@@ -187,6 +219,9 @@ struct Raw {
     blocks: Vec<(i64, Vec<i64>)>,
     /// (dim, physical tag) → node indices.
     group_nodes: BTreeMap<(usize, i64), Vec<usize>>,
+    /// 4.1: (element dim, entity dim, entity tag) → the nodes of the entity's elements, given to
+    /// its physical groups once at the end ([`Raw::entity_groups`]).
+    entity_nodes: BTreeMap<(usize, usize, i64), Vec<usize>>,
     has_nodes: bool,
     has_elements: bool,
 }
@@ -205,7 +240,7 @@ pub fn parse(data: &[u8]) -> Result<GmshFile, GmshError> {
     c.binary = file_type == "1";
     if c.binary {
         // One int 1 after the newline: its bytes tell the endianness.
-        c.pos += 1;
+        c.skip_newline()?;
         if c.bytes::<4>()? != 1i32.to_le_bytes() {
             return Err(GmshError::BigEndian);
         }
@@ -228,6 +263,7 @@ pub fn parse(data: &[u8]) -> Result<GmshFile, GmshError> {
     if !(raw.has_nodes && raw.has_elements) {
         return Err(GmshError::Missing);
     }
+    raw.entity_groups(data.len().max(1 << 12))?;
     let mut groups: BTreeMap<String, Vec<usize>> = BTreeMap::new();
     for ((dim, tag), mut nodes) in std::mem::take(&mut raw.group_nodes) {
         let name = raw.names.get(&(dim, tag)).cloned().unwrap_or_else(|| tag.to_string());
@@ -245,6 +281,34 @@ pub fn parse(data: &[u8]) -> Result<GmshFile, GmshError> {
         })
         .collect();
     Ok(GmshFile { points: raw.points, blocks, groups })
+}
+
+impl Raw {
+    /// 4.1: each entity's nodes into each of its physical groups. An entity may list thousands
+    /// of physical tags (issue 32, E1: a 0.47 MB file asked for 4 GB): the copies are counted
+    /// first and refused beyond `limit` entries, the file's size in bytes (a node takes at
+    /// least 16 bytes to write, so this allows every node in 16 groups or more).
+    fn entity_groups(&mut self, limit: usize) -> Result<(), GmshError> {
+        let mut entries = 0usize;
+        for ((_, dim, entity), nodes) in self.entity_nodes.iter_mut() {
+            nodes.sort_unstable();
+            nodes.dedup();
+            let tags = self.entities.get_mut(&(*dim, *entity)).expect("an entity with nodes has tags");
+            tags.sort_unstable();
+            tags.dedup();
+            entries = entries.saturating_add(tags.len().saturating_mul(nodes.len()));
+            if entries > limit {
+                let (dim, entity, tags) = (*dim, *entity, tags.len());
+                return Err(GmshError::Groups { dim, entity, tags, entries, limit });
+            }
+        }
+        for ((element_dim, dim, entity), nodes) in std::mem::take(&mut self.entity_nodes) {
+            for &p in &self.entities[&(dim, entity)] {
+                self.group_nodes.entry((element_dim, p)).or_default().extend_from_slice(&nodes);
+            }
+        }
+        Ok(())
+    }
 }
 
 /// `$PhysicalNames` (ASCII in every format): `n`, then `dim tag "name"` per line.
@@ -271,7 +335,7 @@ fn names(c: &mut Cursor, raw: &mut Raw) -> Result<(), GmshError> {
 /// `$Entities` (4.1): each entity's physical tags (points, curves, surfaces, volumes).
 fn entities(c: &mut Cursor, raw: &mut Raw) -> Result<(), GmshError> {
     c.section = "$Entities";
-    c.pos += usize::from(c.binary); // the newline after the section's name
+    c.skip_newline()?; // the newline after the section's name
     let mut counts = [0; 4];
     for n in counts.iter_mut() {
         let v = c.size()?;
@@ -315,16 +379,16 @@ fn nodes(c: &mut Cursor, raw: &mut Raw) -> Result<(), GmshError> {
     if !raw.v4 {
         let n = c.ascii_int()?;
         let n = c.count(n, 16)?;
-        c.pos += usize::from(c.binary); // the newline before binary data
+        c.skip_newline()?; // the newline before binary data
         raw.points.reserve(3 * n);
         for _ in 0..n {
             let tag = c.int()?;
             let x = [c.float()?, c.float()?, c.float()?];
             add_node(raw, tag, x)?;
         }
-        return c.end("Nodes");
+        return c.close("Nodes", "nodes");
     }
-    c.pos += usize::from(c.binary); // the newline after the section's name
+    c.skip_newline()?; // the newline after the section's name
     let blocks = c.size()?;
     let total = c.size()?;
     raw.points.reserve(3 * c.count(total, 16)?);
@@ -344,11 +408,18 @@ fn nodes(c: &mut Cursor, raw: &mut Raw) -> Result<(), GmshError> {
             add_node(raw, tag, x)?;
         }
     }
-    c.end("Nodes")
+    c.close("Nodes", "node blocks")
 }
 
-/// Appends one element: its nodes (gmsh order → ours), and its nodes to its physical group.
-fn add_element(raw: &mut Raw, element: i64, code: i64, tags: &[i64], phys: &[i64]) -> Result<(), GmshError> {
+/// Where an element's nodes go besides its block: the physical group of its first tag (2.2), or
+/// its entity's node list (4.1, [`Raw::entity_groups`]).
+enum Groups {
+    Tag(Option<i64>),
+    Entity(Option<(usize, i64)>),
+}
+
+/// Appends one element: its nodes (gmsh order → ours), and its nodes to its groups.
+fn add_element(raw: &mut Raw, element: i64, code: i64, tags: &[i64], groups: Groups) -> Result<(), GmshError> {
     let (_, dim, _) = type_of(element, code)?;
     let mut idx = Vec::with_capacity(tags.len());
     for &node in tags {
@@ -369,8 +440,10 @@ fn add_element(raw: &mut Raw, element: i64, code: i64, tags: &[i64], phys: &[i64
         _ => (0..idx.len()).collect(),
     };
     raw.blocks[block].1.extend(order.iter().map(|&a| idx[a] as i64));
-    for &p in phys {
-        raw.group_nodes.entry((dim, p)).or_default().extend_from_slice(&idx);
+    match groups {
+        Groups::Tag(Some(p)) => raw.group_nodes.entry((dim, p)).or_default().extend_from_slice(&idx),
+        Groups::Entity(Some((d, e))) => raw.entity_nodes.entry((dim, d, e)).or_default().extend_from_slice(&idx),
+        Groups::Tag(None) | Groups::Entity(None) => {}
     }
     Ok(())
 }
@@ -382,7 +455,7 @@ fn elements(c: &mut Cursor, raw: &mut Raw) -> Result<(), GmshError> {
     raw.has_elements = true;
     let mut nodes = Vec::new();
     if raw.v4 {
-        c.pos += usize::from(c.binary); // the newline after the section's name
+        c.skip_newline()?; // the newline after the section's name
         let blocks = c.size()?;
         for _ in 0..3 {
             c.size()?;
@@ -393,27 +466,30 @@ fn elements(c: &mut Cursor, raw: &mut Raw) -> Result<(), GmshError> {
             let n = c.count(n, 8)?;
             let (_, _, nv) = type_of(-1, code)?;
             let dim = usize::try_from(dim).map_err(|_| c.err(format!("dimension {dim}")))?;
-            let phys = raw.entities.get(&(dim, entity)).cloned().unwrap_or_default();
+            let grouped = raw.entities.get(&(dim, entity)).is_some_and(|p| !p.is_empty());
             for _ in 0..n {
                 let element = c.size()?;
                 nodes.clear();
                 for _ in 0..nv {
                     nodes.push(c.size()?);
                 }
-                add_element(raw, element, code, &nodes, &phys)?;
+                add_element(raw, element, code, &nodes, Groups::Entity(grouped.then_some((dim, entity))))?;
             }
         }
-        return c.end("Elements");
+        return c.close("Elements", "element blocks");
     }
     let n = c.ascii_int()?;
     let mut left = c.count(n, 8)?;
-    c.pos += usize::from(c.binary);
+    c.skip_newline()?;
     while left > 0 {
         // Binary: a header (type, count, tags per element); ASCII: one element per line.
         let (code, count, ntags) = if c.binary { (c.int()?, c.int()?, c.int()?) } else { (-1, 1, -1) };
-        let count = c.count(count, 4)?.min(left);
+        let count = c.count(count, 4)?;
         if count == 0 {
             return Err(c.err("an element block of 0 elements"));
+        }
+        if count > left {
+            return Err(c.err(format!("a block of {count} elements passes the section's count ({left} left)")));
         }
         for _ in 0..count {
             let element = c.int()?;
@@ -426,12 +502,12 @@ fn elements(c: &mut Cursor, raw: &mut Raw) -> Result<(), GmshError> {
                 nodes.push(c.int()?);
             }
             // The physical tag is the first tag; 0 means none.
-            let phys: Vec<i64> = tags.first().copied().filter(|&p| p != 0).into_iter().collect();
-            add_element(raw, element, code, &nodes, &phys)?;
+            let phys = tags.first().copied().filter(|&p| p != 0);
+            add_element(raw, element, code, &nodes, Groups::Tag(phys))?;
         }
         left -= count;
     }
-    c.end("Elements")
+    c.close("Elements", "elements")
 }
 
 #[cfg(test)]

@@ -34,6 +34,14 @@ pub enum MeshFileError {
     NotRegular { key: &'static str, path: String, what: &'static str },
     #[error("{key} = \"{path}\" has {bytes} bytes, over the limit of {limit} bytes (256 MiB) for a mesh file")]
     TooLarge { key: &'static str, path: String, bytes: u64, limit: u64 },
+    #[error(
+        "{key} = \"{path}\" reports a size of 0 bytes: empty, or a file of /proc or /sys whose size is not known before reading; a mesh file must be a regular file of 1 to {limit} bytes"
+    )]
+    NoSize { key: &'static str, path: String, limit: u64 },
+    #[error(
+        "{key} = \"{path}\" gave more than {limit} bytes when read (its size said {reported}): over the limit for a mesh file"
+    )]
+    ReadTooLarge { key: &'static str, path: String, reported: u64, limit: u64 },
     #[error("{key} = \"{path}\": meshio could not read it: {reason}")]
     Read { key: &'static str, path: String, reason: String },
     #[error(
@@ -205,8 +213,25 @@ fn is_gmsh(path: &Path) -> bool {
 
 fn read_gmsh(key: &'static str, path: &Path) -> Result<gmsh::GmshFile, MeshFileError> {
     let shown = || path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| MeshFileError::Open { key, path: shown(), reason: e.to_string() })?;
+    let bytes = read_capped(key, path, MAX_MESH_FILE_BYTES)?;
     gmsh::parse(&bytes).map_err(|source| MeshFileError::Gmsh { key, path: shown(), source })
+}
+
+/// The bytes of `path`, refused beyond `limit` bytes read: the size a file reports is not the
+/// size it reads (a file of /proc reports 0; a file may grow), so the cap is on the bytes read
+/// (issue 32, E8).
+fn read_capped(key: &'static str, path: &Path, limit: u64) -> Result<Vec<u8>, MeshFileError> {
+    use std::io::Read;
+    let shown = || path.display().to_string();
+    let open = |e: std::io::Error| MeshFileError::Open { key, path: shown(), reason: e.to_string() };
+    let file = std::fs::File::open(path).map_err(open)?;
+    let reported = file.metadata().map_err(open)?.len();
+    let mut bytes = Vec::with_capacity(reported.min(limit) as usize);
+    file.take(limit + 1).read_to_end(&mut bytes).map_err(open)?;
+    if bytes.len() as u64 > limit {
+        return Err(MeshFileError::ReadTooLarge { key, path: shown(), reported, limit });
+    }
+    Ok(bytes)
 }
 
 /// The dimension of a meshio/gmsh cell type name, if known.
@@ -285,6 +310,11 @@ pub fn check_file(key: &'static str, path: &Path) -> Result<(), MeshFileError> {
     }
     if meta.len() > MAX_MESH_FILE_BYTES {
         return Err(MeshFileError::TooLarge { key, path: shown(), bytes: meta.len(), limit: MAX_MESH_FILE_BYTES });
+    }
+    // meshio reads the file itself, uncapped: a reported size of 0 (/proc, /sys) is refused
+    // here (issue 32, E8); gmsh files are read capped besides ([`read_capped`]).
+    if meta.len() == 0 {
+        return Err(MeshFileError::NoSize { key, path: shown(), limit: MAX_MESH_FILE_BYTES });
     }
     Ok(())
 }
@@ -486,5 +516,21 @@ mod tests {
         );
         std::fs::write(&huge, b"$MeshFormat").unwrap();
         check_file("plate.mesh", &huge).unwrap();
+    }
+
+    /// Issue 32, E8: the cap is on the bytes read, whatever size the file reports (/dev/zero
+    /// reports 0 and never ends). Unfixed: `std::fs::read` read until memory ran out.
+    #[cfg(unix)]
+    #[test]
+    fn the_bytes_read_are_capped() {
+        let err = read_capped("solid.mesh", Path::new("/dev/zero"), 1000).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "solid.mesh = \"/dev/zero\" gave more than 1000 bytes when read (its size said 0): over the limit for a mesh file"
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let small = dir.path().join("s.msh");
+        std::fs::write(&small, [7u8; 1000]).unwrap();
+        assert_eq!(read_capped("solid.mesh", &small, 1000).unwrap(), vec![7u8; 1000]);
     }
 }

@@ -120,7 +120,7 @@ pub enum SceneError {
     )]
     NotAnInteger { end: f64, dt: f64, ratio: f64 },
     #[error(
-        "unknowns × steps = {work:.3e} exceeds the limit {limit:.0e} (about 2 minutes of computing in a release build): reduce {size} or time.end / time.dt"
+        "unknowns × steps = {work:.3e} exceeds the limit {limit:.0e} (a bound on the work, not a time: `check` estimates a scene's time): reduce {size} or time.end / time.dt"
     )]
     TooMuchWork { work: f64, limit: f64, size: &'static str },
     #[error("output.series would record {values:.3e} values (limit {limit:.0e}): set output.every to at least {every}")]
@@ -140,9 +140,9 @@ pub enum SceneError {
     #[error(transparent)]
     MeshFile(#[from] mesh_file::MeshFileError),
     #[error(
-        "{contact} contact nodes: their dense Schur complement would take {values:.3e} values ({megabytes:.0} MB), over the limit of {limit:.1e}: reduce the nodes of the contact face (plate.ny, solid.ny and solid.nz, or the contact edge of plate.mesh)"
+        "{contact} contact nodes: their dense Schur complement would take {values:.3e} values ({megabytes:.0} MB), over the limit of {limit:.1e}: reduce the nodes of the contact face ({keys})"
     )]
-    TooManyContactNodes { contact: usize, values: f64, limit: f64, megabytes: f64 },
+    TooManyContactNodes { contact: usize, values: f64, limit: f64, megabytes: f64, keys: &'static str },
     #[error(
         "{keys}: assembling this mesh takes at least {gb:.2} GB, over the memory limit of {limit_gb:.2} GB (the available memory, or `ulimit -v`): reduce {keys}",
         gb = bytes / 1e9, limit_gb = *limit as f64 / 1e9
@@ -330,6 +330,11 @@ pub trait SceneGeometry: Sized {
     const COLUMN_LIST: &'static str;
     /// The keys that set the number of unknowns (named when the work limit is exceeded).
     const SIZE_KEYS: &'static str;
+    /// [`Self::SIZE_KEYS`] of this scene: the keys it has (a mesh file's scene has no `nx`;
+    /// issue 32, E16).
+    fn size_keys(&self) -> &'static str {
+        Self::SIZE_KEYS
+    }
     /// Whether the geometry writes VTU frames (`output.vtu`).
     const VTU: bool;
     /// Whether the contact nodes carry unknowns without a contact condition (a solid's
@@ -380,6 +385,22 @@ impl AnyScene {
     pub fn from_file(path: &std::path::Path) -> Result<AnyScene, SceneError> {
         let text = read_scene_text(path)?;
         AnyScene::parse(&text, mesh_file::MeshInputs::files(path.parent().unwrap_or(std::path::Path::new("."))))
+    }
+
+    /// The files a scene file names besides itself (`plate.mesh`, `solid.mesh`, relative to its
+    /// folder), read from its TOML without validating it: the inputs that `run --force` must
+    /// never delete (issue 32, E12). Empty if the file does not parse (its run is refused then).
+    pub fn named_files(path: &std::path::Path) -> Vec<std::path::PathBuf> {
+        let Some(table) = read_scene_text(path).ok().and_then(|t| toml::from_str::<toml::Table>(&t).ok()) else {
+            return Vec::new();
+        };
+        let base = path.parent().unwrap_or(std::path::Path::new("."));
+        ["plate", "solid"]
+            .iter()
+            .filter_map(|g| table.get(*g)?.get("mesh")?.as_str())
+            .filter(|f| *f != mesh_file::ARRAY_MESH)
+            .map(|f| base.join(f))
+            .collect()
     }
 
     /// Parses and validates scene text; a mesh file is relative to the current folder.
@@ -472,7 +493,7 @@ impl<G: SceneGeometry> Scene<G> {
 fn fits<G: SceneGeometry>(geometry: G) -> Result<G, SceneError> {
     let (bytes, limit) = (geometry.assembly_bytes(), crate::linalg::memory_limit());
     if bytes > limit as f64 {
-        return Err(SceneError::TooMuchMemory { keys: G::SIZE_KEYS, bytes, limit });
+        return Err(SceneError::TooMuchMemory { keys: geometry.size_keys(), bytes, limit });
     }
     Ok(geometry)
 }

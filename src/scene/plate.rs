@@ -81,7 +81,7 @@ impl PlateSpec {
         };
         let [nx, ny, _] = mesh.grid.unwrap_or([0; 3]);
         let contact = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count();
-        check_contact_memory(contact)?;
+        check_contact_memory(contact, if mesh_file.is_some() { "its edge x = 0 in plate.mesh" } else { "plate.ny" })?;
         let (initial, medium) = parse_plate_medium(p.medium, &p.unknown, &mesh)?;
         let ([length, height, _], cells) = (mesh.extent, mesh.kind);
         Ok(PlateSpec { length, height, nx, ny, cells, initial, medium, mesh_file, mesh: Some(Arc::new(mesh)) })
@@ -123,7 +123,7 @@ fn structured_mesh(p: &RawPlate) -> Result<Mesh, SceneError> {
         }
     };
     // Checked before the mesh is built: a hostile nx, ny must fail fast.
-    check_contact_memory(ny + 1)?;
+    check_contact_memory(ny + 1, "plate.ny")?;
     Ok(Mesh::structured_2d(length, height, nx, ny, cells)?)
 }
 
@@ -136,6 +136,10 @@ impl SceneGeometry for PlateSpec {
     const COLUMN_LIST: &'static str = SERIES_NAMES;
     const SIZE_KEYS: &'static str = "plate.nx, plate.ny";
     const VTU: bool = true;
+
+    fn size_keys(&self) -> &'static str {
+        if self.mesh_file.is_some() { "plate.mesh (a coarser mesh)" } else { Self::SIZE_KEYS }
+    }
 
     fn unknowns(&self) -> usize {
         let mesh = self.mesh.as_ref().expect("a validated plate has its mesh");
@@ -278,12 +282,12 @@ fn parse_initial(raw: Option<RawInitial>, consts: &[(&str, f64)]) -> Result<Plat
     }
 }
 
-/// The dense contact Schur complement takes contact² values.
-pub(crate) fn check_contact_memory(contact: usize) -> Result<(), SceneError> {
+/// The dense contact Schur complement takes contact² values; `keys` set the contact nodes.
+pub(crate) fn check_contact_memory(contact: usize, keys: &'static str) -> Result<(), SceneError> {
     let values = contact as f64 * contact as f64;
     if values > MAX_CONTACT_VALUES {
         let megabytes = values * 8.0 / 1e6;
-        return Err(SceneError::TooManyContactNodes { contact, values, limit: MAX_CONTACT_VALUES, megabytes });
+        return Err(SceneError::TooManyContactNodes { contact, values, limit: MAX_CONTACT_VALUES, megabytes, keys });
     }
     Ok(())
 }

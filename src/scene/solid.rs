@@ -294,7 +294,12 @@ fn zero_initial(dim: usize, extent: [f64; 3]) -> Result<SolidInitial, SceneError
 /// finite at the nodes at t = 0.
 fn check_body(spec: &SolidSpec, body: &BodySpec) -> Result<(), SceneError> {
     let built = spec.built().map_err(setup_error)?;
-    check_contact_memory(built.contact.nodes.len())?;
+    let keys = if matches!(spec.source, MeshSource::Box) {
+        "obstacle.contact, or solid.nx, solid.ny[, solid.nz]"
+    } else {
+        "obstacle.contact, or solid.mesh"
+    };
+    check_contact_memory(built.contact.nodes.len(), keys)?;
     let d = spec.dim;
     for e in &body.force {
         e.eval_at_nodes(built.mesh.points.iter().map(|p| [&p[..d], &[0.0][..]].concat())).map_err(SceneError::from)?;
@@ -312,6 +317,10 @@ impl SceneGeometry for SolidSpec {
     const SIZE_KEYS: &'static str = "solid.nx, solid.ny[, solid.nz]";
     const VTU: bool = true;
     const MASSLESS_TANGENTS: bool = true;
+
+    fn size_keys(&self) -> &'static str {
+        if matches!(self.source, MeshSource::Box) { mesh::keys_of(self.dim) } else { "solid.mesh (a coarser mesh)" }
+    }
 
     /// The free unknowns: the components of the nodes not clamped (x = L for the box), less the
     /// normal components a roller face removes, on the mesh built for the contact weight.

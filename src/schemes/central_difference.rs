@@ -33,8 +33,9 @@
 //! accuracy stated there). The massless unknowns enter the interior rows through the quasi-static
 //! map: with C free the effective stiffness is the Schur complement `K_II − K_IC K_CC⁻¹ K_CI`,
 //! with C on the obstacle it is K_II; both are ≤ K_II, so K_II's λ_max bounds every contact
-//! state. A larger `time.dt` is refused naming Δt_c; `dt = Δt_c` is accepted (within the stated
-//! accuracy of Δt_c, [`super::stable_limit::REL_TOL`] relative).
+//! state. `Δt = Δt_c` is not stable (the highest mode grows linearly): `time.dt ≥ Δt_c (1 − REL_TOL)`
+//! is refused naming Δt_c, the margin being the stated accuracy of Δt_c
+//! ([`super::stable_limit::REL_TOL`] relative; [`super::stable_limit::refuses`]).
 //!
 //! **Other laws** ([`crate::contact::ExplicitLaw`]): the scheme is written once for every law.
 //! The law adds its force of the current state (Nitsche: −N(Uⁿ) in the residual before M_L⁻¹;
@@ -142,7 +143,7 @@ impl<A: SymMatrix> CentralDifference<A> {
 
     /// On `system` with the lumped mass `lumped` (one entry per unknown, ≥ 0) and the contact law
     /// (exact or penalty).
-    /// Refuses `dt > Δt_c` ([`SchemeError::AboveStableLimit`]).
+    /// Refuses `dt ≥ Δt_c (1 − REL_TOL)` ([`SchemeError::AboveStableLimit`]).
     pub fn new(
         system: &ContactSystem<A>,
         lumped: Vec<f64>,
@@ -181,9 +182,9 @@ impl<A: SymMatrix> CentralDifference<A> {
         let n = system.n();
         let inv_mass: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
         let (limit, lanczos_steps, converged) = stable_limit_of(system, &lumped, Some(law.as_ref()));
-        // dt = Δt_c is accepted up to the accuracy of its computation (a free–free uniform chain
-        // has λ_max = 4c²/h² exactly, and Δt_c = h/c is then met within a few ulps).
-        if dt > limit * (1.0 + super::stable_limit::REL_TOL) {
+        // dt = Δt_c is not stable, and Δt_c is known to REL_TOL: refused from Δt_c (1 − REL_TOL)
+        // down (a free–free uniform chain has Δt_c = h/c exactly: Courant 1 is refused there).
+        if super::stable_limit::refuses(dt, limit) {
             return Err(SchemeError::AboveStableLimit { scheme: Self::NAME, dt, limit, spring: law.bound() });
         }
         let massless: Vec<usize> = (0..n).filter(|&i| lumped[i] <= 0.0).collect();

@@ -118,10 +118,7 @@ pub enum SchemeError {
     Unsupported { key: &'static str, geometry: &'static str, reason: &'static str },
     #[error("step {step} (t = {time}): {source}")]
     Contact { step: usize, time: f64, source: LcpError },
-    #[error(
-        "time.dt = {dt} is above the stable limit of {scheme}, Δt_c = 2/√λ_max(M_L,II⁻¹ K_II{spring}) = {limit}: use time.dt ≤ {limit}",
-        dt = crate::numfmt::fmt_f64(*dt), limit = crate::numfmt::fmt_f64(*limit)
-    )]
+    #[error("{}", stable_limit::above(scheme, *dt, *limit, spring))]
     AboveStableLimit { scheme: &'static str, dt: f64, limit: f64, spring: &'static str },
     #[error("{key}: {scheme} needs {what}, got {value} ({reason})")]
     Needs { scheme: &'static str, key: &'static str, what: &'static str, value: f64, reason: &'static str },

@@ -21,6 +21,35 @@ use crate::linalg::SymMatrix;
 
 /// Relative change of the Ritz value over [`WINDOW`] steps that stops the iteration.
 pub const REL_TOL: f64 = 1e-12;
+
+/// Whether `dt` is refused against the computed limit Δt_c: Δt = Δt_c is not stable (the
+/// highest mode's amplification matrix has the double eigenvalue −1: it grows linearly, the
+/// energy quadratically), and Δt_c is known to [`REL_TOL`] relative (module docs), so
+/// `dt ≥ Δt_c (1 − REL_TOL)` is refused (issue 32, E7).
+pub fn refuses(dt: f64, limit: f64) -> bool {
+    !(dt < limit * (1.0 - REL_TOL))
+}
+
+/// The message of [`super::SchemeError::AboveStableLimit`]: Δt_c, the estimator's margin, and a
+/// `time.dt` that is accepted (0.9 Δt_c, the usual safety factor), or, where Δt_c is so small
+/// that no step is (a stiff penalty), the keys that raise it.
+pub fn above(scheme: &str, dt: f64, limit: f64, spring: &str) -> String {
+    use crate::numfmt::fmt_f64;
+    let head = format!(
+        "time.dt = {} is not below the stable limit of {scheme}, Δt_c = 2/√λ_max(M_L,II⁻¹ K_II{spring}) = {} \
+         (Δt = Δt_c is not stable; Δt_c is computed to {REL_TOL:e} relative, so time.dt < Δt_c (1 − {REL_TOL:e}) is required)",
+        fmt_f64(dt),
+        fmt_f64(limit)
+    );
+    let advice = 0.9 * limit;
+    if advice > 1e-300 {
+        format!("{head}: use time.dt ≤ {} (0.9 Δt_c)", fmt_f64(advice))
+    } else {
+        format!(
+            "{head}: no usable time.dt is below it; lower the stiffness (contact.penalty, the material's modulus) or use an implicit scheme (scheme.kind = \"crank-nicolson\")"
+        )
+    }
+}
 pub const WINDOW: usize = 5;
 /// Upper bound on the Lanczos steps (its basis is stored for the reorthogonalisation).
 pub const MAX_STEPS: usize = 300;

@@ -81,6 +81,10 @@ pub enum BodyError {
         "node {node} at ({at}) starts inside the obstacle: its gap obstacle.normal · (X − obstacle.point) = {gap:e} < 0"
     )]
     Inside { node: usize, at: String, gap: f64 },
+    #[error(
+        "node {node} at ({at}) has the gap obstacle.normal · (X − obstacle.point) = {gap}: not finite; choose obstacle.point so that |X − obstacle.point| stays below 1e300 for every node"
+    )]
+    Gap { node: usize, at: String, gap: f64 },
     #[error("obstacle.normal = [{0}]: must be finite and not zero (it is normalised)")]
     Normal(String),
 }
@@ -100,17 +104,21 @@ pub struct BodyContact {
     pub contact: Vec<bool>,
 }
 
-/// The unit normal of `normal` (first `dim` entries), refused if zero or not finite.
+/// The unit normal of `normal` (first `dim` entries), refused if zero or not finite. Entries
+/// whose squares would underflow or overflow (largest |x| outside [1e-150, 1e150]) are scaled
+/// by the largest first, n = (x/s)/‖x/s‖ (issue 32, E10: [0, 3e-162] gave length 0.954).
 pub fn unit_normal(normal: &[f64], dim: usize) -> Result<[f64; 3], BodyError> {
-    let norm = normal.iter().map(|x| x * x).sum::<f64>().sqrt();
-    if normal.len() != dim || !norm.is_finite() || norm == 0.0 {
+    let largest = normal.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if normal.len() != dim || normal.iter().any(|x| !x.is_finite()) || largest == 0.0 {
         let shown = normal.iter().map(|x| crate::numfmt::fmt_f64(*x)).collect::<Vec<_>>().join(", ");
         return Err(BodyError::Normal(shown));
     }
+    let scale = if (1e-150..=1e150).contains(&largest) { 1.0 } else { largest };
+    let norm = normal.iter().map(|x| (x / scale) * (x / scale)).sum::<f64>().sqrt();
     let mut n = [0.0; 3];
     for (a, x) in n.iter_mut().zip(normal) {
         // A unit normal is kept as given (e_x stays e_x bit for bit).
-        *a = if norm == 1.0 { *x } else { x / norm };
+        *a = if norm == 1.0 { x / scale } else { x / scale / norm };
     }
     Ok(n)
 }
@@ -246,9 +254,16 @@ pub fn contact(mesh: &Mesh, body: &BodySpec) -> Result<BodyContact, BodyError> {
     let n_nodes = mesh.n_nodes();
     let (normal, point) = (body.obstacle.normal, body.obstacle.point);
     let gap = |v: usize| (0..3).map(|a| normal[a] * (mesh.points[v][a] - point[a])).sum::<f64>();
-    if let Some(node) = (0..n_nodes).find(|&v| gap(v) < 0.0) {
+    let at = |node: usize| {
         let at = mesh.points[node][..mesh.dim].iter().map(|x| crate::numfmt::fmt_f64(*x)).collect::<Vec<_>>();
-        return Err(BodyError::Inside { node, at: at.join(", "), gap: gap(node) });
+        at.join(", ")
+    };
+    // A gap that overflows is refused here, at validation (issue 32, E11).
+    if let Some(node) = (0..n_nodes).find(|&v| !gap(v).is_finite()) {
+        return Err(BodyError::Gap { node, at: at(node), gap: gap(node) });
+    }
+    if let Some(node) = (0..n_nodes).find(|&v| gap(v) < 0.0) {
+        return Err(BodyError::Inside { node, at: at(node), gap: gap(node) });
     }
     let mut clamped = vec![false; n_nodes];
     if let Some(name) = &body.clamped {

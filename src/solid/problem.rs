@@ -144,7 +144,7 @@ impl GeometrySpec for SolidSpec {
     }
 
     fn problem(scene: &Scene<Self>) -> Result<SolidProblem, SolidError> {
-        scene.geometry.problem(&scene.mass, scene.time.end)
+        scene.geometry.problem(&scene.mass, scene.time.exact_end())
     }
 
     fn summary_head(scene: &Scene<Self>, totals: &Totals) -> SolidHead {

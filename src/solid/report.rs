@@ -71,7 +71,11 @@ impl OwnSummary for BodyKeys {
         let (max_force, min_distance) = self.seen.map_or((f64::NEG_INFINITY, f64::INFINITY), |(m, d, _)| (m, d));
         let mut last = [0.0; 9];
         last.copy_from_slice(values);
-        self.seen = Some((max_force.max(values[0]), min_distance.min(values[2]), last));
+        self.seen = Some((
+            crate::observe::max_nan(max_force, values[0]),
+            crate::observe::min_nan(min_distance, values[2]),
+            last,
+        ));
     }
 
     fn keys(&self) -> serde_json::Map<String, serde_json::Value> {

@@ -82,7 +82,7 @@ pub(super) fn file_mesh(
         }
     }
     mesh.check_fills_box().map_err(|e| bad(e.to_string()))?;
-    check_contact_memory((0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count())?;
+    check_contact_memory((0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count(), "its face x = 0 in solid.mesh")?;
     Ok(mesh)
 }
 
@@ -101,7 +101,7 @@ fn check_size(dim: usize, extent: [f64; 3], n: [usize; 3]) -> Result<(), SceneEr
         });
     }
     let contact = n[1..axes].iter().map(|&k| k + 1).product::<usize>();
-    check_contact_memory(contact)?;
+    check_contact_memory(contact, if dim == 2 { "solid.ny" } else { "solid.ny, solid.nz" })?;
     let h: Vec<f64> = (0..axes).map(|a| extent[a] / n[a] as f64).collect();
     let (lo, hi) = h.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
     if hi / lo > 1e6 {
@@ -114,6 +114,6 @@ fn check_size(dim: usize, extent: [f64; 3], n: [usize; 3]) -> Result<(), SceneEr
     Ok(())
 }
 
-fn keys_of(dim: usize) -> &'static str {
+pub(super) fn keys_of(dim: usize) -> &'static str {
     if dim == 2 { "solid.nx, solid.ny" } else { "solid.nx, solid.ny, solid.nz" }
 }
