@@ -80,13 +80,6 @@ pub(crate) struct RawTime {
     pub(crate) end: Option<Number>,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TimeSpec {
-    pub dt: f64,
-    pub end: f64,
-    pub steps: usize,
-}
-
 /// The `[time]` table; `default_end` is used without `time.end`, `elements` (the unknowns per
 /// step, set by the keys `size`) bounds the work.
 pub(crate) fn parse_time(
