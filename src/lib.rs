@@ -27,4 +27,5 @@ pub mod run;
 pub mod scene;
 pub mod schemes;
 pub mod solid;
+pub mod spec;
 pub mod system;

@@ -9,8 +9,8 @@
 //! folder (`output/staging.rs`).
 
 use crate::driver::{Needs, Observer, Sample};
+use crate::observe::Column;
 use crate::observe::{SeriesRecorder, push_series_row, series_needs};
-use crate::scene::Column;
 use std::io::Write;
 use std::path::Path;
 

@@ -9,7 +9,7 @@ use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::medium::Force;
 use crate::problem::Problem;
 use crate::run::{GeometrySpec, Totals};
-use crate::scene::Scene;
+use crate::spec::Scene;
 use serde::Serialize;
 use thiserror::Error;
 

@@ -12,7 +12,7 @@ use crate::fem::{Mesh, MeshError};
 use crate::mass::MassKind;
 use crate::medium::{Force, Medium};
 use crate::run::{GeometrySpec, Totals};
-use crate::scene::Scene;
+use crate::spec::Scene;
 use serde::Serialize;
 use thiserror::Error;
 

@@ -80,23 +80,6 @@ pub(crate) struct RawTime {
     pub(crate) end: Option<Number>,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TimeSpec {
-    pub dt: f64,
-    pub end: f64,
-    pub steps: usize,
-}
-
-impl TimeSpec {
-    /// Where an exact solution must be defined: up to the last step's time as the schemes
-    /// compute it, `steps · dt`, which may pass `end` by a rounding (Δt = 0.1·0.1 and end = 3
-    /// give 300·Δt = 3.0000000000000004). The run ends at step `steps`, an index; its time is
-    /// never compared with `end` (issue 32, E5).
-    pub fn exact_end(&self) -> f64 {
-        self.end.max(self.steps as f64 * self.dt)
-    }
-}
-
 /// The `[time]` table; `default_end` is used without `time.end`, `elements` (the unknowns per
 /// step, set by the keys `size`) bounds the work.
 pub(crate) fn parse_time(

@@ -38,7 +38,7 @@ mod plate;
 mod solid;
 mod tagged;
 
-pub use common::*;
+pub(crate) use common::*;
 pub use compat::Offer;
 pub(crate) use contact::RawContact;
 pub(crate) use medium::*;
@@ -52,6 +52,7 @@ pub use crate::plate::spec::{PlateInitial, PlateSpec};
 // The scheme and column vocabularies live with the code that uses them; scenes name them.
 pub use crate::observe::Column;
 pub use crate::schemes::{Formulation, SchemeSpec};
+pub use crate::spec::{OutputSpec, Scene, TimeSpec};
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -224,20 +225,6 @@ impl Number {
     }
 }
 
-#[derive(Debug, Clone, PartialEq)]
-pub struct OutputSpec {
-    pub series: Vec<Column>,
-    pub every: usize,
-    /// Compute the exact L² error at every step for the summary's `linf_l2_error` (one O(m) pass
-    /// per step, about the cost of a step); false leaves those summary keys null.
-    pub summary_l2: bool,
-    /// The run stops as diverged when its energy exceeds this factor times its reference
-    /// (the driver's `DivergenceCriterion`); in (1, ∞), default [`DEFAULT_DIVERGENCE_FACTOR`].
-    pub divergence_factor: f64,
-    /// Steps between VTU frames (plates; None for no VTU output, always None for bars).
-    pub vtu_every: Option<usize>,
-}
-
 pub(crate) fn finite_in(key: &'static str, v: f64, ok: bool, range: &'static str) -> Result<f64, SceneError> {
     if v.is_finite() && ok { Ok(v) } else { Err(SceneError::Range { key, value: short(v), range }) }
 }
@@ -252,20 +239,6 @@ pub(crate) fn forbid<T>(key: &'static str, value: &Option<T>, context: &str) -> 
         Some(_) => Err(SceneError::Inapplicable { key, context: context.to_string() }),
         None => Ok(()),
     }
-}
-
-/// A validated scene: one geometry (`G`: [`BarSpec`], [`PlateSpec`], `SolidSpec`) and the sections every
-/// scene shares. A scene file is read as an [`AnyScene`], whose variant is the geometry table
-/// the file has.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Scene<G> {
-    pub geometry: G,
-    pub mass: crate::mass::MassKind,
-    pub scheme: SchemeSpec,
-    /// The contact law (`[contact]`; default exact).
-    pub contact: crate::contact::law::ContactLaw,
-    pub time: TimeSpec,
-    pub output: OutputSpec,
 }
 
 /// A bar scene (`[bar]`).

@@ -13,7 +13,7 @@ use crate::mass::MassKind;
 use crate::material::{FarEnd, Material};
 use crate::problem::Problem;
 use crate::run::{GeometrySpec, Totals};
-use crate::scene::Scene;
+use crate::spec::Scene;
 use serde::Serialize;
 use std::sync::Arc;
 use thiserror::Error;

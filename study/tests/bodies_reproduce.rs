@@ -6,8 +6,8 @@
 
 use massredist::mass::MassKind;
 use massredist_study::paper::Experiment;
-use massredist_study::paper::replicate::settled;
 use massredist_study::paper::bodies::{Bench, BodyResult, COPIES, DROP_GAP, DROP_SPEED, compute_bodies, metrics};
+use massredist_study::paper::replicate::settled;
 use std::sync::OnceLock;
 
 fn results() -> &'static [BodyResult] {
@@ -160,7 +160,10 @@ fn every_printed_number_is_shared_by_the_five_runs() {
         let skipped = r.perturbed.len() == 1;
         assert!(r.perturbed.len() == COPIES || skipped, "{name}: {} copies", r.perturbed.len());
         if skipped {
-            assert!(settled(&r.metrics.printed(), &r.perturbed[0].printed()), "{name}: copies skipped, digits unsettled");
+            assert!(
+                settled(&r.metrics.printed(), &r.perturbed[0].printed()),
+                "{name}: copies skipped, digits unsettled"
+            );
         }
         let quantities: [(&str, fn(&massredist_study::paper::bodies::Metrics) -> Option<f64>); 5] = [
             ("drift", |m| Some(m.drift)),
