@@ -121,7 +121,8 @@ mod tests {
             Copies::WherePrinted,
             |c| {
                 calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                if c == Copy::Base { 1.0 } else { 1.0 + 1e-15 }
+                // 1.5, not 1.0: below a power of ten `sig` shows one decimal more (0.99…→"1.0000")
+                if c == Copy::Base { 1.5 } else { 1.5 + 1e-15 }
             },
             |x| vec![Printed::Value(Some(*x), 4)],
         );
