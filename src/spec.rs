@@ -49,3 +49,44 @@ pub struct OutputSpec {
     /// Steps between VTU frames (plates; None for no VTU output, always None for bars).
     pub vtu_every: Option<usize>,
 }
+
+/// What ties a geometry's validated specification to the one core: the problem it poses, the
+/// geometry keys of its `summary.json`, and its VTU frames. Each geometry implements it in its
+/// own folder (`bar/problem.rs`, `plate/problem.rs`, `solid/problem.rs`), beside its spec
+/// (`spec.rs`), its [`Geometry`](crate::problem::Geometry) (`geometry.rs`) and its frame writer (`vtu.rs`), and its
+/// `[table]` is parsed in `scene/<geometry>.rs`. It sits here, below the parser and the run
+/// path (`crate::run`), which bound their geometries by it and by `crate::scene::SceneGeometry`.
+pub trait GeometrySpec: Sized {
+    /// The assembled geometry (mesh, contact system, reports).
+    type System: crate::problem::Geometry;
+    /// Why the problem cannot be built (assembly, mesh, exact solution).
+    type Error: std::error::Error + Send + Sync + 'static;
+    /// The geometry keys of `summary.json`, written after `scheme`, `mass`, `elements`,
+    /// `length` and `end` and before the `Summary` (`crate::observe`).
+    type Head: serde::Serialize;
+    /// The scene keys that shape the problem, named when it cannot be set up.
+    const SETUP_KEYS: &'static str;
+    /// Cells along x (`elements` in `summary.json`; 0 for a mesh file).
+    fn elements(&self) -> usize;
+    /// The problem of a scene: the assembled system, the interpolated initial data and the
+    /// exact solution up to `time.end` where one is known.
+    fn problem(scene: &Scene<Self>) -> Result<crate::problem::Problem<Self::System>, Self::Error>;
+    /// The geometry keys of `summary.json` ([`GeometrySpec::Head`]), with the totals of the
+    /// system that ran (a Rust run's, or the FEniCSx engine's own).
+    fn summary_head(scene: &Scene<Self>, totals: &Totals) -> Self::Head;
+    /// The totals of an assembled system, for [`GeometrySpec::summary_head`].
+    fn totals(system: &Self::System) -> Totals;
+    /// The VTU frames of this geometry's states (None: it writes none, and its scenes refuse
+    /// `output.vtu`: `crate::scene::SceneGeometry::VTU`).
+    fn frames(_system: &Self::System) -> Option<&dyn crate::fem::frames::VtuFrames> {
+        None
+    }
+}
+
+/// What `summary.json` reports of the system that ran, besides the scene: `∫ ρ w_h` (per
+/// component) and the number of unknowns.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Totals {
+    pub total_mass: f64,
+    pub unknowns: usize,
+}

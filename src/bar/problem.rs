@@ -8,7 +8,7 @@ use crate::characteristics::{Characteristics, CharacteristicsError, InitialData}
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::medium::Force;
 use crate::problem::Problem;
-use crate::run::{GeometrySpec, Totals};
+use crate::spec::{GeometrySpec, Totals};
 use crate::spec::Scene;
 use serde::Serialize;
 use thiserror::Error;

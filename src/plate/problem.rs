@@ -11,7 +11,7 @@ use crate::fem::layers::cell_weights;
 use crate::fem::{Mesh, MeshError};
 use crate::mass::MassKind;
 use crate::medium::{Force, Medium};
-use crate::run::{GeometrySpec, Totals};
+use crate::spec::{GeometrySpec, Totals};
 use crate::spec::Scene;
 use serde::Serialize;
 use thiserror::Error;

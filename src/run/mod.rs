@@ -5,54 +5,15 @@
 //! folder prepared before computing, through [`crate::output`].
 
 use crate::driver::{DivergenceCriterion, Observer, integrate_watched};
-use crate::fem::frames::{FrameWriter, VtuFrames};
+use crate::fem::frames::FrameWriter;
+use serde::Serialize;
 use crate::observe::{Frame, FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
 use crate::output::{OutputDir, OutputError, SeriesWriter, commit_run};
 use crate::problem::{Geometry, Problem};
 use crate::scene::{AnyScene, Scene, SceneError, SceneGeometry};
+pub use crate::spec::{GeometrySpec, Totals};
 use crate::schemes::{Scheme, SchemeError};
-use serde::Serialize;
 use thiserror::Error;
-
-/// What ties a geometry's validated specification to the one core: the problem it poses, the
-/// geometry keys of its `summary.json`, and its VTU frames. Each geometry implements it in its
-/// own folder (`bar/problem.rs`, `plate/problem.rs`, `solid/problem.rs`), beside its spec
-/// (`spec.rs`), its [`Geometry`] (`geometry.rs`) and its frame writer (`vtu.rs`), and its
-/// `[table]` is parsed in `scene/<geometry>.rs`.
-pub trait GeometrySpec: SceneGeometry {
-    /// The assembled geometry (mesh, contact system, reports).
-    type System: Geometry;
-    /// Why the problem cannot be built (assembly, mesh, exact solution).
-    type Error: std::error::Error + Send + Sync + 'static;
-    /// The geometry keys of `summary.json`, written after `scheme`, `mass`, `elements`,
-    /// `length` and `end` and before the [`Summary`].
-    type Head: Serialize;
-    /// The scene keys that shape the problem, named when it cannot be set up.
-    const SETUP_KEYS: &'static str;
-    /// Cells along x (`elements` in `summary.json`; 0 for a mesh file).
-    fn elements(&self) -> usize;
-    /// The problem of a scene: the assembled system, the interpolated initial data and the
-    /// exact solution up to `time.end` where one is known.
-    fn problem(scene: &Scene<Self>) -> Result<Problem<Self::System>, Self::Error>;
-    /// The geometry keys of `summary.json` ([`GeometrySpec::Head`]), with the totals of the
-    /// system that ran (a Rust run's, or the FEniCSx engine's own).
-    fn summary_head(scene: &Scene<Self>, totals: &Totals) -> Self::Head;
-    /// The totals of an assembled system, for [`GeometrySpec::summary_head`].
-    fn totals(system: &Self::System) -> Totals;
-    /// The VTU frames of this geometry's states (None: it writes none, and its scenes refuse
-    /// `output.vtu`: [`SceneGeometry::VTU`]).
-    fn frames(_system: &Self::System) -> Option<&dyn VtuFrames> {
-        None
-    }
-}
-
-/// What `summary.json` reports of the system that ran, besides the scene: `∫ ρ w_h` (per
-/// component) and the number of unknowns.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Totals {
-    pub total_mass: f64,
-    pub unknowns: usize,
-}
 
 /// A scene's problem with its scheme built (matrices assembled and factored), not yet stepped:
 /// what `check` runs, so that a scene it accepts starts its run.
@@ -90,7 +51,7 @@ impl RunError {
 }
 
 /// The problem and scheme of a scene; a failure names the keys that shape the matrices.
-pub fn setup<G: GeometrySpec>(scene: &Scene<G>) -> Result<Setup<G::System>, SceneError> {
+pub fn setup<G: GeometrySpec + SceneGeometry>(scene: &Scene<G>) -> Result<Setup<G::System>, SceneError> {
     let error = |e: &dyn std::fmt::Display| SceneError::Setup { keys: G::SETUP_KEYS.into(), reason: e.to_string() };
     let problem = G::problem(scene).map_err(|e| error(&e))?;
     let scheme = problem.scheme_with(&scene.scheme, &scene.contact, scene.time.dt).map_err(|e| error(&e))?;
@@ -138,7 +99,7 @@ impl Estimate {
     }
 }
 
-fn estimate<G: GeometrySpec>(scene: &Scene<G>) -> Result<Estimate, SceneError> {
+fn estimate<G: GeometrySpec + SceneGeometry>(scene: &Scene<G>) -> Result<Estimate, SceneError> {
     let start = std::time::Instant::now();
     let Setup { problem, mut scheme } = setup(scene)?;
     let setup_seconds = start.elapsed().as_secs_f64();
@@ -189,7 +150,7 @@ impl Observer for Probe {
 /// Runs a problem with its scheme, its summary and `observers` (series, frames, progress)
 /// until `time.end` or a divergence (which is a result: it reaches the summary through
 /// [`Observer::diverged`]).
-fn run_observed<G: GeometrySpec>(
+fn run_observed<G: GeometrySpec + SceneGeometry>(
     scene: &Scene<G>,
     problem: &Problem<G::System>,
     scheme: &mut dyn Scheme,
@@ -226,7 +187,7 @@ pub struct SceneRun<G: Geometry> {
 /// run that diverges (the driver's [`DivergenceCriterion`] with `output.divergence_factor`)
 /// stops there and is still a result: `Summary::divergence` says where and why, the summary
 /// and series hold the finite states.
-pub fn run_scene<G: GeometrySpec>(
+pub fn run_scene<G: GeometrySpec + SceneGeometry>(
     scene: &Scene<G>,
     extra: &mut [&mut dyn Observer],
 ) -> Result<SceneRun<G::System>, RunError> {
@@ -264,7 +225,7 @@ fn last_frame<G: Geometry>(geometry: &G, scheme: &dyn Scheme) -> Frame {
 /// write error such as a full disk halts the run at that step and fails it), then
 /// `summary.json` and `scene.resolved.toml`, and commits it ([`OutputDir::commit`]). On an
 /// error `out` is dropped, which removes the temporary folder and leaves the target as it was.
-pub fn run_scene_into<G: GeometrySpec>(
+pub fn run_scene_into<G: GeometrySpec + SceneGeometry>(
     scene: &Scene<G>,
     out: OutputDir,
     extra: &mut [&mut dyn Observer],
@@ -320,12 +281,12 @@ struct SummaryFile<'a, H: Serialize> {
 }
 
 /// `summary.json` text of a run of `problem`.
-pub fn summary_json<G: GeometrySpec>(scene: &Scene<G>, problem: &Problem<G::System>, summary: &Summary) -> String {
+pub fn summary_json<G: GeometrySpec + SceneGeometry>(scene: &Scene<G>, problem: &Problem<G::System>, summary: &Summary) -> String {
     summary_json_of(scene, &G::totals(&problem.system), summary)
 }
 
 /// `summary.json` text from the totals of the system that ran (the engine's own).
-pub fn summary_json_of<G: GeometrySpec>(scene: &Scene<G>, totals: &Totals, summary: &Summary) -> String {
+pub fn summary_json_of<G: GeometrySpec + SceneGeometry>(scene: &Scene<G>, totals: &Totals, summary: &Summary) -> String {
     let file = SummaryFile {
         scheme: scene.scheme.name(),
         mass: scene.mass.name(),

@@ -12,7 +12,7 @@ use crate::fem::frames::VtuFrames;
 use crate::mass::MassKind;
 use crate::material::{FarEnd, Material};
 use crate::problem::Problem;
-use crate::run::{GeometrySpec, Totals};
+use crate::spec::{GeometrySpec, Totals};
 use crate::spec::Scene;
 use serde::Serialize;
 use std::sync::Arc;
