@@ -7,26 +7,33 @@ mod exit;
 // this binary cannot depend on it: that crate depends on this package's library, and Cargo
 // refuses the package cycle. The modules name each other `crate::paper`, `crate::bench`, … so
 // both builds resolve alike; what only the study's tests use is dead code here.
+// Without the default feature `study` the binary is the solver's alone (run, check): the
+// solver's tests build and pass so (`cargo test -p massredist --no-default-features`).
+#[cfg(feature = "study")]
 #[allow(dead_code, unused_imports)]
 #[path = "../study/src/bench/mod.rs"]
 mod bench;
-#[cfg(feature = "python")]
+#[cfg(all(feature = "python", feature = "study"))]
 #[allow(dead_code, unused_imports)]
 #[path = "../study/src/bridge.rs"]
 mod bridge;
-#[cfg(feature = "python")]
+#[cfg(all(feature = "python", feature = "study"))]
 #[allow(dead_code, unused_imports)]
 #[path = "../study/src/crosscheck.rs"]
 mod crosscheck;
+#[cfg(feature = "study")]
 #[allow(dead_code, unused_imports)]
 #[path = "../study/src/crosscheck_trajectory.rs"]
 mod crosscheck_trajectory;
+#[cfg(feature = "study")]
 #[allow(dead_code, unused_imports)]
 #[path = "../study/src/paper/mod.rs"]
 mod paper;
+#[cfg(feature = "study")]
 #[allow(dead_code, unused_imports)]
 #[path = "../study/src/plot.rs"]
 mod plot;
+#[cfg(feature = "study")]
 #[path = "../study/src/repo.rs"]
 mod repo;
 
@@ -67,7 +74,7 @@ enum Command {
     /// Validate a scene and print it with every default filled in.
     Check { scene: PathBuf },
     /// Compare the Rust matrices and trajectories with dolfinx and scikit-fem (feature `python`).
-    #[cfg(feature = "python")]
+    #[cfg(all(feature = "python", feature = "study"))]
     Crosscheck {
         /// Also write the report as JSON to this file.
         #[arg(long)]
@@ -76,6 +83,7 @@ enum Command {
     /// Run every numerical experiment of the paper and write figures, CSVs and report.md into DIR
     /// (by default docs/reproduce, the folder the documentation links to; run from the repository
     /// root it is replaced in place, which the folder's marker allows: it lists what reproduce wrote).
+    #[cfg(feature = "study")]
     Reproduce {
         #[arg(long, default_value = "docs/reproduce")]
         out: PathBuf,
@@ -91,6 +99,7 @@ enum Command {
     },
     /// Work–precision sweep, per-step performance against a bare solve and a Python stepper;
     /// writes CSV, tables, figure and report.md into DIR.
+    #[cfg(feature = "study")]
     Bench {
         /// m up to 1536 and Δt = h, h/2, h/4 (under two minutes on 2 cores).
         #[arg(long)]
@@ -161,6 +170,7 @@ fn main() -> ExitCode {
         eprintln!("warning: no signal handler ({e}); an interrupted run leaves its temporary folder");
     }
     match cli.command {
+        #[cfg(feature = "study")]
         Command::Bench { scaling_figure: Some(csv), .. } => match bench::scaling::scaling_figure(&csv) {
             Ok(paths) => {
                 paths.iter().for_each(|p| eprintln!("wrote {}", p.display()));
@@ -168,6 +178,7 @@ fn main() -> ExitCode {
             }
             Err(m) => fail(&csv, m, exit::FAILURE),
         },
+        #[cfg(feature = "study")]
         Command::Bench { methods: true, out, force, .. } => {
             let dir = match prepare(&out, force, &[]) {
                 Ok(d) => d,
@@ -180,6 +191,7 @@ fn main() -> ExitCode {
             eprintln!("{}: {} runs in {:.1} s; see report.md", out.display(), report.results.len(), report.seconds);
             ExitCode::SUCCESS
         }
+        #[cfg(feature = "study")]
         Command::Bench { explicit_scaling: Some(csv), quick, .. } => {
             match bench::explicit_scaling::run(&csv, quick, 21) {
                 Ok(paths) => {
@@ -189,6 +201,7 @@ fn main() -> ExitCode {
                 Err(m) => fail(&csv, m, exit::FAILURE),
             }
         }
+        #[cfg(feature = "study")]
         Command::Bench { quick, out, force, .. } => {
             let dir = match prepare(&out, force, &[]) {
                 Ok(d) => d,
@@ -201,7 +214,7 @@ fn main() -> ExitCode {
             eprintln!("{}: {} runs in {:.1} s; see report.md", out.display(), report.results.len(), report.seconds);
             ExitCode::SUCCESS
         }
-        #[cfg(feature = "python")]
+        #[cfg(all(feature = "python", feature = "study"))]
         Command::Crosscheck { json } => crosscheck(json),
         Command::Check { scene } => match AnyScene::from_file(&scene).and_then(|s| {
             let estimate = massredist::run::check(&s)?;
@@ -217,6 +230,7 @@ fn main() -> ExitCode {
             }
             Err(e) => fail(&scene, e.to_string(), exit::INVALID),
         },
+        #[cfg(feature = "study")]
         Command::Reproduce { out, quick, force, roundoff_audit } => match prepare(&out, force, &[]) {
             Ok(dir) => {
                 massredist::problem::set_roundoff_audit(roundoff_audit);
@@ -266,6 +280,7 @@ fn prepare(out: &Path, force: Force, inputs: &[PathBuf]) -> Result<OutputDir, Ex
 }
 
 /// `reproduce`: every experiment of the paper and the rebounding bar into `out`.
+#[cfg(feature = "study")]
 fn reproduce(out: OutputDir, quick: bool) -> ExitCode {
     let config = if quick { paper::Config::quick() } else { paper::Config::paper() };
     let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
@@ -364,7 +379,7 @@ fn status(out: &Path, summary: &Summary) -> ExitCode {
     }
 }
 
-#[cfg(feature = "python")]
+#[cfg(all(feature = "python", feature = "study"))]
 fn crosscheck(json: Option<PathBuf>) -> ExitCode {
     let report = match crosscheck::matrix_cases().and_then(|c| crosscheck::run(None, &c)) {
         Ok(r) => r,

@@ -65,15 +65,19 @@ const SDNV100: Rod = Rod { length: 0.2, density: 8000.0, modulus: 2e11 * 0.7 / (
 /// a table (`cargo test --test methods_rows -- --nocapture`). Measured (both rods): central
 /// differences with the massless contact node (mod3) at Courant 1 are the characteristic scheme:
 /// duration exact to 2e-16, mean force within 4.4e-4, impact within one step (the first t_n in
-/// contact); the other rows' durations within 5e-3 and forces within 7.5e-3. Asserted: mod3 CD
-/// impact within one step, duration to 1e-9 relative, force within 1e-3; every row's duration and
-/// mean force within 1 %. (Mutation: the forward-increment multiplier's predictor coefficient
+/// contact); the other rows' durations within 8e-3 and forces within 2.7e-3, except the
+/// standard-mass CD row at Courant 0.9 (force −1.22e-2). Asserted: mod3 CD impact within one
+/// step, duration to 1e-9 relative, force within 1e-3; every row's duration within 1 % and mean
+/// force within 1 % (that row 2 %). (Mutation: the forward-increment multiplier's predictor coefficient
 /// κ = 1 -> ½ in steps -> the standard-mass CD row: duration +75 %, force +5.4e1: fails.)
 #[test]
 fn vm265_and_sdnv100_rows() {
     let methods: [(&str, &str, f64, &str); 6] = [
         ("central-difference mod3", "mod3", 1.0, "[scheme]\nkind = \"central-difference\"\n"),
-        ("central-difference standard", "standard", 1.0, "[scheme]\nkind = \"central-difference\"\n"),
+        // Courant 1 is the standard lumped mass's stable limit itself (Δt = h/c = Δt_c), which
+        // the scene refuses (Δt < Δt_c required, issue 32 E7): this row runs at the safety
+        // factor 0.9 below it.
+        ("central-difference standard", "standard", 0.9, "[scheme]\nkind = \"central-difference\"\n"),
         (
             "central-difference penalty mod3",
             "mod3",
@@ -104,8 +108,13 @@ fn vm265_and_sdnv100_rows() {
                 assert!((ti - t_i).abs() <= dt && (d - dur).abs() <= 1e-9 * dur, "{name} {label}: {ti} {d}");
                 assert!(((f - force) / force).abs() <= 1e-3, "{name} {label}: force {f} vs {force}");
             }
+            // 1 % for every row; 2 % for the mean force of the standard-mass CD row, which runs
+            // off Courant 1 (0.9): its duration is counted in whole steps of a chattering
+            // contact (measured: −1.22e-2 on VM265 at 0.9, against −5e-3 at Courant 1 before
+            // Δt = Δt_c was refused).
+            let force_tol = if label == "central-difference standard" { 0.02 } else { 0.01 };
             assert!(((d - dur) / dur).abs() <= 0.01, "{name} {label}: duration {d} vs {dur}");
-            assert!(((f - force) / force).abs() <= 0.01, "{name} {label}: force {f} vs {force}");
+            assert!(((f - force) / force).abs() <= force_tol, "{name} {label}: force {f} vs {force}");
         }
     }
 }

@@ -6,23 +6,42 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-echo "== installing the Python side (python/install-deps.sh)"
+# Each stage's wall time goes into docs/testing.md when the whole suite has passed (the README
+# links to it): written from a temporary file at the end, so a failed run leaves the last
+# passing run's figures in place.
+times="$(mktemp)"
+trap 'rm -f "$times"' EXIT
+stage_start=$SECONDS
+stage() { # stage "name": ends the previous stage (its time recorded), announces the next
+    if [ -n "${stage_name:-}" ]; then
+        printf '| %s | %d |\n' "$stage_name" "$((SECONDS - stage_start))" >>"$times"
+    fi
+    stage_name="$1"
+    stage_start=$SECONDS
+    [ -n "$1" ] && echo "== $1"
+    return 0
+}
+
+stage "installing the Python side (python/install-deps.sh)"
 bash python/install-deps.sh
 
-echo "== formatting"
+stage "formatting"
 cargo fmt --all -- --check
 
-echo "== tests (with live dolfinx / scikit-fem cross-checks)"
+stage "fast tier: cargo test (the solver, no Python)"
+cargo test
+
+stage "full Rust tier: both packages with the python feature (live dolfinx / scikit-fem / GetFEM cross-checks, MPI engine)"
 # Open MPI would otherwise start an orted daemon when mpi4py is imported (TOOLCHAIN.md).
 export OMPI_MCA_ess_singleton_isolated=1
 # The solver (root package) and the study beside it (study/: massredist-study); the study's
 # engine_live finds the binary the first package's tests built.
 cargo test -p massredist -p massredist-study --features massredist/python,massredist-study/python --all-targets
 
-echo "== the crosscheck command"
+stage "the crosscheck command"
 cargo run --quiet --features python -- crosscheck --json target/crosscheck.json
 
-echo "== the Python package: pytest and the demos, in a venv (numpy 2) and with Debian's python3 (numpy 1.24, dolfinx)"
+stage "the Python package: pytest and the demos, in a venv (numpy 2) and with Debian's python3 (numpy 1.24, dolfinx)"
 cargo build --release --bin massredist
 export MASSREDIST_BIN="$PWD/target/release/massredist"
 for env in "${MASSREDIST_VENV:-target/python/venv}" "${MASSREDIST_DEBIAN_VENV:-target/python/debian-venv}"; do
@@ -40,3 +59,20 @@ for env in "${MASSREDIST_VENV:-target/python/venv}" "${MASSREDIST_DEBIAN_VENV:-t
         MASSREDIST_DEMO_OUT="$out" "$env/bin/python" "$demo" >"$out/$(basename "$demo" .py).log"
     done
 done
+stage ""
+
+{
+    echo "# How long the tests take"
+    echo
+    echo "Written by \`bash tests/run-all.sh\` when every stage passed (the last such run on this"
+    echo "machine; do not edit). Wall seconds per stage, including the builds each stage needs; a"
+    echo "stage's build is reused by the later ones. Machine: $(nproc) cores; load average at the end:"
+    echo "$(cut -d' ' -f1-3 /proc/loadavg) (1, 5, 15 min); $(date -u +%Y-%m-%d)."
+    echo
+    echo "| stage | wall s |"
+    echo "|---|---|"
+    cat "$times"
+    echo "| **total** | $SECONDS |"
+} >docs/testing.md.tmp
+mv docs/testing.md.tmp docs/testing.md
+echo "== all passed in ${SECONDS} s (stage times: docs/testing.md)"
