@@ -223,22 +223,36 @@ fn compute_sections(
     let (sections, tables_2d) = rayon::join(
         || -> Result<Sections, ReproduceError> {
             Ok(Sections {
-                results: compute(config, &|| progress.inc(1))?,
-                rebound: compute_rebound(config, &|| progress.inc(1))?,
-                scope: mesh_scope::mesh_scope(config)?,
-                ps: ps_growth::ps_growth(config)?,
-                lead: table2d_lead::lead_runs(),
-                bodies: bodies::compute_bodies(quick, &|| progress.inc(1))?,
-                methods: methods::compute(methods_config, &|| progress.inc(1)),
-                hertz: hertz::compute_hertz(&|| progress.inc(1))?,
-                disc_md: methods_disc::compute_disc(replicate::Copies::WherePrinted)
-                    .map(|d| methods_disc::disc_markdown(&d))?,
+                results: timed("figure 11", || compute(config, &|| progress.inc(1)))?,
+                rebound: timed("rebound", || compute_rebound(config, &|| progress.inc(1)))?,
+                scope: timed("mesh scope", || mesh_scope::mesh_scope(config))?,
+                ps: timed("Paoli–Schatzman growth", || ps_growth::ps_growth(config))?,
+                lead: timed("Table 1 lead", table2d_lead::lead_runs),
+                bodies: timed("bodies", || bodies::compute_bodies(quick, &|| progress.inc(1)))?,
+                methods: timed("method classes", || methods::compute(methods_config, &|| progress.inc(1))),
+                hertz: timed("Hertz", || hertz::compute_hertz(&|| progress.inc(1)))?,
+                disc_md: timed("disc (methods)", || {
+                    methods_disc::compute_disc(replicate::Copies::WherePrinted).map(|d| methods_disc::disc_markdown(&d))
+                })?,
             })
         },
         // The scalar plates run one after another; the elastic candidates in parallel beside them.
-        || rayon::join(|| plate_2d_errors(config), || elastic_rows(quick)),
+        || {
+            rayon::join(
+                || timed("Table 1 (2D scalar)", || plate_2d_errors(config)),
+                || timed("Table 1 (2D elastic)", || elastic_rows(quick)),
+            )
+        },
     );
     Ok((sections?, tables_2d))
+}
+
+/// `f()`, its wall time printed on stderr (sections overlap: their times do not add up).
+fn timed<T>(section: &str, f: impl FnOnce() -> T) -> T {
+    let start = std::time::Instant::now();
+    let out = f();
+    eprintln!("reproduce: {section}: {:.1} s wall", start.elapsed().as_secs_f64());
+    out
 }
 
 /// The elastic table: quick against its 80² reference computed now, full with the 160²
