@@ -8,8 +8,8 @@ use crate::characteristics::{Characteristics, CharacteristicsError, InitialData}
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::medium::Force;
 use crate::problem::Problem;
-use crate::spec::{GeometrySpec, Totals};
 use crate::spec::Scene;
+use crate::spec::{GeometrySpec, Totals};
 use serde::Serialize;
 use thiserror::Error;
 

@@ -11,8 +11,8 @@ use crate::fem::layers::cell_weights;
 use crate::fem::{Mesh, MeshError};
 use crate::mass::MassKind;
 use crate::medium::{Force, Medium};
-use crate::spec::{GeometrySpec, Totals};
 use crate::spec::Scene;
+use crate::spec::{GeometrySpec, Totals};
 use serde::Serialize;
 use thiserror::Error;
 

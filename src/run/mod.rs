@@ -6,13 +6,13 @@
 
 use crate::driver::{DivergenceCriterion, Observer, integrate_watched};
 use crate::fem::frames::FrameWriter;
-use serde::Serialize;
 use crate::observe::{Frame, FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
 use crate::output::{OutputDir, OutputError, SeriesWriter, commit_run};
 use crate::problem::{Geometry, Problem};
 use crate::scene::{AnyScene, Scene, SceneError, SceneGeometry};
-pub use crate::spec::{GeometrySpec, Totals};
 use crate::schemes::{Scheme, SchemeError};
+pub use crate::spec::{GeometrySpec, Totals};
+use serde::Serialize;
 use thiserror::Error;
 
 /// A scene's problem with its scheme built (matrices assembled and factored), not yet stepped:
@@ -281,12 +281,20 @@ struct SummaryFile<'a, H: Serialize> {
 }
 
 /// `summary.json` text of a run of `problem`.
-pub fn summary_json<G: GeometrySpec + SceneGeometry>(scene: &Scene<G>, problem: &Problem<G::System>, summary: &Summary) -> String {
+pub fn summary_json<G: GeometrySpec + SceneGeometry>(
+    scene: &Scene<G>,
+    problem: &Problem<G::System>,
+    summary: &Summary,
+) -> String {
     summary_json_of(scene, &G::totals(&problem.system), summary)
 }
 
 /// `summary.json` text from the totals of the system that ran (the engine's own).
-pub fn summary_json_of<G: GeometrySpec + SceneGeometry>(scene: &Scene<G>, totals: &Totals, summary: &Summary) -> String {
+pub fn summary_json_of<G: GeometrySpec + SceneGeometry>(
+    scene: &Scene<G>,
+    totals: &Totals,
+    summary: &Summary,
+) -> String {
     let file = SummaryFile {
         scheme: scene.scheme.name(),
         mass: scene.mass.name(),
