@@ -30,9 +30,7 @@ mod bar;
 mod common;
 mod compat;
 mod contact;
-pub mod gmsh;
 mod medium;
-pub mod mesh_file;
 mod obstacle;
 mod plate;
 mod solid;
@@ -40,6 +38,8 @@ mod tagged;
 
 pub(crate) use common::*;
 pub use compat::Offer;
+// The mesh-file readers (`crate::mesh_file`), at their paths of before.
+pub use crate::mesh_file::{self, gmsh};
 pub(crate) use contact::RawContact;
 pub(crate) use medium::*;
 pub(crate) use obstacle::*;
