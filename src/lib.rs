@@ -15,6 +15,7 @@ pub mod machine;
 pub mod mass;
 pub mod material;
 pub mod medium;
+pub mod mesh_file;
 pub mod models;
 pub mod numfmt;
 pub mod observe;

@@ -44,7 +44,7 @@ use massredist::observe::Summary;
 use massredist::output::OutputDir;
 use massredist::run::{GeometrySpec, RunError, run_scene_into};
 use massredist::scene::AnyScene;
-use massredist::scene::{Scene, SceneGeometry};
+use massredist::scene::{Registered, Scene};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -324,7 +324,7 @@ fn run_failed(scene: &Path, e: RunError) -> ExitCode {
 
 /// `run` in Rust for any geometry: the progress bar, the run streamed into `dir`, the report
 /// line and the exit code.
-fn run_with<G: GeometrySpec + SceneGeometry>(scene: &Path, s: &Scene<G>, dir: OutputDir) -> ExitCode {
+fn run_with<G: GeometrySpec + Registered>(scene: &Path, s: &Scene<G>, dir: OutputDir) -> ExitCode {
     let out = dir.path().to_path_buf();
     let mut bar = progress(s.time.steps as u64);
     let result = run_scene_into(s, dir, &mut [&mut bar]);

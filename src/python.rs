@@ -1,6 +1,6 @@
 //! The embedded Python interpreter and meshio: the solver's one door to Python (compiled only
 //! with the feature `python`). It reads mesh files through meshio ([`read_mesh_blocks`], used by
-//! [`crate::scene::mesh_file`]) and writes and reads meshes and frames ([`write_mesh`],
+//! [`crate::mesh_file`]) and writes and reads meshes and frames ([`write_mesh`],
 //! [`read_point_data`]); the study's bridge to FEniCSx and scikit-fem
 //! (`study/src/bridge.rs`) starts the interpreter through [`startup`] and [`attach`].
 //!
@@ -159,7 +159,7 @@ pub fn read_point_data(path: &Path, name: &str) -> Result<(Vec<f64>, Vec<f64>, u
 
 /// A mesh file as meshio reads it (`python/crosscheck/mesh_io.py::read_cell_blocks`; gmsh `.msh` with
 /// `file_format="gmsh"`), nothing dropped or checked: the scene's edge
-/// ([`crate::scene::mesh_file`]) picks and checks the cells.
+/// ([`crate::mesh_file`]) picks and checks the cells.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MeshBlocks {
     /// `columns` coordinates per point (meshio pads 2D files to 3 for most formats).

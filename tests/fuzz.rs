@@ -20,7 +20,7 @@
 //! must fail `check`, not diverge in `run`: see `tests/divergence.rs`).
 //!
 //! mutation: `Scene::validate` checks `bar.length` with `assert!(length > 0.0)` instead of
-//! returning the range error -> fails with "check panicked: … panicked at src/scene/bar.rs";
+//! returning the range error -> fails with "check panicked: … panicked at src/bar/table.rs";
 //! mutation: `OutputDir`'s `Drop` keeps its staging folder (no `remove_dir_all`) -> fails with
 //! "run left a partial folder: [\".out.tmp-<pid>\"]".
 

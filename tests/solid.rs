@@ -541,7 +541,7 @@ fn numeric_initial_values_are_kept_exactly() {
     // Issue 22 D7: numbers in solid.initial were turned into 5-digit text (-0.123456789 became
     // -1.2346e-1). They are kept as their shortest round-trip text, so the values are exact, in
     // the spec and after the resolved scene is read back. Mutation: `crate::expr::sci` instead of
-    // `short` in scene/solid.rs -> fails (-0.12346 != -0.123456789).
+    // `short` in solid/table/mod.rs -> fails (-0.12346 != -0.123456789).
     let s = spec("initial = { displacement = [-0.123456789, 0.987654321], velocity = [1e-7, 3] }");
     let massredist::solid::SolidInitial::Fields { displacement, velocity } = &s.initial else { panic!("fields") };
     let at = [0.3, 0.7];

@@ -101,7 +101,7 @@ fn meshes_written_by_meshio_read_back_through_the_scene_reader() {
     // gmsh 2.2 (ASCII) and VTU files of the four structured meshes read back to the same points
     // (bit for bit: meshio writes shortest round-trip / binary floats), cells and extent; only
     // the structured `grid` is lost. A hexahedron with two vertices swapped is refused, naming it.
-    // mutation: src/scene/mesh_file.rs taking `dim = 3` coordinates for every mesh -> fails
+    // mutation: src/mesh_file/mod.rs taking `dim = 3` coordinates for every mesh -> fails
     // (the 2D meshes come back with a z coordinate as y).
     let tmp = tempfile::tempdir().unwrap();
     for mesh in structured_meshes() {

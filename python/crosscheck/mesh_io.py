@@ -119,7 +119,7 @@ def read_point_data(path, name):
 def read_cell_blocks(path):
     """Return ``(points (n, 3) float64, [(cell_type, cells (k, nv) int64), ...])`` of a file, as
     meshio reads it (no points dropped, nothing checked): the Rust side picks and checks the
-    cells (``src/scene/mesh_file.rs``), and checks the files it writes."""
+    cells (``src/mesh_file/mod.rs``), and checks the files it writes."""
     mesh = _read(path)
     blocks = [(block.type, np.ascontiguousarray(block.data, dtype=np.int64)) for block in mesh.cells]
     return np.ascontiguousarray(mesh.points, dtype=np.float64), blocks

@@ -1,5 +1,5 @@
 //! A bar's specification, [`BarSpec`]: what the `[bar]` table of a scene validates into
-//! (`crate::scene`'s bar table), and what the bar's problem is built from (`super::problem`).
+//! (its table parser, `super::table`), and what the bar's problem is built from (`super::problem`).
 
 use crate::expr::Expr;
 use crate::material::{FarEnd, Material};

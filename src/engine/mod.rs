@@ -148,7 +148,7 @@ pub fn check_available() -> Result<(), EngineError> {
 /// The geometries the engine runs (plates and solids; bars are 1D and serial), and what of them
 /// it cannot run yet. Everything a Rust run refuses (keys, mesh, cell weights, bar-only schemes)
 /// the validated scene has already refused (`crate::scene::validate_sections`).
-pub trait EngineGeometry: crate::run::GeometrySpec + crate::scene::SceneGeometry {
+pub trait EngineGeometry: crate::run::GeometrySpec + crate::scene::Registered {
     /// Why the engine cannot run this geometry (None if it can).
     fn engine_refusal(&self) -> Option<String>;
     /// The geometry as the engine reads it ([`document`]), or why the engine cannot run it.

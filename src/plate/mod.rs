@@ -10,7 +10,7 @@
 //! What is plate-specific lives here: the sparse weighted mass and stiffness with the material,
 //! far end, gap and load ([`assembly`], through the element integrals of every mesh), the plate as a [`crate::problem::Geometry`] ([`geometry`]: contact means, exact
 //! L² norms against x-only solutions ([`norms`]), nodal values), its specification ([`spec`],
-//! parsed from the `[plate]` table in [`crate::scene`]), the problem a scene poses ([`problem`])
+//! parsed from the `[plate]` table by [`table`]), the problem a scene poses ([`problem`])
 //! and VTU/PVD output ([`vtu`]). The mesh (Q1 quadrilaterals or P1 triangles) and the mass weights by
 //! layers of cells touching Γ_C are the ones of solids ([`crate::fem::mesh`],
 //! [`crate::fem::layers`]). Everything else is the one core shared with bars: the contact system
@@ -32,6 +32,7 @@ pub mod geometry;
 pub mod norms;
 pub mod problem;
 pub mod spec;
+pub mod table;
 pub mod vtu;
 
 pub use assembly::{PlateSystem, assemble};

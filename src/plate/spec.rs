@@ -1,5 +1,5 @@
 //! A plate's specification, [`PlateSpec`]: what the `[plate]` table of a scene validates into
-//! (`crate::scene`'s plate table), and what the plate's problem is built from
+//! (its table parser, `super::table`), and what the plate's problem is built from
 //! (`super::problem`).
 
 use crate::expr::Expr;

@@ -9,7 +9,7 @@ use crate::fem::frames::FrameWriter;
 use crate::observe::{Frame, FrameRecorder, SeriesRecorder, Summary, SummaryObserver};
 use crate::output::{OutputDir, OutputError, SeriesWriter, commit_run};
 use crate::problem::{Geometry, Problem};
-use crate::scene::{AnyScene, Scene, SceneError, SceneGeometry};
+use crate::scene::{AnyScene, Registered, Scene, SceneError};
 use crate::schemes::{Scheme, SchemeError};
 pub use crate::spec::{GeometrySpec, Totals};
 use serde::Serialize;
@@ -51,7 +51,7 @@ impl RunError {
 }
 
 /// The problem and scheme of a scene; a failure names the keys that shape the matrices.
-pub fn setup<G: GeometrySpec + SceneGeometry>(scene: &Scene<G>) -> Result<Setup<G::System>, SceneError> {
+pub fn setup<G: GeometrySpec + Registered>(scene: &Scene<G>) -> Result<Setup<G::System>, SceneError> {
     let error = |e: &dyn std::fmt::Display| SceneError::Setup { keys: G::SETUP_KEYS.into(), reason: e.to_string() };
     let problem = G::problem(scene).map_err(|e| error(&e))?;
     let scheme = problem.scheme_with(&scene.scheme, &scene.contact, scene.time.dt).map_err(|e| error(&e))?;
@@ -99,7 +99,7 @@ impl Estimate {
     }
 }
 
-fn estimate<G: GeometrySpec + SceneGeometry>(scene: &Scene<G>) -> Result<Estimate, SceneError> {
+fn estimate<G: GeometrySpec + Registered>(scene: &Scene<G>) -> Result<Estimate, SceneError> {
     let start = std::time::Instant::now();
     let Setup { problem, mut scheme } = setup(scene)?;
     let setup_seconds = start.elapsed().as_secs_f64();
@@ -150,7 +150,7 @@ impl Observer for Probe {
 /// Runs a problem with its scheme, its summary and `observers` (series, frames, progress)
 /// until `time.end` or a divergence (which is a result: it reaches the summary through
 /// [`Observer::diverged`]).
-fn run_observed<G: GeometrySpec + SceneGeometry>(
+fn run_observed<G: GeometrySpec + Registered>(
     scene: &Scene<G>,
     problem: &Problem<G::System>,
     scheme: &mut dyn Scheme,
@@ -187,7 +187,7 @@ pub struct SceneRun<G: Geometry> {
 /// run that diverges (the driver's [`DivergenceCriterion`] with `output.divergence_factor`)
 /// stops there and is still a result: `Summary::divergence` says where and why, the summary
 /// and series hold the finite states.
-pub fn run_scene<G: GeometrySpec + SceneGeometry>(
+pub fn run_scene<G: GeometrySpec + Registered>(
     scene: &Scene<G>,
     extra: &mut [&mut dyn Observer],
 ) -> Result<SceneRun<G::System>, RunError> {
@@ -225,7 +225,7 @@ fn last_frame<G: Geometry>(geometry: &G, scheme: &dyn Scheme) -> Frame {
 /// write error such as a full disk halts the run at that step and fails it), then
 /// `summary.json` and `scene.resolved.toml`, and commits it ([`OutputDir::commit`]). On an
 /// error `out` is dropped, which removes the temporary folder and leaves the target as it was.
-pub fn run_scene_into<G: GeometrySpec + SceneGeometry>(
+pub fn run_scene_into<G: GeometrySpec + Registered>(
     scene: &Scene<G>,
     out: OutputDir,
     extra: &mut [&mut dyn Observer],
@@ -281,7 +281,7 @@ struct SummaryFile<'a, H: Serialize> {
 }
 
 /// `summary.json` text of a run of `problem`.
-pub fn summary_json<G: GeometrySpec + SceneGeometry>(
+pub fn summary_json<G: GeometrySpec + Registered>(
     scene: &Scene<G>,
     problem: &Problem<G::System>,
     summary: &Summary,
@@ -290,11 +290,7 @@ pub fn summary_json<G: GeometrySpec + SceneGeometry>(
 }
 
 /// `summary.json` text from the totals of the system that ran (the engine's own).
-pub fn summary_json_of<G: GeometrySpec + SceneGeometry>(
-    scene: &Scene<G>,
-    totals: &Totals,
-    summary: &Summary,
-) -> String {
+pub fn summary_json_of<G: GeometrySpec + Registered>(scene: &Scene<G>, totals: &Totals, summary: &Summary) -> String {
     let file = SummaryFile {
         scheme: scene.scheme.name(),
         mass: scene.mass.name(),

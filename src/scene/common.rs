@@ -4,6 +4,7 @@
 use super::tagged::{RawSection, Tagged, list_of, read_tagged};
 use super::*;
 use crate::mass::MassKind;
+use serde::{Deserialize, Serialize};
 
 /// The `[mass]` table: read as a TOML table ([`read_tagged`]), written as the resolved
 /// [`MassKind`].
@@ -65,7 +66,7 @@ pub(crate) fn parse_mass(raw: Option<RawMass>) -> Result<MassKind, SceneError> {
 }
 
 /// The `[scheme]` table (what goes with the geometry and the mass is the compatibility rule's:
-/// [`super::compat`]).
+/// [`crate::spec::compat`]).
 pub(crate) fn parse_scheme(raw: Option<RawScheme>) -> Result<SchemeSpec, SceneError> {
     read_tagged(raw)
 }
@@ -223,7 +224,7 @@ impl RawOutput {
 
 /// The sections every scene shares, validated on its geometry: `[mass]` (weights checked on the
 /// mesh), `[scheme]` and `[contact]` (with the geometry and the mass: the one compatibility rule,
-/// [`super::compat::check`]),
+/// [`crate::spec::compat::check`]),
 /// `[time]` (the work limit over the geometry's unknowns) and `[output]` (the geometry's columns,
 /// those its exact solution allows, VTU frames where the geometry writes them).
 pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) -> Result<Scene<G>, SceneError> {
@@ -231,7 +232,7 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
     let offer = geometry.offer(&mass)?;
     let scheme = parse_scheme(raw.scheme)?;
     let contact = super::contact::parse_contact(raw.contact)?;
-    super::compat::check(G::TABLE, &offer, &mass, &scheme, &contact)?;
+    crate::spec::compat::check(G::TABLE, &offer, &mass, &scheme, &contact)?;
     let time = parse_time(raw.time, 3.0 * geometry.length(), geometry.unknowns(), geometry.size_keys())?;
     let o = raw.output.unwrap_or_default();
     let series = match o.series {

@@ -20,8 +20,8 @@
 //! [`body`]) — and its mesh and contact set are built once ([`SolidSpec::built`]). What is
 //! solid-specific: the vector assembly ([`assembly`], a body's frame and load in
 //! [`body_system`]), the solid as a [`crate::problem::Geometry`] ([`geometry`]) with a body's
-//! own reports ([`report`]), its specification ([`spec`], parsed from the `[solid]` table in
-//! `crate::scene`), the problem it poses ([`problem`]), and VTU frames with the displacement and
+//! own reports ([`report`]), its specification ([`spec`], parsed from the `[solid]` table and a body's
+//! `[obstacle]` by [`table`]), the problem it poses ([`problem`]), and VTU frames with the displacement and
 //! velocity vectors and the contact pressure ([`vtu`]).
 //!
 //! With Q1 cells on a structured mesh, x-only weights and data u = (u¹ᴰ(x), 0[, 0]), and either
@@ -38,9 +38,11 @@ pub mod lumped;
 pub mod problem;
 pub mod report;
 pub mod spec;
+pub mod table;
 pub mod vtu;
 
 pub use assembly::{Lame, Lateral, SolidSystem};
 pub use body::{BodyContact, BodyError};
 pub use problem::{SolidError, SolidProblem};
 pub use spec::{BodySpec, Built, ContactSet, MeshSource, Obstacle, SolidInitial, SolidSpec, Support};
+pub use table::obstacle::RawObstacle;

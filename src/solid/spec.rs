@@ -1,5 +1,5 @@
 //! A solid's specification, [`SolidSpec`]: what the `[solid]` table of a scene validates into
-//! (`crate::scene`'s solid table), and what the solid's problem is built from
+//! (its table parser, `super::table`), and what the solid's problem is built from
 //! (`super::problem`).
 //!
 //! ```toml

@@ -11,7 +11,7 @@ use massredist::linalg::SymMatrix;
 use massredist::plate::PlateSystem;
 use massredist::problem::Geometry;
 use massredist::run::{GeometrySpec, setup};
-use massredist::scene::AnyScene;
+use massredist::scene::{AnyScene, Registered};
 use massredist::solid::SolidSystem;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
@@ -125,7 +125,10 @@ fn csr<A: SymMatrix>(py: Python<'_>, a: &A) -> PyResult<Py<PyAny>> {
     Ok(t.into_pyobject(py)?.into_any().unbind())
 }
 
-fn operators_of<G: GeometrySpec + Sync>(py: Python<'_>, scene: &massredist::scene::Scene<G>) -> PyResult<Py<PyDict>>
+fn operators_of<G: GeometrySpec + Registered + Sync>(
+    py: Python<'_>,
+    scene: &massredist::scene::Scene<G>,
+) -> PyResult<Py<PyDict>>
 where
     G::System: Meshed + Send,
 {

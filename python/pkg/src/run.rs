@@ -16,6 +16,7 @@ use massredist::driver::{Needs, Observer, Sample};
 use massredist::observe::Status;
 use massredist::problem::GeometryView;
 use massredist::run::{GeometrySpec, run_scene, summary_json};
+use massredist::scene::Registered;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -145,7 +146,7 @@ fn run_geometry<G>(
     every: usize,
 ) -> PyResult<Py<PyDict>>
 where
-    G: GeometrySpec + Sync,
+    G: GeometrySpec + Registered + Sync,
     G::System: Meshed + Send,
 {
     let mut interrupt = Interrupt { steps: 0, last: Instant::now(), error: None };

@@ -43,7 +43,7 @@ use massredist::driver::{Observer, Sample};
 use massredist::mass::MassKind;
 use massredist::observe::{Column, Summary};
 use massredist::run::{RunError, run_scene};
-use massredist::scene::{AnyScene, Scene, SceneGeometry};
+use massredist::scene::{AnyScene, Registered, Scene};
 use massredist::solid::SolidSpec;
 use rayon::prelude::*;
 

@@ -36,7 +36,7 @@ use super::experiments::Experiment;
 use massredist::driver::{Observer, Sample};
 use massredist::linalg::SymMatrix;
 use massredist::run::{run_scene, setup};
-use massredist::scene::{AnyScene, Scene, SceneGeometry};
+use massredist::scene::{AnyScene, Registered, Scene};
 use massredist::solid::SolidSpec;
 use rayon::prelude::*;
 

@@ -25,7 +25,7 @@ use super::bodies::{
 use super::replicate::{Copies, Printed, replicate};
 use massredist::observe::Column;
 use massredist::run::run_scene;
-use massredist::scene::{AnyScene, Scene, SceneGeometry};
+use massredist::scene::{AnyScene, Registered, Scene};
 use massredist::solid::SolidSpec;
 use rayon::prelude::*;
 use serde::Serialize;

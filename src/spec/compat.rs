@@ -2,7 +2,7 @@
 //!
 //! Each geometry declares what it offers ([`Offer`], built by
 //! [`super::SceneGeometry::offer`] from its table and the mass), each scheme what it needs
-//! ([`SchemeSpec::needs`]), each law what it needs ([`ContactLaw::needs`]); [`check`] compares
+//! ([`SchemeSpec::needs`]), each law what it needs ([`ContactLaw::needs`]); `check` compares
 //! them when a scene is validated, so the CLI (`check`, `run`) and the Python package (`load`,
 //! `replace`, `check`, `run`) refuse the same scenes at the same moment, and nothing after
 //! validation refuses a combination again (a scheme's constructor keeps only its guard for
@@ -18,7 +18,7 @@
 //!   standard mass (it needs w_0 = 0);
 //! - law × anything: `contact.method`, e.g. penalty with the hybrid scheme, Nitsche on a solid.
 
-use super::SceneError;
+use super::error::{SceneError, short};
 use crate::contact::law::{ContactLaw, Treatment};
 use crate::mass::MassKind;
 use crate::schemes::SchemeSpec;
@@ -84,7 +84,7 @@ pub(crate) fn check(
                 (
                     format!(
                         "{svalue} needs massless contact nodes (quasi-static contact rows), this mass has w_0 = {}",
-                        super::short(offer.w0)
+                        short(offer.w0)
                     ),
                     "mod1 | mod2 | mod3 | custom with zero weights at the contact boundary",
                 )

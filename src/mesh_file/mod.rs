@@ -1,5 +1,5 @@
 //! Mesh files at the scene's edge (`plate.mesh`, `solid.mesh`): the file is checked before
-//! anything opens it, read — gmsh `.msh` by [`super::gmsh`] in every build, other formats by
+//! anything opens it, read — gmsh `.msh` by [`gmsh`] in every build, other formats by
 //! meshio through the Python bridge (feature `python`) — and its cells picked and checked here;
 //! [`crate::fem::Mesh::from_arrays`] (box scenes) and [`crate::fem::Mesh::body_from_arrays`]
 //! (bodies of any shape, [`read_body`]) get arrays and do no I/O. A mesh given as arrays
@@ -15,9 +15,16 @@
 //! - Every vertex index must name a point (meshio turns a gmsh node tag 0 into index −1).
 //! - Points of no cell are dropped, the others renumbered in the file's order. A 2D mesh must
 //!   lie in a plane z = constant.
+//!
+//! A folder of its own (pure readers, no scene type): below the scene's parsers that name it
+//! (`SceneError::MeshFile`, the `[plate]` and `[solid]` tables; `crate::scene` re-exports it as
+//! `scene::mesh_file` and `scene::gmsh`), above [`crate::fem`] and the Python bridge it reads
+//! with.
 
-use super::gmsh::{self, GmshError};
+pub mod gmsh;
+
 use crate::fem::{Cell, Mesh, MeshError};
+use gmsh::GmshError;
 use std::collections::BTreeMap;
 use std::path::Path;
 use thiserror::Error;

@@ -1,11 +1,18 @@
-//! Bar scenes: the `[bar]` table, validated into a [`BarSpec`] (`crate::bar::spec`).
+//! Bar scenes: the `[bar]` table, validated into a [`BarSpec`] (`super::spec`), the default
+//! table of a scene file (the registry, `crate::scene`, reads it through [`SceneGeometry`]).
 
-use super::*;
-use crate::bar::spec::{BarSpec, Initial};
+use super::spec::{BarSpec, Initial};
+use crate::column::Column;
 use crate::mass::MassKind;
+use crate::medium::Force;
+use crate::mesh_file::MeshInputs;
+use crate::spec::medium::{MediumKeys, RawField, RawInitial, RawMedium, parse_field, parse_force, parse_medium};
+use crate::spec::{MAX_ELEMENTS, Number, Offer, Scene, SceneError, SceneGeometry, TimeSpec, length_in};
+use serde::{Deserialize, Serialize};
 
+/// The `[bar]` table as written (closed: unknown keys refused by `RawMedium::refuse_unknown`).
 #[derive(Debug, Default, Deserialize, Serialize)]
-pub(crate) struct RawBar {
+pub struct RawBar {
     #[serde(skip_serializing_if = "Option::is_none")]
     length: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -18,9 +25,17 @@ pub(crate) struct RawBar {
     unknown: std::collections::BTreeMap<String, toml::Value>,
 }
 
-impl BarSpec {
-    /// The `[bar]` table, validated.
-    pub(crate) fn validate(bar: RawBar) -> Result<BarSpec, SceneError> {
+impl SceneGeometry for BarSpec {
+    const TABLE: &'static str = "bar";
+    type Raw = RawBar;
+    type Extras = ();
+    const COLUMNS: &'static [Column] = &Column::BAR;
+    const COLUMN_LIST: &'static str = "any subset of u0, u1, lambda, energy, l2_error, exact_u0, exact_lambda";
+    const SIZE_KEYS: &'static str = "bar.elements";
+    const VTU: bool = false;
+
+    /// The `[bar]` table, validated (a bar reads no file).
+    fn validate(bar: RawBar, _: (), _: MeshInputs) -> Result<BarSpec, SceneError> {
         let length = length_in("bar.length", bar.length.map_or(1.0, Number::get))?;
         let elements = bar.elements.unwrap_or(6);
         if !(2..=MAX_ELEMENTS as i64).contains(&elements) {
@@ -71,14 +86,6 @@ impl BarSpec {
         }
         Ok(BarSpec { length, elements, material, far_end, gap, initial, force })
     }
-}
-
-impl SceneGeometry for BarSpec {
-    const TABLE: &'static str = "bar";
-    const COLUMNS: &'static [Column] = &Column::BAR;
-    const COLUMN_LIST: &'static str = "any subset of u0, u1, lambda, energy, l2_error, exact_u0, exact_lambda";
-    const SIZE_KEYS: &'static str = "bar.elements";
-    const VTU: bool = false;
 
     fn unknowns(&self) -> usize {
         self.elements
@@ -94,8 +101,8 @@ impl SceneGeometry for BarSpec {
 
     /// One contact node over a tridiagonal system, its row one P1 cell; only node 0 can be
     /// massless (the mass's weights refuse the others), so no contact layer.
-    fn offer(&self, mass: &MassKind) -> Result<super::Offer, SceneError> {
-        Ok(super::Offer {
+    fn offer(&self, mass: &MassKind) -> Result<Offer, SceneError> {
+        Ok(Offer {
             one_node_system: true,
             lumped_mass: true,
             w0: self.contact_weight(mass)?,
@@ -118,7 +125,7 @@ impl SceneGeometry for BarSpec {
         series
     }
 
-    fn raw(&self) -> RawScene {
+    fn raw(&self) -> (RawBar, ()) {
         let initial = match &self.initial {
             Initial::Paper => RawInitial::Name("paper".into()),
             Initial::Fields { displacement, velocity } => RawInitial::fields(displacement, velocity),
@@ -129,7 +136,7 @@ impl SceneGeometry for BarSpec {
             medium: RawMedium::resolved(self.material, self.far_end, self.gap, initial, &self.force),
             unknown: Default::default(),
         };
-        RawScene { bar: Some(bar), ..Default::default() }
+        (bar, ())
     }
 
     fn header(&self, time: &TimeSpec) -> String {
@@ -138,13 +145,6 @@ impl SceneGeometry for BarSpec {
             time.steps,
             self.length / self.elements as f64
         )
-    }
-
-    fn from_any(any: AnyScene) -> Result<Scene<Self>, SceneError> {
-        match any {
-            AnyScene::Bar(s) => Ok(s),
-            other => Err(wrong_geometry(Self::TABLE, &other)),
-        }
     }
 }
 

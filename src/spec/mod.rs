@@ -1,6 +1,28 @@
-//! The validated scene: what the parser (`crate::scene`, TOML --validate-->) hands to the
-//! geometries and the run path (--assemble--> system). It sits below both, so that a geometry
-//! reads its scene without importing the parser; `crate::scene` re-exports every type here.
+//! The validated scene and the parser's core: what the parser (`crate::scene`, TOML
+//! --validate-->) hands to the geometries and the run path (--assemble--> system), and what
+//! each geometry's table parser (in its own folder) reads and answers with. It sits below the
+//! geometries, the registry of the geometries (`crate::scene`) and the run path, so that a
+//! geometry reads and validates its table without importing the registry; `crate::scene`
+//! re-exports every public item here.
+//!
+//! - this file: [`Scene`], [`TimeSpec`], [`OutputSpec`], [`GeometrySpec`] (a spec's problem),
+//!   [`Totals`];
+//! - [`geometry`]: [`SceneGeometry`], what a geometry's table is to the parser;
+//! - [`error`]: [`SceneError`], the one error of a scene, and its key;
+//! - [`limits`]: the limits every scene shares and the readers of its number keys;
+//! - [`compat`]: what each geometry offers ([`Offer`]), each scheme and law needs, the one check;
+//! - `medium`: the keys a bar's and a plate's table share.
+
+pub mod compat;
+pub mod error;
+pub mod geometry;
+pub mod limits;
+pub(crate) mod medium;
+
+pub use compat::Offer;
+pub use error::{SceneError, short};
+pub use geometry::SceneGeometry;
+pub use limits::*;
 
 use crate::observe::Column;
 use crate::schemes::SchemeSpec;
@@ -44,7 +66,7 @@ pub struct OutputSpec {
     /// per step, about the cost of a step); false leaves those summary keys null.
     pub summary_l2: bool,
     /// The run stops as diverged when its energy exceeds this factor times its reference
-    /// (the driver's `DivergenceCriterion`); in (1, ∞), default `crate::scene::DEFAULT_DIVERGENCE_FACTOR`.
+    /// (the driver's `DivergenceCriterion`); in (1, ∞), default [`DEFAULT_DIVERGENCE_FACTOR`].
     pub divergence_factor: f64,
     /// Steps between VTU frames (plates; None for no VTU output, always None for bars).
     pub vtu_every: Option<usize>,
@@ -53,9 +75,9 @@ pub struct OutputSpec {
 /// What ties a geometry's validated specification to the one core: the problem it poses, the
 /// geometry keys of its `summary.json`, and its VTU frames. Each geometry implements it in its
 /// own folder (`bar/problem.rs`, `plate/problem.rs`, `solid/problem.rs`), beside its spec
-/// (`spec.rs`), its [`Geometry`](crate::problem::Geometry) (`geometry.rs`) and its frame writer (`vtu.rs`), and its
-/// `[table]` is parsed in `scene/<geometry>.rs`. It sits here, below the parser and the run
-/// path (`crate::run`), which bound their geometries by it and by `crate::scene::SceneGeometry`.
+/// (`spec.rs`), its [`Geometry`](crate::problem::Geometry) (`geometry.rs`), its frame writer (`vtu.rs`) and
+/// its table parser (`table.rs`, [`SceneGeometry`]). It sits here, below the parser and the
+/// run path (`crate::run`), which bound their geometries by it and by `crate::scene::Registered`.
 pub trait GeometrySpec: Sized {
     /// The assembled geometry (mesh, contact system, reports).
     type System: crate::problem::Geometry;
@@ -77,7 +99,7 @@ pub trait GeometrySpec: Sized {
     /// The totals of an assembled system, for [`GeometrySpec::summary_head`].
     fn totals(system: &Self::System) -> Totals;
     /// The VTU frames of this geometry's states (None: it writes none, and its scenes refuse
-    /// `output.vtu`: `crate::scene::SceneGeometry::VTU`).
+    /// `output.vtu`: [`SceneGeometry::VTU`]).
     fn frames(_system: &Self::System) -> Option<&dyn crate::fem::frames::VtuFrames> {
         None
     }

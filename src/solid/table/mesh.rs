@@ -1,6 +1,6 @@
 //! The `[solid]` table's mesh keys: the box generator's (`length`, `height`, `depth`, `nx`,
 //! `ny`, `nz`, `cells`), its size checked before any mesh is built, or `mesh`, the mesh read
-//! from a file or given as arrays ([`super::super::mesh_file`]).
+//! from a file or given as arrays ([`crate::mesh_file`]).
 
 use super::*;
 
@@ -22,7 +22,7 @@ pub(super) fn body_file_mesh(t: &RawSolid, dim: usize, input: &MeshInput) -> Res
         forbid(key, v, context)?;
     }
     forbid("solid.cells", &t.cells, context)?;
-    Ok(super::super::mesh_file::read_body_input("solid.mesh", input, dim)?)
+    Ok(crate::mesh_file::read_body_input("solid.mesh", input, dim)?)
 }
 
 /// The structured box of a `[solid]` table without `mesh`: extent, cells per axis, cell kind,
@@ -66,7 +66,7 @@ pub(super) fn file_mesh(
     forbid("solid.ny", &t.ny, context)?;
     forbid("solid.nz", &t.nz, context)?;
     forbid("solid.cells", &t.cells, context)?;
-    let mesh = super::super::mesh_file::read_input("solid.mesh", input)?;
+    let mesh = crate::mesh_file::read_input("solid.mesh", input)?;
     let bad = |what: String| SceneError::Range {
         key: "solid.mesh",
         value: format!("\"{}\" ({what})", path.display()),

@@ -1,5 +1,5 @@
 //! Plate scenes (TOML): a `[plate]` table replaces `[bar]`; the other sections are the ones every
-//! scene shares ([`super::validate_sections`]); `[output]` has plate columns and VTU options.
+//! scene shares (`crate::scene`'s sections); `[output]` has plate columns and VTU options.
 //!
 //! ```toml
 //! [plate]
@@ -28,21 +28,21 @@
 //! divergence_factor = 1e6    # stop as diverged when |E| > factor · max(|E⁰|, E_F), in (1, ∞)
 //! ```
 
-use super::mesh_file::{MeshInput, MeshInputs};
-use super::*;
+use super::spec::{PlateInitial, PlateSpec};
+use crate::column::Column;
 use crate::fem::layers::{cell_weights, layers};
 use crate::fem::{Cell, Mesh};
 use crate::mass::MassKind;
+use crate::medium::Medium;
+use crate::mesh_file::{MeshInput, MeshInputs};
+use crate::spec::medium::{MediumKeys, RawInitial, RawMedium, parse_field, parse_force, parse_medium};
+use crate::spec::{Number, Scene, SceneError, SceneGeometry, TimeSpec, check_contact_memory, forbid, length_in, short};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// Upper bound on `contact nodes²`: the contact solver ([`crate::contact::Schur`]) keeps the dense
-/// Schur complement D = Eᵀ K⁻¹ E, n_c² doubles, and its LCP one more n_c² array for the Cholesky
-/// factor of the active block (2.5·10⁷ values is 200 MB each: n_c ≤ 5000; a 4000-row plate has
-/// n_c = 4001).
-pub const MAX_CONTACT_VALUES: f64 = 2.5e7;
-
+/// The `[plate]` table as written (closed: unknown keys refused by `RawMedium::refuse_unknown`).
 #[derive(Debug, Default, Deserialize, Serialize)]
-pub(crate) struct RawPlate {
+pub struct RawPlate {
     #[serde(skip_serializing_if = "Option::is_none")]
     length: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -60,32 +60,6 @@ pub(crate) struct RawPlate {
     /// Keys no field takes, refused by `RawMedium::refuse_unknown`.
     #[serde(flatten, skip_serializing)]
     unknown: std::collections::BTreeMap<String, toml::Value>,
-}
-
-impl PlateSpec {
-    /// The `[plate]` table, validated; a mesh file is relative to `inputs.base` (or the arrays
-    /// given for `"<arrays>"`) and read here, once.
-    pub(crate) fn validate(p: RawPlate, inputs: MeshInputs) -> Result<PlateSpec, SceneError> {
-        let (mesh, mesh_file) = match &p.mesh {
-            Some(file) => {
-                let context = "plate.mesh (the mesh file gives the geometry)";
-                forbid("plate.length", &p.length, context)?;
-                forbid("plate.height", &p.height, context)?;
-                forbid("plate.nx", &p.nx, context)?;
-                forbid("plate.ny", &p.ny, context)?;
-                forbid("plate.cells", &p.cells, context)?;
-                let path = inputs.base.join(file);
-                (plate_file_mesh(&path, &inputs.resolve(file))?, Some(path))
-            }
-            None => (structured_mesh(&p)?, None),
-        };
-        let [nx, ny, _] = mesh.grid.unwrap_or([0; 3]);
-        let contact = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count();
-        check_contact_memory(contact, if mesh_file.is_some() { "its edge x = 0 in plate.mesh" } else { "plate.ny" })?;
-        let (initial, medium) = parse_plate_medium(p.medium, &p.unknown, &mesh)?;
-        let ([length, height, _], cells) = (mesh.extent, mesh.kind);
-        Ok(PlateSpec { length, height, nx, ny, cells, initial, medium, mesh_file, mesh: Some(Arc::new(mesh)) })
-    }
 }
 
 /// The structured mesh of a `[plate]` table without `mesh`.
@@ -132,10 +106,37 @@ pub(crate) const SERIES_NAMES: &str =
 
 impl SceneGeometry for PlateSpec {
     const TABLE: &'static str = "plate";
+    type Raw = RawPlate;
+    type Extras = ();
+    const FILE_KEYS: &'static [&'static str] = &["mesh"];
     const COLUMNS: &'static [Column] = &Column::PLATE;
     const COLUMN_LIST: &'static str = SERIES_NAMES;
     const SIZE_KEYS: &'static str = "plate.nx, plate.ny";
     const VTU: bool = true;
+
+    /// The `[plate]` table, validated; a mesh file is relative to `inputs.base` (or the arrays
+    /// given for `"<arrays>"`) and read here, once.
+    fn validate(p: RawPlate, _: (), inputs: MeshInputs) -> Result<PlateSpec, SceneError> {
+        let (mesh, mesh_file) = match &p.mesh {
+            Some(file) => {
+                let context = "plate.mesh (the mesh file gives the geometry)";
+                forbid("plate.length", &p.length, context)?;
+                forbid("plate.height", &p.height, context)?;
+                forbid("plate.nx", &p.nx, context)?;
+                forbid("plate.ny", &p.ny, context)?;
+                forbid("plate.cells", &p.cells, context)?;
+                let path = inputs.base.join(file);
+                (plate_file_mesh(&path, &inputs.resolve(file))?, Some(path))
+            }
+            None => (structured_mesh(&p)?, None),
+        };
+        let [nx, ny, _] = mesh.grid.unwrap_or([0; 3]);
+        let contact = (0..mesh.n_nodes()).filter(|&v| mesh.on_contact(v)).count();
+        check_contact_memory(contact, if mesh_file.is_some() { "its edge x = 0 in plate.mesh" } else { "plate.ny" })?;
+        let (initial, medium) = parse_plate_medium(p.medium, &p.unknown, &mesh)?;
+        let ([length, height, _], cells) = (mesh.extent, mesh.kind);
+        Ok(PlateSpec { length, height, nx, ny, cells, initial, medium, mesh_file, mesh: Some(Arc::new(mesh)) })
+    }
 
     fn size_keys(&self) -> &'static str {
         if self.mesh_file.is_some() { "plate.mesh (a coarser mesh)" } else { Self::SIZE_KEYS }
@@ -175,7 +176,7 @@ impl SceneGeometry for PlateSpec {
         series
     }
 
-    fn raw(&self) -> RawScene {
+    fn raw(&self) -> (RawPlate, ()) {
         let f = Number::Float;
         let structured = self.mesh_file.is_none();
         let initial = match &self.initial {
@@ -198,7 +199,7 @@ impl SceneGeometry for PlateSpec {
             unknown: Default::default(),
             mesh: self.mesh_file.as_ref().map(|m| m.display().to_string()),
         };
-        RawScene { plate: Some(plate), ..Default::default() }
+        (plate, ())
     }
 
     fn header(&self, time: &TimeSpec) -> String {
@@ -221,13 +222,6 @@ impl SceneGeometry for PlateSpec {
         let mesh = self.mesh.as_ref().expect("a validated plate has its mesh");
         let k = self.cells.verts() as f64;
         mesh.n_cells() as f64 * k * k * 48.0
-    }
-
-    fn from_any(any: AnyScene) -> Result<Scene<Self>, SceneError> {
-        match any {
-            AnyScene::Plate(s) => Ok(s),
-            other => Err(wrong_geometry(Self::TABLE, &other)),
-        }
     }
 }
 
@@ -282,19 +276,9 @@ fn parse_initial(raw: Option<RawInitial>, consts: &[(&str, f64)]) -> Result<Plat
     }
 }
 
-/// The dense contact Schur complement takes contact² values; `keys` set the contact nodes.
-pub(crate) fn check_contact_memory(contact: usize, keys: &'static str) -> Result<(), SceneError> {
-    let values = contact as f64 * contact as f64;
-    if values > MAX_CONTACT_VALUES {
-        let megabytes = values * 8.0 / 1e6;
-        return Err(SceneError::TooManyContactNodes { contact, values, limit: MAX_CONTACT_VALUES, megabytes, keys });
-    }
-    Ok(())
-}
-
-/// The mesh of `plate.mesh` ([`super::mesh_file`]): a triangle or quad mesh.
+/// The mesh of `plate.mesh` ([`crate::mesh_file`]): a triangle or quad mesh.
 fn plate_file_mesh(path: &std::path::Path, input: &MeshInput) -> Result<Mesh, SceneError> {
-    let mesh = super::mesh_file::read_input("plate.mesh", input)?;
+    let mesh = crate::mesh_file::read_input("plate.mesh", input)?;
     if mesh.dim != 2 {
         return Err(SceneError::Range {
             key: "plate.mesh",

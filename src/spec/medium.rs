@@ -1,9 +1,14 @@
 //! The keys a bar's and a plate's table share, their medium ([`crate::medium::Medium`]):
-//! material, far end, gap, initial data and force (numbers or expressions).
+//! material, far end, gap, initial data and force (numbers or expressions). Below the
+//! geometries' folders, which read their tables with it (`bar/table.rs`, `plate/table.rs`; a
+//! solid's table reads its fields with [`RawField`] and [`parse_field`]).
 
-use super::*;
+use super::error::SceneError;
+use super::limits::{Number, finite_in};
 use crate::expr::Expr;
 use crate::material::{FarEnd, Material};
+use crate::medium::Force;
+use serde::{Deserialize, Serialize};
 
 /// The keys a bar's and a plate's table share: material, far end, gap, initial data, force.
 #[derive(Debug, Default, Deserialize, Serialize)]

@@ -1,8 +1,11 @@
 //! A solid body against a rigid plane (issue 19): the `[obstacle]` table and the body keys of
-//! `[solid]` (`force` as expressions in x, y[, z], t).
+//! `[solid]` (`force` as expressions in x, y[, z], t). `[obstacle]` is a table of the solid's
+//! own beside `[solid]` ([`crate::spec::SceneGeometry::Extras`]).
 
-use super::*;
 use crate::expr::Expr;
+use crate::spec::medium::{RawField, parse_field};
+use crate::spec::{Number, SceneError, finite_in, short};
+use serde::{Deserialize, Serialize};
 
 /// The `[obstacle]` table as written (closed).
 #[derive(Debug, Default, Deserialize, Serialize)]

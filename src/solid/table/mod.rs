@@ -1,5 +1,7 @@
 //! Solid scenes (TOML): a `[solid]` table replaces `[bar]`; the other sections are the ones every
-//! scene shares ([`super::validate_sections`]); `[output]` has the plate columns and VTU options.
+//! scene shares (`crate::scene`'s sections); `[output]` has the plate columns and VTU options.
+//! A body's `[obstacle]` is the solid's too ([`obstacle`]): a table of its own beside
+//! `[solid]`, refused in the scenes of other geometries.
 //!
 //! ```toml
 //! [solid]
@@ -23,27 +25,36 @@
 //! ```
 //!
 //! The table is read by serde into a closed [`RawSolid`] (unknown keys are refused, naming the
-//! key) and validated by [`validate_solid`] (a pure function but for the mesh file it reads:
+//! key) and validated by `validate_solid` (a pure function but for the mesh file it reads:
 //! every error names the key, `solid.…`, and its allowed range); the resolved scene writes
-//! every key back ([`SceneGeometry::raw`]). The specification itself is `crate::solid::spec`.
+//! every key back ([`SceneGeometry::raw`]). The specification itself is [`super::spec`].
 
-use super::*;
-use crate::expr::Expr;
 mod mesh;
+pub mod obstacle;
 
-use super::mesh_file::{MeshInput, MeshInputs};
+use super::assembly::{Lame, Lateral};
+use super::body::BodyError;
+use super::spec::{BodySpec, BuildError, MeshSource, SolidInitial, SolidSpec, Support};
+use crate::column::Column;
+use crate::expr::Expr;
 use crate::fem::layers::layers_of;
 use crate::fem::mesh::{Cell, Mesh};
 use crate::mass::MassKind;
-use crate::solid::spec::BuildError;
-use crate::solid::{BodySpec, Lame, Lateral, MeshSource, SolidInitial, SolidSpec, Support};
+use crate::mesh_file::{MeshInput, MeshInputs};
+use crate::spec::medium::RawField;
+use crate::spec::{
+    MAX_ELEMENTS, Number, SceneError, SceneGeometry, TimeSpec, check_contact_memory, finite_in, forbid, length_in,
+    short,
+};
 use mesh::{body_file_mesh, file_mesh, structured};
+use obstacle::{RawObstacle, parse_body_force, parse_obstacle, raw_obstacle};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// The `[solid]` table as written (closed: unknown keys are refused, naming the key).
 #[derive(Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub(crate) struct RawSolid {
+pub struct RawSolid {
     #[serde(skip_serializing_if = "Option::is_none")]
     dim: Option<i64>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -110,7 +121,7 @@ fn non_negative(key: &'static str, v: Option<Number>) -> Result<f64, SceneError>
 }
 
 /// The `[solid]` table (as a TOML table) validated into a [`SolidSpec`], a mesh file relative to
-/// the current folder (library users; scene files go through [`crate::scene::AnyScene`]).
+/// the current folder (library users; scene files go through `crate::scene::AnyScene`).
 pub fn parse_solid(t: &toml::Table) -> Result<SolidSpec, SceneError> {
     let raw = RawSolid::deserialize(toml::Value::Table(t.clone()))
         .map_err(|e| SceneError::Parse(format!("[solid]: {}", e.to_string().trim_end())))?;
@@ -208,7 +219,14 @@ pub(crate) fn validate_solid(
 fn setup_error(e: BuildError) -> SceneError {
     match e {
         BuildError::Mesh(m) => SceneError::Mesh(m),
-        BuildError::Body(b) => SceneError::Body(b),
+        BuildError::Body(b) => b.into(),
+    }
+}
+
+/// A body's contact set refused at validation: the solid's own error, its message as it is.
+impl From<BodyError> for SceneError {
+    fn from(e: BodyError) -> Self {
+        SceneError::Geometry(Box::new(e))
     }
 }
 
@@ -312,11 +330,20 @@ const SOLID_SERIES_NAMES: &str = "any subset of u0, u_mean, lambda, contact_forc
 
 impl SceneGeometry for SolidSpec {
     const TABLE: &'static str = "solid";
+    type Raw = RawSolid;
+    /// A body's `[obstacle]`.
+    type Extras = Option<RawObstacle>;
+    const EXTRAS_WHY: &'static str = "a [solid] body meets a plane";
+    const FILE_KEYS: &'static [&'static str] = &["mesh"];
     const COLUMNS: &'static [Column] = &Column::SOLID;
     const COLUMN_LIST: &'static str = SOLID_SERIES_NAMES;
     const SIZE_KEYS: &'static str = "solid.nx, solid.ny[, solid.nz]";
     const VTU: bool = true;
     const MASSLESS_TANGENTS: bool = true;
+
+    fn validate(raw: RawSolid, obstacle: Option<RawObstacle>, inputs: MeshInputs) -> Result<SolidSpec, SceneError> {
+        validate_solid(raw, obstacle, inputs)
+    }
 
     fn size_keys(&self) -> &'static str {
         if matches!(self.source, MeshSource::Box) { mesh::keys_of(self.dim) } else { "solid.mesh (a coarser mesh)" }
@@ -385,7 +412,7 @@ impl SceneGeometry for SolidSpec {
         series
     }
 
-    fn raw(&self) -> RawScene {
+    fn raw(&self) -> (RawSolid, Option<RawObstacle>) {
         let (f, i) = (|x: f64| Some(Number::Float(x)), |k: usize| Some(k as i64));
         let (three, structured) = (self.dim == 3, matches!(self.source, MeshSource::Box));
         let initial = match &self.initial {
@@ -400,7 +427,7 @@ impl SceneGeometry for SolidSpec {
             mesh: match &self.source {
                 MeshSource::Box => None,
                 MeshSource::File { path, .. } => Some(path.display().to_string()),
-                MeshSource::Arrays(_) => Some(super::mesh_file::ARRAY_MESH.into()),
+                MeshSource::Arrays(_) => Some(crate::mesh_file::ARRAY_MESH.into()),
             },
             length: f(self.extent[0]).filter(|_| structured),
             height: f(self.extent[1]).filter(|_| structured),
@@ -432,7 +459,7 @@ impl SceneGeometry for SolidSpec {
             },
         };
         let obstacle = self.support.body().map(|b| raw_obstacle(&b.obstacle, self.dim));
-        RawScene { solid: Some(solid), obstacle, ..Default::default() }
+        (solid, obstacle)
     }
 
     fn header(&self, time: &TimeSpec) -> String {
@@ -477,12 +504,5 @@ impl SceneGeometry for SolidSpec {
         };
         let (k, d) = (self.cells.verts() as f64, self.dim as f64);
         cells * k * k * d * (1.0 + d) * 48.0
-    }
-
-    fn from_any(any: AnyScene) -> Result<Scene<Self>, SceneError> {
-        match any {
-            AnyScene::Solid(s) => Ok(s),
-            other => Err(wrong_geometry(Self::TABLE, &other)),
-        }
     }
 }
