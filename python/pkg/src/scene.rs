@@ -44,11 +44,22 @@ impl Scene {
     }
 }
 
+/// The most rows of `mesh=`'s points and of its cells: a mesh's cell limit
+/// ([`massredist::scene::MAX_ELEMENTS`]), checked before the arrays are copied (issue 32, E9: a
+/// 10⁸-value points array aborted the interpreter on the copy).
+const MAX_MESH_ROWS: usize = massredist::scene::MAX_ELEMENTS;
+
 /// The arrays of `mesh=` as a file's blocks.
-fn array_mesh(mesh: Option<MeshArg<'_>>) -> PyResult<Option<ArrayMesh>> {
+fn array_mesh(py: Python<'_>, mesh: Option<MeshArg<'_>>) -> PyResult<Option<ArrayMesh>> {
     let Some((points, cells, kind)) = mesh else { return Ok(None) };
     let columns = points.shape()[1];
     let verts = cells.shape()[1];
+    for (what, rows) in [("points", points.shape()[0]), ("cells", cells.shape()[0])] {
+        if rows > MAX_MESH_ROWS {
+            let msg = format!("mesh: {rows} {what}, over the limit of {MAX_MESH_ROWS} rows for a mesh given as arrays");
+            return Err(scene_error_msg(py, msg, Some("mesh".into())));
+        }
+    }
     let points = points.as_array().iter().copied().collect();
     let cells = cells.as_array().iter().copied().collect();
     Ok(Some(ArrayMesh { points, columns, blocks: vec![(kind, cells, verts)] }))
@@ -73,7 +84,7 @@ impl Scene {
     #[pyo3(signature = (text, base = None, mesh = None))]
     fn from_toml(py: Python<'_>, text: &str, base: Option<PathBuf>, mesh: Option<MeshArg<'_>>) -> PyResult<Self> {
         let source = parse_table(py, text)?;
-        Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")), array_mesh(mesh)?)
+        Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")), array_mesh(py, mesh)?)
     }
 
     /// A scene from a TOML file (read as the CLI reads it: at most 16 MB, UTF-8).
@@ -96,8 +107,10 @@ impl Scene {
         base: Option<PathBuf>,
         mesh: Option<MeshArg<'_>>,
     ) -> PyResult<Self> {
-        let toml::Value::Table(source) = to_toml(tables.as_any(), "")? else { unreachable!("a dict is a table") };
-        Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")), array_mesh(mesh)?)
+        let toml::Value::Table(source) = to_toml(tables.as_any(), "", &mut Budget::default())? else {
+            unreachable!("a dict is a table")
+        };
+        Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")), array_mesh(py, mesh)?)
     }
 
     /// A new scene with keys changed: `{"time.dt": 0.005, "mass.kind": "mod2"}` (dotted keys)
@@ -111,19 +124,20 @@ impl Scene {
         tables: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let mut source = self.source.clone();
+        let budget = &mut Budget::default();
         for (table, values) in tables.map(|t| t.iter().collect::<Vec<_>>()).unwrap_or_default() {
             let table: String = table.extract()?;
             match values.cast::<PyDict>() {
                 Ok(d) => {
                     for (k, v) in d.iter() {
-                        set_key(py, &mut source, &format!("{table}.{}", k.extract::<String>()?), &v)?;
+                        set_key(py, &mut source, &format!("{table}.{}", k.extract::<String>()?), &v, budget)?;
                     }
                 }
-                Err(_) => set_key(py, &mut source, &table, &values)?,
+                Err(_) => set_key(py, &mut source, &table, &values, budget)?,
             }
         }
         for (k, v) in changes.map(|c| c.iter().collect::<Vec<_>>()).unwrap_or_default() {
-            set_key(py, &mut source, &k.extract::<String>()?, &v)?;
+            set_key(py, &mut source, &k.extract::<String>()?, &v, budget)?;
         }
         Self::new(py, source, self.base.clone(), self.arrays.clone())
     }
@@ -183,7 +197,13 @@ pub fn check(py: Python<'_>, scene: &Scene) -> PyResult<String> {
 }
 
 /// Sets the dotted `key` of `source` to `v` (None removes it), creating tables on the way.
-fn set_key(py: Python<'_>, source: &mut toml::Table, key: &str, v: &Bound<'_, PyAny>) -> PyResult<()> {
+fn set_key(
+    py: Python<'_>,
+    source: &mut toml::Table,
+    key: &str,
+    v: &Bound<'_, PyAny>,
+    budget: &mut Budget,
+) -> PyResult<()> {
     let parts: Vec<&str> = key.split('.').collect();
     let (last, tables) = parts.split_last().expect("split yields one part at least");
     let mut table = source;
@@ -200,15 +220,74 @@ fn set_key(py: Python<'_>, source: &mut toml::Table, key: &str, v: &Bound<'_, Py
     if v.is_none() {
         table.remove(*last);
     } else {
-        table.insert(last.to_string(), to_toml(v, key)?);
+        table.insert(last.to_string(), to_toml(v, key, budget)?);
     }
     Ok(())
 }
 
+/// What a scene built from Python values may hold (issue 32, E2 and E9): tables and lists nested
+/// at most [`Budget::MAX_DEPTH`] deep (a dict that contains itself, or one nested 20,000 deep,
+/// overflowed the stack: a segfault), and at most [`Budget::MAX_VALUES`] values (a 10⁷-entry
+/// list aborted on allocation), checked before a list is converted.
+#[derive(Default)]
+struct Budget {
+    depth: usize,
+    values: usize,
+}
+
+impl Budget {
+    /// Far above any scene (its tables are 2 levels deep, expressions' lists 3).
+    const MAX_DEPTH: usize = 32;
+    /// A scene file holds at most `MAX_SCENE_BYTES` bytes, and a TOML value takes 2 at least
+    /// (`0,`): a dict cannot hold more values than a file could.
+    const MAX_VALUES: usize = (massredist::scene::MAX_SCENE_BYTES / 2) as usize;
+
+    /// Takes one value.
+    fn take(&mut self, py: Python<'_>, key: &str) -> PyResult<()> {
+        self.room(py, 1, key)?;
+        self.values += 1;
+        Ok(())
+    }
+
+    /// Whether `n` more values fit (a list's length, checked before its items are converted).
+    fn room(&self, py: Python<'_>, n: usize, key: &str) -> PyResult<()> {
+        if self.values.saturating_add(n) > Self::MAX_VALUES {
+            let msg = format!(
+                "{key}: the scene would hold more than {} values (a scene file holds at most {} bytes)",
+                Self::MAX_VALUES,
+                massredist::scene::MAX_SCENE_BYTES
+            );
+            return Err(scene_error_msg(py, msg, Some(key.to_string())));
+        }
+        Ok(())
+    }
+
+    /// One level deeper, refused beyond [`Self::MAX_DEPTH`].
+    fn enter(&mut self, py: Python<'_>, key: &str) -> PyResult<()> {
+        self.depth += 1;
+        if self.depth > Self::MAX_DEPTH {
+            let msg = format!(
+                "{key}: dicts and lists nested more than {} levels deep (a dict or list that contains itself?)",
+                Self::MAX_DEPTH
+            );
+            return Err(scene_error_msg(py, msg, Some(key.to_string())));
+        }
+        Ok(())
+    }
+}
+
 /// A Python value as a TOML value: bool, int, float, str, list/tuple (or anything with
-/// `tolist`, e.g. numpy arrays and scalars) and dict.
-fn to_toml(v: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
+/// `tolist`, e.g. numpy arrays and scalars) and dict, within `budget`.
+fn to_toml(v: &Bound<'_, PyAny>, key: &str, budget: &mut Budget) -> PyResult<toml::Value> {
+    budget.enter(v.py(), key)?;
+    let value = to_toml_at(v, key, budget);
+    budget.depth -= 1;
+    value
+}
+
+fn to_toml_at(v: &Bound<'_, PyAny>, key: &str, budget: &mut Budget) -> PyResult<toml::Value> {
     let py = v.py();
+    budget.take(py, key)?;
     if v.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(v.extract()?));
     }
@@ -227,17 +306,22 @@ fn to_toml(v: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
             let name: String = k.extract()?;
             let sub = if key.is_empty() { name.clone() } else { format!("{key}.{name}") };
             if !x.is_none() {
-                t.insert(name, to_toml(&x, &sub)?);
+                t.insert(name, to_toml(&x, &sub, budget)?);
             }
         }
         return Ok(toml::Value::Table(t));
     }
     if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
-        let items: PyResult<Vec<_>> = v.try_iter()?.map(|x| to_toml(&x?, key)).collect();
+        budget.room(py, v.len()?, key)?;
+        let items: PyResult<Vec<_>> = v.try_iter()?.map(|x| to_toml(&x?, key, budget)).collect();
         return Ok(toml::Value::Array(items?));
     }
     if v.hasattr("tolist")? {
-        return to_toml(&v.call_method0("tolist")?, key);
+        // A numpy array's size before `tolist` makes a Python list of it.
+        if let Ok(size) = v.getattr("size").and_then(|s| s.extract::<usize>()) {
+            budget.room(py, size, key)?;
+        }
+        return to_toml(&v.call_method0("tolist")?, key, budget);
     }
     let type_name = v.get_type().name().map(|n| n.to_string()).unwrap_or_default();
     Err(scene_error_msg(
