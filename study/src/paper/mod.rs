@@ -232,7 +232,7 @@ fn compute_sections(
                 methods: timed("method classes", || methods::compute(methods_config, &|| progress.inc(1))),
                 hertz: timed("Hertz", || hertz::compute_hertz(&|| progress.inc(1)))?,
                 disc_md: timed("disc (methods)", || {
-                    methods_disc::compute_disc(replicate::Copies::WherePrinted).map(|d| methods_disc::disc_markdown(&d))
+                    methods_disc::compute_disc(replicate::Copies::All).map(|d| methods_disc::disc_markdown(&d))
                 })?,
             })
         },

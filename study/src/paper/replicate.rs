@@ -16,9 +16,16 @@
 //! deviations from x₀ are of the order of |x₁ − x₀|; K = 100 leaves two decades for their
 //! spread. A run that amplifies round-off (the chattering standard mass, long Paoli–Schatzman
 //! runs, a diverging scheme) moves x₁ far from x₀, the interval crosses a rounding boundary and
-//! every copy runs. Where the rule skips copies, the shared digits of the two runs are those the
-//! five would give (checked against the five-run report: `reproduce` full, every printed number
-//! the same).
+//! every copy runs.
+//!
+//! **Where the rule does not hold.** A time read off the step grid (a first impact, a contact
+//! duration) moves by whole steps: base and first copy may agree exactly while a third copy
+//! lands one step later, which no interval around x₀ predicts. Compared with the five-run report
+//! (`reproduce` full at 014a145 against 517e9f6, 2026-11-27): the bodies section printed every
+//! number the same, but the dropped disc of the method comparison printed `0.5000` where the
+//! five runs give `0.50–0.51` (8 of its rows): that section runs [`Copies::All`]. A section
+//! whose printed values are step-quantized events uses `All` unless such a comparison shows
+//! the rule holds for it.
 
 use super::band::{PERTURBATIONS, sig};
 use rayon::prelude::*;
