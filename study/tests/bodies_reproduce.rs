@@ -176,20 +176,28 @@ fn every_printed_number_is_shared_by_the_five_runs() {
             let cell = r.stable(f);
             let values: Vec<f64> = r.runs().filter_map(f).collect();
             if let Some((lo_s, hi_s)) = cell.split_once('–') {
-                // A band: its ends are the extremes, rounded to 2 digits.
+                // A band: its ends are the extremes, rounded (to 2 digits, or to the column's 4
+                // when they agree on 2).
                 let (lo, hi) = (lo_s.parse::<f64>().unwrap(), hi_s.parse::<f64>().unwrap());
                 for v in &values {
                     assert!(*v >= lo - half_last_place(lo_s) * (1.0 + 1e-9), "{name} {what}: {v} below {cell}");
                     assert!(*v <= hi + half_last_place(hi_s) * (1.0 + 1e-9), "{name} {what}: {v} above {cell}");
                 }
             } else if let Ok(x) = cell.parse::<f64>() {
-                // Shared digits: every run rounds to them.
+                // Shared digits: every run rounds to them, and they lie within the runs' range
+                // at the column's 4 digits (issue 32, item 7: runs {18.74, 18.76} share only
+                // "19", outside their range; they must print as a band).
                 for v in &values {
                     assert!(
                         (v - x).abs() <= half_last_place(&cell) * (1.0 + 1e-9),
                         "{name} {what}: run {v}, printed {cell}"
                     );
                 }
+                // (The column's precision is the formatter's: `sig` keeps an integer part whole.)
+                let at_4 = |y: f64| massredist_study::paper::sig(y, 4).parse::<f64>().unwrap();
+                let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+                let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                assert!(at_4(lo) <= x && x <= at_4(hi), "{name} {what}: printed {cell} outside the runs' {lo}–{hi}");
             }
         }
         // The printed count, read back on its own terms (not through the function that wrote

@@ -87,8 +87,15 @@ impl Verdict {
 }
 
 /// `x` with the significant digits (at most `digits`) on which every value of `values` agrees,
-/// e.g. `0.1041`; if they do not agree on two, the band `min–max` (2 digits each); `—` if there
-/// is no value, and `varies` if some runs have one and others not.
+/// e.g. `0.1041`, provided that value lies within the runs' range (issue 32, item 7); else the
+/// band `min–max` ([`band_text`]); `—` if
+/// there is no value, and `varies` if some runs have one and others not.
+///
+/// **Within the range** is read at the column's precision: the printed p (d ≤ `digits` digits)
+/// must satisfy `sig(min, digits) ≤ p ≤ sig(max, digits)`. Rounding to the common digit can
+/// leave the range: runs {18.74, 18.76} agree only on "19", which lies outside [18.74, 18.76],
+/// so they print as the band `18.74–18.76`. Runs that agree on all `digits` print them (their
+/// range at that precision is the one value).
 pub fn stable_digits(values: &[Option<f64>], digits: usize) -> String {
     let Some(first) = values.first() else { return "—".into() };
     if values.iter().any(|v| v.is_some() != first.is_some()) {
@@ -96,11 +103,31 @@ pub fn stable_digits(values: &[Option<f64>], digits: usize) -> String {
     }
     let v: Vec<f64> = values.iter().flatten().copied().collect();
     let Some(&x) = v.first() else { return "—".into() };
-    if let Some(d) = (2..=digits).rev().find(|&d| v.iter().all(|y| sig(*y, d) == sig(x, d))) {
-        return sig(x, d);
-    }
     let (lo, hi) = band(&v);
-    format!("{}–{}", sig(lo, 2), sig(hi, 2))
+    let at_precision = |y: f64| sig(y, digits).parse::<f64>().unwrap_or(y);
+    if let Some(d) = (2..=digits).rev().find(|&d| v.iter().all(|y| sig(*y, d) == sig(x, d))) {
+        let shown = sig(x, d);
+        let p = shown.parse::<f64>().unwrap_or(x);
+        // NaN and ±inf: every run has the same one (they agreed), printed as it is.
+        if !p.is_finite() || (at_precision(lo) <= p && p <= at_precision(hi)) {
+            return shown;
+        }
+    }
+    band_text(lo, hi, digits)
+}
+
+/// The band `lo–hi` of [`stable_digits`]: ends that differ at 2 digits print with 2 (`0.41–0.52`);
+/// closer ends (their common digit left the range) print as they are at `digits` digits, in
+/// the fewest digits that keep that value (`18.74–18.76`).
+fn band_text(lo: f64, hi: f64, digits: usize) -> String {
+    if sig(lo, 2) != sig(hi, 2) || digits <= 2 {
+        return format!("{}–{}", sig(lo, 2), sig(hi, 2));
+    }
+    let short = |y: f64| {
+        let full = sig(y, digits).parse::<f64>().ok();
+        (2..digits).map(|k| sig(y, k)).find(|s| s.parse::<f64>().ok() == full).unwrap_or_else(|| sig(y, digits))
+    };
+    format!("{}–{}", short(lo), short(hi))
 }
 
 /// The number of significant digits (at most 16) on which all `values` agree; 0 if not even
@@ -135,7 +162,14 @@ mod tests {
 
     #[test]
     fn shared_digits_or_the_band() {
-        assert_eq!(stable_digits(&[Some(0.104112), Some(0.104113)], 6), "0.10411");
+        // 0.10411 lies outside [0.104112, 0.104113]: the band; at 5 digits both are 0.10411.
+        assert_eq!(stable_digits(&[Some(0.104112), Some(0.104113)], 6), "0.104112–0.104113");
+        assert_eq!(stable_digits(&[Some(0.104112), Some(0.104113)], 5), "0.10411");
+        assert_eq!(stable_digits(&[Some(0.104112), Some(0.104119)], 4), "0.1041");
+        // The review's cases (issue 32, item 7): "19" and "14" left their runs' range.
+        assert_eq!(stable_digits(&[Some(18.74), Some(18.76)], 4), "18.74–18.76");
+        assert_eq!(stable_digits(&[Some(13.64), Some(13.66)], 4), "13.64–13.66");
+        assert_eq!(stable_digits(&[Some(-18.76), Some(-18.74)], 4), "-18.76–-18.74");
         assert_eq!(stable_digits(&[Some(0.104112)], 6), "0.104112");
         assert_eq!(stable_digits(&[Some(0.41), Some(0.52), Some(0.47)], 6), "0.41–0.52");
         assert_eq!(stable_digits(&[Some(2.0e13), Some(5.0e4)], 3), "50000–2.0e13");
@@ -145,6 +179,46 @@ mod tests {
         assert_eq!(agreed_digits(&[Some(0.5), Some(0.5)]), 16);
         assert_eq!(agreed_digits(&[Some(0.41), Some(0.52)]), 0);
         assert_eq!(agreed_digits(&[None, Some(1.0)]), 0);
+    }
+
+    /// Over sets of 2 to 5 runs around rounding boundaries (a deterministic generator), every
+    /// printed value lies within its runs' range at the column's precision, and every band's
+    /// ends are the extremes rounded. mutation: return `shown` without the range test -> fails
+    /// on the first set whose common digit leaves the range (e.g. {18.74, 18.76} -> "19").
+    #[test]
+    fn no_printed_value_leaves_its_runs_range() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut unit = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..20_000 {
+            let digits = 2 + (unit() * 5.0) as usize;
+            // A centre near a rounding boundary of some digit, runs spread over 1e-6 … 1e-1 of it.
+            let scale = 10f64.powi((unit() * 12.0) as i32 - 6);
+            let centre = (1.0 + 9.0 * unit()).mul_add(scale, 0.0) * if unit() < 0.2 { -1.0 } else { 1.0 };
+            let spread = centre.abs() * 10f64.powf(-1.0 - 5.0 * unit());
+            let n = 2 + (unit() * 4.0) as usize;
+            let v: Vec<Option<f64>> = (0..n).map(|_| Some(centre + spread * (unit() - 0.5))).collect();
+            let (lo, hi) = band(&v.iter().flatten().copied().collect::<Vec<_>>());
+            let out = stable_digits(&v, digits);
+            let at = |y: f64| sig(y, digits).parse::<f64>().unwrap();
+            match out.split_once('–') {
+                None => {
+                    let p: f64 = out.parse().unwrap();
+                    assert!(at(lo) <= p && p <= at(hi), "{out} outside [{lo}, {hi}] at {digits} digits");
+                }
+                Some((a, b)) => {
+                    // Ends that differ at 2 digits print at 2; closer ones at the column's
+                    // precision, so the band lies within the range at that precision.
+                    let k = if sig(lo, 2) != sig(hi, 2) { 2 } else { digits };
+                    let (a, b): (f64, f64) = (a.parse().unwrap(), b.parse().unwrap());
+                    assert_eq!((a, b), (sig(lo, k).parse().unwrap(), sig(hi, k).parse().unwrap()), "band of {v:?}");
+                }
+            }
+        }
     }
 
     #[test]
