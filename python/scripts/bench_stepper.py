@@ -28,27 +28,14 @@ import scipy
 from scipy.linalg import lapack
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "crosscheck"))
-
-
-def weights(kind, m):
-    """Element weights of the paper's masses (element 0 touches the contact node)."""
-    w = np.ones(m)
-    if kind == "standard":
-        return w
-    w[0] = 0.0
-    if kind == "mod2":
-        w[1:] = m / (m - 1)
-    elif kind == "mod3":
-        w[1] = 2.0
-    elif kind != "mod1":
-        raise ValueError(kind)
-    return w
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "independent"))
+from shared import bar_weights  # noqa: E402  (the paper's element weights, written once)
 
 
 def tridiagonals(kind, m):
     """(diag, off) of M and S on the free vertices, and h."""
     h = 1.0 / m
-    w = weights(kind, m)
+    w = bar_weights(kind, m)
     md = np.zeros(m)
     md += h / 3 * w  # element j -> vertex j
     md[1:] += h / 3 * w[:-1]  # element j -> vertex j+1 (vertex m is Dirichlet)
