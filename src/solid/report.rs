@@ -17,18 +17,17 @@ use super::assembly::SolidSystem;
 use crate::column::Column;
 use crate::problem::OwnSummary;
 
-/// A body's own columns, in the order of [`values`].
-pub const COLUMNS: [Column; 9] = [
-    Column::ContactForce,
-    Column::ActiveNodes,
-    Column::MinDistance,
-    Column::Momentum(0),
-    Column::Momentum(1),
-    Column::Momentum(2),
-    Column::MeanU(0),
-    Column::MeanU(1),
-    Column::MeanU(2),
-];
+/// A body's own columns, in the order of [`values`]: the total contact force, then
+/// [`Column::BODY`] (derived from it: one list of the body-only columns).
+pub const COLUMNS: [Column; 9] = {
+    let mut all = [Column::ContactForce; 9];
+    let mut k = 1;
+    while k < 9 {
+        all[k] = Column::BODY[k - 1];
+        k += 1;
+    }
+    all
+};
 
 /// The values of [`COLUMNS`] from a state's reports.
 pub fn values(contact_force: f64, active: usize, min_distance: f64, momentum: [f64; 3], mean_u: [f64; 3]) -> [f64; 9] {
