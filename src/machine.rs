@@ -1,4 +1,5 @@
-//! What the machine allows a run (read at the edge, by the command line): the memory it may
+//! What the machine allows a run (read at the edge, by the command line and the Python
+//! package: [`install_memory_limit`]): the memory it may
 //! take. Linux's `/proc/meminfo` (`MemAvailable`: what can be allocated without swapping) and
 //! `/proc/self/limits` ("Max address space": `ulimit -v`); the smaller of the two is the limit.
 //! Elsewhere (no `/proc`) there is no limit.
@@ -20,6 +21,35 @@ pub fn memory_limit() -> Option<MemoryLimit> {
         (None, Some(v)) => Some(MemoryLimit { bytes: v, source: "ulimit -v" }),
         (None, None) => None,
     }
+}
+
+/// Sets the solver's memory limit from the machine, for the command line and the Python
+/// package: a factor may take what is left of 15/16 of [`memory_limit`] (1/16 for what follows
+/// it: the solves' work vectors, the observers), measured by [`memory_in_use`] when it is
+/// allocated (`crate::linalg::memory_left`). Returns the limit read, if any.
+pub fn install_memory_limit() -> Option<MemoryLimit> {
+    let limit = memory_limit()?;
+    crate::linalg::set_memory_limit(limit.bytes / 16 * 15);
+    crate::linalg::set_memory_in_use(memory_in_use(&limit));
+    Some(limit)
+}
+
+/// What the process holds now, as `limit` counts it: its address space (`VmSize`) under
+/// `ulimit -v`, its resident memory (`VmRSS`) against the available memory, read from
+/// `/proc/self/status` (0 where it cannot be read). [`crate::linalg::set_memory_in_use`] takes
+/// the function this returns.
+pub fn memory_in_use(limit: &MemoryLimit) -> fn() -> u64 {
+    fn field(name: &str) -> u64 {
+        std::fs::read_to_string("/proc/self/status").ok().and_then(|t| status_kb(&t, name)).unwrap_or(0)
+    }
+    if limit.source == "ulimit -v" { || field("VmSize:") } else { || field("VmRSS:") }
+}
+
+/// The value of a `Name:   1234 kB` line of `/proc/self/status`, in bytes.
+fn status_kb(status: &str, name: &str) -> Option<u64> {
+    let line = status.lines().find(|l| l.starts_with(name))?;
+    let kb: u64 = line[name.len()..].split_whitespace().next()?.parse().ok()?;
+    Some(kb.saturating_mul(1024))
 }
 
 /// `MemAvailable:   23558996 kB` in bytes.
@@ -45,5 +75,8 @@ mod tests {
         assert_eq!(super::address_space(unlimited), None);
         let limited = "Max address space         2048000000           unlimited            bytes\n";
         assert_eq!(super::address_space(limited), Some(2048000000));
+        let status = "Name:\tmassredist\nVmPeak:\t  20000 kB\nVmSize:\t   12000 kB\nVmRSS:\t    3000 kB\n";
+        assert_eq!(super::status_kb(status, "VmSize:"), Some(12000 * 1024));
+        assert_eq!(super::status_kb(status, "VmRSS:"), Some(3000 * 1024));
     }
 }

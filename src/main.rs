@@ -160,11 +160,8 @@ fn progress(len: u64) -> Progress {
 /// the library (about 90 lines: the arms are short, and one place lists every command's edge).
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    // One factor may take three quarters of what the machine allows (the rest: the matrices,
-    // the mesh and the workspaces, whose sizes are a fraction of the factor's for these fills).
-    if let Some(m) = massredist::machine::memory_limit() {
-        massredist::linalg::set_memory_limit(m.bytes / 4 * 3);
-    }
+    // What cannot fit in memory is refused before it is allocated (machine.rs).
+    let _ = massredist::machine::install_memory_limit();
     // SIGTERM, SIGINT, SIGHUP: the staging folder is removed, exit 128 + signal (src/output/staging.rs).
     if let Err(e) = massredist::output::install_signal_cleanup() {
         eprintln!("warning: no signal handler ({e}); an interrupted run leaves its temporary folder");

@@ -32,4 +32,36 @@ fn what_cannot_fit_is_refused_before_it_is_allocated() {
     massredist::linalg::set_memory_limit(u64::MAX);
     assert!(refused.contains("Cholesky factor") && refused.contains("memory limit of 0.00 GB"), "{refused}");
     assert!(massredist::run::setup(&plate).is_ok());
+
+    // 3. What the run holds already counts (issue 32, E4: the first factor of a 1200² plate
+    //    fitted the limit on its own, the second aborted the run at 4 GB). With 1 GB allowed
+    //    and all but 1 MB of it held, the ordering of the first matrix is refused, naming what
+    //    is left. Mutation: the measure ignored (`memory_left` = `memory_limit`) -> the setup
+    //    succeeds -> fails.
+    massredist::linalg::set_memory_limit(1 << 30);
+    massredist::linalg::set_memory_in_use(|| (1 << 30) - (1 << 20));
+    let refused = massredist::run::setup(&plate).err().expect("refused").to_string();
+    massredist::linalg::set_memory_in_use(|| 0);
+    massredist::linalg::set_memory_limit(u64::MAX);
+    assert!(refused.contains("0.00 GB left of the memory limit of 1.07 GB"), "{refused}");
+    assert!(refused.contains("the run holds 1.07 GB already"), "{refused}");
+
+    // 4. Under `ulimit -v` (the command line reads it, and the address space the process holds,
+    //    from /proc): a 300² plate with 250 MB. Its set-up peaks near 260 MB of address space
+    //    (measured: `VmPeak` 256 MB at its first factor); the estimate at validation (3× its
+    //    69 MB of assembly buffers, the measured ratio) refuses it naming plate.nx, before any
+    //    assembly. Before the fix `check` passed validation and aborted in the assembly (exit
+    //    134, "memory allocation of 46834584 bytes failed", the binary at 014a145).
+    let scene = dir.path().join("plate300.toml");
+    std::fs::write(&scene, "[plate]\nnx = 300\nny = 300\n[time]\ndt = 0.0001\nend = 0.0003\n").unwrap();
+    let out = Command::new("bash")
+        .arg("-c")
+        .arg("ulimit -v 256000 && exec \"$0\" check \"$1\"")
+        .arg(env!("CARGO_BIN_EXE_massredist"))
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("plate.nx, plate.ny: setting this mesh up takes about 0.21 GB"), "{err}");
 }

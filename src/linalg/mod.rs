@@ -13,19 +13,42 @@ pub mod tridiag;
 use sparse::{SpMat, SparseError, SparseLlt};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// The memory, in bytes, that one factor may take ([`memory_limit`]); `u64::MAX`: no limit.
+/// The memory, in bytes, that the process may take ([`memory_limit`]); `u64::MAX`: no limit.
 static MEMORY_LIMIT: AtomicU64 = AtomicU64::new(u64::MAX);
 
-/// Sets the memory one factor may take: the command line sets it once, from the machine
+/// How much of [`MEMORY_LIMIT`] the process holds now, as the limit counts it ([`memory_in_use`]).
+static MEMORY_IN_USE: std::sync::RwLock<Option<fn() -> u64>> = std::sync::RwLock::new(None);
+
+/// Sets the memory the process may take: the command line sets it once, from the machine
 /// (`crate::machine::memory_limit`: the available memory and `ulimit -v`), before any scene is
 /// validated; a library user may set their own. The kernels never read the environment.
 pub fn set_memory_limit(bytes: u64) {
     MEMORY_LIMIT.store(bytes, Ordering::Relaxed);
 }
 
-/// The memory one factor may take, in bytes (`u64::MAX` unless [`set_memory_limit`] was called).
+/// The memory the process may take, in bytes (`u64::MAX` unless [`set_memory_limit`] was called).
 pub fn memory_limit() -> u64 {
     MEMORY_LIMIT.load(Ordering::Relaxed)
+}
+
+/// Sets how the memory the process holds is measured (the command line: `crate::machine`'s
+/// reading of `/proc/self/status`, the measure the limit counts: address space under
+/// `ulimit -v`, resident memory against the available memory). Without it the process is taken
+/// to hold nothing, and a factor may take the whole limit.
+pub fn set_memory_in_use(measure: fn() -> u64) {
+    *MEMORY_IN_USE.write().unwrap_or_else(std::sync::PoisonError::into_inner) = Some(measure);
+}
+
+/// The memory the process holds now ([`set_memory_in_use`]; 0 if no measure was set).
+pub fn memory_in_use() -> u64 {
+    MEMORY_IN_USE.read().unwrap_or_else(std::sync::PoisonError::into_inner).map_or(0, |f| f())
+}
+
+/// What an allocation may still take: [`memory_limit`] less [`memory_in_use`]. A factor is
+/// refused when its values and its factorisation's work space exceed it (issue 32, E4: the
+/// first factor of a 1200² plate fitted the limit, the second aborted the run).
+pub fn memory_left() -> u64 {
+    memory_limit().saturating_sub(memory_in_use())
 }
 use std::fmt::Debug;
 use thiserror::Error;

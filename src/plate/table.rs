@@ -215,13 +215,16 @@ impl SceneGeometry for PlateSpec {
         }
     }
 
-    /// The element buffers of `crate::plate::assembly`: per cell k² positions (two indices),
+    /// The element buffers of `crate::plate::assembly` (per cell k² positions (two indices),
     /// k² mass and k² stiffness values, and the pattern's row index and slot of each: 48
-    /// bytes per entry.
+    /// bytes per entry) times 3, the measured ratio of the set-up's peak to them (issue 32,
+    /// E4): the address space at the first factor (`VmPeak`) was 688 MB for a 600² quad plate
+    /// (2.5× its 276 MB of buffers) and 256 MB for 300² (3.7×, the process's own share
+    /// counting more); a 1200² plate counted 1.1 GB here and aborted in its assembly at 1.8 GB.
     fn assembly_bytes(&self) -> f64 {
         let mesh = self.mesh.as_ref().expect("a validated plate has its mesh");
         let k = self.cells.verts() as f64;
-        mesh.n_cells() as f64 * k * k * 48.0
+        mesh.n_cells() as f64 * k * k * 48.0 * 3.0
     }
 }
 

@@ -196,12 +196,12 @@ impl<G: Registered> Scene<G> {
 }
 
 /// A geometry table validated on the sections every scene shares, if its assembly fits in
-/// memory ([`SceneGeometry::assembly_bytes`] against [`crate::linalg::memory_limit`], read
+/// memory ([`SceneGeometry::assembly_bytes`] against [`crate::linalg::memory_left`], read
 /// only for a geometry that states its bytes).
 fn validated<G: SceneGeometry>(geometry: G, raw: RawScene) -> Result<Scene<G>, SceneError> {
     let bytes = geometry.assembly_bytes();
     if bytes > 0.0 {
-        let limit = crate::linalg::memory_limit();
+        let limit = crate::linalg::memory_left();
         if bytes > limit as f64 {
             return Err(SceneError::TooMuchMemory { keys: geometry.size_keys(), bytes, limit });
         }

@@ -48,7 +48,7 @@ pub enum SceneError {
     )]
     TooManyContactNodes { contact: usize, values: f64, limit: f64, megabytes: f64, keys: &'static str },
     #[error(
-        "{keys}: assembling this mesh takes at least {gb:.2} GB, over the memory limit of {limit_gb:.2} GB (the available memory, or `ulimit -v`): reduce {keys}",
+        "{keys}: setting this mesh up takes about {gb:.2} GB before its factors (its assembly buffers times the peak measured over them), over the {limit_gb:.2} GB left of the memory limit (the available memory, or `ulimit -v`): reduce {keys}",
         gb = bytes / 1e9, limit_gb = *limit as f64 / 1e9
     )]
     TooMuchMemory { keys: &'static str, bytes: f64, limit: u64 },

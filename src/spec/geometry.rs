@@ -75,9 +75,11 @@ pub trait SceneGeometry: Sized {
     fn unavailable(&self, column: Column) -> Option<String>;
     /// The series recorded without `output.series`.
     fn default_series(&self) -> Vec<Column>;
-    /// A lower bound of the memory, in bytes, that assembling this geometry's matrices takes
-    /// (its element-matrix buffers), checked against [`crate::linalg::memory_limit`] before any
-    /// mesh is assembled; the factor is checked, exactly, after its symbolic analysis.
+    /// An estimate of the memory, in bytes, that setting this geometry up takes before its
+    /// first factor (its element-matrix buffers times the measured ratio of the peak to them),
+    /// checked against [`crate::linalg::memory_limit`] before any mesh is assembled; each factor
+    /// is checked, exactly, after its symbolic analysis, against what is left of the limit
+    /// ([`crate::linalg::memory_left`]).
     fn assembly_bytes(&self) -> f64 {
         0.0
     }

@@ -22,6 +22,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // Ctrl-C would raise and rust-numpy would panic (found with the interrupt guard disabled:
     // the KeyboardInterrupt then fired inside the first array creation after a run).
     let _ = numpy::PyArray1::<f64>::zeros(py, 0, false);
+    // What cannot fit in memory is refused (SceneError) as the CLI refuses it, never an abort
+    // of the interpreter: the machine's limit, less what the process holds (the CLI's main).
+    let _ = massredist::machine::install_memory_limit();
     m.add("SceneError", py.get_type::<errors::SceneError>())?;
     m.add("RunError", py.get_type::<errors::RunError>())?;
     m.add_class::<scene::Scene>()?;

@@ -483,10 +483,14 @@ impl SceneGeometry for SolidSpec {
         )
     }
 
-    /// The element triplets of `crate::solid::assembly`: per cell k²·d mass and k²·d²
+    /// The element triplets of `crate::solid::assembly` (per cell k²·d mass and k²·d²
     /// stiffness triplets (two indices and a value, 24 bytes), each with its value copied out
-    /// and the pattern's row index and slot: 48 bytes per triplet, k the cell's vertices
-    /// (measured: a 40³ hex, 2.4 GB by this count, peaks at about 2.8 GB before its factor).
+    /// and the pattern's row index and slot: 48 bytes per triplet, k the cell's vertices)
+    /// times 1.6, the measured ratio of the set-up's peak to them (issue 32, E4): the address
+    /// space at the first factor (`VmPeak`) was 3.39 GB for a 40³ hex box (1.44× its 2.36 GB
+    /// of triplets), 2.02 GB for 30³ × 6 tets (1.35×), 1.20 GB for 400² × 2 triangles (1.44×)
+    /// and 0.38 GB for 200² × 2 (1.82×, the process's own share counting more). Body meshes
+    /// are counted the same, from their cells.
     fn assembly_bytes(&self) -> f64 {
         let cells = match self.source.given() {
             Some(m) => m.n_cells() as f64,
@@ -503,6 +507,6 @@ impl SceneGeometry for SolidSpec {
             }
         };
         let (k, d) = (self.cells.verts() as f64, self.dim as f64);
-        cells * k * k * d * (1.0 + d) * 48.0
+        cells * k * k * d * (1.0 + d) * 48.0 * 1.6
     }
 }
