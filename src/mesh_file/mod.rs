@@ -106,7 +106,7 @@ pub const ARRAY_MESH: &str = "<arrays>";
 
 /// A mesh given as arrays, as a file would give it (points, `columns` coordinates each, and
 /// cell blocks): for library users (the Python package's `mesh=`, e.g. a dolfinx mesh).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ArrayMesh {
     pub points: Vec<f64>,
     pub columns: usize,

@@ -4,7 +4,7 @@
 
 use crate::errors::{scene_error, scene_error_msg};
 use massredist::scene::AnyScene;
-use massredist::scene::mesh_file::{ARRAY_MESH, ArrayMesh, MeshInputs};
+use massredist::scene::mesh_file::{ARRAY_MESH, ArrayMesh, Block, MeshInputs};
 use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
@@ -26,6 +26,14 @@ pub struct Scene {
 type MeshArg<'py> = (PyReadonlyArray2<'py, f64>, PyReadonlyArray2<'py, i64>, String);
 
 impl Scene {
+    /// Whether a geometry table names a mesh file (then `base` is part of the scene).
+    fn reads_mesh_file(&self) -> bool {
+        self.source
+            .values()
+            .filter_map(toml::Value::as_table)
+            .any(|t| t.get("mesh").and_then(toml::Value::as_str).is_some_and(|m| m != ARRAY_MESH))
+    }
+
     fn new(py: Python<'_>, mut source: toml::Table, base: PathBuf, arrays: Option<ArrayMesh>) -> PyResult<Self> {
         if arrays.is_some() {
             let table = ["plate", "solid"].into_iter().find(|t| source.contains_key(*t));
@@ -176,16 +184,103 @@ impl Scene {
         self.any.time().steps
     }
 
-    /// The folder a mesh file is relative to.
+    /// The folder a mesh file is relative to (a str, as the stub says).
     #[getter]
-    fn base(&self) -> PathBuf {
-        self.base.clone()
+    fn base(&self) -> String {
+        self.base.to_string_lossy().into_owned()
     }
 
     fn __repr__(&self) -> String {
         let t = self.any.time();
         format!("Scene([{}], dt={}, end={}, steps={})", self.any.table(), t.dt, t.end, t.steps)
     }
+
+    /// The value of a dotted key in the resolved scene, every default filled in
+    /// (`scene["time.dt"]`, `scene["mass.kind"]`; a table gives a dict): what `check` prints.
+    /// A key the resolved scene does not have raises KeyError naming it.
+    fn __getitem__<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
+        let resolved: toml::Table =
+            toml::from_str(&self.any.resolved_toml()).map_err(|e| scene_error_msg(py, e.to_string(), None))?;
+        let mut parts = key.split('.');
+        let first = parts.next().unwrap_or_default();
+        let missing = || pyo3::exceptions::PyKeyError::new_err(key.to_string());
+        let mut value = resolved.get(first).ok_or_else(missing)?;
+        for part in parts {
+            value = value.as_table().and_then(|t| t.get(part)).ok_or_else(missing)?;
+        }
+        to_python(py, value)
+    }
+
+    /// Equal when the resolved scenes (every default filled in), the meshes given as arrays
+    /// and, for a scene that reads a mesh file, the folder it is relative to are equal.
+    fn __eq__(&self, other: PyRef<'_, Scene>) -> bool {
+        self.any.resolved_toml() == other.any.resolved_toml()
+            && self.arrays == other.arrays
+            && (!self.reads_mesh_file() || self.base == other.base)
+    }
+
+    /// Consistent with `__eq__`: the resolved scene, the folder and the arrays.
+    fn __hash__(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        self.any.resolved_toml().hash(&mut h);
+        if self.reads_mesh_file() {
+            self.base.hash(&mut h);
+        }
+        if let Some(a) = &self.arrays {
+            a.points.iter().for_each(|x| x.to_bits().hash(&mut h));
+            a.columns.hash(&mut h);
+            a.blocks.hash(&mut h);
+        }
+        h.finish()
+    }
+
+    /// Pickling (multiprocessing, joblib): the tables as given, the folder and the arrays; the
+    /// copy is validated again when it is loaded.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, (String, String, Option<(Vec<f64>, usize, Vec<Block>)>))> {
+        let s = slf.get();
+        let source = toml::to_string(&s.source).map_err(|e| scene_error_msg(slf.py(), e.to_string(), None))?;
+        let arrays = s.arrays.as_ref().map(|a| (a.points.clone(), a.columns, a.blocks.clone()));
+        Ok((slf.get_type().getattr("_from_state")?, (source, s.base(), arrays)))
+    }
+
+    /// The inverse of `__reduce__`.
+    #[staticmethod]
+    fn _from_state(
+        py: Python<'_>,
+        source: &str,
+        base: PathBuf,
+        arrays: Option<(Vec<f64>, usize, Vec<Block>)>,
+    ) -> PyResult<Self> {
+        let arrays = arrays.map(|(points, columns, blocks)| ArrayMesh { points, columns, blocks });
+        Self::new(py, parse_table(py, source)?, base, arrays)
+    }
+}
+
+/// A TOML value as the Python value `tomllib` gives (a datetime as its text).
+fn to_python<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
+    use pyo3::IntoPyObjectExt;
+    Ok(match v {
+        toml::Value::String(s) => s.into_bound_py_any(py)?,
+        toml::Value::Integer(i) => i.into_bound_py_any(py)?,
+        toml::Value::Float(f) => f.into_bound_py_any(py)?,
+        toml::Value::Boolean(b) => b.into_bound_py_any(py)?,
+        toml::Value::Datetime(d) => d.to_string().into_bound_py_any(py)?,
+        toml::Value::Array(a) => {
+            let items = a.iter().map(|x| to_python(py, x)).collect::<PyResult<Vec<_>>>()?;
+            PyList::new(py, items)?.into_any()
+        }
+        toml::Value::Table(t) => {
+            let d = PyDict::new(py);
+            for (k, x) in t {
+                d.set_item(k, to_python(py, x)?)?;
+            }
+            d.into_any()
+        }
+    })
 }
 
 /// `check`: sets the scene up as `massredist check` does (assembly, exact solution,

@@ -26,7 +26,8 @@ from __future__ import annotations
 import json
 import os
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, is_dataclass
+from dataclasses import fields as dataclass_fields
 from typing import Any, Callable, Mapping, NamedTuple, Union
 
 import numpy as np
@@ -144,7 +145,22 @@ class State(NamedTuple):
     """The discrete energy ½VᵀMV + ½UᵀSU − UᵀF."""
 
 
-@dataclass(frozen=True)
+def _equal(a: Any, b: Any) -> bool:
+    """Equality of values that may hold numpy arrays (equal shapes, dtypes and entries; NaN
+    equal to NaN), in dicts and dataclasses, for :class:`Fields` and :class:`Run`."""
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        if not (isinstance(a, np.ndarray) and isinstance(b, np.ndarray)):
+            return False
+        nan = a.dtype.kind in "fc"
+        return a.shape == b.shape and a.dtype == b.dtype and bool(np.array_equal(a, b, equal_nan=nan))
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_equal(a[k], b[k]) for k in a)
+    if is_dataclass(a) and type(a) is type(b):
+        return all(_equal(getattr(a, f.name), getattr(b, f.name)) for f in dataclass_fields(a))
+    return bool(a == b) or (isinstance(a, float) and isinstance(b, float) and a != a and b != b)
+
+
+@dataclass(frozen=True, eq=False)
 class Fields:
     """The final state of a run with its mesh."""
 
@@ -166,8 +182,13 @@ class Fields:
     contact_nodes: np.ndarray
     """The mesh node of each contact reaction."""
 
+    def __eq__(self, other: object) -> bool:
+        return _equal(self, other)
 
-@dataclass(frozen=True)
+    __hash__ = None  # type: ignore[assignment]  (holds arrays)
+
+
+@dataclass(frozen=True, eq=False)
 class Run:
     """What :func:`run` returns."""
 
@@ -183,6 +204,13 @@ class Run:
     @property
     def ok(self) -> bool:
         return self.status == "ok"
+
+    def __eq__(self, other: object) -> bool:
+        """Equal status, summary (``wall_seconds`` included: two runs of one scene differ in it),
+        series, fields and scene; a pickled copy equals its original."""
+        return _equal(self, other)
+
+    __hash__ = None  # type: ignore[assignment]  (holds arrays)
 
 
 def run(

@@ -57,6 +57,14 @@ class Scene:
     def steps(self) -> int: ...
     @property
     def base(self) -> str: ...
+    def __getitem__(self, key: str) -> Any:
+        """The value of a dotted key in the resolved scene (``scene["time.dt"]``; a table gives
+        a dict); KeyError if the resolved scene has no such key."""
+    def __eq__(self, other: object) -> bool:
+        """Equal resolved scenes, mesh folders and array meshes."""
+    def __hash__(self) -> int: ...
+    def __reduce__(self) -> tuple[Any, tuple[str, str, Any]]:
+        """Pickling (multiprocessing, joblib): the tables as given, validated again on load."""
 
 class ExactBar:
     """The exact solution of a bar scene; use ``massredist.Exact`` (broadcasting)."""
