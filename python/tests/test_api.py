@@ -230,3 +230,21 @@ def test_replace_refuses_a_conflict_at_once():
     with pytest.raises(mr.SceneError) as info:
         scene.replace({"contact.method": "penalty", "contact.penalty": 1e4})
     assert info.value.key == "contact.method"
+
+
+def test_errors_quote_only_toml_the_user_wrote():
+    """A dict-built or replaced scene's error quotes no line and column of TOML (issue 32: the
+    package serialises a dict to TOML, and its errors quoted "line 2, column 12" of that text);
+    a scene from TOML text quotes the user's own line."""
+    bad = {"bar": {"elements": "six"}, "time": {"dt": 0.01}}
+    with pytest.raises(mr.SceneError) as info:
+        mr.load(bad)
+    assert info.value.key == "bar.elements"
+    assert str(info.value) == 'bar.elements: invalid type: string "six", expected i64'
+    with pytest.raises(mr.SceneError) as info:
+        mr.load(FIG11).replace({"bar.elements": "six"})
+    assert "line" not in str(info.value) and "column" not in str(info.value), str(info.value)
+    text = "# a comment\n\n[time]\ndt = 0.01\n\n[bar]\nelements = \"six\"\n"
+    with pytest.raises(mr.SceneError) as info:
+        mr.load(text)
+    assert "line 7, column 12" in str(info.value), str(info.value)

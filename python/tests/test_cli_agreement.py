@@ -46,7 +46,31 @@ def assert_same_run(run, summary, series):
 def test_shipped_scene_summary_identical_to_cli(cli, tmp_path, name):
     path = SCENES / f"{name}.toml"
     summary, series = cli_run(cli, path, tmp_path / "out")
-    assert_same_run(mr.run(mr.load(path)), summary, series)
+    scene = mr.load(path)
+    frames = tmp_path / "py-frames" if scene["output"].get("vtu") else None
+    assert_same_run(mr.run(scene, vtu_dir=frames), summary, series)
+    if frames is not None:
+        # The frames Python writes are the CLI's, byte for byte (issue 32: they were dropped).
+        written = sorted(p.relative_to(frames) for p in frames.rglob("*") if p.is_file())
+        assert len(written) > 2, written
+        for rel in written:
+            assert (frames / rel).read_bytes() == (tmp_path / "out" / rel).read_bytes(), rel
+
+
+def test_vtu_output_is_written_where_asked_or_refused_by_name(tmp_path):
+    roller = mr.load(SCENES / "solid-2d-roller-triangle.toml").replace({"time.end": 0.1})
+    with pytest.raises(mr.SceneError) as info:
+        mr.run(roller)
+    assert info.value.key == "output.vtu" and "vtu_dir" in str(info.value)
+    with pytest.raises(mr.SceneError) as info:
+        mr.run(mr.load(SCENES / "fig11-mod3.toml"), vtu_dir=tmp_path / "none")
+    assert info.value.key == "output.vtu"
+    assert not (tmp_path / "none").exists()
+    mr.run(roller, vtu_dir=tmp_path / "once")
+    before = sorted((tmp_path / "once").rglob("*"))
+    with pytest.raises(FileExistsError):
+        mr.run(roller, vtu_dir=tmp_path / "once")
+    assert sorted((tmp_path / "once").rglob("*")) == before
 
 
 def test_changed_dt_matches_cli_on_the_resolved_file(cli, tmp_path):

@@ -79,6 +79,15 @@ impl<'a> FrameWriter<'a> {
         self.pvd.flush()
     }
 
+    /// Writes a frame recorded in memory ([`crate::observe::FrameRecorder`]: its values are
+    /// at the mesh nodes already), as the observer writes a state (the Python package's
+    /// `run(..., vtu_dir=)`).
+    pub fn write_recorded(&mut self, frame: &crate::observe::Frame) -> std::io::Result<()> {
+        self.u.copy_from_slice(&frame.u);
+        self.v.copy_from_slice(&frame.v);
+        self.write_frame(frame.t, &frame.lambda)
+    }
+
     fn write_frame(&mut self, t: f64, lambda: &[f64]) -> std::io::Result<()> {
         use std::fmt::Write as _;
         self.name.clear();

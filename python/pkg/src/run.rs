@@ -5,14 +5,18 @@
 //! - [`Interrupt`] takes the GIL at most every [`SIGNAL_PERIOD`] to run Python's signal
 //!   handlers (Ctrl-C raises `KeyboardInterrupt` there); an exception halts the run (the
 //!   driver takes no further step) and is raised once `run_scene` returns. Nothing is written
-//!   anywhere, so nothing is left half-written.
+//!   during the run; the VTU frames of a scene with `output.vtu` go into the folder the caller
+//!   names, after it (removed again if writing fails), and without a folder such a scene is
+//!   refused naming `output.vtu`.
 //! - [`Callback`] calls a Python function every k steps with views of the state at the mesh
 //!   nodes (read-only arrays refreshed in place).
 
-use crate::errors::run_error;
+use crate::errors::{run_error, scene_error_msg};
 use crate::ops::{Meshed, put_mesh};
 use crate::scene::Scene;
 use massredist::driver::{Needs, Observer, Sample};
+use massredist::fem::frames::{FrameWriter, VtuFrames};
+use massredist::observe::Frame;
 use massredist::observe::Status;
 use massredist::problem::GeometryView;
 use massredist::run::{GeometrySpec, run_scene, summary_json};
@@ -21,6 +25,7 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// How often a run looks for a pending signal: a Ctrl-C is seen within this time plus one step.
@@ -138,17 +143,69 @@ impl Observer for Callback<'_> {
     }
 }
 
+/// Where a run's VTU frames go: `output.vtu` and `vtu_dir` must agree (issue 32: the frames
+/// were silently dropped); the folder is created if missing, and one that holds frames already
+/// is refused before the run (nothing the user wrote is overwritten).
+fn frames_dir<G: GeometrySpec>(
+    py: Python<'_>,
+    scene: &massredist::scene::Scene<G>,
+    vtu_dir: Option<&Path>,
+) -> PyResult<Option<PathBuf>> {
+    let key = Some("output.vtu".to_string());
+    match (scene.output.vtu_every, vtu_dir) {
+        (None, None) => Ok(None),
+        (Some(_), None) => Err(scene_error_msg(
+            py,
+            "output.vtu = true: massredist.run keeps its results in memory and writes a scene's VTU frames only where you say: pass vtu_dir=FOLDER, or set output.vtu = false".into(),
+            key,
+        )),
+        (None, Some(d)) => Err(scene_error_msg(
+            py,
+            format!("output.vtu: vtu_dir = {} was given, but the scene writes no frames: set output.vtu = true (and output.vtu_every)", d.display()),
+            key,
+        )),
+        (Some(_), Some(d)) => {
+            let collection = d.join("vtu");
+            if collection.exists() {
+                let msg = format!("{}: holds VTU frames already; give an empty or new folder", collection.display());
+                return Err(pyo3::exceptions::PyFileExistsError::new_err(msg));
+            }
+            std::fs::create_dir_all(d)?;
+            Ok(Some(d.to_path_buf()))
+        }
+    }
+}
+
+/// Writes the recorded frames as `massredist run` streams them (`vtu/frame_NNNNN.vtu` and the
+/// `.pvd` collection); on an error what was written is removed.
+fn write_frames(dir: &Path, geometry: &dyn VtuFrames, frames: &[Frame]) -> std::io::Result<()> {
+    let written = (|| {
+        let mut writer = FrameWriter::create(dir, geometry, 1)?;
+        for f in frames {
+            writer.write_recorded(f)?;
+        }
+        writer.finish()
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_dir_all(dir.join("vtu"));
+        let _ = std::fs::remove_file(dir.join(format!("{}.pvd", geometry.collection())));
+    }
+    written
+}
+
 /// A run of one geometry's scene (see [`run`]).
 fn run_geometry<G>(
     py: Python<'_>,
     scene: &massredist::scene::Scene<G>,
     callback: Option<&Py<PyAny>>,
     every: usize,
+    vtu_dir: Option<&Path>,
 ) -> PyResult<Py<PyDict>>
 where
     G: GeometrySpec + Registered + Sync,
     G::System: Meshed + Send,
 {
+    let vtu_dir = frames_dir(py, scene, vtu_dir)?;
     let mut interrupt = Interrupt { steps: 0, last: Instant::now(), error: None };
     let result = py.detach(|| {
         let mut callback = callback.map(|f| Callback { f, every: every.max(1), error: None, views: None });
@@ -164,6 +221,9 @@ where
         return Err(e);
     }
     let run = run.map_err(|e| run_error(py, &e))?;
+    if let (Some(dir), Some(recorded), Some(geometry)) = (&vtu_dir, &run.frames, G::frames(&run.problem.system)) {
+        py.detach(|| write_frames(dir, geometry, &recorded.frames))?;
+    }
     let d = PyDict::new(py);
     let status = match run.summary.status {
         Status::Ok => "ok",
@@ -190,9 +250,17 @@ where
 /// Runs a scene (module docs): a dict with `status`, `summary_json` (the CLI's
 /// `summary.json` text), `columns` and `series` (rows: t, then one value per column), the
 /// final state `t`, `u`, `v` (mesh nodes × components), `reaction` (contact order) and the
-/// mesh. `callback(n, t, u, v, reaction, energy)` is called every `every` steps.
+/// mesh. `callback(n, t, u, v, reaction, energy)` is called every `every` steps. The VTU
+/// frames of a scene with `output.vtu` are written into `vtu_dir` ([`frames_dir`]).
 #[pyfunction]
-#[pyo3(signature = (scene, callback = None, every = 1))]
-pub fn run(py: Python<'_>, scene: &Scene, callback: Option<Py<PyAny>>, every: usize) -> PyResult<Py<PyDict>> {
-    massredist::with_scene!(&scene.any, s => run_geometry(py, s, callback.as_ref(), every))
+#[pyo3(signature = (scene, callback = None, every = 1, vtu_dir = None))]
+pub fn run(
+    py: Python<'_>,
+    scene: &Scene,
+    callback: Option<Py<PyAny>>,
+    every: usize,
+    vtu_dir: Option<PathBuf>,
+) -> PyResult<Py<PyDict>> {
+    let dir = vtu_dir.as_deref();
+    massredist::with_scene!(&scene.any, s => run_geometry(py, s, callback.as_ref(), every, dir))
 }

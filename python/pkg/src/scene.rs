@@ -2,7 +2,7 @@
 //! `AnyScene` (so the checks and messages are the CLI's), with the source table kept so that a
 //! sweep can change a few keys and validate again.
 
-use crate::errors::{scene_error, scene_error_msg};
+use crate::errors::{scene_error, scene_error_msg, scene_error_unwritten};
 use massredist::scene::AnyScene;
 use massredist::scene::mesh_file::{ARRAY_MESH, ArrayMesh, Block, MeshInputs};
 use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
@@ -34,6 +34,8 @@ impl Scene {
             .any(|t| t.get("mesh").and_then(toml::Value::as_str).is_some_and(|m| m != ARRAY_MESH))
     }
 
+    /// Validates `source`, serialised by the package: its errors quote no TOML position (the
+    /// user did not write that text; `from_toml` and `from_file` validate the user's own).
     fn new(py: Python<'_>, mut source: toml::Table, base: PathBuf, arrays: Option<ArrayMesh>) -> PyResult<Self> {
         if arrays.is_some() {
             let table = ["plate", "solid"].into_iter().find(|t| source.contains_key(*t));
@@ -47,7 +49,7 @@ impl Scene {
         // Validation (with the mesh file it may read, or the arrays given) runs without the GIL.
         let inputs = MeshInputs { base: &base, arrays: arrays.as_ref() };
         let parsed = py.detach(|| AnyScene::from_toml_with(&text, inputs));
-        let any = parsed.map_err(|e| scene_error(py, &e))?;
+        let any = parsed.map_err(|e| scene_error_unwritten(py, &e))?;
         Ok(Self { any, source, base, arrays })
     }
 }
@@ -92,7 +94,14 @@ impl Scene {
     #[pyo3(signature = (text, base = None, mesh = None))]
     fn from_toml(py: Python<'_>, text: &str, base: Option<PathBuf>, mesh: Option<MeshArg<'_>>) -> PyResult<Self> {
         let source = parse_table(py, text)?;
-        Self::new(py, source, base.unwrap_or_else(|| PathBuf::from(".")), array_mesh(py, mesh)?)
+        let (base, arrays) = (base.unwrap_or_else(|| PathBuf::from(".")), array_mesh(py, mesh)?);
+        if arrays.is_some() {
+            return Self::new(py, source, base, arrays);
+        }
+        // The user's text itself, so that an error's line and column are the user's.
+        let inputs = MeshInputs { base: &base, arrays: None };
+        let any = py.detach(|| AnyScene::from_toml_with(text, inputs)).map_err(|e| scene_error(py, &e))?;
+        Ok(Self { any, source, base, arrays: None })
     }
 
     /// A scene from a TOML file (read as the CLI reads it: at most 16 MB, UTF-8).

@@ -218,6 +218,7 @@ def run(
     *,
     callback: Callable[[State], Any] | None = None,
     every: int = 1,
+    vtu_dir: str | os.PathLike[str] | None = None,
 ) -> Run:
     """Runs a scene as ``massredist run`` does, in memory (no files).
 
@@ -226,6 +227,12 @@ def run(
     ``callback(state)`` (a :class:`State`) is called at steps 0, every, 2·every, …; an
     exception it raises stops the run and propagates. A run that diverges is a result:
     ``status == "diverged"`` and ``summary["divergence"]`` says where and why.
+
+    A scene with ``output.vtu = true`` writes its VTU frames (``vtu/frame_NNNNN.vtu`` and the
+    ``.pvd`` collection, as ``massredist run`` does) into ``vtu_dir``, created if missing; without
+    ``vtu_dir`` it is refused (:class:`SceneError` naming ``output.vtu``), and so is ``vtu_dir``
+    for a scene that writes no frames. A folder that holds frames already raises
+    ``FileExistsError`` before the run.
     """
     sc = load(scene)
     if every < 1:
@@ -236,7 +243,7 @@ def run(
         def hook(n: int, t: float, u: np.ndarray, v: np.ndarray, reaction: np.ndarray, energy: float) -> None:
             callback(State(n, t, u, v, reaction, energy))
 
-    d = _core.run(sc, hook, every)
+    d = _core.run(sc, hook, every, None if vtu_dir is None else os.fspath(vtu_dir))
     table = d["series"]
     series = {"t": table[:, 0]}
     for k, name in enumerate(d["columns"]):

@@ -84,8 +84,10 @@ def run(
     scene: Scene,
     callback: Callable[[int, float, np.ndarray, np.ndarray, np.ndarray, float], Any] | None = None,
     every: int = 1,
+    vtu_dir: str | None = None,
 ) -> dict[str, Any]:
-    """A run: status, summary_json, columns, series, t, u, v, reaction and the mesh.
+    """A run: status, summary_json, columns, series, t, u, v, reaction and the mesh; the VTU
+    frames of a scene with ``output.vtu`` go into ``vtu_dir`` (required for such a scene).
 
     ``callback(n, t, u, v, reaction, energy)`` receives views: the same read-only arrays at
     every call, refreshed in place."""
