@@ -13,7 +13,15 @@
 # `python python/demos/fig11.py` (writes `fig11.png`, or into `$MASSREDIST_DEMO_OUT`).
 
 # %%
-import os, matplotlib; matplotlib.use("Agg"); import matplotlib.pyplot as plt
+import os
+
+try:
+    import matplotlib
+except ModuleNotFoundError:
+    raise SystemExit("this demo draws with matplotlib: pip install matplotlib (or pip install './python/pkg[demos]')")
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
 import massredist as mr
 
 fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7, 6))

@@ -17,7 +17,10 @@
 import os
 from concurrent.futures import ThreadPoolExecutor
 
-import matplotlib
+try:
+    import matplotlib
+except ModuleNotFoundError:
+    raise SystemExit("this demo draws with matplotlib: pip install matplotlib (or pip install './python/pkg[demos]')")
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt

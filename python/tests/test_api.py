@@ -248,3 +248,17 @@ def test_errors_quote_only_toml_the_user_wrote():
     with pytest.raises(mr.SceneError) as info:
         mr.load(text)
     assert "line 7, column 12" in str(info.value), str(info.value)
+
+
+def test_progress_is_shown_beside_the_callback(capsys):
+    """``run(progress=True)`` writes a progress line on stderr about every percent of the steps
+    and a final line, and the user's callback still sees every ``every``-th step."""
+    scene = mr.load(FIG11)
+    seen = []
+    run = mr.run(scene, callback=lambda s: seen.append(s.n), every=7, progress=True)
+    err = capsys.readouterr().err
+    assert seen == list(range(0, scene.steps + 1, 7))
+    lines = err.split("\r")
+    assert sum("% of 300 steps" in line for line in lines) == len(seen), err[:300]  # 300 // 7 < 100: every call
+    assert f"300 of 300 steps, {run.status}" in lines[-1] and err.endswith("\n"), lines[-1]
+    assert mr.run(scene).summary["energy_final"] == run.summary["energy_final"]

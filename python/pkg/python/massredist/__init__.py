@@ -24,7 +24,10 @@ Errors in a scene raise :class:`SceneError` (a ``ValueError``; ``.key`` names th
 from __future__ import annotations
 
 import json
+import math
 import os
+import sys
+import time
 import tomllib
 from dataclasses import dataclass, field, is_dataclass
 from dataclasses import fields as dataclass_fields
@@ -219,6 +222,7 @@ def run(
     callback: Callable[[State], Any] | None = None,
     every: int = 1,
     vtu_dir: str | os.PathLike[str] | None = None,
+    progress: bool = False,
 ) -> Run:
     """Runs a scene as ``massredist run`` does, in memory (no files).
 
@@ -233,6 +237,9 @@ def run(
     ``vtu_dir`` it is refused (:class:`SceneError` naming ``output.vtu``), and so is ``vtu_dir``
     for a scene that writes no frames. A folder that holds frames already raises
     ``FileExistsError`` before the run.
+
+    ``progress=True`` shows the run's progress on stderr (percent of the steps, t, elapsed
+    seconds), refreshed about every percent of the steps, beside ``callback``.
     """
     sc = load(scene)
     if every < 1:
@@ -243,6 +250,9 @@ def run(
         def hook(n: int, t: float, u: np.ndarray, v: np.ndarray, reaction: np.ndarray, energy: float) -> None:
             callback(State(n, t, u, v, reaction, energy))
 
+    if progress:
+        hook, every = _with_progress(hook, every, sc.steps)
+    started = time.perf_counter()
     d = _core.run(sc, hook, every, None if vtu_dir is None else os.fspath(vtu_dir))
     table = d["series"]
     series = {"t": table[:, 0]}
@@ -259,7 +269,29 @@ def run(
         weights=d["weights"],
         contact_nodes=d["contact_nodes"],
     )
-    return Run(status=d["status"], summary=json.loads(d["summary_json"]), series=series, fields=fields, scene=sc)
+    summary = json.loads(d["summary_json"])
+    if progress:
+        done = f"massredist: {summary['steps']} of {sc.steps} steps, {d['status']}, {time.perf_counter() - started:.1f} s"
+        sys.stderr.write(f"\r{done:<72}\n")
+    return Run(status=d["status"], summary=summary, series=series, fields=fields, scene=sc)
+
+
+def _with_progress(hook: Any, every: int, steps: int) -> tuple[Any, int]:
+    """The run's hook with a progress line on stderr: the hook called every ``every`` steps as
+    before, the line every ``stride`` steps (about 1 % of them, a multiple of ``every``)."""
+    stride = every * max(1, steps // (100 * every))
+    start = time.perf_counter()
+
+    def with_line(n: int, t: float, u: np.ndarray, v: np.ndarray, reaction: np.ndarray, energy: float) -> None:
+        if hook is not None and n % every == 0:
+            hook(n, t, u, v, reaction, energy)
+        if n % stride == 0 or n == steps:
+            percent = 100.0 * n / max(steps, 1)
+            elapsed = time.perf_counter() - start
+            sys.stderr.write(f"\rmassredist: {percent:5.1f} % of {steps} steps, t = {t:.6g}, {elapsed:.1f} s")
+            sys.stderr.flush()
+
+    return with_line, math.gcd(every, stride) if hook is not None else stride
 
 
 def _sparse(triple: tuple[np.ndarray, np.ndarray, np.ndarray, tuple[int, int]]) -> Any:
