@@ -27,6 +27,7 @@ import dolfinx.io
 import ufl
 
 import massredist as mr
+import massredist.dolfinx as mrd
 
 logging.getLogger().setLevel(logging.WARNING)  # the form compiler's INFO lines
 
@@ -41,27 +42,18 @@ V = dolfinx.fem.FunctionSpace(msh, ("Lagrange", 1))
 uh = dolfinx.fem.Function(V, name="u")
 
 # %% [markdown]
-# The mesh as arrays: dolfinx's geometry nodes and cells. dolfinx numbers a quadrilateral's
-# vertices in tensor-product order, meshio (and massredist) counter-clockwise: swap the last two.
-# The scene is the shipped one without its structured-mesh keys (the arrays give the geometry).
+# The mesh as arrays (`massredist.dolfinx.mesh_arrays`): dolfinx's geometry nodes, and its cells
+# with their nodes in meshio's order (dolfinx numbers a quadrilateral's vertices in
+# tensor-product order, meshio and massredist counter-clockwise). The scene is the shipped one
+# without its structured-mesh keys (the arrays give the geometry).
 
 # %%
-points = msh.geometry.x[:, :2]
-cells = msh.geometry.dofmap.array.reshape(-1, 4)[:, [0, 1, 3, 2]]
+points, cells, kind = mrd.mesh_arrays(msh)
 with open("scenes/plate-bump-quad-cn.toml", "rb") as f:
     tables = tomllib.load(f)
 for key in ["length", "height", "nx", "ny", "cells"]:
     del tables["plate"][key]
-scene = mr.load(tables, mesh=(points, cells))
-
-# %% [markdown]
-# massredist's nodes are dolfinx's geometry nodes (in that order); the P1 dofs are numbered
-# apart, cell by cell the same vertices: the map node → dof.
-
-# %%
-dof_of_node = np.empty(len(points), dtype=np.int64)
-for c in range(msh.topology.index_map(2).size_local):
-    dof_of_node[msh.geometry.dofmap.links(c)] = V.dofmap.cell_dofs(c)
+scene = mr.load(tables, mesh=(points, cells, kind))
 
 # %% [markdown]
 # The run, writing a frame every 10 steps from the callback.
@@ -72,7 +64,7 @@ with dolfinx.io.XDMFFile(MPI.COMM_SELF, out, "w") as xdmf:
     xdmf.write_mesh(msh)
 
     def write(state: mr.State) -> None:
-        uh.x.array[dof_of_node] = state.u[:, 0]
+        mrd.to_function(state.u, uh)  # massredist's nodes are the mesh's geometry nodes
         xdmf.write_function(uh, state.t)
 
     run = mr.run(scene, callback=write, every=10)
@@ -84,7 +76,7 @@ print(run.status, "final u(0, 0) =", run.summary["final_u0"], "->", out)
 # dolfinx integrates the field like any other Function.
 
 # %%
-uh.x.array[dof_of_node] = run.fields.u[:, 0]
+mrd.to_function(run.fields.u, uh)
 origin = int(np.argmin(np.linalg.norm(V.tabulate_dof_coordinates(), axis=1)))
 assert uh.x.array[origin] == run.summary["final_u0"]
 shipped = mr.run("scenes/plate-bump-quad-cn.toml")
