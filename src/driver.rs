@@ -11,7 +11,8 @@
 //! the strict form for callers with no use for a diverged run (a non-finite state is its error).
 
 use crate::exact::Exact;
-use crate::linalg::SymMatrix;
+use crate::linalg::sparse::SparseError;
+use crate::linalg::{LinalgError, SymMatrix};
 use crate::problem::{Geometry, GeometryView, Problem};
 use crate::schemes::{Scheme, SchemeError, StateView};
 use crate::system::ContactSystem;
@@ -263,35 +264,54 @@ pub fn integrate_watched<G: Geometry>(
 /// The watch of a run of `steps` steps: `E_F = ½ F_rᵀ S_rr⁻¹ F_r` of [`DivergenceCriterion`]
 /// (0 without load), or, where that solve fails (a free body, whose S_rr is singular), the
 /// free-flight scale of [`DivergenceWatch::with_free_flight`].
-fn watch_of<A: SymMatrix>(criterion: &DivergenceCriterion, s: &ContactSystem<A>, steps: usize) -> DivergenceWatch {
-    match load_energy(s) {
+/// A memory refusal of a factor is the run's error, not a reason to fall back to another scale
+/// (issue 32, E4: the watch's own factor is refused where the scheme's fitted).
+fn watch_of<A: SymMatrix>(
+    criterion: &DivergenceCriterion,
+    s: &ContactSystem<A>,
+    steps: usize,
+) -> Result<DivergenceWatch, LinalgError> {
+    Ok(match load_energy(s)? {
         Some(e) => DivergenceWatch::new(criterion, e),
-        None => DivergenceWatch::new(criterion, 0.0).with_free_flight(free_flight_rate(s), steps),
+        None => DivergenceWatch::new(criterion, 0.0).with_free_flight(free_flight_rate(s)?, steps),
+    })
+}
+
+/// The error of a solve that did not fail on the matrix but on the memory limit.
+fn memory_refusal(e: LinalgError) -> Result<(), LinalgError> {
+    match e {
+        LinalgError::Sparse(SparseError::TooLarge { .. } | SparseError::AnalysisTooLarge { .. }) => Err(e),
+        _ => Ok(()),
     }
 }
 
-/// `F_mᵀ M_mm⁻¹ F_m` over the unknowns with mass (0 if that solve fails too).
-fn free_flight_rate<A: SymMatrix>(s: &ContactSystem<A>) -> f64 {
+/// `F_mᵀ M_mm⁻¹ F_m` over the unknowns with mass (0 if that solve fails too, an error if the
+/// memory limit refused it).
+fn free_flight_rate<A: SymMatrix>(s: &ContactSystem<A>) -> Result<f64, LinalgError> {
     let massive: Vec<usize> = (0..s.n()).filter(|&i| !s.massless[i]).collect();
     let f: Vec<f64> = massive.iter().map(|&i| s.load[i]).collect();
     let mut a = f.clone();
     match s.mass.solve_principal(&massive, &mut a, "mass") {
-        Ok(()) => a.iter().zip(&f).map(|(x, y)| x * y).sum(),
-        Err(_) => 0.0,
+        Ok(()) => Ok(a.iter().zip(&f).map(|(x, y)| x * y).sum()),
+        Err(e) => memory_refusal(e).map(|()| 0.0),
     }
 }
 
 /// The reference load energy of a run up to `t_end` whose states are stepped elsewhere (the
 /// FEniCSx engine's bodies): `E_F`, or for a free body the free-flight scale
 /// `½ t_end² F_mᵀ M_mm⁻¹ F_m` that [`DivergenceWatch::with_free_flight`] gives a run stepped here.
-pub(crate) fn reference_load_energy<A: SymMatrix>(s: &ContactSystem<A>, t_end: f64) -> f64 {
-    load_energy(s).unwrap_or_else(|| 0.5 * t_end * t_end * free_flight_rate(s))
+pub(crate) fn reference_load_energy<A: SymMatrix>(s: &ContactSystem<A>, t_end: f64) -> Result<f64, LinalgError> {
+    match load_energy(s)? {
+        Some(e) => Ok(e),
+        None => Ok(0.5 * t_end * t_end * free_flight_rate(s)?),
+    }
 }
 
-/// `E_F = ½ F_rᵀ S_rr⁻¹ F_r` (0 without load; None if the solve fails).
-fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> Option<f64> {
+/// `E_F = ½ F_rᵀ S_rr⁻¹ F_r` (0 without load; None if the solve fails, an error if the memory
+/// limit refused it).
+fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> Result<Option<f64>, LinalgError> {
     if s.load.iter().all(|&f| f == 0.0) {
-        return Some(0.0);
+        return Ok(Some(0.0));
     }
     let mut held = vec![false; s.n()];
     for &c in &s.contact {
@@ -301,8 +321,8 @@ fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> Option<f64> {
     let f: Vec<f64> = rest.iter().map(|&i| s.load[i]).collect();
     let mut u = f.clone();
     match s.stiffness.solve_principal(&rest, &mut u, "stiffness") {
-        Ok(()) => Some(0.5 * u.iter().zip(&f).map(|(a, b)| a * b).sum::<f64>()),
-        Err(_) => None,
+        Ok(()) => Ok(Some(0.5 * u.iter().zip(&f).map(|(a, b)| a * b).sum::<f64>())),
+        Err(e) => memory_refusal(e).map(|()| None),
     }
 }
 
@@ -318,7 +338,7 @@ fn drive<G: Geometry>(
     let cadence: Vec<usize> = observers.iter().map(|o| o.every().max(1)).collect();
     let needs: Vec<Needs> = observers.iter().map(|o| o.needs()).collect();
     let geometry: &dyn GeometryView = &problem.system;
-    let mut watch = criterion.map(|c| watch_of(c, problem.system.system(), steps));
+    let mut watch = criterion.map(|c| watch_of(c, problem.system.system(), steps)).transpose()?;
     let lower = &problem.system.system().lower;
     let mut diagnostics = problem.system.diagnostics();
     let mut show = |scheme: &dyn Scheme, observers: &mut [&mut dyn Observer]| -> Option<Divergence> {

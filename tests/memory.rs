@@ -46,7 +46,31 @@ fn what_cannot_fit_is_refused_before_it_is_allocated() {
     assert!(refused.contains("0.00 GB left of the memory limit of 1.07 GB"), "{refused}");
     assert!(refused.contains("the run holds 1.07 GB already"), "{refused}");
 
-    // 4. Under `ulimit -v` (the command line reads it, and the address space the process holds,
+    // 4. The divergence watch's own factor (`E_F = ½ F_rᵀ S_rr⁻¹ F_r`, factored when the run
+    //    starts) refused by the limit is the run's set-up error, not a silent fall-back to the
+    //    free-flight scale. The measure lets the set-up's checks pass (counted on a first
+    //    set-up) and refuses every later one. Before the fix the run went on (Ok).
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    static ALLOWED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(usize::MAX);
+    use std::sync::atomic::Ordering::SeqCst;
+    let loaded = massredist::scene::SolidScene::from_toml(
+        "[solid]\ndim = 2\nnx = 8\nny = 4\nforce = [0.0, -1.0]\n[time]\ndt = 0.01\nend = 0.02\n",
+    )
+    .unwrap();
+    massredist::linalg::set_memory_limit(1 << 40);
+    massredist::linalg::set_memory_in_use(|| {
+        let n = CALLS.fetch_add(1, SeqCst);
+        if n < ALLOWED.load(SeqCst) { 0 } else { 1 << 40 }
+    });
+    massredist::run::setup(&loaded).expect("set up with every check passing");
+    ALLOWED.store(CALLS.swap(0, SeqCst), SeqCst);
+    let refused = massredist::run::run_scene(&loaded, &mut []).err().expect("refused");
+    massredist::linalg::set_memory_in_use(|| 0);
+    massredist::linalg::set_memory_limit(u64::MAX);
+    assert!(refused.invalid_input(), "{refused}");
+    assert!(refused.to_string().contains("stiffness matrix"), "{refused}");
+
+    // 5. Under `ulimit -v` (the command line reads it, and the address space the process holds,
     //    from /proc): a 300² plate with 250 MB. Its set-up peaks near 260 MB of address space
     //    (measured: `VmPeak` 256 MB at its first factor); the estimate at validation (3× its
     //    69 MB of assembly buffers, the measured ratio) refuses it naming plate.nx, before any

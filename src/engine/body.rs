@@ -73,7 +73,8 @@ pub fn refusal(spec: &SolidSpec) -> Option<String> {
 pub fn data(spec: &SolidSpec, mass: &MassKind, t_end: f64) -> Result<Option<(String, [f64; 3])>, String> {
     let Some(b) = spec.support.body() else { return Ok(None) };
     let problem = spec.problem(mass, t_end).map_err(|e| e.to_string())?;
-    let load_energy = crate::driver::reference_load_energy(crate::problem::Geometry::system(&problem.system), t_end);
+    let load_energy = crate::driver::reference_load_energy(crate::problem::Geometry::system(&problem.system), t_end)
+        .map_err(|e| e.to_string())?;
     let (axis, sign) = axis_of(b.obstacle.normal, spec.dim).ok_or("obstacle.normal")?;
     // The mesh, contact set and weights the problem was assembled with.
     let (mesh, weights) = (&problem.system.mesh, problem.system.weights.clone());

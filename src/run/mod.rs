@@ -111,8 +111,12 @@ fn estimate<G: GeometrySpec + Registered>(scene: &Scene<G>) -> Result<Estimate, 
     let mut probe = Probe { started: std::time::Instant::now(), shown: 0, touched: false };
     let criterion = DivergenceCriterion { energy_factor: output.divergence_factor };
     let steps = Estimate::PROBE_STEPS.min(time.steps);
-    // A scheme error or a divergence ends the probe: the steps shown before it are timed.
-    let _ = integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut [&mut summary, &mut probe]);
+    // A scheme error or a divergence ends the probe: the steps shown before it are timed. A
+    // factor refused when the run starts is a set-up failure, as in the run ([`set_up`]).
+    let probed = integrate_watched(&problem, scheme.as_mut(), steps, &criterion, &mut [&mut summary, &mut probe]);
+    if let Err(RunError::Setup(e)) = probed.map_err(set_up::<G>) {
+        return Err(e);
+    }
     let taken = probe.shown.saturating_sub(1);
     let step_seconds = (taken > 0).then(|| probe.started.elapsed().as_secs_f64() / taken as f64);
     let touched = probe.touched;
@@ -155,7 +159,7 @@ fn run_observed<G: GeometrySpec + Registered>(
     problem: &Problem<G::System>,
     scheme: &mut dyn Scheme,
     observers: &mut [&mut dyn Observer],
-) -> Result<Summary, SchemeError> {
+) -> Result<Summary, RunError> {
     let (time, output) = (&scene.time, &scene.output);
     let mut summary = SummaryObserver::new(problem, time.steps, time.dt, output.summary_l2);
     let mut all: Vec<&mut dyn Observer> = vec![&mut summary];
@@ -163,8 +167,20 @@ fn run_observed<G: GeometrySpec + Registered>(
         all.push(&mut **o);
     }
     let criterion = DivergenceCriterion { energy_factor: output.divergence_factor };
-    let _ = integrate_watched(problem, scheme, time.steps, &criterion, &mut all)?;
+    let _ = integrate_watched(problem, scheme, time.steps, &criterion, &mut all).map_err(set_up::<G>)?;
     Ok(summary.finish())
+}
+
+/// A factorisation that fails when the run starts (the divergence watch's `S_rr` or `M_mm`
+/// refused by the memory limit) is a set-up failure naming the keys, as the scheme's own
+/// factors are ([`setup`]); every other scheme error is the run's.
+fn set_up<G: GeometrySpec>(e: SchemeError) -> RunError {
+    match e {
+        SchemeError::Linalg(l) => {
+            RunError::Setup(SceneError::Setup { keys: G::SETUP_KEYS.into(), reason: l.to_string() })
+        }
+        other => RunError::Scheme(other),
+    }
 }
 
 /// Everything a run of a scene produces, held in memory (the problem is kept for the VTU
