@@ -71,16 +71,18 @@ fn what_cannot_fit_is_refused_before_it_is_allocated() {
     assert!(refused.to_string().contains("stiffness matrix"), "{refused}");
 
     // 5. Under `ulimit -v` (the command line reads it, and the address space the process holds,
-    //    from /proc): a 300² plate with 250 MB. Its set-up peaks near 260 MB of address space
+    //    from /proc): a 300² plate with 160 MB. Its set-up peaks near 260 MB of address space
     //    (measured: `VmPeak` 256 MB at its first factor); the estimate at validation (3× its
-    //    69 MB of assembly buffers, the measured ratio) refuses it naming plate.nx, before any
-    //    assembly. Before the fix `check` passed validation and aborted in the assembly (exit
-    //    134, "memory allocation of 46834584 bytes failed", the binary at 014a145).
+    //    69 MB of assembly buffers, the measured ratio: 0.21 GB) exceeds even the whole limit
+    //    (15/16 of 160 MB), whatever the process holds, so it is refused naming plate.nx before
+    //    any assembly. (At 250 MB the outcome depended on the binary's own address space: the
+    //    debug build passed validation and was refused at set-up.) Before the fix `check`
+    //    passed validation and aborted (exit 134, the binary at 014a145, at 160, 200 and 250 MB).
     let scene = dir.path().join("plate300.toml");
     std::fs::write(&scene, "[plate]\nnx = 300\nny = 300\n[time]\ndt = 0.0001\nend = 0.0003\n").unwrap();
     let out = Command::new("bash")
         .arg("-c")
-        .arg("ulimit -v 256000 && exec \"$0\" check \"$1\"")
+        .arg("ulimit -v 163840 && exec \"$0\" check \"$1\"")
         .arg(env!("CARGO_BIN_EXE_massredist"))
         .arg(&scene)
         .output()
