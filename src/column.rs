@@ -26,7 +26,7 @@ pub enum Column {
     ExactLambda,
     /// Principal pivots of the step's contact solves (plates).
     Pivots,
-    /// A body's nodes in contact (`d_i ≤ 0`).
+    /// A body's nodes in contact, read off the force (`R_i > 0`).
     ActiveNodes,
     /// A body's `min_i d_i` over its contact nodes.
     MinDistance,

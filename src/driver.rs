@@ -420,8 +420,10 @@ pub struct ContactStats {
     pub max_lambda: f64,
     /// `max_c |(u_c − lb_c) λ_c|` (0 without contact unknowns).
     pub max_product: f64,
-    /// Some contact node is at (or below) its obstacle, `u_c ≤ lb_c` (a mean can stay above
-    /// −gap by rounding while a node touches).
+    /// Some contact node carries a compressive force, `λ_c < 0` (Σ R > 0): contact is read off
+    /// the force, not off `u_c ≤ lb_c`, which round-off decides where a node sits at its bound
+    /// (the forward-increment multiplier leaves u_c at −gap ± 1 ulp while λ_c < 0 persists;
+    /// issue 32, item 1).
     pub touching: bool,
 }
 
@@ -431,7 +433,7 @@ impl ContactStats {
     pub fn of(u: &[f64], lambda: &[f64], contact: &[usize], lower: &[f64]) -> Self {
         let mut s = Self { min_u: f64::INFINITY, max_lambda: f64::NEG_INFINITY, max_product: 0.0, touching: false };
         for (c, &i) in contact.iter().enumerate() {
-            s.touching |= u[i] <= lower[c];
+            s.touching |= lambda[c] < 0.0;
             s.min_u = s.min_u.min(u[i]);
             s.max_lambda = s.max_lambda.max(lambda[c]);
             s.max_product = s.max_product.max(((u[i] - lower[c]) * lambda[c]).abs());

@@ -161,9 +161,10 @@ pub struct Summary {
     pub energy_max: f64,
     /// Exact energy (null without exact solution; L|Ω|/(8L) for the paper's benchmark).
     pub energy_exact: Option<f64>,
-    /// First t_n at which some contact node has uⁿ ≤ −gap (tested node by node).
+    /// First t_n at which some contact node carries force, λ_cⁿ < 0 (Σ R > 0; read off the
+    /// force, not the displacement: [`crate::driver::ContactStats::touching`]).
     pub first_impact_time: Option<f64>,
-    /// First t_n after the first impact at which no contact node has uⁿ ≤ −gap.
+    /// First t_n after the first impact at which no contact node carries force (every λ_cⁿ = 0).
     pub first_release_time: Option<f64>,
     /// `first_impact_time` − the exact first impact (L for the paper's benchmark), null if no
     /// impact or no exact solution.
@@ -379,7 +380,7 @@ impl Observer for SummaryObserver {
         self.energy(st.n, s.energy);
         let u0 = s.u0;
         self.final_u0 = u0;
-        // Impact and release are decided node by node ([`ContactStats::touching`]).
+        // Impact and release are read off the force, node by node ([`ContactStats::touching`]).
         let touching = s.contact.touching;
         self.min_u0 = min_nan(self.min_u0, s.contact.min_u);
         self.max_lambda = max_nan(self.max_lambda, s.contact.max_lambda);

@@ -308,3 +308,31 @@ fn dt_at_the_stable_limit_is_refused_with_the_estimators_margin() {
     assert!(text.starts_with("time.dt = ") && text.contains("1e-12") && text.contains("not stable"), "{text}");
     assert!(p.scheme(&CD, h * (1.0 - 1e-9)).is_ok(), "below Δt_c by more than the margin");
 }
+
+/// Contact events are read off the force (issue 32, item 1). The rebounding free bar (m = 100,
+/// standard mass, c = 1) with central differences at 0.9 h/c: the forward-increment multiplier
+/// keeps λ < 0 over the whole contact while u_0 sits at −gap ± a few ulps, so some steps with
+/// force have u_0 above −gap (the reason a displacement test counts "releases" there). The
+/// summary's contact, read off the force, is one episode lasting the exact 2L/c = 2 to within
+/// the 0.8 % the method comparison prints (0.00800, `bench --methods` (b)), 2 % here.
+/// mutation: `s.touching |= u[i] <= lower[c]` in ContactStats::of -> the first release comes a
+/// few steps after the impact (duration ≈ 0), fails.
+#[test]
+fn a_massive_contact_node_is_in_contact_while_it_pushes() {
+    use massredist::column::Column;
+    use massredist::scene::BarScene;
+    let scene = BarScene::from_toml(
+        "[bar]\nlength = 1.0\nelements = 100\nfar_end = \"free\"\ngap = 0.1\n\
+         initial = { displacement = \"0\", velocity = \"-1\" }\n[mass]\nkind = \"standard\"\n\
+         [scheme]\nkind = \"central-difference\"\n[time]\ndt = 0.009\nend = 2.7\n[output]\nseries = [\"u0\", \"lambda\"]\n",
+    )
+    .unwrap();
+    let run = massredist::run::run_scene(&scene, &mut []).unwrap();
+    let (u0, lambda) = (run.series.column(Column::U0).unwrap(), run.series.column(Column::Lambda).unwrap());
+    let pushing_above = u0.iter().zip(&lambda).filter(|&(&u, &l)| l < 0.0 && u > -0.1).count();
+    assert!(pushing_above > 0, "no step pushes with u_0 above −gap: the case no longer tells the two readings apart");
+    let episodes = (0..lambda.len()).filter(|&n| lambda[n] < 0.0 && (n == 0 || lambda[n - 1] >= 0.0)).count();
+    assert_eq!(episodes, 1);
+    let (impact, release) = (run.summary.first_impact_time.unwrap(), run.summary.first_release_time.unwrap());
+    assert!(((release - impact) - 2.0).abs() <= 0.02 * 2.0, "contact {impact} .. {release}");
+}

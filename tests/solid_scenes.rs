@@ -89,8 +89,9 @@ fn solid_scene_errors_name_the_key_and_its_range() {
     assert!(e.contains("8 cells"), "{e}");
 }
 
-/// Records, at every step, whether some contact node is at or below its obstacle: the first
-/// impact and release computed independently of the summary.
+/// Records, at every step, whether some contact node carries force (λ_c < 0, docs/scenes.md):
+/// the first impact and release computed independently of the summary; and the first step at
+/// which the face's mean u0 reaches the obstacle.
 struct Touching {
     gap: f64,
     first: Option<f64>,
@@ -100,8 +101,7 @@ struct Touching {
 
 impl Observer for Touching {
     fn observe(&mut self, s: &Sample) {
-        let u = s.state.u;
-        let touching = s.geometry.contact().iter().any(|&i| u[i] <= -self.gap);
+        let touching = s.state.lambda.iter().any(|&l| l < 0.0);
         match self.first {
             None if touching => self.first = Some(s.state.t),
             Some(_) if self.release.is_none() && !touching => self.release = Some(s.state.t),
@@ -118,7 +118,8 @@ fn first_impact_and_release_are_decided_node_by_node() {
     // A face that arrives tilted: u_x(0, y) = (1 + y)/2, so the node at y = 0 touches first and
     // the mean u0 later. The summary's impact must be the first node's, not the mean's.
     // mutation: testing the reference node (`u0 <= self.lower[0]`) in SummaryObserver instead of
-    // every node -> fails (the summary impact is later than the first node's).
+    // every node -> fails (the summary impact is later than the first node's). (This smooth case
+    // does not tell the force from the position: tests/central.rs does.)
     let text = format!(
         "[solid]\nnx = 10\nny = 4\ngap = 0.0\ninitial = {{ displacement = [\"(1-x)/2*(1+y)\", \"0\"] }}\n{SECTIONS}[scheme]\nkind = \"hybrid\"\n"
     );

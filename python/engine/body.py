@@ -159,7 +159,7 @@ class BodySampler:
         mom[p.axis] *= p.sign
         mu[p.axis] *= p.sign
         pad = lambda a: [float(x) for x in a] + [0.0] * (3 - d)
-        body = {"contact_force": -force, "active": comm.allreduce(int((gap <= 0.0).sum())),
+        body = {"contact_force": -force, "active": comm.allreduce(int((lam < 0.0).sum())),
                 "min_distance": comm.allreduce(float(gap.min(initial=np.inf)), op=MPI.MIN),
                 "momentum": pad(mom), "mean_u": pad(mu)}
         return {"n": int(s.n), "t": s.n * p.scene.dt, "energy": p.energy(u, s.v), "u0": sum_c / n_c,
@@ -169,4 +169,4 @@ class BodySampler:
                 "min_u": comm.allreduce(float(uc.min(initial=np.inf)), op=MPI.MIN),
                 "max_lambda": comm.allreduce(float(lam.max(initial=-np.inf)), op=MPI.MAX),
                 "max_product": comm.allreduce(float(np.abs(gap * lam).max(initial=0.0)), op=MPI.MAX),
-                "touching": comm.allreduce(bool((gap <= 0.0).any()), op=MPI.LOR), "body": body}
+                "touching": comm.allreduce(bool((lam < 0.0).any()), op=MPI.LOR), "body": body}

@@ -93,8 +93,8 @@ class Sampler:
                "min_u": comm.allreduce(float(uc.min(initial=np.inf)), op=MPI.MIN),
                "max_lambda": comm.allreduce(float(lam.max(initial=-np.inf)), op=MPI.MAX),
                "max_product": comm.allreduce(float(np.abs(gap * lam).max(initial=0.0)), op=MPI.MAX),
-               # node by node, as src/observe.rs ContactStats: some u_c on its bound
-               "touching": comm.allreduce(bool((gap <= 0.0).any()), op=MPI.LOR)}
+               # node by node, as src/driver.rs ContactStats: some node carries force (λ_c < 0)
+               "touching": comm.allreduce(bool((lam < 0.0).any()), op=MPI.LOR)}
         if self.with_l2:
             out["l2_error"], out["exact_interp_norm"] = self.l2(u, t)
         return out

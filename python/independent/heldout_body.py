@@ -187,7 +187,7 @@ def summary(case):
         t = k * dt
         un = B @ U
         dist = un + g
-        touching = dist <= 1e-12  # the LCP puts an active node at d = 0 up to round-off
+        touching = mu > 0.0  # contact read off the force, R_i > 0 (docs/scenes.md, "Bodies")
         energies.append(0.5 * V @ M @ V + 0.5 * U @ S @ U - sys["load"](t) @ U)
         series["contact_force"].append(mu.sum())
         series["active_nodes"].append(int(touching.sum()))

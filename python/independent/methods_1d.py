@@ -35,8 +35,8 @@ Moreau-Jean: M (V^{n+1} - V^n) = dt (F - K U^{n+theta}) + P e_0, U^{n+1} = U^n +
 theta V^{n+1}); active when u_0^n + dt/2 v_0^n + gap <= 0, then 0 <= v_0^{n+1} + e v_0^n _|_ P >= 0
 (one node: closed form); lambda = -P/dt. Energy 1/2 V.M V + 1/2 U.K U - F.U (consistent M).
 
-Summary keys as the binary defines them: first impact = first t_n with u_0 <= -gap, first
-release = first later t_n with u_0 > -gap; min_u0, max_lambda, final_u0, final_contact_force,
+Summary keys as the binary defines them: first impact = first t_n with lambda < 0, first
+release = first later t_n with lambda = 0 (contact read off the force); min_u0, max_lambda, final_u0, final_contact_force,
 energy_initial/final/min/max.
 
 Usage: /usr/bin/python3 python/independent/methods_1d.py SCENE.toml [SCENE.toml ...]
@@ -245,9 +245,9 @@ def run_scene(scene):
         t = k * dt
         for key, val in (("t", t), ("u0", uk[0]), ("u1", uk[1]), ("lambda", lam), ("energy", en)):
             series[key].append(float(val))
-        if impact is None and uk[0] <= lb:
+        if impact is None and lam < 0.0:
             impact = t
-        elif impact is not None and release is None and uk[0] > lb:
+        elif impact is not None and release is None and not lam < 0.0:
             release = t
     e = series["energy"]
     summary = {"final_u0": series["u0"][-1], "min_u0": min(series["u0"]), "max_lambda": max(series["lambda"]),

@@ -4,7 +4,7 @@
 //! contact node i and `d_i = u_n,i + g_i ≥ 0` its distance to the obstacle,
 //!
 //! ```text
-//! contact_force = Σ_i R_i,   active_nodes = #{i : d_i ≤ 0},   min_distance = min_i d_i,
+//! contact_force = Σ_i R_i,   active_nodes = #{i : R_i > 0},   min_distance = min_i d_i,
 //! momentum_k = P_k = 1ᵀ M V_k,   mean_u_k = ū_k = 1ᵀ M_std U_k / |Ω|   (world components),
 //! ```
 //!
@@ -44,7 +44,7 @@ impl SolidSystem {
         let (mut contact_force, mut active, mut min_distance) = (0.0, 0, f64::INFINITY);
         for ((&c, &lb), &l) in s.contact.iter().zip(&s.lower).zip(lambda) {
             contact_force -= l;
-            active += usize::from(u[c] <= lb);
+            active += usize::from(l < 0.0);
             min_distance = min_distance.min(u[c] - lb);
         }
         out.copy_from_slice(&values(contact_force, active, min_distance, momentum, mean_u));

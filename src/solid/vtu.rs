@@ -6,8 +6,8 @@
 //!
 //! A body against a plane (`crate::solid::body`) writes its `contact_pressure` as the reaction
 //! over the node's share of the contact area, `R_i / a_i = −λ_i / a_i ≥ 0`, and a fourth point
-//! array `contact_state`: 1 on a contact node in contact (`R_i > 0` or `d_i ≤ 0`, with
-//! `d_i = n · u_i + g_i` from the written displacement), 0 elsewhere.
+//! array `contact_state`: 1 on a contact node in contact, read off the force (`R_i > 0`, as the
+//! summary's events: [`crate::driver::ContactStats::touching`]), 0 elsewhere.
 
 use super::assembly::SolidSystem;
 use crate::fem::vtu::{Array, Grid, Layout, vtk_type, write_series};
@@ -50,14 +50,12 @@ fn point_arrays(solid: &SolidSystem, u: &[f64], v: &[f64], lambda: &[f64], array
     }
     to_3d(u, d, &mut arrays[1]);
     to_3d(v, d, &mut arrays[2]);
-    if let Some(frame) = &solid.frame {
+    if solid.frame.is_some() {
         let state = &mut arrays[3];
         state.clear();
         state.resize(mesh.n_nodes(), 0.0);
-        let lower = &solid.system.lower;
-        for (k, (&node, &l)) in solid.contact_nodes.iter().zip(lambda).enumerate() {
-            let un: f64 = (0..d).map(|i| frame.rot[i][0] * u[node * d + i]).sum();
-            state[node] = if l < 0.0 || un - lower[k] <= 0.0 { 1.0 } else { 0.0 };
+        for (&node, &l) in solid.contact_nodes.iter().zip(lambda) {
+            state[node] = if l < 0.0 { 1.0 } else { 0.0 };
         }
     }
 }

@@ -443,7 +443,7 @@ fn quick_reproduce_writes_the_rebound_section_and_its_verdict_follows_the_table(
 /// out by hand (not through `paper::rebound_scene_text`).
 const REBOUND_CN_MOD3: &str = "[bar]\nlength = 1.0\nelements = 6\ndensity = 1.0\nmodulus = 1.0\nfar_end = \"free\"\n\
     gap = 0.1\ninitial = { displacement = \"0\", velocity = \"-1\" }\n[mass]\nkind = \"mod3\"\n\
-    [scheme]\nkind = \"crank-nicolson\"\n[time]\ndt = 0.01\nend = 3.0\n[output]\nseries = [\"u0\"]\n";
+    [scheme]\nkind = \"crank-nicolson\"\n[time]\ndt = 0.01\nend = 3.0\n[output]\nseries = [\"u0\", \"lambda\"]\n";
 
 /// Keeps U at every step (for the centre of mass).
 #[derive(Default)]
@@ -505,12 +505,13 @@ fn rebound_row_plumbing_matches_an_independent_run_scene() {
     ] {
         same(col(name), value, name);
     }
-    // Last contact: the last t_n with u_0 ≤ −gap (the bar leaves after it).
-    let (t, u0) = (series.times(), series.column(Column::U0).unwrap());
-    let last = u0.iter().rposition(|&u| u <= -0.1).unwrap();
-    assert!(last + 1 < u0.len());
+    // Last contact: the last t_n with contact force, λ < 0 (the bar leaves after it); episodes:
+    // runs of steps with force (contact read off the force, issue 32 item 1).
+    let (t, lambda) = (series.times(), series.column(Column::Lambda).unwrap());
+    let last = lambda.iter().rposition(|&l| l < 0.0).unwrap();
+    assert!(last + 1 < lambda.len());
     same(col("last_contact_time"), t[last], "last contact");
-    let episodes = (0..u0.len()).filter(|&n| u0[n] <= -0.1 && (n == 0 || u0[n - 1] > -0.1)).count();
+    let episodes = (0..lambda.len()).filter(|&n| lambda[n] < 0.0 && (n == 0 || !(lambda[n - 1] < 0.0))).count();
     assert_eq!(col("contact_episodes"), episodes as f64);
     // Rebound velocity: the centre of mass 1ᵀMU / 1ᵀM1 over [T − 0.5, T], M·1 from the problem.
     let problem = BarProblem::from_scene(&scene).unwrap();

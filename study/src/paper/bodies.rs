@@ -12,7 +12,8 @@
 //!   the energy drift Eᴺ − E⁰ and max_n |Eⁿ − E⁰| (E⁰ = 0: U⁰ = V⁰ = 0; the energy
 //!   Eⁿ = ½VMV + ½UKU − F·U is conserved by the continuous problem), the contact-force
 //!   oscillation TV = Σ_n |Σ_i R_iⁿ⁺¹ − Σ_i R_iⁿ| (total variation of the total contact force),
-//!   the number of contact episodes (maximal runs of steps with some node in contact) and
+//!   the number of contact episodes (maximal runs of steps with some node in contact, read off
+//!   the force: R_i > 0, issue 32 item 1) and
 //!   `min_distance`.
 //! - **Drop**: the disc [`DROP_GAP`] above the plane, moving down at [`DROP_SPEED`], no force,
 //!   Crank–Nicolson with every mass: first impact, contact duration (first release − first

@@ -253,7 +253,7 @@ pub(super) fn bodies_section(results: &[BodyResult]) -> String {
          Disc of radius 20 centred at (0, 20), λ = μ = 20, ρ = 1, P2 triangles (gmsh, nominal size h), free body, contact nodes by GetFEM's rule \
          on y = 0, Δt = {}. Each run is repeated {COPIES} times from an initial velocity perturbed by at most {PERTURBATION:e} (four patterns); \
          numbers keep only the digits all five runs share (a band min–max if they share fewer than two), counts are one value or the band min–max. E⁰ = 0 (U⁰ = V⁰ = 0); drift = Eᴺ − E⁰; TV(ΣR) = Σ_n |ΣR^{{n+1}} − ΣR^n|; episodes = maximal runs of steps \
-         with a node in contact. The hybrid scheme is defined for w_0 = 0 masses only (no standard mass). (`{BODIES_TABLE}`)\n\n\
+         with a node in contact; contact is read off the force (R_i > 0), never off d_i ≤ 0, as are the first impact and release. The hybrid scheme is defined for w_0 = 0 masses only (no standard mass). (`{BODIES_TABLE}`)\n\n\
          ### At rest under f = (0, −0.1)\n\n\
          | h | T | scheme | mass | drift Eᴺ − E⁰ | max \\|Eⁿ − E⁰\\| | max ΔE | TV(ΣR) | episodes | min_distance |\n|---|---|---|---|---|---|---|---|---|---|\n",
         fmt_f64(DT)

@@ -13,10 +13,11 @@
 //!
 //! ```text
 //! L∞(L²)     max_{t_n ≤ T_err} ‖u_h − u‖_L² / max_{t_n ≤ T_err} ‖I_h u‖_L²        (relative)
-//! impact     (t_impact,h − t_impact)/D,  D the exact first contact's duration     (first t_n with u_0 ≤ −gap)
-//! duration   (D_h − D)/D,  D_h = first release − first impact                     (release: first later u_0 > −gap)
-//!            (Nitsche enforces contact weakly: u_0 may sit above −gap by rounding while it
-//!            pushes, so for Nitsche "in contact" is λ < 0, i.e. [P_γ(u)]_+ > 0)
+//! impact     (t_impact,h − t_impact)/D,  D the exact first contact's duration     (first t_n with λⁿ < 0)
+//! duration   (D_h − D)/D,  D_h = first release − first impact                     (release: first later λⁿ = 0)
+//!            (every event is read off the force, for every method: the forward-increment
+//!            multiplier leaves u_0 at −gap ± 1 ulp while λ < 0 persists, and Nitsche's u_0 may
+//!            sit above −gap while it pushes; issue 32, item 1)
 //! rebound    v̄(T)/V₀,  v̄ = 1ᵀMV / 1ᵀM1 the bar's mean velocity (free rods; exact 1)
 //! force TV   Σ_n |λⁿ⁺¹ − λⁿ| / Σ_n |λ(t_{n+1}) − λ(t_n)|                          (exact: 1; oscillation > 1)
 //! impulse    Σ_n λⁿ / Σ_n λ(t_n)                                                  (exact: 1)
@@ -454,8 +455,7 @@ fn measure(
     let p = case.problem;
     let mut scheme = problem.scheme_with(&scene.scheme, &scene.contact, dt).map_err(|e| e.to_string())?;
     let window = p.error_window.map_or(f64::INFINITY, |w| w * p.length / p.c());
-    let weak = matches!(scene.contact, massredist::contact::law::ContactLaw::Nitsche { .. });
-    let mut watch = Watch::new(problem, window, weak);
+    let mut watch = Watch::new(problem, window);
     let criterion = DivergenceCriterion::default();
     let outcome =
         integrate_watched(problem, scheme.as_mut(), steps, &criterion, &mut [&mut watch]).map_err(|e| e.to_string())?;
@@ -468,8 +468,6 @@ fn measure(
 /// The observer of a run (O(1) memory): the module docs' measurements.
 struct Watch {
     lower: f64,
-    /// Contact read off the force (λ < 0), not the position: Nitsche's weak enforcement.
-    weak: bool,
     window: f64,
     /// `M 1` (the consistent weighted mass; row sums = the lumped mass) and its sum.
     weights: Vec<f64>,
@@ -490,13 +488,12 @@ struct Watch {
 }
 
 impl Watch {
-    fn new(problem: &BarProblem, window: f64, weak: bool) -> Self {
+    fn new(problem: &BarProblem, window: f64) -> Self {
         let system = &problem.system.system;
         let mut weights = vec![0.0; system.n()];
         system.mass.mul_into(&vec![1.0; system.n()], &mut weights);
         Self {
             lower: system.lower[0],
-            weak,
             window,
             total: weights.iter().sum(),
             weights,
@@ -554,7 +551,7 @@ impl Observer for Watch {
         }
         let u0 = s.state.u[0];
         self.min_u0 = self.min_u0.min(u0);
-        let touching = if self.weak { s.state.lambda[0] < 0.0 } else { u0 <= self.lower };
+        let touching = s.state.lambda[0] < 0.0; // off the force (module docs)
         match (self.first_impact, self.first_release) {
             (None, _) if touching => self.first_impact = Some(t),
             (Some(_), None) if !touching => self.first_release = Some(t),

@@ -3,9 +3,11 @@
 //! ρ = 1, P2 meshes h = 8 and 4, [`DROP_GAP`] above the plane at [`DROP_SPEED`] downwards, no
 //! force, Δt = [`DT`], T = [`DROP_END`] (impact, about 16 of contact, free flight after).
 //!
-//! There is no exact solution; the rigid approach makes the first impact exactly t = 0.5 (free
-//! flight is exact in every scheme) and the elastic disc should leave with |v̄| close to V₀ with an
-//! energy-conserving method. Per run ([`super::bodies::metrics`]): first impact, contact duration
+//! There is no exact solution; the rigid approach brings the disc onto the plane at exactly
+//! t = 0.5 (free flight is exact in every scheme) and the elastic disc should leave with |v̄| close
+//! to V₀ with an energy-conserving method. Every contact event is read off the force (λ < 0,
+//! Σ R > 0; issue 32, item 1): the first impact is the first step that pushes, the release the
+//! first later step without force, the episodes the runs of steps with force. Per run ([`super::bodies::metrics`]): first impact, contact duration
 //! (first release − first impact), the rebound ratio v̄/V₀ (P_y(T)/(1ᵀM1 V₀)), the energy drift
 //! (E(T) − E(0))/E(0) of the scheme's own energy, the total variation of the total contact force,
 //! the number of contact episodes, the largest penetration max(0, −min_distance)/R and the CPU
@@ -183,7 +185,8 @@ fn printed(m: &Metrics, total: f64) -> Vec<Printed> {
 pub fn disc_markdown(results: &[DiscResult]) -> String {
     let mut out = format!(
         "### (e) GetFEM's disc dropped onto the plane (P2, h = 8 and 4; Δt = {DT}, T = {DROP_END})\n\n\
-         No exact solution: the first impact is exactly t = {:.1} (free flight is exact); an energy-conserving method \
+         No exact solution: the disc reaches the plane at exactly t = {:.1} (free flight is exact); every contact event is read off the force \
+         (first impact: the first step with Σ R > 0; release: the first later step with Σ R = 0; episodes: runs of steps with Σ R > 0); an energy-conserving method \
          leaves with v̄/V₀ near 1. Each run is repeated {COPIES} times from a velocity perturbed by at most \
          {PERTURBATION:e} (four patterns): cells keep only the digits all five runs share, else their band min–max; \
          episodes are one count, or the band min–max. Penetration is max(0, −min_distance)/R. CPU s is one run \

@@ -45,9 +45,8 @@ struct HalfStep<'a> {
     d: Vec<f64>,
     sigma: Vec<f64>,
     work: Vec<f64>,
-    /// The step of the first impact (u_0ⁿ ≤ lower), once seen.
+    /// The step of the first impact (the first contact force, λⁿ < 0: issue 32, item 1), once seen.
     impact: Option<usize>,
-    lower: f64,
     /// E^{3/2}, E^{n−½} for n ≥ 2 (only if `keep`), the largest, and the largest |E − E^{3/2}|
     /// before the first impact.
     first: Option<f64>,
@@ -70,7 +69,6 @@ impl<'a> HalfStep<'a> {
             sigma: vec![0.0; n],
             work: vec![0.0; n],
             impact: None,
-            lower: s.lower[0],
             first: None,
             series: Vec::new(),
             keep,
@@ -94,7 +92,7 @@ impl Observer for HalfStep<'_> {
     fn observe(&mut self, s: &Sample) {
         let u = s.state.u;
         // The first state in contact: E^{n−½}, which spans the step into it, is after the impact.
-        if self.impact.is_none() && s.u0 <= self.lower {
+        if self.impact.is_none() && s.state.lambda[0] < 0.0 {
             self.impact = Some(s.state.n);
         }
         if !self.prev.is_empty() {

@@ -123,17 +123,18 @@ impl BarMotion {
         Self { weights, total, lower: system.lower[0], t: column(), u0: column(), lambda: column(), centre: column() }
     }
 
-    /// The last t_n with u_0ⁿ ≤ −gap after which the bar leaves (some later t_n has u_0 > −gap);
-    /// None if there was no contact or the bar is still in contact at the last step.
+    /// The last t_n with contact force, λⁿ < 0, after which the bar leaves (some later t_n has
+    /// λ = 0); None if there was no contact or the bar is still in contact at the last step.
+    /// Contact is read off the force, not off u_0ⁿ ≤ −gap (issue 32, item 1).
     pub fn last_contact(&self) -> Option<f64> {
-        let n = self.u0.iter().rposition(|&u| u <= self.lower)?;
+        let n = self.lambda.iter().rposition(|&l| l < 0.0)?;
         (n + 1 < self.u0.len()).then(|| self.t[n])
     }
 
-    /// Number of contact episodes: maximal runs of consecutive steps with u_0ⁿ ≤ −gap (1 for a
-    /// single clean contact; more if the contact node chatters).
+    /// Number of contact episodes: maximal runs of consecutive steps with λⁿ < 0 (1 for a
+    /// single clean contact; more if the contact force chatters).
     pub fn contact_episodes(&self) -> usize {
-        let on: Vec<bool> = self.u0.iter().map(|&u| u <= self.lower).collect();
+        let on: Vec<bool> = self.lambda.iter().map(|&l| l < 0.0).collect();
         on.iter().enumerate().filter(|&(n, &c)| c && (n == 0 || !on[n - 1])).count()
     }
 

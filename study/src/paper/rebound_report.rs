@@ -247,9 +247,9 @@ pub(super) fn rebound_section(config: &Config, rb: &Rebound) -> String {
         fmt_f64(x.energy)
     );
     s.push_str(
-        "Columns: the errors of the tables above, against that solution; first impact = first t_n with u_0 ≤ −gap, first release = \
-         first later t_n with u_0 > −gap (so chatter counts), last contact = last t_n with u_0 ≤ −gap before the bar leaves, each with \
-         its shift from the exact start or end of the contact; contact episodes = runs of consecutive steps with u_0 ≤ −gap; rebound \
+        "Columns: the errors of the tables above, against that solution; every contact event is read off the force: first impact = first t_n with λ < 0, first release = \
+         first later t_n with λ = 0 (so chatter counts), last contact = last t_n with λ < 0 before the bar leaves, each with \
+         its shift from the exact start or end of the contact; contact episodes = runs of consecutive steps with λ < 0; rebound \
          velocity = slope of the discrete bar's centre of mass ū = 1ᵀMU / 1ᵀM1 over [T − 0.5, T] (momentum over mass; exact +1).\n\n(`rebound.csv`)\n\n",
     );
     s.push_str(&rebound_table(config, rb));
