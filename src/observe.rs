@@ -190,6 +190,13 @@ pub struct Summary {
     pub max_y_variation: Option<f64>,
     /// Largest pivot count of one step's contact solves.
     pub max_pivots: usize,
+    /// An explicit scheme's stable limit Δt_c (null for implicit schemes), and which estimator
+    /// gave it: `"lanczos"` (converged Ritz value, ~1e-12 relative) or `"gershgorin"` (the
+    /// row-sum upper bound of λ_max, taken when Lanczos stopped unconverged: Δt_c then errs on
+    /// the small side). A comparison reads the step's safety factor as `dt / stable_limit`
+    /// (issue 32, item 3).
+    pub stable_limit: Option<f64>,
+    pub stable_limit_estimator: Option<&'static str>,
     pub final_u_mean: f64,
     /// Σ_c λ_c at the last state (a geometry that computes `contact_force` itself: its value,
     /// a body's total reaction Σ_i R_i ≥ 0).
@@ -341,6 +348,8 @@ impl SummaryObserver {
             energy_max_increase_after_first: self.max_increase_after_first,
             max_y_variation: self.with_y.then_some(self.max_y_variation),
             max_pivots: self.max_pivots,
+            stable_limit: None,
+            stable_limit_estimator: None,
             final_u_mean: self.final_u_mean,
             final_contact_force: self.final_force,
             wall_seconds: self.started.elapsed().as_secs_f64(),

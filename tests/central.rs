@@ -336,3 +336,33 @@ fn a_massive_contact_node_is_in_contact_while_it_pushes() {
     let (impact, release) = (run.summary.first_impact_time.unwrap(), run.summary.first_release_time.unwrap());
     assert!(((release - impact) - 2.0).abs() <= 0.02 * 2.0, "contact {impact} .. {release}");
 }
+
+/// The summary says which estimator gave Δt_c (issue 32, item 3): on the free–free uniform chain
+/// with the standard lumped mass (Δt_c = h/c exactly, the mode (−1)^i) Lanczos converges at
+/// m = 20 (21 unknowns: it exhausts the space; ~1e-12 relative) and stops unconverged at
+/// m = 2000, where the Gershgorin bound is taken (attained here: h/c to 1e-12); an implicit
+/// scheme has neither key. mutation: "lanczos" for both estimators in
+/// CentralDifference::stable_limit -> the m = 2000 case fails.
+#[test]
+fn the_summary_names_the_stable_limits_estimator() {
+    use massredist::scene::BarScene;
+    let summary = |m: usize, scheme: &str| {
+        let h = 1.0 / m as f64;
+        let text = format!(
+            "[bar]\nlength = 1.0\nelements = {m}\nfar_end = \"free\"\ngap = 10.0\n\
+             initial = {{ displacement = \"0\", velocity = \"0\" }}\n[mass]\nkind = \"standard\"\n\
+             [scheme]\nkind = \"{scheme}\"\n[time]\ndt = {}\nend = {}\n",
+            0.5 * h,
+            h
+        );
+        massredist::run::run_scene(&BarScene::from_toml(&text).unwrap(), &mut []).unwrap().summary
+    };
+    for (m, estimator) in [(20, "lanczos"), (2000, "gershgorin")] {
+        let s = summary(m, "central-difference");
+        assert_eq!(s.stable_limit_estimator, Some(estimator), "m = {m}");
+        let limit = s.stable_limit.unwrap();
+        assert!(approx::relative_eq!(limit * m as f64, 1.0, epsilon = 1e-11, max_relative = 0.0), "m = {m}: {limit:e}");
+    }
+    let s = summary(20, "crank-nicolson");
+    assert_eq!((s.stable_limit, s.stable_limit_estimator), (None, None));
+}

@@ -168,7 +168,11 @@ fn run_observed<G: GeometrySpec + Registered>(
     }
     let criterion = DivergenceCriterion { energy_factor: output.divergence_factor };
     let _ = integrate_watched(problem, scheme, time.steps, &criterion, &mut all).map_err(set_up::<G>)?;
-    Ok(summary.finish())
+    let mut summary = summary.finish();
+    if let Some((limit, estimator)) = scheme.stable_limit() {
+        (summary.stable_limit, summary.stable_limit_estimator) = (Some(limit), Some(estimator));
+    }
+    Ok(summary)
 }
 
 /// A factorisation that fails when the run starts (the divergence watch's `S_rr` or `M_mm`

@@ -313,6 +313,10 @@ impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
         Some(Self::energy(self))
     }
 
+    fn stable_limit(&self) -> Option<(f64, &'static str)> {
+        Some((self.limit, if self.converged { "lanczos" } else { "gershgorin" }))
+    }
+
     fn note(&self) -> Option<String> {
         Some(format!(
             "central-difference: stable limit Δt_c = {} (2/√λ_max(M_L,II⁻¹ K_II{}), {}); time.dt = {}",

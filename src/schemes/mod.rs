@@ -96,6 +96,11 @@ pub trait Scheme: Send {
     fn note(&self) -> Option<String> {
         None
     }
+    /// An explicit scheme's stable limit Δt_c and its estimator (`"lanczos"` or
+    /// `"gershgorin"`; [`stable_limit`]); None for implicit schemes. The summary prints both.
+    fn stable_limit(&self) -> Option<(f64, &'static str)> {
+        None
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Error)]
