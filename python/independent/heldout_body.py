@@ -179,7 +179,9 @@ def summary(case):
     M, S, B, g, a, d = sys["M"], sys["S"], sys["B"], sys["g"], sys["a"], sys["d"]
     rep = dict(total_mass=sys["total_mass"], unknowns=sys["unknowns"], h=sys["h"], steps=steps,
                max_y_variation=0.0, max_contact_force=-np.inf, min_distance=np.inf, min_u0=np.inf,
-               max_lambda=-np.inf, max_complementarity_product=0.0, first_impact_time=None, first_release_time=None)
+               max_lambda=-np.inf, max_complementarity_product=0.0, first_impact_time=None, first_release_time=None,
+               # CN, Newmark, BE and hybrid are implicit: no stable limit (docs/scenes.md, summary.json)
+               stable_limit=None, stable_limit_estimator=None)
     energies = []
     series = {k: [] for k in ("contact_force", "active_nodes", "min_distance")}
     axes = "xyz"[:d]
