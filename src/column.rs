@@ -34,6 +34,14 @@ pub enum Column {
     Momentum(u8),
     /// A body's mean displacement component k.
     MeanU(u8),
+    /// A solid's `friction_dissipation` so far (Σ over steps and contact nodes of −r_t · Δu_t;
+    /// 0 without friction).
+    FrictionDissipation,
+    /// A solid's contact nodes with normal force that stick / slide (0 without friction).
+    StickNodes,
+    SlipNodes,
+    /// A solid's total tangential reaction Σ_i r_t,i, world component k (0 without friction).
+    TangentialForce(u8),
 }
 
 impl Column {
@@ -64,12 +72,27 @@ impl Column {
         Column::MeanU(1),
         Column::MeanU(2),
     ];
-    /// The columns of a solid scene: a plate's, then a body's.
-    pub const SOLID: [Column; 17] = {
-        let mut all = [Column::U0; 17];
+    /// The friction columns of every solid (issue 29).
+    pub const FRICTION: [Column; 6] = [
+        Column::FrictionDissipation,
+        Column::StickNodes,
+        Column::SlipNodes,
+        Column::TangentialForce(0),
+        Column::TangentialForce(1),
+        Column::TangentialForce(2),
+    ];
+    /// The columns of a solid scene: a plate's, a body's, then friction's.
+    pub const SOLID: [Column; 23] = {
+        let mut all = [Column::U0; 23];
         let mut k = 0;
-        while k < 17 {
-            all[k] = if k < 9 { Column::PLATE[k] } else { Column::BODY[k - 9] };
+        while k < 23 {
+            all[k] = if k < 9 {
+                Column::PLATE[k]
+            } else if k < 17 {
+                Column::BODY[k - 9]
+            } else {
+                Column::FRICTION[k - 17]
+            };
             k += 1;
         }
         all
@@ -83,7 +106,7 @@ impl Column {
     /// The vector component of a body column (None for the others).
     pub fn component(self) -> Option<usize> {
         match self {
-            Column::Momentum(k) | Column::MeanU(k) => Some(k as usize),
+            Column::Momentum(k) | Column::MeanU(k) | Column::TangentialForce(k) => Some(k as usize),
             _ => None,
         }
     }
@@ -104,6 +127,12 @@ impl Column {
             Column::MinDistance => "min_distance",
             Column::Momentum(k) => ["momentum_x", "momentum_y", "momentum_z"][k.min(2) as usize],
             Column::MeanU(k) => ["mean_u_x", "mean_u_y", "mean_u_z"][k.min(2) as usize],
+            Column::FrictionDissipation => "friction_dissipation",
+            Column::StickNodes => "stick_nodes",
+            Column::SlipNodes => "slip_nodes",
+            Column::TangentialForce(k) => {
+                ["tangential_force_x", "tangential_force_y", "tangential_force_z"][k.min(2) as usize]
+            }
         }
     }
 

@@ -212,6 +212,8 @@ pub struct Sample<'a> {
     pub pivots: usize,
     /// The contact values' extremes and complementarity (node by node).
     pub contact: ContactStats,
+    /// What friction did so far (None without a friction law).
+    pub friction: Option<&'a crate::contact::friction::FrictionRecord>,
 }
 
 pub trait Observer {
@@ -374,6 +376,7 @@ fn drive<G: Geometry>(
             y_variation: if need.y_variation { geometry.y_variation(state.u) } else { f64::NAN },
             pivots: scheme.pivots(),
             contact: ContactStats::of(state.u, state.lambda, geometry.contact(), lower),
+            friction: scheme.friction(),
         };
         for (k, o) in observers.iter_mut().enumerate() {
             if due(k) {

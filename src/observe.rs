@@ -100,6 +100,11 @@ fn series_value(c: Column, s: &Sample) -> f64 {
         Column::ExactU0 => s.exact.map_or(f64::NAN, |e| e.u0(t)),
         Column::ExactLambda => s.exact.map_or(f64::NAN, |e| e.lambda(t)),
         Column::Pivots => s.pivots as f64,
+        // A solid's friction (0 for a frictionless law: nothing slides, nothing is dissipated).
+        Column::FrictionDissipation => s.friction.map_or(0.0, |f| f.dissipation),
+        Column::StickNodes => s.friction.map_or(0.0, |f| f.stick as f64),
+        Column::SlipNodes => s.friction.map_or(0.0, |f| f.slip as f64),
+        Column::TangentialForce(k) => s.friction.map_or(0.0, |f| f.force[k.min(2) as usize]),
     }
 }
 
@@ -201,11 +206,51 @@ pub struct Summary {
     /// Σ_c λ_c at the last state (a geometry that computes `contact_force` itself: its value,
     /// a body's total reaction Σ_i R_i ≥ 0).
     pub final_contact_force: f64,
+    /// A solid's friction keys (every law; 0 and empty without friction; issue 29).
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<FrictionKeys>,
     pub wall_seconds: f64,
     /// The keys the geometry adds ([`GeometryView::own_summary`]; a body's:
     /// `crate::solid::report`), after the core's; empty for most geometries.
     #[serde(flatten)]
     pub own: serde_json::Map<String, serde_json::Value>,
+}
+
+/// A solid's friction keys in `summary.json` ([`crate::contact::friction::FrictionRecord`] at
+/// the last state; forces on the body, world components).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FrictionKeys {
+    /// `Σ` over steps and contact nodes of `−r_t,i · Δu_t,i` (≥ 0 up to round-off).
+    pub friction_dissipation: f64,
+    /// `Σ_n Δt Σ_i r_t,i` (dim entries).
+    pub tangential_impulse: Vec<f64>,
+    /// Contact nodes carrying normal force at the last step that stick / slide.
+    pub final_stick_nodes: usize,
+    pub final_slip_nodes: usize,
+    /// max over steps and nodes of `|r_t,i| − bound_i` (≤ 0 up to round-off).
+    pub max_cone_excess: f64,
+}
+
+impl FrictionKeys {
+    /// The keys of a solid of dimension `dim` from the last record (zeros without friction).
+    pub fn of(dim: usize, record: Option<&crate::contact::friction::FrictionRecord>) -> Self {
+        let Some(r) = record else {
+            return Self {
+                friction_dissipation: 0.0,
+                tangential_impulse: vec![0.0; dim],
+                final_stick_nodes: 0,
+                final_slip_nodes: 0,
+                max_cone_excess: 0.0,
+            };
+        };
+        Self {
+            friction_dissipation: r.dissipation,
+            tangential_impulse: r.impulse[..dim].to_vec(),
+            final_stick_nodes: r.stick,
+            final_slip_nodes: r.slip,
+            max_cone_excess: r.max_cone_excess,
+        }
+    }
 }
 
 impl Summary {
@@ -265,6 +310,9 @@ pub struct SummaryObserver {
     started: std::time::Instant,
     /// The geometry's own summary keys ([`GeometryView::own_summary`]).
     own: Option<Box<dyn OwnSummary>>,
+    /// A solid's dimension (it reports the friction keys), and the last state's friction record.
+    friction_dim: Option<usize>,
+    friction: Option<crate::contact::friction::FrictionRecord>,
 }
 
 impl SummaryObserver {
@@ -313,6 +361,8 @@ impl SummaryObserver {
             divergence: None,
             started: std::time::Instant::now(),
             own: g.own_summary(),
+            friction_dim: g.has_tangential().then(|| g.dim()),
+            friction: None,
         }
     }
 
@@ -352,6 +402,7 @@ impl SummaryObserver {
             stable_limit_estimator: None,
             final_u_mean: self.final_u_mean,
             final_contact_force: self.final_force,
+            friction: self.friction_dim.map(|d| FrictionKeys::of(d, self.friction.as_ref())),
             wall_seconds: self.started.elapsed().as_secs_f64(),
             own: self.own.as_ref().map(|o| o.keys()).unwrap_or_default(),
         }
@@ -400,6 +451,12 @@ impl Observer for SummaryObserver {
         self.max_pivots = self.max_pivots.max(s.pivots);
         self.final_u_mean = s.u_mean;
         self.final_force = s.contact_force;
+        if let (Some(r), Some(_)) = (s.friction, self.friction_dim) {
+            match &mut self.friction {
+                Some(mine) => mine.clone_from(r),
+                None => self.friction = Some(r.clone()),
+            }
+        }
         // The geometry's own values: its `contact_force` is the final one, its keys accumulate.
         let mut buffer = [0.0; MAX_OWN_COLUMNS];
         if let Some(values) = own_values(s, |_| true, &mut buffer) {

@@ -57,6 +57,11 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
     fn name(&self) -> &'static str;
     /// Space dimension of the mesh (1 for a bar, 2 for a plate, 2 or 3 for a solid).
     fn dim(&self) -> usize;
+    /// Whether its contact nodes have tangential directions (a solid's: it reports the friction
+    /// keys of `summary.json`).
+    fn has_tangential(&self) -> bool {
+        false
+    }
     /// The mesh size along x.
     fn h(&self) -> f64;
     /// The extent L along x (contact at x = 0, far end at x = L).

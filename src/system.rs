@@ -35,6 +35,9 @@ pub struct ContactSystem<A> {
     pub lower: Vec<f64>,
     /// Per unknown: `M_ii = 0` (the node has no inertia; its row is quasi-static).
     pub massless: Vec<bool>,
+    /// The contact nodes' tangential unknowns, areas and directions (a solid's; None for bars
+    /// and plates, which have no tangential direction). Friction acts on these.
+    pub tangential: Option<Tangential>,
     /// A time-dependent load (None: `load` at every time). With one, `load` is F(0) and the
     /// schemes evaluate F at the time each of their equations is written at.
     pub forcing: Option<Forcing>,
@@ -47,7 +50,7 @@ impl<A: SymMatrix> ContactSystem<A> {
         let massless = (0..mass.dim()).map(|i| mass.diag(i) == 0.0).collect();
         // 0 − gap, not −gap: no −0.0 bound (u_c = lb is then +0.0 as the closed forms give).
         let lower = vec![0.0 - gap; contact.len()];
-        Self { mass, stiffness, load, contact, lower, massless, forcing: None }
+        Self { mass, stiffness, load, contact, lower, massless, tangential: None, forcing: None }
     }
 
     /// The same system with a time-dependent load (its `load` becomes F(0)).
@@ -116,4 +119,16 @@ impl<A: SymMatrix> ContactSystem<A> {
         }
         Ok(a)
     }
+}
+
+/// The tangential directions of a system's contact nodes (None for bars and plates).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tangential {
+    /// Per contact unknown (contact order), the unknowns of its node's tangential components
+    /// (components 1.. in the obstacle's frame that are not eliminated).
+    pub unknowns: Vec<Vec<usize>>,
+    /// a_i per contact node (Tresca's bound `s a_i`).
+    pub areas: Vec<f64>,
+    /// The world vectors of the frame's axes 1.. (the tangential components' directions).
+    pub axes: Vec<[f64; 3]>,
 }

@@ -109,6 +109,7 @@ impl SceneGeometry for BarSpec {
             contact_layer: false,
             one_cell_contact_row: true,
             zero_gap: self.gap == 0.0,
+            tangential_dims: 0,
         })
     }
 

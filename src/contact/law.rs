@@ -17,6 +17,7 @@
 //! compatibility rule).
 
 use super::exact::{ExactExplicit, ExactStep};
+pub use super::friction::Friction;
 use super::nitsche::{NitscheExplicit, NitscheShape, NitscheStep, NitscheTerm};
 use super::penalty::{PenaltyExplicit, PenaltySolver};
 use super::{Backend, ExplicitLaw, StepLaw};
@@ -25,27 +26,113 @@ use crate::system::ContactSystem;
 use serde::{Deserialize, Deserializer, Serialize};
 use thiserror::Error;
 
-/// The contact law (module docs): the `[contact]` table, serde internally tagged by `method`,
-/// each variant with its own keys (a key of another method is refused naming it, by the scene
-/// reader `crate::scene`'s `read_tagged`). Ranges are checked where a value is read.
+/// The contact law (module docs): the `[contact]` table, serde internally tagged by `method`
+/// (through [`LawTable`]), each variant with its own keys (a key of another method is refused
+/// naming it, by the scene reader `crate::scene`'s `read_tagged`). Ranges are checked where a
+/// value is read.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(tag = "method", rename_all = "lowercase", deny_unknown_fields)]
+#[serde(into = "LawTable", from = "LawTable")]
 pub enum ContactLaw {
+    /// The Signorini condition, frictionless (`method = "exact"`, `friction = "none"`).
     #[default]
     Exact,
+    /// The Signorini condition with a friction law (`method = "exact"` with `friction`,
+    /// [`super::friction`]).
+    Frictional(Friction),
     /// `R_i = penalty · max(0, −d_i)`, penalty > 0 and finite (required).
+    Penalty { penalty: f64 },
+    /// Nitsche with `nitsche_theta` ∈ {1, 0, −1} (default 1) and `nitsche_gamma0` > 1
+    /// (default [`ContactLaw::DEFAULT_GAMMA0`]).
+    Nitsche { theta: i8, gamma0: f64 },
+}
+
+/// The `[contact]` table as serde reads and writes it: `method = "exact"` carries the friction
+/// keys (`friction`, `mu`, `threshold`); the scene reader has checked which go together
+/// (`crate::scene`'s `parse_contact`) before this type reads them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "method", rename_all = "lowercase", deny_unknown_fields)]
+enum LawTable {
+    Exact {
+        #[serde(default, skip_serializing_if = "FrictionName::is_none")]
+        friction: FrictionName,
+        #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "coefficient_in_range")]
+        mu: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "coefficient_in_range")]
+        threshold: Option<f64>,
+    },
     Penalty {
         #[serde(deserialize_with = "penalty_in_range")]
         penalty: f64,
     },
-    /// Nitsche with `nitsche_theta` ∈ {1, 0, −1} (default 1) and `nitsche_gamma0` > 1
-    /// (default [`ContactLaw::DEFAULT_GAMMA0`]).
     Nitsche {
         #[serde(rename = "nitsche_theta", default = "theta_default", deserialize_with = "theta_in_range")]
         theta: i8,
         #[serde(rename = "nitsche_gamma0", default = "gamma0_default", deserialize_with = "gamma0_in_range")]
         gamma0: f64,
     },
+}
+
+/// `contact.friction`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub(crate) enum FrictionName {
+    #[default]
+    None,
+    Tresca,
+    Coulomb,
+}
+
+impl FrictionName {
+    fn is_none(&self) -> bool {
+        *self == FrictionName::None
+    }
+}
+
+fn coefficient_in_range<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+    let x = f64::deserialize(d)?;
+    if Friction::in_range(x) {
+        Ok(Some(x))
+    } else {
+        Err(serde::de::Error::custom(format!(
+            "{} is outside the allowed range {}",
+            crate::numfmt::fmt_f64(x),
+            Friction::RANGE
+        )))
+    }
+}
+
+impl From<LawTable> for ContactLaw {
+    /// A coefficient the friction law does not take is ignored here and a missing one read as
+    /// 0: the scene reader refuses both by name before (`crate::scene`'s `parse_contact`).
+    fn from(t: LawTable) -> Self {
+        match t {
+            LawTable::Exact { friction: FrictionName::None, .. } => ContactLaw::Exact,
+            LawTable::Exact { friction: FrictionName::Tresca, threshold, .. } => {
+                ContactLaw::Frictional(Friction::Tresca { threshold: threshold.unwrap_or(0.0) })
+            }
+            LawTable::Exact { friction: FrictionName::Coulomb, mu, .. } => {
+                ContactLaw::Frictional(Friction::Coulomb { mu: mu.unwrap_or(0.0) })
+            }
+            LawTable::Penalty { penalty } => ContactLaw::Penalty { penalty },
+            LawTable::Nitsche { theta, gamma0 } => ContactLaw::Nitsche { theta, gamma0 },
+        }
+    }
+}
+
+impl From<ContactLaw> for LawTable {
+    fn from(l: ContactLaw) -> Self {
+        match l {
+            ContactLaw::Exact => LawTable::Exact { friction: FrictionName::None, mu: None, threshold: None },
+            ContactLaw::Frictional(Friction::Tresca { threshold }) => {
+                LawTable::Exact { friction: FrictionName::Tresca, mu: None, threshold: Some(threshold) }
+            }
+            ContactLaw::Frictional(Friction::Coulomb { mu }) => {
+                LawTable::Exact { friction: FrictionName::Coulomb, mu: Some(mu), threshold: None }
+            }
+            ContactLaw::Penalty { penalty } => LawTable::Penalty { penalty },
+            ContactLaw::Nitsche { theta, gamma0 } => LawTable::Nitsche { theta, gamma0 },
+        }
+    }
 }
 
 fn theta_default() -> i8 {
@@ -101,6 +188,8 @@ pub struct LawNeeds {
     /// With [`Treatment::Explicit`]: no massless unknown beside the contact unknowns (a contact
     /// layer's free massless unknowns have no quasi-static map with this law).
     pub explicit_without_layer: bool,
+    /// Tangential directions at the contact nodes (friction: a solid in 2D).
+    pub tangential: bool,
 }
 
 pub use super::SetupError;
@@ -164,32 +253,53 @@ impl ContactLaw {
                 treatments: &[ImplicitStep, Explicit, Own],
                 one_cell_contact_row: false,
                 explicit_without_layer: false,
+                tangential: false,
+            },
+            // Built so far for the schemes that take a law in one implicit step (backward
+            // Euler, Newmark/Crank–Nicolson); central differences and the hybrid scheme are
+            // still to come (issue 29).
+            ContactLaw::Frictional(_) => LawNeeds {
+                treatments: &[ImplicitStep],
+                one_cell_contact_row: false,
+                explicit_without_layer: false,
+                tangential: true,
             },
             ContactLaw::Penalty { .. } => LawNeeds {
                 treatments: &[ImplicitStep, Explicit],
                 one_cell_contact_row: false,
                 explicit_without_layer: true,
+                tangential: false,
             },
             ContactLaw::Nitsche { .. } => LawNeeds {
                 treatments: &[ImplicitStep, Explicit],
                 one_cell_contact_row: true,
                 explicit_without_layer: true,
+                tangential: false,
             },
         }
     }
 
-    /// The law's implicit step on `system` for `K = k` (factored here once) and the scheme's σ
-    /// (`K U = r − σ Σ λ_c(U) e_c`).
+    /// The law's implicit step on `system` for `K = k` (factored here once), the scheme's σ
+    /// (`K U = r − σ Σ λ_c(U) e_c`) and its step Δt (friction's impulse).
     pub fn step_law<A: Backend>(
         &self,
         system: &ContactSystem<A>,
         k: &A,
         matrix: &'static str,
         sigma: f64,
+        dt: f64,
     ) -> Result<Box<dyn StepLaw>, SetupError> {
+        if let ContactLaw::Frictional(friction) = *self {
+            let tangential = system
+                .tangential
+                .as_ref()
+                .ok_or(SetupError::Shape("friction needs a solid's tangential directions"))?;
+            return k.friction_step(&system.contact, tangential, friction, matrix, (sigma, dt));
+        }
         let plain = k.contact_solver(&system.contact, matrix)?;
         Ok(match *self {
             ContactLaw::Exact => Box::new(ExactStep { solver: plain, sigma }),
+            ContactLaw::Frictional(_) => unreachable!("built above"),
             ContactLaw::Penalty { penalty } => {
                 Box::new(PenaltySolver::new(plain, system.n(), &system.contact, sigma, penalty)?)
             }
@@ -207,6 +317,9 @@ impl ContactLaw {
     ) -> Result<Box<dyn ExplicitLaw>, SetupError> {
         Ok(match *self {
             ContactLaw::Exact => Box::new(ExactExplicit::new(system, lumped)?),
+            ContactLaw::Frictional(_) => {
+                return Err(SetupError::Shape("friction in central differences is not built yet (issue 29)"));
+            }
             ContactLaw::Penalty { penalty } => Box::new(PenaltyExplicit::new(system, lumped, penalty)?),
             ContactLaw::Nitsche { .. } => Box::new(NitscheExplicit::new(self.nitsche_term(system)?, lumped)?),
         })
@@ -230,9 +343,17 @@ impl ContactLaw {
     /// The scene name (`contact.method`).
     pub const fn method(&self) -> &'static str {
         match self {
-            ContactLaw::Exact => "exact",
+            ContactLaw::Exact | ContactLaw::Frictional(_) => "exact",
             ContactLaw::Penalty { .. } => "penalty",
             ContactLaw::Nitsche { .. } => "nitsche",
+        }
+    }
+
+    /// The friction law (None: frictionless).
+    pub fn friction(&self) -> Option<Friction> {
+        match *self {
+            ContactLaw::Frictional(f) => Some(f),
+            _ => None,
         }
     }
 

@@ -23,12 +23,12 @@
 //!   limit).
 //!
 //! The laws: [`exact`] (the Signorini condition, solved by the back-end's [`ContactSolver`]),
-//! [`penalty`] and [`nitsche`]; [`law::ContactLaw`] (the scene's `[contact]`) builds them and
-//! declares what each needs. A new law (Tresca, Coulomb) is one file here implementing both
-//! traits and one variant of [`law::ContactLaw`] (with its tangential unknowns passed in its
-//! constructor, as the contact unknowns are now).
+//! [`friction`] (the same with Tresca or Coulomb friction on a solid's tangential unknowns,
+//! `crate::system::Tangential`; so far [`StepLaw`] only), [`penalty`] and [`nitsche`];
+//! [`law::ContactLaw`] (the scene's `[contact]`) builds them and declares what each needs.
 
 pub mod exact;
+pub mod friction;
 pub mod law;
 pub mod lcp;
 pub mod nitsche;
@@ -50,6 +50,19 @@ pub trait Backend: SymMatrix {
 
     /// Factors `self` once and prepares the contact solves on the unknowns `contact`.
     fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<Self::Solver, LinalgError>;
+
+    /// The frictional step on `self` ([`friction::FrictionStep`]): a back-end without
+    /// tangential directions (a bar's) has none.
+    fn friction_step(
+        &self,
+        _contact: &[usize],
+        _tangential: &friction::Tangential,
+        _friction: friction::Friction,
+        _matrix: &'static str,
+        _sigma_dt: (f64, f64),
+    ) -> Result<Box<dyn StepLaw>, SetupError> {
+        Err(SetupError::Shape("friction needs tangential directions (a solid)"))
+    }
 }
 
 /// Bars: one contact node, closed form.
@@ -67,6 +80,17 @@ impl Backend for crate::linalg::sparse::SpMat {
 
     fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<Schur, LinalgError> {
         Ok(Schur::new(self, contact, matrix)?)
+    }
+
+    fn friction_step(
+        &self,
+        contact: &[usize],
+        tangential: &friction::Tangential,
+        friction: friction::Friction,
+        matrix: &'static str,
+        (sigma, dt): (f64, f64),
+    ) -> Result<Box<dyn StepLaw>, SetupError> {
+        Ok(Box::new(friction::FrictionStep::new(self, contact, tangential, friction, matrix, sigma, dt)?))
     }
 }
 
@@ -112,6 +136,13 @@ pub trait StepLaw: Debug + Send {
     fn lambda_of(&self, _u: &[f64], _lower: &[f64], _lambda: &mut [f64]) {}
     /// The law's energy at U (penalty springs, Nitsche's θΦ); None for the exact law.
     fn energy(&self, _u: &[f64], _lower: &[f64]) -> Option<f64> {
+        None
+    }
+    /// Takes the initial state U⁰ (the frictional law keeps `u_t⁰`, the first step's
+    /// tangential targets); nothing for the other laws.
+    fn start(&mut self, _u0: &[f64]) {}
+    /// What friction did so far (None for a frictionless law).
+    fn friction(&self) -> Option<&friction::FrictionRecord> {
         None
     }
     /// How Newmark forms `A^{n+1} = (U^{n+1} − Ũ)/σ`: as a product with 1/σ (true: the exact

@@ -51,20 +51,26 @@ impl Schur {
         let nc = contact.len();
         let factor = SparseLlt::with_trailing(k, contact, matrix)?;
         let upper = factor.trailing_upper();
-        // X = L_CC⁻¹ (lower triangular), D = Xᵀ X.
-        let l = Mat::<f64>::from_fn(nc, nc, |i, j| upper[j * nc + i]);
-        let mut x = Mat::<f64>::identity(nc, nc);
-        faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), x.as_mut(), Par::Seq);
-        let dm = x.transpose() * &x;
-        let mut d = vec![0.0; nc * nc];
-        for a in 0..nc {
-            for b in 0..nc {
-                d[a * nc + b] = 0.5 * (dm[(a, b)] + dm[(b, a)]);
-            }
-        }
+        let d = trailing_inverse(&upper, nc);
         let (q, uc) = (vec![0.0; nc], vec![0.0; nc]);
         Ok(Self { factor, contact: contact.to_vec(), upper, lcp: Lcp::new(d, nc), q, uc })
     }
+}
+
+/// `D = (K⁻¹)_TT = L_TT⁻ᵀ L_TT⁻¹` from `upper = L_TTᵀ` (row-major n × n): X = L_TT⁻¹ by a
+/// dense triangular solve, D = Xᵀ X, symmetrised (symmetric in exact arithmetic); row-major.
+pub(crate) fn trailing_inverse(upper: &[f64], n: usize) -> Vec<f64> {
+    let l = Mat::<f64>::from_fn(n, n, |i, j| upper[j * n + i]);
+    let mut x = Mat::<f64>::identity(n, n);
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), x.as_mut(), Par::Seq);
+    let dm = x.transpose() * &x;
+    let mut d = vec![0.0; n * n];
+    for a in 0..n {
+        for b in 0..n {
+            d[a * n + b] = 0.5 * (dm[(a, b)] + dm[(b, a)]);
+        }
+    }
+    d
 }
 
 impl ContactSolver for Schur {

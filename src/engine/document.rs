@@ -172,6 +172,12 @@ pub struct OutputDoc {
 /// The engine's document of a validated scene, or the refusal of what the engine cannot run
 /// (module docs), naming the key.
 pub fn document<G: EngineGeometry>(scene: &Scene<G>) -> Result<EngineScene, EngineError> {
+    if let Some(f) = scene.contact.friction() {
+        return Err(EngineError::Scene(format!(
+            "contact.friction = \"{}\": the fenicsx engine runs frictionless contact only (friction is Rust-only)",
+            f.name()
+        )));
+    }
     if scene.contact != crate::contact::law::ContactLaw::Exact {
         let method = scene.contact.method();
         return Err(EngineError::Scene(format!(

@@ -187,6 +187,7 @@ impl EngineGeometry for PlateSpec {
             section: self.height,
             integrates: true,
             is_body: false,
+            tangential: false,
             body: None,
         }
     }
@@ -223,6 +224,7 @@ impl EngineGeometry for SolidSpec {
             section: if self.dim == 3 { h * d } else { h },
             integrates: self.cells.is_tensor(),
             is_body: self.support.body().is_some(),
+            tangential: true,
             body: None,
         }
     }

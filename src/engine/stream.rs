@@ -216,6 +216,8 @@ pub struct StreamedGeometry {
     pub integrates: bool,
     /// Whether the scene is a body against a plane (its summary keys: `crate::solid::report`).
     pub is_body: bool,
+    /// A solid: its summary has the friction keys (0 and empty: the engine is frictionless).
+    pub tangential: bool,
     /// A body's reports of the state being shown (set by [`Observed::show`] on its copy;
     /// `crate::solid::report::COLUMNS` order).
     pub body: Option<[f64; 9]>,
@@ -227,6 +229,9 @@ impl GeometryView for StreamedGeometry {
     }
     fn dim(&self) -> usize {
         self.dim
+    }
+    fn has_tangential(&self) -> bool {
+        self.tangential
     }
     fn h(&self) -> f64 {
         self.h
@@ -345,6 +350,7 @@ impl<'a> Observed<'a> {
             y_variation: r.y_variation,
             pivots: r.iterations,
             contact: r.contact,
+            friction: None,
         };
         for (o, &every) in self.observers.iter_mut().zip(&self.cadence) {
             if r.n.is_multiple_of(every) {

@@ -16,7 +16,7 @@
 
 use super::SceneError;
 use super::tagged::{RawSection, Tagged, read_tagged};
-use crate::contact::law::ContactLaw;
+use crate::contact::law::{ContactLaw, Friction};
 
 /// The `[contact]` table as read, and as resolved.
 pub(crate) type RawContact = RawSection<ContactLaw>;
@@ -37,11 +37,18 @@ impl Tagged for ContactLaw {
     fn kind_list() -> &'static str {
         "exact | penalty | nitsche"
     }
+    fn optional_keys(&self) -> &'static [&'static str] {
+        match self {
+            ContactLaw::Exact | ContactLaw::Frictional(_) => &["friction", "mu", "threshold"],
+            _ => &[],
+        }
+    }
 }
 
 /// The law of a `[contact]` table; every error names its key and allowed range.
 pub(crate) fn parse_contact(raw: Option<RawContact>) -> Result<ContactLaw, SceneError> {
     if let Some(RawSection::Read(t)) = &raw {
+        check_friction_keys(t)?;
         if t.get("method").and_then(|m| m.as_str()) == Some("penalty") && !t.contains_key("penalty") {
             return Err(SceneError::Missing {
                 key: ContactLaw::PENALTY_KEY,
@@ -50,6 +57,59 @@ pub(crate) fn parse_contact(raw: Option<RawContact>) -> Result<ContactLaw, Scene
         }
     }
     read_tagged(raw)
+}
+
+/// Which friction keys go together (issue 29): `mu` with `friction = "coulomb"` (required
+/// there), `threshold` with `friction = "tresca"` (required there), neither without friction;
+/// each refusal names its key. Their ranges are checked when the table is read.
+fn check_friction_keys(t: &toml::Table) -> Result<(), SceneError> {
+    let method = t.get("method").and_then(|m| m.as_str()).unwrap_or("exact");
+    let Some(value) = t.get("friction") else {
+        for key in ["mu", "threshold"] {
+            if t.contains_key(key) && method == "exact" {
+                let (name, only) =
+                    if key == "mu" { (Friction::MU_KEY, "coulomb") } else { (Friction::THRESHOLD_KEY, "tresca") };
+                return Err(SceneError::Inapplicable {
+                    key: name,
+                    context: format!("contact.friction = \"none\" (the default; only to \"{only}\")"),
+                });
+            }
+        }
+        return Ok(());
+    };
+    if method != "exact" {
+        return Ok(()); // refused by the tagged reader: friction applies to "exact" only
+    }
+    let name = value
+        .as_str()
+        .filter(|v| ["none", "tresca", "coulomb"].contains(v))
+        .ok_or_else(|| SceneError::Range { key: Friction::KEY, value: value.to_string(), range: Friction::NAMES })?;
+    let (wants, refuses) = match name {
+        "coulomb" => (Some(("mu", Friction::MU_KEY)), [("threshold", Friction::THRESHOLD_KEY, "tresca")].as_slice()),
+        "tresca" => (Some(("threshold", Friction::THRESHOLD_KEY)), [("mu", Friction::MU_KEY, "coulomb")].as_slice()),
+        _ => (None, [("mu", Friction::MU_KEY, "coulomb"), ("threshold", Friction::THRESHOLD_KEY, "tresca")].as_slice()),
+    };
+    for &(key, full, only) in refuses {
+        if t.contains_key(key) {
+            return Err(SceneError::Inapplicable {
+                key: full,
+                context: format!("contact.friction = \"{name}\" (only to \"{only}\")"),
+            });
+        }
+    }
+    if let Some((key, full)) = wants {
+        if !t.contains_key(key) {
+            return Err(SceneError::Missing {
+                key: full,
+                hint: if key == "mu" {
+                    " for contact.friction = \"coulomb\" (the friction coefficient, in [0, ∞))"
+                } else {
+                    " for contact.friction = \"tresca\" (the slip threshold per unit contact area, in [0, ∞))"
+                },
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The resolved `[contact]` table: None for the exact law (the default; such scenes resolve as

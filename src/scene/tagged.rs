@@ -44,6 +44,11 @@ pub(crate) trait Tagged: Serialize + serde::de::DeserializeOwned + Sized {
     fn kind_name(&self) -> &'static str;
     /// The kinds as messages list them (`standard | mod1 | …`).
     fn kind_list() -> &'static str;
+    /// Keys a value of this kind may have beside those it writes (optional keys its resolved
+    /// form leaves out: `[contact]`'s friction keys on `method = "exact"`).
+    fn optional_keys(&self) -> &'static [&'static str] {
+        &[]
+    }
 }
 
 pub(crate) fn list_of<T: Tagged>() -> String {
@@ -52,7 +57,13 @@ pub(crate) fn list_of<T: Tagged>() -> String {
 
 /// The keys a value writes (its kind's keys: the resolved scene writes every key).
 fn keys_of<T: Tagged>(value: &T) -> Vec<String> {
-    toml::Table::try_from(value).map(|t| t.keys().cloned().collect()).unwrap_or_default()
+    let mut keys: Vec<String> = toml::Table::try_from(value).map(|t| t.keys().cloned().collect()).unwrap_or_default();
+    for k in value.optional_keys() {
+        if !keys.iter().any(|x| x == k) {
+            keys.push((*k).to_string());
+        }
+    }
+    keys
 }
 
 /// Reads a tagged section: its kind (default [`Tagged::default_kind`]), then its keys (those of

@@ -61,7 +61,8 @@ impl<A: Backend> BackwardEuler<A> {
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
         let name = "M + Δt² S";
         let k = system.mass.combine(1.0, &system.stiffness, dt * dt, name)?;
-        let law = law.step_law(system, &k, name, dt * dt)?;
+        let mut law = law.step_law(system, &k, name, dt * dt, dt)?;
+        law.start(&u0);
         let mut lambda = vec![0.0; system.contact.len()];
         law.lambda_of(&u0, &system.lower, &mut lambda);
         let stiffness = law.has_force().then(|| system.stiffness.clone());
@@ -99,6 +100,10 @@ impl<A: Backend> super::Scheme for BackwardEuler<A> {
 
     fn pivots(&self) -> usize {
         self.pivots
+    }
+
+    fn friction(&self) -> Option<&crate::contact::friction::FrictionRecord> {
+        self.law.friction()
     }
 
     fn energy(&self) -> Option<f64> {

@@ -98,6 +98,10 @@ pub trait Scheme: Send {
     }
     /// An explicit scheme's stable limit Δt_c and its estimator (`"lanczos"` or
     /// `"gershgorin"`; [`stable_limit`]); None for implicit schemes. The summary prints both.
+    /// What friction did so far (None for a frictionless law or a scheme without one).
+    fn friction(&self) -> Option<&crate::contact::friction::FrictionRecord> {
+        None
+    }
     fn stable_limit(&self) -> Option<(f64, &'static str)> {
         None
     }

@@ -80,7 +80,8 @@ impl<A: Backend> Newmark<A> {
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
         let name = "M + β Δt² S";
         let k = system.mass.combine(1.0, &system.stiffness, beta * dt * dt, name)?;
-        let law = law.step_law(system, &k, name, beta * dt * dt)?;
+        let mut law = law.step_law(system, &k, name, beta * dt * dt, dt)?;
+        law.start(&u0);
         let mut lambda = vec![0.0; system.contact.len()];
         let (a, stiffness) = if law.has_force() {
             // A⁰ with the law's force of the data (the penalty's: 0 unless they penetrate).
@@ -144,6 +145,10 @@ impl<A: Backend> super::Scheme for Newmark<A> {
 
     fn pivots(&self) -> usize {
         self.pivots
+    }
+
+    fn friction(&self) -> Option<&crate::contact::friction::FrictionRecord> {
+        self.law.friction()
     }
 
     fn energy(&self) -> Option<f64> {

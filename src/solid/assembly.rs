@@ -193,6 +193,20 @@ impl SolidSystem {
         let mass_unit = sparse::principal(&parts.unit_all, &dofs, "mass")?;
         let unknowns = contact.nodes.iter().map(|&v| dof_of[v * d].expect("contact nodes are not clamped")).collect();
         let mut system = ContactSystem::new(mass, stiffness, parts.load, unknowns, 0.0);
+        // Components 1.. of the contact nodes in the obstacle's frame (the box's: the world's),
+        // and the world directions of those axes, R e_k.
+        let axes = (1..d)
+            .map(|k| {
+                let mut e = [0.0; 3];
+                e[k] = 1.0;
+                parts.frame.as_ref().map_or(e, |f| super::body::from_frame(&f.rot, e))
+            })
+            .collect();
+        system.tangential = Some(crate::system::Tangential {
+            unknowns: contact.nodes.iter().map(|&v| (1..d).filter_map(|i| dof_of[v * d + i]).collect()).collect(),
+            areas: contact.areas.clone(),
+            axes,
+        });
         // 0 − g, not −g: no −0.0 bound (the box's 0 − gap).
         system.lower = contact.gaps.iter().map(|&g| 0.0 - g).collect();
         if let Some(forcing) = parts.forcing {

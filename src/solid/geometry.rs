@@ -100,6 +100,10 @@ impl GeometryView for SolidSystem {
         "solid"
     }
 
+    fn has_tangential(&self) -> bool {
+        true
+    }
+
     fn dim(&self) -> usize {
         self.mesh.dim
     }

@@ -41,6 +41,8 @@ pub struct Offer {
     pub one_cell_contact_row: bool,
     /// The obstacle at gap 0.
     pub zero_gap: bool,
+    /// Tangential directions at a contact node (a solid's d − 1; 0 for bars and plates).
+    pub tangential_dims: usize,
 }
 
 /// The one compatibility rule (module docs): Ok, or the one key to change with its allowed
@@ -98,6 +100,16 @@ pub(crate) fn check(
             });
         }
     }
+    if let Some(why) = friction_vs_rest(offer, scheme, law) {
+        let (skey, svalue) = scheme.key_and_value();
+        return Err(SceneError::Conflict {
+            key: "contact.friction",
+            value: quoted(law.friction().map_or("none", |f| f.name())),
+            with: format!("{skey} = \"{svalue}\" in a [{table}] scene"),
+            why,
+            allowed: "none".into(),
+        });
+    }
     if let Some(why) = law_vs_rest(offer, scheme, law) {
         let ok: Vec<&str> =
             ContactLaw::ALL.iter().filter(|l| law_vs_rest(offer, scheme, l).is_none()).map(|l| l.method()).collect();
@@ -129,6 +141,26 @@ fn scheme_vs_geometry(offer: &Offer, scheme: &SchemeSpec) -> Option<String> {
     }
     if needs.zero_gap && !offer.zero_gap {
         return Some(format!("{name} writes u_0 = u_1⁺ for the obstacle at 0 (bar.gap = 0)"));
+    }
+    None
+}
+
+/// Why a friction law cannot go with the scheme on this geometry (None: it can, or no friction).
+fn friction_vs_rest(offer: &Offer, scheme: &SchemeSpec, law: &ContactLaw) -> Option<String> {
+    law.friction()?;
+    let name = scheme.key_and_value().1;
+    if offer.tangential_dims == 0 {
+        return Some(
+            "friction acts in the tangential directions of a solid's contact nodes; a bar or a plate has none".into(),
+        );
+    }
+    if offer.tangential_dims > 1 {
+        return Some("friction is built for 2D solids so far (the isotropic cone of 3D is to come: issue 29)".into());
+    }
+    if !law.needs().treatments.contains(&scheme.needs().contact) {
+        return Some(format!(
+            "friction is built for the schemes that solve one implicit step with a law (backward_euler, crank_nicolson, newmark) so far, not for {name}"
+        ));
     }
     None
 }

@@ -69,7 +69,12 @@ pub trait SceneGeometry: Sized {
             contact_layer: Self::MASSLESS_TANGENTS && w0 == 0.0,
             one_cell_contact_row: false,
             zero_gap: false,
+            tangential_dims: self.tangential_dims(),
         })
+    }
+    /// Tangential directions at a contact node (a solid's d − 1; 0 for bars and plates).
+    fn tangential_dims(&self) -> usize {
+        0
     }
     /// Why `column` cannot be recorded for this geometry's data (None if it can).
     fn unavailable(&self, column: Column) -> Option<String>;

@@ -326,7 +326,7 @@ fn check_body(spec: &SolidSpec, body: &BodySpec) -> Result<(), SceneError> {
 }
 
 /// The series columns of a solid (the body ones need an [obstacle]).
-const SOLID_SERIES_NAMES: &str = "any subset of u0, u_mean, lambda, contact_force, energy, l2_error, exact_u0, exact_lambda, pivots, and for bodies active_nodes, min_distance, momentum_x|y|z, mean_u_x|y|z";
+const SOLID_SERIES_NAMES: &str = "any subset of u0, u_mean, lambda, contact_force, energy, l2_error, exact_u0, exact_lambda, pivots, and for bodies active_nodes, min_distance, momentum_x|y|z, mean_u_x|y|z, and friction_dissipation, stick_nodes, slip_nodes, tangential_force_x|y|z";
 
 impl SceneGeometry for SolidSpec {
     const TABLE: &'static str = "solid";
@@ -340,6 +340,10 @@ impl SceneGeometry for SolidSpec {
     const SIZE_KEYS: &'static str = "solid.nx, solid.ny[, solid.nz]";
     const VTU: bool = true;
     const MASSLESS_TANGENTS: bool = true;
+
+    fn tangential_dims(&self) -> usize {
+        self.dim - 1
+    }
 
     fn validate(raw: RawSolid, obstacle: Option<RawObstacle>, inputs: MeshInputs) -> Result<SolidSpec, SceneError> {
         validate_solid(raw, obstacle, inputs)
