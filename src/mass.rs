@@ -61,6 +61,44 @@ impl From<MassKind> for MassTable {
     }
 }
 
+/// Which components of the contact layer's nodes lose their mass (`mass.contact_directions`,
+/// issue 29): `All`, every component (the layers as the paper writes them for bars and plates,
+/// and today's solids); `Normal`, only the component along the obstacle's normal, the
+/// tangential components keeping the standard mass. With friction the tangential components of
+/// a massless contact node are quasi-static and the semi-discrete problem loses its
+/// well-posedness; removing the mass in the normal direction only restores it (Ligurský and
+/// Renard, "A well-posed semi-discretization of elastodynamic contact problems with friction",
+/// Q. J. Mech. Appl. Math. 64 (2011) 215–238).
+///
+/// A solid's mass is then `M = M_std ⊗ (I − n nᵀ) + M_w ⊗ n nᵀ`, which in the obstacle's frame
+/// (first axis n) weights component 0 with the layers and the others with 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactDirections {
+    #[default]
+    All,
+    Normal,
+}
+
+impl ContactDirections {
+    /// The scene name (`mass.contact_directions`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactDirections::All => "all",
+            ContactDirections::Normal => "normal",
+        }
+    }
+
+    /// The weight of vector component `component` (0: the normal one, in the obstacle's frame)
+    /// in a cell of layer weight `w`.
+    pub fn weight(self, component: usize, w: f64) -> f64 {
+        match self {
+            ContactDirections::Normal if component > 0 => 1.0,
+            _ => w,
+        }
+    }
+}
+
 /// Invalid element weights.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum MassError {

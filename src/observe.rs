@@ -505,6 +505,8 @@ pub struct Frame {
     pub v: Vec<f64>,
     /// The contact multipliers (contact order).
     pub lambda: Vec<f64>,
+    /// The step's friction (None without a friction law).
+    pub friction: Option<crate::contact::friction::FrictionRecord>,
 }
 
 /// Records [`Frame`]s every `every` steps, in memory (for library users; the command line
@@ -532,7 +534,8 @@ impl Observer for FrameRecorder {
         let mut v = vec![0.0; n];
         s.geometry.nodal_values(s.state.u, &mut u);
         s.geometry.nodal_values(s.state.v, &mut v);
-        self.frames.push(Frame { t: s.state.t, u, v, lambda: s.state.lambda.to_vec() });
+        let friction = s.friction.cloned();
+        self.frames.push(Frame { t: s.state.t, u, v, lambda: s.state.lambda.to_vec(), friction });
     }
 }
 

@@ -459,9 +459,14 @@ fn a_body_frame_holds_its_reaction_pressure_and_contact_state() {
     let g = &run.problem.system;
     let mut touching = 0;
     for frame in &run.frames.as_ref().unwrap().frames {
-        let data =
-            massredist::fem::vtu::read_vtu(massredist::solid::vtu::vtu_bytes(g, &frame.u, &frame.v, &frame.lambda))
-                .unwrap();
+        let data = massredist::fem::vtu::read_vtu(massredist::solid::vtu::vtu_bytes(
+            g,
+            &frame.u,
+            &frame.v,
+            &frame.lambda,
+            None,
+        ))
+        .unwrap();
         let pressure = &data.point_array("contact_pressure").unwrap().values;
         let state = &data.point_array("contact_state").unwrap().values;
         for (c, &node) in g.contact_nodes.iter().enumerate() {

@@ -363,6 +363,38 @@ fn total_mass_and_massless_contact_faces_for_every_redistribution() {
     }
 }
 
+/// `mass.contact_directions = "normal"`: component 0 (the normal, the box's x) of the directed
+/// mass is the weighted mass's, every other component the standard mass's, entry by entry and
+/// bit for bit (the same sums); the stiffness is untouched.
+/// mutation: `ContactDirections::weight` returning `w` for every component -> the tangential
+/// rows differ (the contact nodes' vanish).
+#[test]
+fn the_normal_directions_mass_weights_only_the_normal_component() {
+    use massredist::mass::ContactDirections;
+    use massredist::solid::assembly::{assemble, assemble_directed};
+    let lame = Lame { lambda: 0.3, mu: 0.4, density: 1.7 };
+    for cells in ["quad", "triangle", "hex", "tet"] {
+        let mesh = bumpy(cells).mesh().unwrap();
+        let d = mesh.dim;
+        let w = cell_weights(&mesh, &MassKind::Mod3).unwrap();
+        let (weighted, stiff) = assemble(&mesh, &w, &lame).unwrap();
+        let (standard, _) = assemble(&mesh, &vec![1.0; mesh.n_cells()], &lame).unwrap();
+        let (normal, stiff_n) = assemble_directed(&mesh, &w, ContactDirections::Normal, &lame).unwrap();
+        let entries = |m: &sparse::SpMat| sparse::triplets(m).collect::<Vec<_>>();
+        assert_eq!(entries(&stiff), entries(&stiff_n), "{cells}: the stiffness");
+        let n = mesh.n_nodes() * d;
+        let mut tangential_rows_differ = false;
+        for i in 0..n {
+            for j in (i % d..n).step_by(d) {
+                let want = if i % d == 0 { sparse::get(&weighted, i, j) } else { sparse::get(&standard, i, j) };
+                assert_eq!(sparse::get(&normal, i, j), want, "{cells}: entry ({i}, {j})");
+                tangential_rows_differ |= i % d > 0 && want != sparse::get(&weighted, i, j);
+            }
+        }
+        assert!(tangential_rows_differ, "{cells}: mod3 changes the tangential rows under \"all\"");
+    }
+}
+
 #[test]
 fn rigid_motions_are_in_the_kernel_of_the_free_stiffness() {
     // Before boundary conditions S r = 0 for the translations and the infinitesimal rotations

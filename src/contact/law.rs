@@ -256,10 +256,10 @@ impl ContactLaw {
                 tangential: false,
             },
             // Built so far for the schemes that take a law in one implicit step (backward
-            // Euler, Newmark/Crank–Nicolson); central differences and the hybrid scheme are
-            // still to come (issue 29).
+            // Euler, Newmark/Crank–Nicolson) and for central differences on a contact layer
+            // massless in every direction; the hybrid scheme is still to come (issue 29).
             ContactLaw::Frictional(_) => LawNeeds {
-                treatments: &[ImplicitStep],
+                treatments: &[ImplicitStep, Explicit],
                 one_cell_contact_row: false,
                 explicit_without_layer: false,
                 tangential: true,
@@ -314,12 +314,11 @@ impl ContactLaw {
         &self,
         system: &ContactSystem<A>,
         lumped: &[f64],
+        dt: f64,
     ) -> Result<Box<dyn ExplicitLaw>, SetupError> {
         Ok(match *self {
             ContactLaw::Exact => Box::new(ExactExplicit::new(system, lumped)?),
-            ContactLaw::Frictional(_) => {
-                return Err(SetupError::Shape("friction in central differences is not built yet (issue 29)"));
-            }
+            ContactLaw::Frictional(f) => Box::new(super::friction::FrictionExplicit::new(system, lumped, f, dt)?),
             ContactLaw::Penalty { penalty } => Box::new(PenaltyExplicit::new(system, lumped, penalty)?),
             ContactLaw::Nitsche { .. } => Box::new(NitscheExplicit::new(self.nitsche_term(system)?, lumped)?),
         })

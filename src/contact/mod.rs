@@ -202,6 +202,10 @@ pub trait ExplicitLaw: Debug + Send {
     fn energy(&self, _u: &[f64]) -> f64 {
         0.0
     }
+    /// What friction did so far (None for a frictionless law).
+    fn friction(&self) -> Option<&friction::FrictionRecord> {
+        None
+    }
 }
 
 /// The one-node Signorini solve in closed form.

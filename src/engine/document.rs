@@ -178,6 +178,12 @@ pub fn document<G: EngineGeometry>(scene: &Scene<G>) -> Result<EngineScene, Engi
             f.name()
         )));
     }
+    if scene.contact_directions != crate::mass::ContactDirections::All {
+        return Err(EngineError::Scene(format!(
+            "mass.contact_directions = \"{}\": the fenicsx engine redistributes every component of the contact layer (\"all\"; \"normal\" is Rust-only)",
+            scene.contact_directions.name()
+        )));
+    }
     if scene.contact != crate::contact::law::ContactLaw::Exact {
         let method = scene.contact.method();
         return Err(EngineError::Scene(format!(

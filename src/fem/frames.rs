@@ -8,6 +8,7 @@
 //! An observer cannot fail: the first write error is kept, the run is halted
 //! ([`Observer::halted`]), and `finish` returns it.
 
+use crate::contact::friction::FrictionRecord;
 use crate::driver::{Observer, Sample};
 use crate::fem::vtu::Layout;
 use crate::problem::GeometryView;
@@ -23,8 +24,15 @@ pub trait VtuFrames: GeometryView {
     fn frame_layout(&self) -> Layout;
     /// The point arrays of one state, in the layout's order, into `arrays` (buffers reused from
     /// frame to frame): `u`, `v` as [`GeometryView::nodal_values`] gives them, `lambda` the
-    /// contact reactions in contact order.
-    fn point_arrays(&self, u: &[f64], v: &[f64], lambda: &[f64], arrays: &mut Vec<Vec<f64>>);
+    /// contact reactions in contact order, `friction` the step's friction (None without).
+    fn point_arrays(
+        &self,
+        u: &[f64],
+        v: &[f64],
+        lambda: &[f64],
+        friction: Option<&FrictionRecord>,
+        arrays: &mut Vec<Vec<f64>>,
+    );
 }
 
 const PVD_HEAD: &str = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n";
@@ -85,15 +93,15 @@ impl<'a> FrameWriter<'a> {
     pub fn write_recorded(&mut self, frame: &crate::observe::Frame) -> std::io::Result<()> {
         self.u.copy_from_slice(&frame.u);
         self.v.copy_from_slice(&frame.v);
-        self.write_frame(frame.t, &frame.lambda)
+        self.write_frame(frame.t, &frame.lambda, frame.friction.as_ref())
     }
 
-    fn write_frame(&mut self, t: f64, lambda: &[f64]) -> std::io::Result<()> {
+    fn write_frame(&mut self, t: f64, lambda: &[f64], friction: Option<&FrictionRecord>) -> std::io::Result<()> {
         use std::fmt::Write as _;
         self.name.clear();
         let _ = write!(self.name, "vtu/frame_{:05}.vtu", self.frames);
         let mut f = std::io::BufWriter::new(std::fs::File::create(self.dir.join(&self.name))?);
-        self.geometry.point_arrays(&self.u, &self.v, lambda, &mut self.arrays);
+        self.geometry.point_arrays(&self.u, &self.v, lambda, friction, &mut self.arrays);
         let arrays: Vec<&[f64]> = self.arrays.iter().map(|a| &a[..]).collect();
         self.layout.write(&mut f, &arrays)?;
         f.flush()?;
@@ -119,7 +127,7 @@ impl Observer for FrameWriter<'_> {
         }
         s.geometry.nodal_values(s.state.u, &mut self.u);
         s.geometry.nodal_values(s.state.v, &mut self.v);
-        if let Err(e) = self.write_frame(s.state.t, s.state.lambda) {
+        if let Err(e) = self.write_frame(s.state.t, s.state.lambda, s.friction) {
             self.error = Some(e);
         }
     }

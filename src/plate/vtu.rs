@@ -47,7 +47,14 @@ impl crate::fem::frames::VtuFrames for super::PlateSystem {
         layout(&self.mesh, &self.weights)
     }
 
-    fn point_arrays(&self, u: &[f64], v: &[f64], _lambda: &[f64], arrays: &mut Vec<Vec<f64>>) {
+    fn point_arrays(
+        &self,
+        u: &[f64],
+        v: &[f64],
+        _lambda: &[f64],
+        _friction: Option<&crate::contact::friction::FrictionRecord>,
+        arrays: &mut Vec<Vec<f64>>,
+    ) {
         arrays.resize(3, Vec::new());
         arrays[0].clear();
         arrays[0].extend_from_slice(u);

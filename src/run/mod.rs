@@ -236,7 +236,7 @@ fn last_frame<G: Geometry>(geometry: &G, scheme: &dyn Scheme) -> Frame {
     let (mut u, mut v) = (vec![0.0; n], vec![0.0; n]);
     geometry.nodal_values(state.u, &mut u);
     geometry.nodal_values(state.v, &mut v);
-    Frame { t: state.t, u, v, lambda: state.lambda.to_vec() }
+    Frame { t: state.t, u, v, lambda: state.lambda.to_vec(), friction: scheme.friction().cloned() }
 }
 
 /// `massredist run`: runs a scene into the output folder `out` prepared before computing,

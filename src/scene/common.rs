@@ -3,7 +3,7 @@
 
 use super::tagged::{RawSection, Tagged, list_of, read_tagged};
 use super::*;
-use crate::mass::MassKind;
+use crate::mass::{ContactDirections, MassKind};
 use serde::{Deserialize, Serialize};
 
 /// The `[mass]` table: read as a TOML table ([`read_tagged`]), written as the resolved
@@ -48,12 +48,18 @@ impl Tagged for MassKind {
         static LIST: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| list_of::<MassKind>());
         &LIST
     }
+    /// Read by [`parse_mass`] beside the kind (listed in the unknown-key message).
+    fn optional_keys(&self) -> &'static [&'static str] {
+        &["contact_directions"]
+    }
 }
 
 /// The `[mass]` table as a [`MassKind`] (its weights are validated by the caller, who knows the
-/// mesh).
-pub(crate) fn parse_mass(raw: Option<RawMass>) -> Result<MassKind, SceneError> {
-    if let Some(RawSection::Read(t)) = &raw {
+/// mesh) and its `contact_directions` (default `all`).
+pub(crate) fn parse_mass(raw: Option<RawMass>) -> Result<(MassKind, ContactDirections), SceneError> {
+    let mut directions = ContactDirections::All;
+    let mut raw = raw;
+    if let Some(RawSection::Read(t)) = &mut raw {
         let custom = MassKind::Custom(Vec::new());
         if t.get("kind").and_then(|k| k.as_str()) == Some(custom.name()) && !t.contains_key("weights") {
             return Err(SceneError::Missing {
@@ -61,8 +67,18 @@ pub(crate) fn parse_mass(raw: Option<RawMass>) -> Result<MassKind, SceneError> {
                 hint: " for mass.kind = \"custom\" (one weight >= 0 per element, element 0 at the contact node)",
             });
         }
+        if let Some(v) = t.remove("contact_directions") {
+            directions = [ContactDirections::All, ContactDirections::Normal]
+                .into_iter()
+                .find(|d| v.as_str() == Some(d.name()))
+                .ok_or_else(|| SceneError::Range {
+                    key: "mass.contact_directions",
+                    value: v.to_string(),
+                    range: "all | normal",
+                })?;
+        }
     }
-    read_tagged(raw)
+    Ok((read_tagged(raw)?, directions))
 }
 
 /// The `[scheme]` table (what goes with the geometry and the mass is the compatibility rule's:
@@ -121,6 +137,7 @@ pub(crate) fn parse_divergence_factor(raw: Option<Number>) -> Result<f64, SceneE
 /// write the VTU keys).
 pub(crate) fn raw_sections(
     mass: &MassKind,
+    directions: ContactDirections,
     scheme: &SchemeSpec,
     time: &TimeSpec,
     output: &OutputSpec,
@@ -128,12 +145,20 @@ pub(crate) fn raw_sections(
 ) -> (Option<RawMass>, Option<RawScheme>, Option<RawTime>, Option<RawOutput>) {
     let vtu = plate.then_some(output.vtu_every);
     let out = RawOutput::resolved(&output.series, output.every, output.summary_l2, vtu, output.divergence_factor);
-    (Some(raw_mass(mass)), Some(raw_scheme(scheme)), Some(raw_time(time)), Some(out))
+    (Some(raw_mass(mass, directions)), Some(raw_scheme(scheme)), Some(raw_time(time)), Some(out))
 }
 
-/// The resolved `[mass]` table of a mass redistribution.
-pub(crate) fn raw_mass(mass: &MassKind) -> RawMass {
-    RawSection::Resolved(mass.clone())
+/// The resolved `[mass]` table of a mass redistribution (`contact_directions` written where it
+/// is not the default, so that the resolved scenes of the default read as before).
+pub(crate) fn raw_mass(mass: &MassKind, directions: ContactDirections) -> RawMass {
+    match directions {
+        ContactDirections::All => RawSection::Resolved(mass.clone()),
+        ContactDirections::Normal => {
+            let mut table = toml::Table::try_from(mass).expect("a mass kind always serialises");
+            table.insert("contact_directions".into(), directions.name().into());
+            RawSection::Read(table)
+        }
+    }
 }
 
 /// The resolved `[scheme]` table of a scheme.
@@ -228,10 +253,25 @@ impl RawOutput {
 /// `[time]` (the work limit over the geometry's unknowns) and `[output]` (the geometry's columns,
 /// those its exact solution allows, VTU frames where the geometry writes them).
 pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) -> Result<Scene<G>, SceneError> {
-    let mass = parse_mass(raw.mass)?;
-    let offer = geometry.offer(&mass)?;
+    let (mass, contact_directions) = parse_mass(raw.mass)?;
+    let mut offer = geometry.offer(&mass)?;
     let scheme = parse_scheme(raw.scheme)?;
     let contact = super::contact::parse_contact(raw.contact)?;
+    if contact_directions == ContactDirections::Normal {
+        if offer.tangential_dims == 0 {
+            return Err(SceneError::Conflict {
+                key: "mass.contact_directions",
+                value: "\"normal\"".into(),
+                with: format!("a [{}] scene", G::TABLE),
+                why: "a bar's or a plate's contact node has only the normal direction".into(),
+                allowed: "all".into(),
+            });
+        }
+        // The tangential components keep their mass: no massless unknown beside the contact
+        // rows but the normal components of the layer's inner nodes (P2's edge nodes).
+        offer.contact_layer = offer.contact_layer && geometry.massless_inner_nodes(&mass)?;
+        offer.massless_tangents = false;
+    }
     crate::spec::compat::check(G::TABLE, &offer, &mass, &scheme, &contact)?;
     let time = parse_time(raw.time, 3.0 * geometry.length(), geometry.unknowns(), geometry.size_keys())?;
     let o = raw.output.unwrap_or_default();
@@ -274,7 +314,7 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
     };
     let divergence_factor = parse_divergence_factor(o.divergence_factor)?;
     let output = OutputSpec { series, every, summary_l2: o.summary_l2.unwrap_or(true), divergence_factor, vtu_every };
-    Ok(Scene { geometry, mass, scheme, contact, time, output })
+    Ok(Scene { geometry, mass, contact_directions, scheme, contact, time, output })
 }
 
 #[cfg(test)]
@@ -318,9 +358,16 @@ mod tests {
             scheme("kind = \"newmark\"\ngamma = \"x\"").unwrap_err(),
             "scheme.gamma: invalid type: string \"x\", expected f64"
         );
-        let mass = |text: &str| parse_mass(Some(toml::from_str::<RawMass>(text).unwrap())).map_err(|e| e.to_string());
+        let read = |text: &str| parse_mass(Some(toml::from_str::<RawMass>(text).unwrap())).map_err(|e| e.to_string());
+        let mass = |text: &str| read(text).map(|(m, _)| m);
         assert_eq!(mass(""), Ok(MassKind::Mod3));
         assert_eq!(mass("kind = \"custom\"\nweights = [0, 1.5]"), Ok(MassKind::Custom(vec![0.0, 1.5])));
+        assert_eq!(read("contact_directions = \"normal\""), Ok((MassKind::Mod3, ContactDirections::Normal)));
+        assert_eq!(read("kind = \"mod1\""), Ok((MassKind::Mod1, ContactDirections::All)));
+        assert_eq!(
+            read("contact_directions = \"tangential\"").unwrap_err(),
+            "mass.contact_directions = \"tangential\": allowed range is all | normal"
+        );
         assert!(mass("kind = \"custom\"").unwrap_err().starts_with("mass.weights is required"));
         assert_eq!(
             mass("kind = \"mod1\"\nweights = [1]").unwrap_err(),

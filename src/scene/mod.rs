@@ -186,7 +186,8 @@ impl<G: Registered> Scene<G> {
 
     /// The scene with every default filled in, as TOML.
     pub fn resolved_toml(&self) -> String {
-        let (mass, scheme, time, output) = raw_sections(&self.mass, &self.scheme, &self.time, &self.output, G::VTU);
+        let (mass, scheme, time, output) =
+            raw_sections(&self.mass, self.contact_directions, &self.scheme, &self.time, &self.output, G::VTU);
         let contact = contact::raw_contact(&self.contact);
         let raw = RawScene { mass, scheme, contact, time, output, ..self.geometry.raw_scene() };
         let mut text = self.geometry.header(&self.time);

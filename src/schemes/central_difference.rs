@@ -178,7 +178,7 @@ impl<A: SymMatrix> CentralDifference<A> {
     ) -> Result<Self, SchemeError> {
         let system = source.get();
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
-        let law = law.explicit_law(system, &lumped)?;
+        let law = law.explicit_law(system, &lumped, dt)?;
         let n = system.n();
         let inv_mass: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
         let (limit, lanczos_steps, converged) = stable_limit_of(system, &lumped, Some(law.as_ref()));
@@ -311,6 +311,10 @@ impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
 
     fn energy(&self) -> Option<f64> {
         Some(Self::energy(self))
+    }
+
+    fn friction(&self) -> Option<&crate::contact::friction::FrictionRecord> {
+        self.law.friction()
     }
 
     fn stable_limit(&self) -> Option<(f64, &'static str)> {

@@ -15,16 +15,23 @@
 //! z = 0, D). The contact unknowns are the x-components of the nodes on x = 0, in node order
 //! (the first is the node at the lowest y and z), with the bound u_x ≥ −gap.
 //!
-//! One weight per cell ([`crate::fem::layers`]): every component of a contact-face node is
-//! massless under mod1/mod2/mod3. The tangential ones are then free quasi-static unknowns
-//! (frictionless), which the schemes handle as massless unknowns without a contact condition
-//! (`crate::schemes::hybrid`).
+//! One weight per cell ([`crate::fem::layers`]): with `mass.contact_directions = "all"` every
+//! component of a contact-face node is massless under mod1/mod2/mod3. The tangential ones are
+//! then free quasi-static unknowns, which the schemes handle as massless unknowns without a
+//! contact condition (`crate::schemes::hybrid`). With `"normal"` only component 0 (the normal
+//! one, in the obstacle's frame) takes the weights, the others the standard mass
+//! ([`ContactDirections`]):
+//!
+//! ```text
+//! M_(a,i),(b,j) = δ_ij ρ Σ_c w_c^(i) ∫_c φ_a φ_b,   w_c^(0) = w_c,  w_c^(i≥1) = 1.
+//! ```
 
 use super::body::BodyContact;
 use super::spec::Support;
 use crate::fem::Mesh;
 use crate::fem::layers::LayerMassError;
 use crate::linalg::sparse::{self, SpMat, SparseError};
+use crate::mass::ContactDirections;
 use crate::system::{ContactSystem, Forcing};
 use std::sync::Arc;
 use thiserror::Error;
@@ -45,6 +52,17 @@ pub enum SolidAssemblyError {
 /// The weighted vector mass (with ρ) and the stiffness over all nodes and components (full
 /// indices `a·d + i`, no boundary condition): the matrices dolfinx and scikit-fem assemble.
 pub fn assemble(mesh: &Mesh, weights: &[f64], lame: &Lame) -> Result<(SpMat, SpMat), SparseError> {
+    assemble_directed(mesh, weights, ContactDirections::All, lame)
+}
+
+/// [`assemble`] with the weights on the components `directions` names (module docs; the
+/// mesh's first axis is the obstacle's normal).
+pub fn assemble_directed(
+    mesh: &Mesh,
+    weights: &[f64],
+    directions: ContactDirections,
+    lame: &Lame,
+) -> Result<(SpMat, SpMat), SparseError> {
     assert_eq!(weights.len(), mesh.n_cells(), "one weight per cell");
     let d = mesh.dim;
     let k = mesh.kind.verts();
@@ -56,7 +74,7 @@ pub fn assemble(mesh: &Mesh, weights: &[f64], lame: &Lame) -> Result<(SpMat, SpM
         for a in 0..k {
             for b in 0..k {
                 for i in 0..d {
-                    tm.push((v[a] * d + i, v[b] * d + i, lame.density * w * e.mass[a][b]));
+                    tm.push((v[a] * d + i, v[b] * d + i, lame.density * directions.weight(i, w) * e.mass[a][b]));
                 }
                 for i in 0..d {
                     for j in 0..d {
@@ -113,7 +131,10 @@ pub(super) struct Parts {
 #[derive(Debug, Clone)]
 pub struct SolidSystem {
     pub mesh: Arc<Mesh>,
+    /// The cell weights of the normal component (of every component under `all`).
     pub weights: Vec<f64>,
+    /// Which components take `weights` (the others the standard mass).
+    pub directions: ContactDirections,
     pub lame: Lame,
     pub lateral: Lateral,
     /// Free unknown → full index `node·d + component`.
@@ -142,6 +163,7 @@ impl SolidSystem {
     pub fn assemble(
         mesh: Arc<Mesh>,
         weights: Vec<f64>,
+        directions: ContactDirections,
         lame: Lame,
         support: &Support,
         contact: &BodyContact,
@@ -152,7 +174,7 @@ impl SolidSystem {
                     return Err(SolidAssemblyError::Force(*force));
                 }
                 crate::fem::layers::validate_weights(&mesh, &weights)?;
-                let (mass_all, stiff_all) = assemble(&mesh, &weights, &lame)?;
+                let (mass_all, stiff_all) = assemble_directed(&mesh, &weights, directions, &lame)?;
                 let unit = Lame { density: 1.0, ..lame };
                 let (unit_all, _) = assemble(&mesh, &vec![1.0; mesh.n_cells()], &unit)?;
                 let d = mesh.dim;
@@ -169,9 +191,9 @@ impl SolidSystem {
                 let load = free.dofs.iter().map(|&g| force[g % d] * row_sums[g] / lame.density).collect();
                 let contact_area = mesh.face_area();
                 let parts = Parts { mass_all, stiff_all, unit_all, load, forcing: None, frame: None, contact_area };
-                Self::on_free(mesh, weights, lame, *lateral, free, parts, contact)
+                Self::on_free(mesh, (weights, directions), lame, *lateral, free, parts, contact)
             }
-            Support::Plane(body) => Self::assemble_body(mesh, weights, lame, body, contact),
+            Support::Plane(body) => Self::assemble_body(mesh, (weights, directions), lame, body, contact),
         }
     }
 
@@ -179,7 +201,7 @@ impl SolidSystem {
     /// of the contact nodes, bounded below by `0 − g_i`).
     pub(super) fn on_free(
         mesh: Arc<Mesh>,
-        weights: Vec<f64>,
+        (weights, directions): (Vec<f64>, ContactDirections),
         lame: Lame,
         lateral: Lateral,
         free: Free,
@@ -216,6 +238,7 @@ impl SolidSystem {
         Ok(Self {
             mesh,
             weights,
+            directions,
             lame,
             lateral,
             dofs,
@@ -247,7 +270,8 @@ impl SolidSystem {
         self.dofs.iter().map(|&k| at(k / d)[k % d]).collect()
     }
 
-    /// Total mass `Σ_c w_c ρ |c| = ∫ ρ w_h` (per component).
+    /// Total mass `Σ_c w_c ρ |c| = ∫ ρ w_h` (of the normal component; of every component
+    /// under `mass.contact_directions = "all"`).
     pub fn total_mass(&self) -> f64 {
         self.lame.density * crate::fem::layers::total_mass(&self.mesh, &self.weights)
     }

@@ -377,8 +377,11 @@ fn face_areas(mesh: &Mesh, contact_nodes: &[usize]) -> Vec<f64> {
 pub struct BodyFrame {
     /// R (`R[row][col]`), first column the plane's normal.
     pub rot: [[f64; 3]; 3],
-    /// `m_b = ρ Σ_c w_c ∫_c φ_b` per node.
+    /// `m_b = ρ Σ_c w_c ∫_c φ_b` per node (the normal component's).
     pub lumped: Vec<f64>,
+    /// The tangential components' `m_b` (= `lumped` under `mass.contact_directions = "all"`,
+    /// the standard `ρ ∫ φ_b` under `"normal"`).
+    pub lumped_tangential: Vec<f64>,
     /// `m¹_b = ∫_Ω φ_b` per node.
     pub lumped_unit: Vec<f64>,
     /// `|Ω|`.

@@ -14,11 +14,12 @@
 //! is constrained (a free body has none).
 //!
 //! What the reports need, over all nodes (clamped rows included, where V = 0):
-//! `P_k = 1ᵀ M V_k = Σ_b m_b v_b,k` with `m_b = Σ_a M_ab` (the weighted lumped mass), and the
+//! `P_k = 1ᵀ M V_k = Σ_b m_b,k v_b,k` with `m_b,k = Σ_a M_(a,k),(b,k)` (the weighted lumped mass
+//! of component k: the tangential ones standard under `mass.contact_directions = "normal"`), and the
 //! mean displacement `ū_k = Σ_b m¹_b u_b,k / |Ω|` with the unweighted, ρ = 1 lumped mass m¹
 //! (both computed in the frame and rotated back by R).
 
-use super::assembly::{Free, Parts, SolidAssemblyError, SolidSystem, assemble};
+use super::assembly::{Free, Parts, SolidAssemblyError, SolidSystem, assemble, assemble_directed};
 pub use super::body::BodyFrame;
 use super::body::{BodyContact, BodySpec, from_frame, rotation, to_frame};
 use crate::expr::Expr;
@@ -73,7 +74,7 @@ impl SolidSystem {
     /// `weights` and its contact data.
     pub(super) fn assemble_body(
         mesh: Arc<Mesh>,
-        weights: Vec<f64>,
+        (weights, directions): (Vec<f64>, crate::mass::ContactDirections),
         lame: Lame,
         body: &BodySpec,
         contact: &BodyContact,
@@ -84,15 +85,18 @@ impl SolidSystem {
         for p in frame_mesh.points.iter_mut() {
             *p = to_frame(&rot, *p);
         }
-        let (mass_all, stiff_all) = assemble(&frame_mesh, &weights, &lame)?;
+        let (mass_all, stiff_all) = assemble_directed(&frame_mesh, &weights, directions, &lame)?;
         let unit = Lame { density: 1.0, ..lame };
         let (unit_all, _) = assemble(&frame_mesh, &vec![1.0; mesh.n_cells()], &unit)?;
         drop(frame_mesh);
         let free = Free::new(&mesh, |g| contact.clamped[g / d]);
         let (mut lumped, mut lumped_unit) = (vec![0.0; mesh.n_nodes()], vec![0.0; mesh.n_nodes()]);
+        let mut lumped_tangential = vec![0.0; mesh.n_nodes()];
         for (i, j, v) in sparse::triplets(&mass_all) {
             if i % d == 0 && j % d == 0 {
                 lumped[j / d] += v;
+            } else if i % d == 1 && j % d == 1 {
+                lumped_tangential[j / d] += v;
             }
         }
         let scalar_unit: Vec<(usize, usize, f64)> = sparse::triplets(&unit_all)
@@ -115,9 +119,10 @@ impl SolidSystem {
         let transient = body.force.iter().any(|e| e.depends_on("t"));
         let forcing = transient.then(|| Forcing(Arc::new(move |t, out: &mut [f64]| load.at(t, out))));
         let contact_area = contact.areas.iter().sum();
-        let frame = BodyFrame { rot, lumped, volume: lumped_unit.iter().sum(), lumped_unit, contact_area };
+        let volume = lumped_unit.iter().sum();
+        let frame = BodyFrame { rot, lumped, lumped_tangential, volume, lumped_unit, contact_area };
         let parts = Parts { mass_all, stiff_all, unit_all, load: f0, forcing, frame: Some(frame), contact_area };
-        Self::on_free(mesh, weights, lame, super::Lateral::Free, free, parts, contact)
+        Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)
     }
 
     /// Momentum `P = 1ᵀ M V` and mean displacement `ū` (module docs), world components.
@@ -127,7 +132,8 @@ impl SolidSystem {
         let (mut p, mut m) = ([0.0; 3], [0.0; 3]);
         for (k, &g) in self.dofs.iter().enumerate() {
             let (node, comp) = (g / d, g % d);
-            p[comp] += frame.lumped[node] * v[k];
+            let m_b = if comp == 0 { frame.lumped[node] } else { frame.lumped_tangential[node] };
+            p[comp] += m_b * v[k];
             m[comp] += frame.lumped_unit[node] * u[k];
         }
         Some((from_frame(&frame.rot, p), from_frame(&frame.rot, m.map(|x| x / frame.volume))))

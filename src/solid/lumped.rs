@@ -17,6 +17,7 @@
 
 use super::assembly::SolidSystem;
 use crate::fem::Mesh;
+use crate::mass::ContactDirections;
 
 /// `m_a` per mesh node (module docs) for cell weights `weights` and density `density`.
 pub fn node_masses(mesh: &Mesh, weights: &[f64], density: f64) -> Vec<f64> {
@@ -44,11 +45,25 @@ pub fn node_masses(mesh: &Mesh, weights: &[f64], density: f64) -> Vec<f64> {
 }
 
 impl SolidSystem {
-    /// The lumped mass `M_L` on the free unknowns: `m_a` of the unknown's node (module docs).
+    /// The lumped mass `M_L` on the free unknowns: `m_a` of the unknown's node (module docs),
+    /// the tangential components' of the standard mass under `mass.contact_directions =
+    /// "normal"`.
     pub fn lumped_mass(&self) -> Vec<f64> {
         let d = self.mesh.dim;
         let m = node_masses(&self.mesh, &self.weights, self.lame.density);
-        self.dofs.iter().map(|&g| m[g / d]).collect()
+        let standard = match self.directions {
+            ContactDirections::All => None,
+            ContactDirections::Normal => {
+                Some(node_masses(&self.mesh, &vec![1.0; self.mesh.n_cells()], self.lame.density))
+            }
+        };
+        self.dofs
+            .iter()
+            .map(|&g| match &standard {
+                Some(s) if g % d > 0 => s[g / d],
+                _ => m[g / d],
+            })
+            .collect()
     }
 }
 

@@ -9,7 +9,7 @@ use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::expr::Expr;
 use crate::fem::MeshError;
 use crate::fem::frames::VtuFrames;
-use crate::mass::MassKind;
+use crate::mass::{ContactDirections, MassKind};
 use crate::material::{FarEnd, Material};
 use crate::problem::Problem;
 use crate::spec::Scene;
@@ -27,9 +27,20 @@ impl SolidSpec {
     /// (the paper's closed form for λ + 2μ = ρ = 1 without gap, else the solution by
     /// characteristics of the bar with density ρ and modulus λ + 2μ).
     pub fn problem(&self, mass: &MassKind, t_end: f64) -> Result<Problem<SolidSystem>, SolidError> {
+        self.problem_directed(mass, ContactDirections::All, t_end)
+    }
+
+    /// [`SolidSpec::problem`] with the mass's `contact_directions` ([`ContactDirections`]).
+    pub fn problem_directed(
+        &self,
+        mass: &MassKind,
+        directions: ContactDirections,
+        t_end: f64,
+    ) -> Result<Problem<SolidSystem>, SolidError> {
         let built = self.built()?;
         let weights = self.weights(&built, mass)?;
-        let solid = SolidSystem::assemble(Arc::clone(&built.mesh), weights, self.lame, &self.support, &built.contact)?;
+        let mesh = Arc::clone(&built.mesh);
+        let solid = SolidSystem::assemble(mesh, weights, directions, self.lame, &self.support, &built.contact)?;
         let l = self.extent[0];
         let (u0, v0) = match &self.initial {
             SolidInitial::Paper => {
@@ -144,7 +155,7 @@ impl GeometrySpec for SolidSpec {
     }
 
     fn problem(scene: &Scene<Self>) -> Result<SolidProblem, SolidError> {
-        scene.geometry.problem(&scene.mass, scene.time.exact_end())
+        scene.geometry.problem_directed(&scene.mass, scene.contact_directions, scene.time.exact_end())
     }
 
     fn summary_head(scene: &Scene<Self>, totals: &Totals) -> SolidHead {

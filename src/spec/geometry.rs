@@ -67,10 +67,17 @@ pub trait SceneGeometry: Sized {
             lumped_mass: true,
             w0,
             contact_layer: Self::MASSLESS_TANGENTS && w0 == 0.0,
+            massless_tangents: Self::MASSLESS_TANGENTS && w0 == 0.0,
             one_cell_contact_row: false,
             zero_gap: false,
             tangential_dims: self.tangential_dims(),
         })
+    }
+    /// Whether `mass` leaves a node massless that is neither a contact node nor clamped (P2's
+    /// edge nodes inside the contact layer): their normal components stay massless under
+    /// `mass.contact_directions = "normal"`, a contact layer still ([`Offer::contact_layer`]).
+    fn massless_inner_nodes(&self, _mass: &crate::mass::MassKind) -> Result<bool, SceneError> {
+        Ok(false)
     }
     /// Tangential directions at a contact node (a solid's d − 1; 0 for bars and plates).
     fn tangential_dims(&self) -> usize {

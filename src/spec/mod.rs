@@ -34,6 +34,9 @@ use crate::schemes::SchemeSpec;
 pub struct Scene<G> {
     pub geometry: G,
     pub mass: crate::mass::MassKind,
+    /// `mass.contact_directions`: which components of the contact layer are redistributed
+    /// (solids; bars and plates have only the normal one).
+    pub contact_directions: crate::mass::ContactDirections,
     pub scheme: SchemeSpec,
     /// The contact law (`[contact]`; default exact).
     pub contact: crate::contact::law::ContactLaw,

@@ -326,6 +326,119 @@ pub fn compare(
     })
 }
 
+/// Friction (issue 29, check 5): the scene of the static frictional disc, and the agreement
+/// required of it, relative to the largest displacement. Both codes solve the same equations
+/// (one backward-Euler step from rest, Δt = 1e6: python/crosscheck/getfem_friction.py docs),
+/// this crate exactly, GetFEM by Newton to a residual of 1e-12; measured 4.9e-14.
+pub const FRICTION_SCENE: &str = "body-getfem-disc-p1-friction.toml";
+pub const FRICTION_TOL: f64 = 1e-8;
+
+/// What python/crosscheck/getfem_friction.py writes (GetFEM's numbering).
+#[derive(Debug, Clone, Deserialize)]
+pub struct FrictionPeer {
+    pub cells: Vec<Vec<[f64; 2]>>,
+    pub nodes: Vec<[f64; 2]>,
+    /// `[u_x, u_y]` per node.
+    pub u: Vec<[f64; 2]>,
+    pub contact_nodes: Vec<usize>,
+    /// GetFEM's multipliers per contact node: λ_n ≤ 0 in contact, λ_t the tangential force.
+    pub lambda_n: Vec<f64>,
+    pub lambda_t: Vec<f64>,
+    pub newton_iterations: Vec<usize>,
+}
+
+/// The agreement of the static frictional disc.
+#[derive(Debug, Clone, Serialize)]
+pub struct FrictionAgreement {
+    /// max over nodes of |u − u_GetFEM| (components) over max |u_GetFEM|.
+    pub relative: f64,
+    /// max over contact nodes of |R_i − (−λ_n,i)| and ||r_t,i| − |λ_t,i|| over max R_i.
+    pub force_relative: f64,
+    /// The contact nodes (ours) that stick and slide, here and in GetFEM (GetFEM's: λ_n < 0,
+    /// sliding where |λ_t| ≥ μ |λ_n| (1 − 1e-9)).
+    pub stick: (Vec<usize>, Vec<usize>),
+    pub slip: (Vec<usize>, Vec<usize>),
+    pub newton_iterations: Vec<usize>,
+}
+
+/// Runs the static frictional disc here (the scene edited by `edit`, for mutations) and in
+/// GetFEM (JSON under `dir`) and compares them node by node.
+pub fn friction_case(dir: &Path, edit: &dyn Fn(String) -> String) -> Result<FrictionAgreement, String> {
+    let case = GetfemCase { name: "disc P1 friction (static)", scene: FRICTION_SCENE, mass: "standard" };
+    let scene = SolidScene::from_toml(&edit(scene_text(&case)?)).map_err(|e| format!("{FRICTION_SCENE}: {e}"))?;
+    let mesh_path = scene
+        .geometry
+        .source
+        .path()
+        .map(Path::to_path_buf)
+        .ok_or_else(|| format!("{FRICTION_SCENE}: no solid.mesh"))?;
+    let mesh = scene.geometry.source.given().cloned().ok_or_else(|| format!("{FRICTION_SCENE}: no mesh"))?;
+    let mu = match scene.contact.friction() {
+        Some(massredist::contact::law::Friction::Coulomb { mu }) => mu,
+        other => return Err(format!("{FRICTION_SCENE}: Coulomb friction expected, {other:?}")),
+    };
+    // GetFEM is given the data of the unedited scene: a mutation is on this crate's side only.
+    let json = dir.join("friction.getfem.json");
+    let script = repo().join("python/crosscheck/getfem_friction.py");
+    let o = Command::new(PYTHON)
+        .arg(&script)
+        .arg("--mesh")
+        .arg(&mesh_path)
+        .args(["--force", "0.02", "-0.1", "--mu", "0.3", "--dt", "1e6", "--max-res", "1e-12", "--out"])
+        .arg(&json)
+        .output()
+        .map_err(|e| format!("{PYTHON} {}: {e} (bash python/install-deps.sh installs GetFEM)", script.display()))?;
+    if !o.status.success() {
+        let err = String::from_utf8_lossy(&o.stderr);
+        let tail: Vec<&str> = err.lines().filter(|l| !l.starts_with("Level 2 Warning")).collect();
+        return Err(format!("{PYTHON} {}: {}\n{}", script.display(), o.status, tail.join("\n")));
+    }
+    let text = std::fs::read_to_string(&json).map_err(|e| format!("{}: {e}", json.display()))?;
+    let peer: FrictionPeer = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", json.display()))?;
+    let scale = mesh.extent[0].max(mesh.extent[1]);
+    let ours: Vec<[f64; 2]> = mesh.points.iter().map(xy).collect();
+    let nodes = matching(&peer.nodes, &ours, scale, "node")?;
+    let run = run_scene(&scene, &mut []).map_err(|e| format!("{FRICTION_SCENE}: {e}"))?;
+    let system = &run.problem.system;
+    let (mut worst, mut u_scale) = (0.0_f64, 0.0_f64);
+    for (k, &v) in nodes.iter().enumerate() {
+        for a in 0..2 {
+            u_scale = u_scale.max(peer.u[k][a].abs());
+            worst = worst.max((run.last.u[2 * v + a] - peer.u[k][a]).abs());
+        }
+    }
+    let record = run.last.friction.as_ref().ok_or("no friction record")?;
+    let slot_of = |v: usize| system.contact_nodes.iter().position(|&c| c == v);
+    let (mut stick, mut slip) = ((Vec::new(), Vec::new()), (Vec::new(), Vec::new()));
+    let (mut force_diff, mut force_scale) = (0.0_f64, 0.0_f64);
+    for (k, &c) in peer.contact_nodes.iter().enumerate() {
+        let v = nodes[c];
+        let i = slot_of(v).ok_or_else(|| format!("GetFEM's contact node {c} (our {v}) is not ours"))?;
+        let (r, rt) = (-run.last.lambda[i], record.traction[i][0] * system.contact_areas[i]);
+        let (ln, lt) = (peer.lambda_n[k], peer.lambda_t[k]);
+        force_scale = force_scale.max(r.abs()).max(ln.abs());
+        force_diff = force_diff.max((r + ln).abs()).max((rt.abs() - lt.abs()).abs());
+        match record.state[i] {
+            1 => stick.0.push(v),
+            2 => slip.0.push(v),
+            _ => {}
+        }
+        if ln < 0.0 {
+            if lt.abs() >= mu * ln.abs() * (1.0 - 1e-9) { slip.1.push(v) } else { stick.1.push(v) }
+        }
+    }
+    for list in [&mut stick.0, &mut stick.1, &mut slip.0, &mut slip.1] {
+        list.sort_unstable();
+    }
+    Ok(FrictionAgreement {
+        relative: worst / u_scale,
+        force_relative: force_diff / force_scale,
+        stick,
+        slip,
+        newton_iterations: peer.newton_iterations,
+    })
+}
+
 /// The cases of [`CASES`] as lines of `massredist crosscheck` (backend `getfem`): the |ΔM|
 /// column holds max |w − w_GetFEM| over the cells (tolerance 0: the weights are 0 and 1), the
 /// |ΔS| column is not compared (NaN), |ΔU| is the relative displacement difference
@@ -366,6 +479,29 @@ pub fn case_reports() -> Vec<super::CaseReport> {
             }
         })
         .collect();
+    let mut reports: Vec<super::CaseReport> = reports;
+    let friction = std::fs::create_dir_all(&dir).map_err(|e| e.to_string()).and_then(|()| friction_case(&dir, &|t| t));
+    let (rel, same_states) = match friction {
+        Ok(a) => (Some(a.relative), a.stick.0 == a.stick.1 && a.slip.0 == a.slip.1),
+        Err(e) => {
+            eprintln!("crosscheck: GetFEM friction case: {e}");
+            (None, false)
+        }
+    };
+    reports.push(super::CaseReport {
+        backend: "getfem",
+        dim: 2,
+        physics: "elastic",
+        case: "disc P1 Coulomb friction (static)".into(),
+        mass_max_abs_diff: f64::NAN,
+        stiffness_max_abs_diff: f64::NAN,
+        trajectory_max_abs_diff: rel,
+        lambda_max_abs_diff: None,
+        mass_tolerance: f64::NAN,
+        stiffness_tolerance: f64::NAN,
+        trajectory_tolerance: Some(FRICTION_TOL),
+        pass: same_states && rel.is_some_and(|d| d <= FRICTION_TOL),
+    });
     let _ = std::fs::remove_dir_all(&dir);
     reports
 }

@@ -69,3 +69,29 @@ fn a_wrong_beta_fails_the_comparison() {
     let a = run("beta", case, &edit);
     assert!(a.relative > TOL, "a wrong beta passed: {}", a.relative);
 }
+
+/// Friction (issue 29, check 5): the static frictional problem of the P1 disc pressed onto the
+/// plane by a force with a tangential part (`scenes/body-getfem-disc-p1-friction.toml`: one
+/// backward-Euler step from rest with Δt = 1e6), against GetFEM's nodal contact with Coulomb
+/// friction brick (python/crosscheck/getfem_friction.py): every node's displacement to
+/// [`gf::FRICTION_TOL`] of the largest (measured 4.9e-14), the nodal reactions to 1e-8 of the
+/// largest, and the same sticking and sliding nodes (one sticks, two slide).
+/// mutation: the displacement form of the frictional solve off (`settle` keeping the force
+/// form) -> 1.1e-5 relative (the free disc's D is ill-conditioned); μ = 0.29 here -> the
+/// comparison fails (displacement 2.3e-3 relative).
+#[test]
+fn the_static_frictional_disc_agrees_with_getfem_node_by_node() {
+    let _one = GETFEM.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let dir = scratch("friction", "static");
+    let a = gf::friction_case(&dir, &same).unwrap_or_else(|e| panic!("{e}"));
+    eprintln!("{a:?}");
+    assert_eq!(a.stick.0, a.stick.1, "sticking nodes (ours, GetFEM's)");
+    assert_eq!(a.slip.0, a.slip.1, "sliding nodes (ours, GetFEM's)");
+    assert!(!a.stick.0.is_empty() && !a.slip.0.is_empty(), "part sticks, part slides: {a:?}");
+    assert!(a.relative <= gf::FRICTION_TOL, "displacement: {} relative", a.relative);
+    assert!(a.force_relative <= 1e-8, "reactions: {} relative", a.force_relative);
+    let edit = |text: String| text.replace("mu = 0.3", "mu = 0.29");
+    let b = gf::friction_case(&dir, &edit).unwrap_or_else(|e| panic!("{e}"));
+    assert!(b.relative > gf::FRICTION_TOL, "μ = 0.29 passed: {}", b.relative);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -345,6 +345,19 @@ impl SceneGeometry for SolidSpec {
         self.dim - 1
     }
 
+    fn massless_inner_nodes(&self, mass: &MassKind) -> Result<bool, SceneError> {
+        let built = self.built().map_err(setup_error)?;
+        let weights = built.weights(mass)?;
+        let mut weighed = vec![false; built.mesh.n_nodes()];
+        for (c, &w) in weights.iter().enumerate() {
+            if w > 0.0 {
+                built.mesh.cell(c).iter().for_each(|&v| weighed[v] = true);
+            }
+        }
+        let (contact, clamped) = (&built.contact.contact, &built.contact.clamped);
+        Ok((0..weighed.len()).any(|v| !weighed[v] && !contact[v] && !clamped[v]))
+    }
+
     fn validate(raw: RawSolid, obstacle: Option<RawObstacle>, inputs: MeshInputs) -> Result<SolidSpec, SceneError> {
         validate_solid(raw, obstacle, inputs)
     }
