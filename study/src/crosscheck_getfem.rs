@@ -117,13 +117,28 @@ pub fn repo() -> PathBuf {
 
 /// Runs python/crosscheck/getfem_disc.py on `mesh` for `steps` steps of `dt`; its JSON goes to `json`.
 pub fn getfem(mesh: &Path, mass: &str, dt: f64, steps: usize, json: &Path) -> Result<Peer, String> {
-    let script = repo().join("python/crosscheck/getfem_disc.py");
+    let mut args: Vec<String> = ["--mass", mass, "--dt", &dt.to_string(), "--steps", &steps.to_string()]
+        .iter()
+        .map(|a| a.to_string())
+        .collect();
+    args.extend(GETFEM_ARGS.iter().map(|a| a.to_string()));
+    run_script("getfem_disc.py", mesh, &args, json)
+}
+
+/// Runs `python/crosscheck/<script> --mesh <mesh> <args> --out <json>` with [`PYTHON`] and
+/// reads the JSON it wrote (GetFEM's warnings left out of an error's stderr).
+fn run_script<T: serde::de::DeserializeOwned>(
+    script: &str,
+    mesh: &Path,
+    args: &[String],
+    json: &Path,
+) -> Result<T, String> {
+    let script = repo().join("python/crosscheck").join(script);
     let o = Command::new(PYTHON)
         .arg(&script)
         .arg("--mesh")
         .arg(mesh)
-        .args(["--mass", mass, "--dt", &dt.to_string(), "--steps", &steps.to_string()])
-        .args(GETFEM_ARGS)
+        .args(args)
         .arg("--out")
         .arg(json)
         .output()
@@ -379,22 +394,11 @@ pub fn friction_case(dir: &Path, edit: &dyn Fn(String) -> String) -> Result<Fric
     };
     // GetFEM is given the data of the unedited scene: a mutation is on this crate's side only.
     let json = dir.join("friction.getfem.json");
-    let script = repo().join("python/crosscheck/getfem_friction.py");
-    let o = Command::new(PYTHON)
-        .arg(&script)
-        .arg("--mesh")
-        .arg(&mesh_path)
-        .args(["--force", "0.02", "-0.1", "--mu", "0.3", "--dt", "1e6", "--max-res", "1e-12", "--out"])
-        .arg(&json)
-        .output()
-        .map_err(|e| format!("{PYTHON} {}: {e} (bash python/install-deps.sh installs GetFEM)", script.display()))?;
-    if !o.status.success() {
-        let err = String::from_utf8_lossy(&o.stderr);
-        let tail: Vec<&str> = err.lines().filter(|l| !l.starts_with("Level 2 Warning")).collect();
-        return Err(format!("{PYTHON} {}: {}\n{}", script.display(), o.status, tail.join("\n")));
-    }
-    let text = std::fs::read_to_string(&json).map_err(|e| format!("{}: {e}", json.display()))?;
-    let peer: FrictionPeer = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", json.display()))?;
+    let args: Vec<String> = ["--force", "0.02", "-0.1", "--mu", "0.3", "--dt", "1e6", "--max-res", "1e-12"]
+        .iter()
+        .map(|a| a.to_string())
+        .collect();
+    let peer: FrictionPeer = run_script("getfem_friction.py", &mesh_path, &args, &json)?;
     let scale = mesh.extent[0].max(mesh.extent[1]);
     let ours: Vec<[f64; 2]> = mesh.points.iter().map(xy).collect();
     let nodes = matching(&peer.nodes, &ours, scale, "node")?;
