@@ -127,6 +127,8 @@ pub struct Tangential {
     /// Per contact unknown (contact order), the unknowns of its node's tangential components
     /// (components 1.. in the obstacle's frame that are not eliminated).
     pub unknowns: Vec<Vec<usize>>,
+    /// Per contact unknown, the axis (an index into `axes`) of each of those unknowns.
+    pub components: Vec<Vec<usize>>,
     /// a_i per contact node (Tresca's bound `s a_i`).
     pub areas: Vec<f64>,
     /// The world vectors of the frame's axes 1.. (the tangential components' directions).

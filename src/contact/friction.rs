@@ -1,5 +1,7 @@
 //! Friction on the exact Signorini condition (issue 29): Tresca and Coulomb inside one implicit
-//! step, solved to round-off in 2D.
+//! step, solved to round-off in 2D (below) and in 3D, where the bound is the isotropic disc
+//! `|f_t| ≤ g` ([`cone`]: the same sweeps, then a semi-smooth Newton method, its answer checked
+//! as here).
 //!
 //! Each implicit scheme (backward Euler, Newmark/Crank–Nicolson) solves per step
 //!
@@ -52,6 +54,8 @@ use faer::Mat;
 use faer::linalg::solvers::Solve;
 use serde::{Deserialize, Serialize};
 
+mod cone;
+
 /// A friction law on the exact Signorini condition (`contact.friction`, module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum Friction {
@@ -99,6 +103,9 @@ pub struct FrictionRecord {
     /// The largest `|r_t,i| − bound_i` over the run (bound `μ r_n,i` or `s a_i`): ≤ 0 up to
     /// round-off.
     pub max_cone_excess: f64,
+    /// The largest natural residual of a step's solve over the run, relative to its largest
+    /// force ([`cone`]'s module docs; 3D only, 0 in 2D where the states are solved exactly).
+    pub residual: f64,
     /// Per contact node at the last step: 0 free, 1 stick, 2 slip.
     pub state: Vec<u8>,
     /// Per contact node at the last step: the friction traction `r_t,i / a_i` (world
@@ -111,8 +118,11 @@ enum Tangent {
     /// No tangential force (no tangential unknown, Coulomb on an open node, Tresca's bound 0).
     Zero,
     Stick,
-    /// Sliding with `Δu_t` of sign s: `f_t = −s g`.
+    /// Sliding with `Δu_t` of sign s: `f_t = −s g` (a node with one tangential unknown).
     Slip(f64),
+    /// Sliding with `Δu_t` along the unit e of the node's two tangential components:
+    /// `f_t = −g e` (3D, [`cone`]).
+    Slide([f64; 2]),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -121,11 +131,15 @@ struct NodeState {
     tangent: Tangent,
 }
 
-/// One node's slots in the trailing unknowns: its normal one and its tangential one (2D).
+/// One node's slots in the trailing unknowns: its normal one and its tangential ones (one in
+/// 2D, two in 3D unless a roller eliminates one), with the axis (an index into the frame's
+/// tangential axes) of each.
 #[derive(Debug, Clone, Copy)]
 struct Slots {
     n: usize,
     t: Option<usize>,
+    t2: Option<usize>,
+    axis: [usize; 2],
 }
 
 /// Sweeps before giving up (each costs O(n_c²)); the states of a well-posed 2D problem settle
@@ -187,21 +201,20 @@ impl FrictionStep {
         sigma: f64,
         dt: f64,
     ) -> Result<Self, SetupError> {
-        if tangential.unknowns.iter().any(|t| t.len() > 1) {
-            return Err(SetupError::Shape(
-                "friction is built for 2D bodies (one tangential component per contact node); the 3D cone is not built yet",
-            ));
-        }
         let mut unknowns = Vec::new();
         let mut slots = Vec::new();
-        for (&c, t) in contact.iter().zip(&tangential.unknowns) {
+        for ((&c, t), axis) in contact.iter().zip(&tangential.unknowns).zip(&tangential.components) {
             let n = unknowns.len();
             unknowns.push(c);
-            let t = t.first().map(|&j| {
-                unknowns.push(j);
-                n + 1
-            });
-            slots.push(Slots { n, t });
+            let mut slot = |k: usize| {
+                t.get(k).map(|&j| {
+                    unknowns.push(j);
+                    unknowns.len() - 1
+                })
+            };
+            let (t, t2) = (slot(0), slot(1));
+            let axis = [axis.first().copied().unwrap_or(0), axis.get(1).copied().unwrap_or(0)];
+            slots.push(Slots { n, t, t2, axis });
         }
         let m = unknowns.len();
         let factor = SparseLlt::with_trailing(k, &unknowns, matrix).map_err(crate::linalg::LinalgError::from)?;
@@ -261,7 +274,7 @@ impl Dense {
         let row = &self.d[k * m..(k + 1) * m];
         let mut s = self.q[k];
         for (b, (&dk, &fb)) in row.iter().zip(&self.f).enumerate() {
-            if b != own.n && Some(b) != own.t {
+            if b != own.n && Some(b) != own.t && Some(b) != own.t2 {
                 s += dk * fb;
             }
         }
@@ -271,12 +284,15 @@ impl Dense {
     /// Node i's own problem solved exactly for the others' forces fixed; returns its state.
     fn local(&mut self, i: usize) -> NodeState {
         let s = self.slots[i];
+        if let (Some(t), Some(t2)) = (s.t, s.t2) {
+            return self.local_cone(i, t, t2);
+        }
         let m = self.q.len();
         let rn = self.rest(s.n, s);
         let a = self.d[s.n * m + s.n];
         let Some(t) = s.t else {
-            let closed = rn < 0.0;
-            self.f[s.n] = if closed { -rn / a } else { 0.0 };
+            let (fn_, closed) = normal_alone(a, rn);
+            self.f[s.n] = fn_;
             return NodeState { closed, tangent: Tangent::Zero };
         };
         let rt = self.rest(t, s);
@@ -327,7 +343,8 @@ impl Dense {
             }
             let Some(t) = s.t else { continue };
             match st.tangent {
-                Tangent::Zero => a[(t, t)] = 1.0,
+                // (Slide is a 3D node's state, never this 2D path's.)
+                Tangent::Zero | Tangent::Slide(_) => a[(t, t)] = 1.0,
                 Tangent::Stick => {
                     row_of_d(&mut a, t, &self.d);
                     rhs[(t, 0)] = -self.q[t];
@@ -362,7 +379,7 @@ impl Dense {
             }
             let Some(t) = s.t else { continue };
             match (st.tangent, self.friction) {
-                (Tangent::Zero, _) => f[t] = 0.0,
+                (Tangent::Zero, _) | (Tangent::Slide(_), _) => f[t] = 0.0,
                 (Tangent::Slip(sign), Friction::Tresca { .. }) => f[t] = -sign * self.tresca_bound(i),
                 (Tangent::Slip(sign), Friction::Coulomb { mu }) => f[t] = -sign * mu * f[s.n],
                 (Tangent::Stick, _) => {}
@@ -385,7 +402,7 @@ impl Dense {
             let Some(t) = s.t else { continue };
             let g = self.bound(i, f);
             match st.tangent {
-                Tangent::Zero => {}
+                Tangent::Zero | Tangent::Slide(_) => {}
                 Tangent::Stick if f[t].abs() > g + tol_f => return false,
                 Tangent::Slip(sign) if sign * y[t] < -tol_y => return false,
                 _ => {}
@@ -444,6 +461,9 @@ impl Dense {
 
     /// Solves the frictional problem for the current q (module docs) into f and y.
     fn solve_forces(&mut self) -> Result<usize, LcpError> {
+        if self.is_cone() {
+            return self.solve_cone();
+        }
         let nc = self.slots.len();
         let mut previous: Vec<NodeState> = self.states.clone();
         let mut repeats = 0;
@@ -472,8 +492,6 @@ impl Dense {
     fn update_record(&mut self) {
         let mut force = [0.0; 3];
         let (mut stick, mut slip) = (0, 0);
-        // 2D: one tangential axis (the 3D cone is to come).
-        let axis = self.axes[0];
         for (i, (&s, st)) in self.slots.iter().zip(&self.states).enumerate() {
             let closed = st.closed && self.f[s.n] > 0.0;
             self.record.state[i] = 0;
@@ -482,18 +500,31 @@ impl Dense {
                 self.was_closed[i] = closed;
                 continue;
             };
-            let r_t = self.f[t] / self.sigma;
+            // The node's tangential reaction r_t (one or two components) and its increment Δu_t.
+            let mut r_t = [self.f[t] / self.sigma, 0.0];
+            let mut du = [self.y[t], 0.0];
+            if let Some(t2) = s.t2 {
+                (r_t[1], du[1]) = (self.f[t2] / self.sigma, self.y[t2]);
+            }
             let bound = self.bound(i, &self.f) / self.sigma;
-            self.record.max_cone_excess = self.record.max_cone_excess.max(r_t.abs() - bound);
-            self.record.dissipation -= r_t * self.y[t];
-            for k in 0..3 {
-                force[k] += r_t * axis[k];
-                self.record.traction[i][k] = r_t * axis[k] / self.areas[i];
+            let size = if s.t2.is_some() { r_t[0].hypot(r_t[1]) } else { r_t[0].abs() };
+            self.record.max_cone_excess = self.record.max_cone_excess.max(size - bound);
+            self.record.dissipation -= r_t[0] * du[0];
+            if s.t2.is_some() {
+                self.record.dissipation -= r_t[1] * du[1];
+            }
+            let slots = if s.t2.is_some() { 2 } else { 1 };
+            for (&r, &a) in r_t.iter().zip(&s.axis).take(slots) {
+                let axis = self.axes[a];
+                for k in 0..3 {
+                    force[k] += r * axis[k];
+                    self.record.traction[i][k] += r * axis[k] / self.areas[i];
+                }
             }
             // Stick and slip are friction's states: a node whose bound is 0 (μ = 0, s = 0, or
             // Tresca on a node free at the start of the step) carries none and counts as free.
             if closed && bound > 0.0 {
-                if matches!(st.tangent, Tangent::Slip(_)) {
+                if matches!(st.tangent, Tangent::Slip(_) | Tangent::Slide(_)) {
                     slip += 1;
                     self.record.state[i] = 2;
                 } else {
@@ -510,6 +541,13 @@ impl Dense {
         self.record.stick = stick;
         self.record.slip = slip;
     }
+}
+
+/// A node's normal problem alone, `y_n = r_n + a f_n ≥ 0 ⊥ f_n ≥ 0`: its force and whether it
+/// is closed.
+fn normal_alone(a: f64, rn: f64) -> (f64, bool) {
+    let closed = rn < 0.0;
+    (if closed { -rn / a } else { 0.0 }, closed)
 }
 
 /// Node i's 2 × 2 problem `y = r + [[a, b], [b, c]] f` (module docs) solved exactly: the first
@@ -531,8 +569,7 @@ fn local_solve(a: f64, b: f64, c: f64, rn: f64, rt: f64, friction: Friction, tre
             let g = tresca;
             if g == 0.0 {
                 // No tangential force: the normal problem alone.
-                let closed = rn < 0.0;
-                let fn_ = if closed { -rn / a } else { 0.0 };
+                let (fn_, closed) = normal_alone(a, rn);
                 return (fn_, 0.0, NodeState { closed, tangent: Tangent::Zero });
             }
             // Open: f_n = 0, the tangential problem alone.
@@ -626,7 +663,7 @@ impl Dense {
             let Some(t) = sl.t else { continue };
             match st.tangent {
                 Tangent::Stick => fix(&mut a, &mut rhs, t),
-                Tangent::Zero => force(&mut a, &mut rhs, t, t, 1.0),
+                Tangent::Zero | Tangent::Slide(_) => force(&mut a, &mut rhs, t, t, 1.0),
                 Tangent::Slip(sign) => {
                     force(&mut a, &mut rhs, t, t, 1.0);
                     match self.friction {
@@ -680,13 +717,17 @@ impl Dense {
             self.q[k] = self.y[k] - self.target[k];
         }
         self.sweeps = self.solve_forces()?;
-        self.settle(y, upper);
+        if !self.is_cone() {
+            self.settle(y, upper);
+        }
         for (s, st) in self.slots.iter().zip(&self.states) {
             if st.closed {
                 self.y[s.n] = 0.0;
             }
-            if let (Some(t), Tangent::Stick) = (s.t, st.tangent) {
-                self.y[t] = 0.0;
+            if st.tangent == Tangent::Stick {
+                for t in [s.t, s.t2].into_iter().flatten() {
+                    self.y[t] = 0.0;
+                }
             }
         }
         for k in 0..m {
@@ -718,19 +759,15 @@ impl StepLaw for FrictionStep {
         }
         dense.update_record();
         // The next step's tangential targets: u_t^{n+1}.
-        for s in &dense.slots {
-            if let Some(t) = s.t {
-                dense.target[t] = dense.u[t];
-            }
+        for t in dense.slots.iter().flat_map(|s| [s.t, s.t2]).flatten() {
+            dense.target[t] = dense.u[t];
         }
         Ok(dense.sweeps)
     }
 
     fn start(&mut self, u0: &[f64]) {
-        for s in &self.dense.slots {
-            if let Some(t) = s.t {
-                self.dense.target[t] = u0[self.unknowns[t]];
-            }
+        for t in self.dense.slots.iter().flat_map(|s| [s.t, s.t2]).flatten() {
+            self.dense.target[t] = u0[self.unknowns[t]];
         }
     }
 

@@ -226,6 +226,11 @@ impl SolidSystem {
             .collect();
         system.tangential = Some(crate::system::Tangential {
             unknowns: contact.nodes.iter().map(|&v| (1..d).filter_map(|i| dof_of[v * d + i]).collect()).collect(),
+            components: contact
+                .nodes
+                .iter()
+                .map(|&v| (1..d).filter(|&i| dof_of[v * d + i].is_some()).map(|i| i - 1).collect())
+                .collect(),
             areas: contact.areas.clone(),
             axes,
         });

@@ -157,9 +157,6 @@ fn friction_vs_rest(offer: &Offer, scheme: &SchemeSpec, law: &ContactLaw) -> Opt
             "friction acts in the tangential directions of a solid's contact nodes; a bar or a plate has none".into(),
         );
     }
-    if offer.tangential_dims > 1 {
-        return Some("friction is built for 2D solids so far (the isotropic cone of 3D is to come: issue 29)".into());
-    }
     let treatment = scheme.needs().contact;
     if !law.needs().treatments.contains(&treatment) {
         return Some(format!(
