@@ -48,11 +48,14 @@ impl Dense {
     }
 
     /// Node i's 3 × 3 problem (slots n, t, t2) for the others' forces fixed; returns its state.
+    /// Reads the others' forces through `y = q + D f`, which the cone's sweeps keep current
+    /// ([`Dense::sweep_cone`]).
     pub(super) fn local_cone(&mut self, i: usize, t: usize, t2: usize) -> NodeState {
         let s = self.slots[i];
         let m = self.q.len();
         let d = |a: usize, b: usize| self.d[a * m + b];
-        let (rn, rt) = (self.rest(s.n, s), [self.rest(t, s), self.rest(t2, s)]);
+        let own = |k: usize| self.y[k] - d(k, s.n) * self.f[s.n] - d(k, t) * self.f[t] - d(k, t2) * self.f[t2];
+        let (rn, rt) = (own(s.n), [own(t), own(t2)]);
         let a = d(s.n, s.n);
         let b = [d(s.n, t), d(s.n, t2)];
         let c = [[d(t, t), d(t, t2)], [d(t2, t), d(t2, t2)]];
@@ -65,15 +68,36 @@ impl Dense {
         state
     }
 
+    /// One sweep over the nodes, keeping `y = q + D f` current: a node whose forces change
+    /// adds `D Δf` over its columns (O(m) each), so that a sweep costs O(m) per node that moves,
+    /// not O(m) per node: a curved body's many candidate nodes stay open at no cost.
+    fn sweep_cone(&mut self) {
+        let m = self.q.len();
+        for i in 0..self.slots.len() {
+            let s = self.slots[i];
+            let own = [Some(s.n), s.t, s.t2];
+            let old = own.map(|k| k.map_or(0.0, |k| self.f[k]));
+            self.states[i] = self.local(i);
+            for (k, old) in own.into_iter().zip(old) {
+                let Some(k) = k else { continue };
+                let delta = self.f[k] - old;
+                if delta != 0.0 {
+                    // D is symmetric: its column k is its row k.
+                    for (y, d) in self.y.iter_mut().zip(&self.d[k * m..(k + 1) * m]) {
+                        *y += d * delta;
+                    }
+                }
+            }
+        }
+    }
+
     /// The frictional problem with cone nodes (module docs) into f and y.
     pub(super) fn solve_cone(&mut self) -> Result<usize, LcpError> {
-        let nc = self.slots.len();
         let mut previous: Vec<(bool, i8)> = self.states.iter().map(kind).collect();
         let mut repeats = 0;
+        self.y = self.values(&self.f);
         for sweep in 1..=MAX_SWEEPS {
-            for i in 0..nc {
-                self.states[i] = self.local(i);
-            }
+            self.sweep_cone();
             let now: Vec<(bool, i8)> = self.states.iter().map(kind).collect();
             repeats = if now == previous { repeats + 1 } else { 0 };
             previous = now;
@@ -130,14 +154,29 @@ impl Dense {
         let mut last_kinds: Vec<(bool, i8)> = Vec::new();
         let mut last = f64::INFINITY;
         let mut converged = false;
+        // y = q + D f (the sweeps kept it current), kept current through the iterations (D δ
+        // over the δ that are not 0); the answer's check forms it afresh.
+        let mut y = self.y.clone();
         for iteration in 0..MAX_NEWTON {
-            let y = self.values(&f);
-            let mut jac = Mat::<f64>::zeros(m, m);
-            let mut rhs = Mat::<f64>::zeros(m, 1);
-            let d_row = |jac: &mut Mat<f64>, row: usize, k: usize, c: f64| {
-                for b in 0..m {
-                    jac[(row, b)] += c * self.d[k * m + b];
+            // The Jacobian's rows, stored for the unknowns that are not fixed (an empty row: an
+            // identity row, δ_k = −f_k).
+            let mut jac: Vec<Vec<f64>> = vec![Vec::new(); m];
+            let mut rhs = vec![0.0; m];
+            let d_row = |jac: &mut Vec<Vec<f64>>, row: usize, k: usize, c: f64| {
+                let r = &mut jac[row];
+                if r.is_empty() {
+                    r.resize(m, 0.0);
                 }
+                for (x, d) in r.iter_mut().zip(&self.d[k * m..(k + 1) * m]) {
+                    *x += c * d;
+                }
+            };
+            let unit = |jac: &mut Vec<Vec<f64>>, row: usize, k: usize, c: f64| {
+                let r = &mut jac[row];
+                if r.is_empty() {
+                    r.resize(m, 0.0);
+                }
+                r[k] += c;
             };
             let mut kinds = Vec::with_capacity(self.slots.len());
             let mut fixed = Vec::new();
@@ -147,10 +186,9 @@ impl Dense {
                 let closed = trial_n > 0.0;
                 if closed {
                     d_row(&mut jac, s.n, s.n, rn);
-                    rhs[(s.n, 0)] = -rn * y[s.n];
+                    rhs[s.n] = -rn * y[s.n];
                 } else {
-                    jac[(s.n, s.n)] = 1.0;
-                    rhs[(s.n, 0)] = -f[s.n];
+                    rhs[s.n] = -f[s.n];
                     fixed.push(s.n);
                 }
                 let ts: Vec<usize> = [s.t, s.t2].into_iter().flatten().collect();
@@ -168,15 +206,14 @@ impl Dense {
                 let size = trial.iter().map(|v| v * v).sum::<f64>().sqrt();
                 let tangent = if g <= 0.0 {
                     for &k in &ts {
-                        jac[(k, k)] = 1.0;
-                        rhs[(k, 0)] = -f[k];
+                        rhs[k] = -f[k];
                         fixed.push(k);
                     }
                     0
                 } else if size <= g {
                     for &k in &ts {
                         d_row(&mut jac, k, k, rt);
-                        rhs[(k, 0)] = -rt * y[k];
+                        rhs[k] = -rt * y[k];
                     }
                     1
                 } else {
@@ -184,15 +221,15 @@ impl Dense {
                     // dF_t = df_t − (g/|trial|)(I − wwᵀ)(df_t − ρ D_t df) − w dg.
                     let w: Vec<f64> = trial.iter().map(|v| v / size).collect();
                     for (a, &ka) in ts.iter().enumerate() {
-                        jac[(ka, ka)] += 1.0;
-                        rhs[(ka, 0)] = -(f[ka] - g * w[a]);
+                        unit(&mut jac, ka, ka, 1.0);
+                        rhs[ka] = -(f[ka] - g * w[a]);
                         for (b, &kb) in ts.iter().enumerate() {
                             let p = g / size * (f64::from(u8::from(a == b)) - w[a] * w[b]);
-                            jac[(ka, kb)] -= p;
+                            unit(&mut jac, ka, kb, -p);
                             d_row(&mut jac, ka, kb, p * rt);
                         }
                         if dg != 0.0 {
-                            jac[(ka, s.n)] -= w[a] * dg;
+                            unit(&mut jac, ka, s.n, -w[a] * dg);
                             d_row(&mut jac, ka, s.n, w[a] * dg * rn);
                         }
                     }
@@ -200,11 +237,38 @@ impl Dense {
                 };
                 kinds.push((closed, tangent));
             }
-            let delta = jac.partial_piv_lu().solve(&rhs);
+            // The fixed rows are identity rows, δ_k = −f_k: the LU is of the other rows only
+            // (the nodes in contact, few against the candidates of a curved body).
+            let mut delta = vec![0.0; m];
+            let mut is_fixed = vec![false; m];
+            for &k in &fixed {
+                (is_fixed[k], delta[k]) = (true, -f[k]);
+            }
+            let free: Vec<usize> = (0..m).filter(|&k| !is_fixed[k]).collect();
+            let mut reduced = Mat::<f64>::zeros(free.len(), free.len());
+            let mut reduced_rhs = Mat::<f64>::zeros(free.len(), 1);
+            for (a, &ka) in free.iter().enumerate() {
+                let row = &jac[ka];
+                reduced_rhs[(a, 0)] = rhs[ka] - fixed.iter().map(|&kb| row[kb] * delta[kb]).sum::<f64>();
+                for (b, &kb) in free.iter().enumerate() {
+                    reduced[(a, b)] = row[kb];
+                }
+            }
+            if !free.is_empty() {
+                let x = reduced.partial_piv_lu().solve(&reduced_rhs);
+                for (a, &ka) in free.iter().enumerate() {
+                    delta[ka] = x[(a, 0)];
+                }
+            }
             let mut size = 0.0f64;
-            for (k, v) in f.iter_mut().enumerate() {
-                *v += delta[(k, 0)];
-                size = size.max(delta[(k, 0)].abs());
+            for (k, (v, &d)) in f.iter_mut().zip(&delta).enumerate() {
+                *v += d;
+                size = size.max(d.abs());
+                if d != 0.0 {
+                    for (y, dk) in y.iter_mut().zip(&self.d[k * m..(k + 1) * m]) {
+                        *y += dk * d;
+                    }
+                }
             }
             // The forces a kind fixes, exactly (the LU leaves round-off there).
             for k in fixed {
