@@ -120,6 +120,11 @@ enum Command {
         /// then exit.
         #[arg(long, value_name = "CSV")]
         explicit_scaling: Option<PathBuf>,
+        /// Only measure the cost of a frictional step against the frictionless one (the disc and
+        /// sphere scenes, Crank–Nicolson and central differences) into this table (and .md
+        /// beside it), then exit.
+        #[arg(long, value_name = "CSV")]
+        friction: Option<PathBuf>,
     },
 }
 
@@ -198,6 +203,14 @@ fn main() -> ExitCode {
                 Err(m) => fail(&csv, m, exit::FAILURE),
             }
         }
+        #[cfg(feature = "study")]
+        Command::Bench { friction: Some(csv), .. } => match bench::friction::run(&csv) {
+            Ok(paths) => {
+                paths.iter().for_each(|p| eprintln!("wrote {}", p.display()));
+                ExitCode::SUCCESS
+            }
+            Err(m) => fail(&csv, m, exit::FAILURE),
+        },
         #[cfg(feature = "study")]
         Command::Bench { quick, out, force, .. } => {
             let dir = match prepare(&out, force, &[]) {
