@@ -38,6 +38,7 @@ pub mod elastic_setup;
 pub mod elastic_table;
 mod experiments;
 mod figures;
+pub mod friction_disc;
 pub mod hertz;
 mod hertz_report;
 pub mod mesh_scope;
@@ -136,7 +137,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let n_figures = 2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len() + 3;
     progress.set_length(n_cases + n_figures as u64);
     progress.set_message("running");
-    let (Sections { results, rebound, scope, ps, lead, bodies, methods, hertz, disc_md }, (table2d, elastic)) =
+    let (Sections { results, rebound, scope, ps, lead, bodies, methods, hertz, disc_md, friction }, (table2d, elastic)) =
         compute_sections(config, &methods_config, progress)?;
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
@@ -155,6 +156,8 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     files.splice(at..at, body_files);
     let at = files.iter().position(|f| f == "summaries.json").unwrap_or(files.len());
     files.splice(at..at, methods_report::METHODS_FILES.map(String::from));
+    let at = files.iter().position(|f| f == "summaries.json").unwrap_or(files.len());
+    files.insert(at, friction_disc::FRICTION_TABLE.to_string());
     let bodies_md = bodies_report::bodies_section(&bodies) + &hertz_report::hertz_section(&hertz);
     let report = report_markdown(
         config,
@@ -167,7 +170,9 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         &bodies_md,
     ) + &methods_report::methods_section(&methods_config, &methods)
         + "\n"
-        + &disc_md;
+        + &disc_md
+        + "\n"
+        + &friction.0;
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
         figures.par_iter().chain([&rebound_figure, &scope_figure, &lead_figure]).chain(&body_figures).try_for_each(
@@ -187,6 +192,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         methods_report::write_methods_files(tmp, &methods)?;
         let header = HERTZ_COLUMNS.map(String::from);
         tables::write_csv(&tmp.join(HERTZ_TABLE), &header, &hertz_report::hertz_csv_rows(&hertz))?;
+        std::fs::write(tmp.join(friction_disc::FRICTION_TABLE), &friction.1)?;
         std::fs::write(tmp.join("summaries.json"), summaries_json(config, &results)?)?;
         std::fs::write(tmp.join("report.md"), &report)
     })
@@ -207,6 +213,8 @@ struct Sections {
     hertz: Vec<hertz::HertzResult>,
     /// Problem (e) of the method comparison, the dropped disc (a table in the report only).
     disc_md: String,
+    /// GetFEM's frictional disc (issue 29): the report's section and its CSV.
+    friction: (String, String),
 }
 
 /// Runs [`Sections`] and, beside them, the 2D tables (scalar and elastic): the elastic table's
@@ -233,6 +241,10 @@ fn compute_sections(
                 hertz: timed("Hertz", || hertz::compute_hertz(&|| progress.inc(1)))?,
                 disc_md: timed("disc (methods)", || {
                     methods_disc::compute_disc(replicate::Copies::All).map(|d| methods_disc::disc_markdown(&d))
+                })?,
+                friction: timed("frictional disc", || {
+                    friction_disc::compute_friction_disc()
+                        .map(|d| (friction_disc::friction_disc_markdown(&d), friction_disc::friction_disc_csv(&d)))
                 })?,
             })
         },
