@@ -6,8 +6,10 @@
 
 use massredist_study::paper::friction_disc::{MassRuns, compute_friction_disc};
 
-/// The five runs of each mass, CN, μ = 0.1. mod3 `all` and `normal`: the disc lands at t = 0.5
-/// exactly (free flight is exact and 0.5 is step 50), stays in one contact episode, friction
+/// The five runs of each mass, CN, μ = 0.1. mod3 `all` and `normal`: the disc lands at step 50
+/// or 51 (free flight brings its lowest node onto the plane at t = 0.5 exactly, so that whether
+/// step 50 carries a force, of round-off size, depends on the factor's elimination order: the
+/// unperturbed mod3 `all` run measured 2.0e-12 there against 0.36 at t = 0.51), stays in one contact episode, friction
 /// dissipates, and E(T) + D(T) = E(0) up to the exact contact's own loss in Crank–Nicolson
 /// (measured 2.5e-5 and 2.8e-5 of E(0); the bound 1e-4 is that with a margin, against
 /// D(T)/E(0) ≈ 0.07: an error in D's definition or sign shows at once). The standard mass:
@@ -23,7 +25,8 @@ fn redistribution_removes_the_chatter_and_the_energy_balances_with_the_dissipati
     for m in [all, normal] {
         assert_eq!(m.runs.len(), 5, "{}: the unperturbed run and four copies", m.mass);
         for run in &m.runs {
-            assert_eq!(run.first_impact, Some(0.5), "{}", m.mass);
+            let landed = run.first_impact.is_some_and(|t| (t - 0.5).abs() < 1e-9 || (t - 0.51).abs() < 1e-9);
+            assert!(landed, "{}: first impact {:?}", m.mass, run.first_impact);
             assert_eq!(run.episodes, 1, "{}", m.mass);
             assert!(run.dissipation_ratio > 0.0, "{}", m.mass);
             assert!(run.balance.abs() <= 1e-4, "{}: (E + D − E(0))/E(0) = {:e}", m.mass, run.balance);
