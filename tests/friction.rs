@@ -202,6 +202,63 @@ fn every_step_balances_momentum_and_dissipates() {
     }
 }
 
+/// Backward Euler's energy identity with friction (issue 29, check 4): with the equation
+/// `M (V^{n+1} − Vⁿ)/Δt + K U^{n+1} = F + R^{n+1}` and `ΔU = Δt V^{n+1}`, the energy
+/// `E = ½ VᵀMV + ½ UᵀKU − FᵀU` loses per step exactly
+///
+/// ```text
+/// Eⁿ − E^{n+1} = D_step + ½ ΔVᵀMΔV + ½ ΔUᵀKΔU + Σ_c R_c^{n+1} (u_cⁿ − lb_c),
+/// ```
+///
+/// the friction dissipation `D_step = −Σ_i r_t,i · Δu_t,i` (the `friction_dissipation` key's
+/// increment), backward Euler's own numerical dissipation (the two quadratic terms: how the
+/// scheme's part is separated), and the normal contact's work (≥ 0: a node pressed at t_{n+1}
+/// was at or above the plane at t_n; 0 while it stays on it). Checked at every step of the
+/// sliding block, standard mass, Coulomb and Tresca, against the round-off of E itself: ½ UᵀKU
+/// of a translated block (|U| ≤ 1) sums 132 entries of K U, each ε |K| |U| with |K| ≤ 4e4, so
+/// E carries 132 · 4e4 · ε ≈ 1.2e-9 (against D_step ≈ μ m g v Δt ≈ 2.5e-4 while it slides);
+/// measured 8.7e-11 (Coulomb) and 9.7e-11 (Tresca).
+/// mutation: the dissipation's increment `r_t[0] * du[0]` scaled by 0.999 in friction.rs -> the
+/// identity fails (0.1 % of D_step is 3e-7, 250 × the tolerance).
+#[test]
+fn backward_euler_loses_the_friction_dissipation_plus_its_own() {
+    #[derive(Default)]
+    struct States(Vec<(Vec<f64>, Vec<f64>, Vec<f64>, f64)>);
+    impl Observer for States {
+        fn observe(&mut self, s: &Sample) {
+            let d = s.friction.expect("a friction law").dissipation;
+            self.0.push((s.state.u.to_vec(), s.state.v.to_vec(), s.state.lambda.to_vec(), d));
+        }
+    }
+    use massredist::linalg::SymMatrix;
+    use massredist::problem::Geometry;
+    for law in [COULOMB, TRESCA] {
+        let g = if law == TRESCA { "-10" } else { "-1" };
+        let s = block(law, "standard", "backward-euler", 1e-3, 2.5, ["0", g], 1.0);
+        let mut states = States::default();
+        let r = run(&s, &mut [&mut states]);
+        let sys = r.problem.system.system();
+        let energy = |u: &[f64], v: &[f64]| {
+            0.5 * sys.mass.quad_form(v) + 0.5 * sys.stiffness.quad_form(u)
+                - sys.load.iter().zip(u).map(|(f, x)| f * x).sum::<f64>()
+        };
+        let (mut worst, mut slid) = (0.0f64, 0.0f64);
+        for w in states.0.windows(2) {
+            let ((u0, v0, _, d0), (u1, v1, l1, d1)) = (&w[0], &w[1]);
+            let du: Vec<f64> = u1.iter().zip(u0).map(|(a, b)| a - b).collect();
+            let dv: Vec<f64> = v1.iter().zip(v0).map(|(a, b)| a - b).collect();
+            let own = 0.5 * sys.mass.quad_form(&dv) + 0.5 * sys.stiffness.quad_form(&du);
+            let normal: f64 = sys.contact.iter().zip(&sys.lower).zip(l1).map(|((&c, &lb), &l)| -l * (u0[c] - lb)).sum();
+            let lost = energy(u0, v0) - energy(u1, v1);
+            worst = worst.max((lost - (d1 - d0) - own - normal).abs());
+            slid = slid.max(d1 - d0);
+        }
+        let tol = 132.0 * 4e4 * f64::EPSILON;
+        assert!(worst <= tol, "{law}: Eⁿ − E^(n+1) − (D + BE's own + normal work) = {worst:e} (tol {tol:e})");
+        assert!(slid > 1e4 * tol, "{law}: the friction dissipation per step ({slid:e}) is far above the tolerance");
+    }
+}
+
 /// Central differences with Coulomb friction on mod3's contact layer, massless in every
 /// direction (the step's only solve is the layer's quasi-static frictional problem): the balance
 /// of velocity Verlet, ΔP_x = ½ Δt (Σ r_tⁿ + Σ r_t^{n+1}) (the interior feels friction through
