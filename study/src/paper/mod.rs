@@ -39,6 +39,7 @@ pub mod elastic_table;
 mod experiments;
 mod figures;
 pub mod friction_disc;
+pub mod friction_sphere;
 pub mod hertz;
 mod hertz_report;
 pub mod mesh_scope;
@@ -137,8 +138,10 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let n_figures = 2 * config.horizons.len() * Experiment::ALL.len() + config.long_ends.len() + 3;
     progress.set_length(n_cases + n_figures as u64);
     progress.set_message("running");
-    let (Sections { results, rebound, scope, ps, lead, bodies, methods, hertz, disc_md, friction }, (table2d, elastic)) =
-        compute_sections(config, &methods_config, progress)?;
+    let (
+        Sections { results, rebound, scope, ps, lead, bodies, methods, hertz, disc_md, friction, sphere },
+        (table2d, elastic),
+    ) = compute_sections(config, &methods_config, progress)?;
     progress.set_message("drawing");
     let figures = figure_files(config, &results);
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
@@ -146,6 +149,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let lead_figure = table2d_lead::lead_figure(&lead.curves[0]);
     let mut body_figures = bodies_report::bodies_figures(&bodies);
     body_figures.push(hertz_report::hertz_figure(&hertz));
+    body_figures.push(friction_sphere::friction_sphere_figure(&sphere));
     let tables = tables::result_tables(config, &results);
     let mut files =
         file_names(config, &figures, &tables, &[&rebound_figure, &scope_figure, &lead_figure], table2d.is_some());
@@ -172,7 +176,8 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         + "\n"
         + &disc_md
         + "\n"
-        + &friction.0;
+        + &friction.0
+        + &friction_sphere::friction_sphere_markdown(&sphere);
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
         figures.par_iter().chain([&rebound_figure, &scope_figure, &lead_figure]).chain(&body_figures).try_for_each(
@@ -215,6 +220,8 @@ struct Sections {
     disc_md: String,
     /// GetFEM's frictional disc (issue 29): the report's section and its CSV.
     friction: (String, String),
+    /// The sphere landing with friction (issue 29, check 7).
+    sphere: Vec<friction_sphere::SchemeRuns>,
 }
 
 /// Runs [`Sections`] and, beside them, the 2D tables (scalar and elastic): the elastic table's
@@ -246,6 +253,7 @@ fn compute_sections(
                     friction_disc::compute_friction_disc()
                         .map(|d| (friction_disc::friction_disc_markdown(&d), friction_disc::friction_disc_csv(&d)))
                 })?,
+                sphere: timed("frictional sphere", friction_sphere::compute_friction_sphere)?,
             })
         },
         // The scalar plates run one after another; the elastic candidates in parallel beside them.
