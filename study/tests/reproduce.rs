@@ -80,6 +80,12 @@ fn expected_files(config: &Config) -> BTreeSet<String> {
     // The method classes (tests/methods_bench.rs checks their numbers).
     out.extend(paper::methods_report::METHODS_FILES.map(String::from));
     out.insert(paper::HERTZ_TABLE.into());
+    // Friction (tests/friction_disc.rs checks their numbers): the disc's table, the sphere's
+    // figure.
+    out.insert(paper::friction_disc::FRICTION_TABLE.into());
+    for ext in ["png", "svg", "csv"] {
+        out.insert(format!("{}.{ext}", paper::friction_sphere::FRICTION_SPHERE));
+    }
     out
 }
 
