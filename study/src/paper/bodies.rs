@@ -352,15 +352,21 @@ impl Metrics {
 }
 
 /// The metrics of a run from its series (`t`, E, Σ R, active nodes, P_y) and summary.
+/// Contact episodes: maximal runs of steps with some node in contact (`active` > 0, read off
+/// the force).
+pub fn episodes(active: &[f64]) -> usize {
+    let on: Vec<bool> = active.iter().map(|&a| a > 0.0).collect();
+    on.iter().enumerate().filter(|&(n, &c)| c && (n == 0 || !on[n - 1])).count()
+}
+
 pub fn metrics(energy: &[f64], force: &[f64], active: &[f64], momentum_y: &[f64], mass: f64, s: &Summary) -> Metrics {
     let e0 = energy.first().copied().unwrap_or(0.0);
-    let on: Vec<bool> = active.iter().map(|&a| a > 0.0).collect();
     Metrics {
         drift: energy.last().copied().unwrap_or(e0) - e0,
         max_energy_deviation: energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max),
         max_energy_increase: energy.windows(2).map(|w| w[1] - w[0]).fold(f64::NEG_INFINITY, f64::max),
         force_variation: force.windows(2).map(|w| (w[1] - w[0]).abs()).sum(),
-        episodes: on.iter().enumerate().filter(|&(n, &c)| c && (n == 0 || !on[n - 1])).count(),
+        episodes: episodes(active),
         min_distance: s.own_number("min_distance").unwrap_or(f64::NAN),
         first_impact: s.first_impact_time,
         first_release: s.first_release_time,

@@ -98,7 +98,6 @@ fn run_one(label: &str, mass: &str, copy: usize) -> Result<Run, ReproduceError> 
     let tv = |v: &[f64]| v.windows(2).map(|w| (w[1] - w[0]).abs()).sum::<f64>();
     let e0 = energy.first().copied().unwrap_or(f64::NAN);
     let last = |v: &[f64]| v.last().copied().unwrap_or(f64::NAN);
-    let on: Vec<bool> = active.iter().map(|&a| a > 0.0).collect();
     let total: f64 = run.problem.system.frame.as_ref().map_or(f64::NAN, |b| b.lumped.iter().sum());
     let times = run.series.times();
     let at = |t: f64| times.iter().position(|&s| (s - t).abs() <= 1e-9 * t).unwrap_or(times.len() - 1);
@@ -106,7 +105,7 @@ fn run_one(label: &str, mass: &str, copy: usize) -> Result<Run, ReproduceError> 
     Ok(Run {
         first_impact: run.summary.first_impact_time,
         first_release: run.summary.first_release_time,
-        episodes: on.iter().enumerate().filter(|&(n, &c)| c && (n == 0 || !on[n - 1])).count(),
+        episodes: super::bodies::episodes(&active),
         force_tv: tv(&force),
         traction_tv: tv(&traction),
         energy_ratio: last(&energy) / e0,

@@ -8,14 +8,12 @@
 //! velocity, the difference in rotation and dissipation. Per run: first impact, contact duration
 //! (read off the force), episodes, v̄_x(T)/V_t and v̄_z(T)/V₀ (P/(1ᵀM1)), D(T)/E(0), the balance
 //! (E(T) + D(T) − E(0))/E(0), the most sticking and sliding nodes; five runs from normal
-//! velocities perturbed by at most [`PERTURBATION`] (the bodies section's patterns). The figure
+//! velocities perturbed by at most [`super::bodies::PERTURBATION`] (the bodies section's patterns). The figure
 //! `friction-sphere` draws v̄_x, v̄_z and D/E(0) over time (the unperturbed runs).
 
 use super::ReproduceError;
 use super::band::{count_band, stable_digits};
-use super::bodies::{
-    COPIES, DROP_GAP, DROP_SPEED, PERTURBATION, SPHERE_DT, SPHERE_END, SPHERE_MESHES, mesh_dir, velocity_perturbation,
-};
+use super::bodies::{DROP_GAP, DROP_SPEED, SPHERE_DT, SPHERE_END, SPHERE_MESHES, mesh_dir, velocity_perturbation};
 use super::figures::{FigureFile, grid_rows};
 use super::friction_disc::{MU, TANGENTIAL_SPEED};
 use super::replicate::{Copies, Printed, replicate};
@@ -85,7 +83,6 @@ fn run_one(label: &str, kind: &str, copy: usize) -> Result<SphereRun, ReproduceE
     let e0 = energy.first().copied().unwrap_or(f64::NAN);
     let last = |v: &[f64]| v.last().copied().unwrap_or(f64::NAN);
     let total: f64 = run.problem.system.frame.as_ref().map_or(f64::NAN, |b| b.lumped.iter().sum());
-    let on: Vec<bool> = active.iter().map(|&a| a > 0.0).collect();
     let count = |v: &[f64]| v.iter().fold(0.0f64, |m, &x| m.max(x)) as usize;
     let vx: Vec<f64> = col(Column::Momentum(0)).iter().map(|p| p / total / TANGENTIAL_SPEED).collect();
     let vz: Vec<f64> = col(Column::Momentum(2)).iter().map(|p| p / total / DROP_SPEED).collect();
@@ -93,7 +90,7 @@ fn run_one(label: &str, kind: &str, copy: usize) -> Result<SphereRun, ReproduceE
     Ok(SphereRun {
         first_impact: run.summary.first_impact_time,
         first_release: run.summary.first_release_time,
-        episodes: on.iter().enumerate().filter(|&(n, &c)| c && (n == 0 || !on[n - 1])).count(),
+        episodes: super::bodies::episodes(&active),
         vx: last(&vx),
         vz: last(&vz),
         dissipation_ratio: last(&d),
@@ -121,7 +118,7 @@ fn printed(r: &SphereRun) -> Vec<Printed> {
         .collect()
 }
 
-/// Both schemes' runs with their [`COPIES`] perturbed copies, in parallel.
+/// Both schemes' runs with their [`super::bodies::COPIES`] perturbed copies, in parallel.
 pub fn compute_friction_sphere() -> Result<Vec<SchemeRuns>, ReproduceError> {
     SCHEMES
         .par_iter()
