@@ -35,9 +35,7 @@ fn body_scene(
     );
     let mut s = scene(&text);
     let Support::Plane(body) = &mut s.geometry.support else { panic!("a body") };
-    body.obstacle.normal = obstacle.0;
-    body.obstacle.point = obstacle.1;
-    body.obstacle.contact = contact;
+    body.obstacle = massredist::solid::Obstacle::plane(obstacle.0, obstacle.1, contact);
     body.clamped = clamped.map(String::from);
     s.geometry.extent = mesh.extent;
     s.geometry.source = MeshSource::Arrays(Arc::new(mesh));
@@ -190,7 +188,7 @@ fn body_on(
     let text = format!("[solid]\ndim = {d}\nnx = 2\nny = 1\n{solid}\n[obstacle]\nnormal = [{normal}]\n{rest}");
     let mut s = scene(&text);
     let Support::Plane(body) = &mut s.geometry.support else { panic!("a body") };
-    (body.obstacle.normal, body.obstacle.point, body.obstacle.contact) = (obstacle.0, obstacle.1, contact);
+    body.obstacle = massredist::solid::Obstacle::plane(obstacle.0, obstacle.1, contact);
     body.clamped = clamped.map(String::from);
     s.geometry.extent = mesh.extent;
     s.geometry.source = MeshSource::Arrays(Arc::new(mesh));

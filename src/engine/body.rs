@@ -52,7 +52,12 @@ pub fn axis_of(normal: [f64; 3], dim: usize) -> Option<(usize, f64)> {
 /// Why the engine cannot run this body (None if it can).
 pub fn refusal(spec: &SolidSpec) -> Option<String> {
     let b = spec.support.body()?;
-    let n = b.obstacle.normal;
+    let Some(n) = b.obstacle.plane_normal() else {
+        return Some(format!(
+            "obstacle.shape = \"{}\": the fenicsx engine runs plane obstacles only (curved obstacles run on the native engine)",
+            b.obstacle.surface.name()
+        ));
+    };
     if axis_of(n, spec.dim).is_none() {
         return Some(format!(
             "obstacle.normal = {:?}: the fenicsx engine runs planes whose normal is a coordinate axis (±e_x, ±e_y{}) only",
@@ -75,7 +80,7 @@ pub fn data(spec: &SolidSpec, mass: &MassKind, t_end: f64) -> Result<Option<(Str
     let problem = spec.problem(mass, t_end).map_err(|e| e.to_string())?;
     let load_energy = crate::driver::reference_load_energy(crate::problem::Geometry::system(&problem.system), t_end)
         .map_err(|e| e.to_string())?;
-    let (axis, sign) = axis_of(b.obstacle.normal, spec.dim).ok_or("obstacle.normal")?;
+    let (axis, sign) = b.obstacle.plane_normal().and_then(|n| axis_of(n, spec.dim)).ok_or("obstacle.normal")?;
     // The mesh, contact set and weights the problem was assembled with.
     let (mesh, weights) = (&problem.system.mesh, problem.system.weights.clone());
     let contact = spec.built().map_err(|e| e.to_string())?.contact.clone();

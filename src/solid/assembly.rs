@@ -47,6 +47,8 @@ pub enum SolidAssemblyError {
     Sparse(#[from] SparseError),
     #[error("solid.force = {0:?}: must be finite")]
     Force([f64; 3]),
+    #[error(transparent)]
+    Body(#[from] super::body::BodyError),
 }
 
 /// The weighted vector mass (with ρ) and the stiffness over all nodes and components (full
@@ -216,20 +218,37 @@ impl SolidSystem {
         let unknowns = contact.nodes.iter().map(|&v| dof_of[v * d].expect("contact nodes are not clamped")).collect();
         let mut system = ContactSystem::new(mass, stiffness, parts.load, unknowns, 0.0);
         // Components 1.. of the contact nodes in the obstacle's frame (the box's: the world's),
-        // and the world directions of those axes, R e_k.
-        let axes = (1..d)
-            .map(|k| {
-                let mut e = [0.0; 3];
-                e[k] = 1.0;
-                parts.frame.as_ref().map_or(e, |f| super::body::from_frame(&f.rot, e))
-            })
-            .collect();
+        // and the world directions of those axes, R e_k: one list for a global frame, each
+        // node's own under per-node frames (node i's axis k at i (d − 1) + k − 1).
+        let axis = |r: &[[f64; 3]; 3], k: usize| {
+            let mut e = [0.0; 3];
+            e[k] = 1.0;
+            super::body::from_frame(r, e)
+        };
+        let per_node = parts.frame.as_ref().and_then(|f| match &f.frames {
+            super::body::Frames::Nodes(r) => Some(r),
+            super::body::Frames::Global(_) => None,
+        });
+        let axes = match per_node {
+            Some(r) => contact.nodes.iter().flat_map(|&v| (1..d).map(move |k| axis(&r[v], k))).collect(),
+            None => (1..d)
+                .map(|k| {
+                    let mut e = [0.0; 3];
+                    e[k] = 1.0;
+                    parts.frame.as_ref().map_or(e, |f| axis(f.frames.of(0), k))
+                })
+                .collect(),
+        };
+        let offset = |slot: usize| if per_node.is_some() { slot * (d - 1) } else { 0 };
         system.tangential = Some(crate::system::Tangential {
             unknowns: contact.nodes.iter().map(|&v| (1..d).filter_map(|i| dof_of[v * d + i]).collect()).collect(),
             components: contact
                 .nodes
                 .iter()
-                .map(|&v| (1..d).filter(|&i| dof_of[v * d + i].is_some()).map(|i| i - 1).collect())
+                .enumerate()
+                .map(|(slot, &v)| {
+                    (1..d).filter(|&i| dof_of[v * d + i].is_some()).map(|i| offset(slot) + i - 1).collect()
+                })
                 .collect(),
             areas: contact.areas.clone(),
             axes,
@@ -270,7 +289,7 @@ impl SolidSystem {
             for (i, x) in w[..d].iter_mut().enumerate() {
                 *x = g(i, p);
             }
-            super::body::to_frame(&frame.rot, w)
+            super::body::to_frame(frame.frames.of(node), w)
         };
         self.dofs.iter().map(|&k| at(k / d)[k % d]).collect()
     }
@@ -289,10 +308,10 @@ impl SolidSystem {
         }
         if let Some(frame) = &self.frame {
             let d = self.mesh.dim;
-            for node in out.chunks_mut(d) {
+            for (k, node) in out.chunks_mut(d).enumerate() {
                 let mut w = [0.0; 3];
                 w[..d].copy_from_slice(node);
-                node.copy_from_slice(&super::body::from_frame(&frame.rot, w)[..d]);
+                node.copy_from_slice(&super::body::from_frame(frame.frames.of(k), w)[..d]);
             }
         }
     }

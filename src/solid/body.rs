@@ -24,6 +24,7 @@
 //!   n = e_x, R = I exactly. Linear isotropic elasticity is invariant under rotations, so the
 //!   stiffness and mass in X' are those of the body in X written in the rotated frame.
 
+pub use super::surface::{Side, Surface};
 use crate::expr::Expr;
 use crate::fem::Mesh;
 use std::collections::HashMap;
@@ -39,14 +40,27 @@ pub enum ContactSet {
     Group(String),
 }
 
-/// The rigid plane `{x : normal · (x − point) = 0}`, the body on the side `normal` points to.
+/// The rigid obstacle: its surface ([`Surface`]: a plane, a sphere, a cylinder or a level set)
+/// and which nodes meet it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Obstacle {
-    /// Unit normal, pointing from the plane into the body (entries beyond `dim` are 0).
-    pub normal: [f64; 3],
-    /// A point of the plane (entries beyond `dim` are 0).
-    pub point: [f64; 3],
+    pub surface: Surface,
     pub contact: ContactSet,
+}
+
+impl Obstacle {
+    /// The plane `{x : normal · (x − point) = 0}` with the contact set `contact`.
+    pub fn plane(normal: [f64; 3], point: [f64; 3], contact: ContactSet) -> Self {
+        Obstacle { surface: Surface::Plane { normal, point }, contact }
+    }
+
+    /// The plane's unit normal (None for a curved surface: its normals are per node).
+    pub fn plane_normal(&self) -> Option<[f64; 3]> {
+        match self.surface {
+            Surface::Plane { normal, .. } => Some(normal),
+            _ => None,
+        }
+    }
 }
 
 /// What a body scene adds to the solid: the obstacle, the clamped group, and the body force as
@@ -70,7 +84,7 @@ pub enum BodyError {
     #[error("{key} = \"{group}\": the physical group has no node")]
     EmptyGroup { key: &'static str, group: String },
     #[error(
-        "obstacle.contact = \"auto\": no boundary facet has its outward normal n_f with n_f · obstacle.normal < −0.01 (the body has no face towards the plane)"
+        "obstacle.contact = \"auto\": no boundary facet has its outward normal n_f with n_f · n < −0.01, n the obstacle's normal at the facet's centre (the body has no face towards the obstacle)"
     )]
     NoAutoContact,
     #[error(
@@ -78,13 +92,17 @@ pub enum BodyError {
     )]
     AllClamped { group: String, clamped: String },
     #[error(
-        "node {node} at ({at}) starts inside the obstacle: its gap obstacle.normal · (X − obstacle.point) = {gap:e} < 0"
+        "node {node} at ({at}) starts inside the obstacle: its gap {formula} = {gap:e} < 0 (a gap above −1e-12 × the body's size counts as touching)"
     )]
-    Inside { node: usize, at: String, gap: f64 },
+    Inside { node: usize, at: String, gap: f64, formula: &'static str },
     #[error(
-        "node {node} at ({at}) has the gap obstacle.normal · (X − obstacle.point) = {gap}: not finite; choose obstacle.point so that |X − obstacle.point| stays below 1e300 for every node"
+        "node {node} at ({at}) has the gap {formula} = {gap}: not finite; place the obstacle (obstacle.point, obstacle.center) so that the gaps stay below 1e300, and a level set finite at every node"
     )]
-    Gap { node: usize, at: String, gap: f64 },
+    Gap { node: usize, at: String, gap: f64, formula: &'static str },
+    #[error(
+        "contact node {node} at ({at}) has no normal: the gradient of the obstacle's level set is {grad} there (obstacle.shape = \"{shape}\"; a sphere's centre, a cylinder's axis, or a critical point of obstacle.distance); move the obstacle or choose obstacle.contact without this node"
+    )]
+    NoNormal { node: usize, at: String, grad: String, shape: &'static str },
     #[error("obstacle.normal = [{0}]: must be finite and not zero (it is normalised)")]
     Normal(String),
 }
@@ -98,6 +116,8 @@ pub struct BodyContact {
     pub gaps: Vec<f64>,
     /// a_i per contact node.
     pub areas: Vec<f64>,
+    /// n_i per contact node (the plane's normal for every node of a plane).
+    pub normals: Vec<[f64; 3]>,
     /// Mask over the nodes: clamped.
     pub clamped: Vec<bool>,
     /// Mask over the nodes: contact (after the clamped ones left).
@@ -248,22 +268,39 @@ fn shares(nodes: usize, vertices: usize) -> Vec<f64> {
     }
 }
 
-/// The contact nodes, gaps, areas and clamped nodes of a body on `mesh` (world coordinates;
-/// module docs). Every node is checked against the plane: one with a negative gap is refused.
+/// The contact nodes, gaps, areas, normals and clamped nodes of a body on `mesh` (world
+/// coordinates; module docs, [`Surface`]). Every node is checked against the obstacle: one
+/// with a gap below −1e-12 × the body's size (its bounding box's diagonal) is refused; a gap
+/// in [−1e-12 size, 0) counts as touching (g = 0), so that a surface through nodes is not
+/// refused for round-off.
 pub fn contact(mesh: &Mesh, body: &BodySpec) -> Result<BodyContact, BodyError> {
     let n_nodes = mesh.n_nodes();
-    let (normal, point) = (body.obstacle.normal, body.obstacle.point);
-    let gap = |v: usize| (0..3).map(|a| normal[a] * (mesh.points[v][a] - point[a])).sum::<f64>();
+    let surface = &body.obstacle.surface;
+    let level = surface.level(mesh.dim);
+    let formula = surface.formula();
+    // g where the normal exists; φ (its sign is the side) where ∇φ = 0.
+    let gap = |v: usize| level.gap_normal(mesh.points[v]).map_or_else(|| level.at(mesh.points[v]).0, |(g, _)| g);
     let at = |node: usize| {
         let at = mesh.points[node][..mesh.dim].iter().map(|x| crate::numfmt::fmt_f64(*x)).collect::<Vec<_>>();
         at.join(", ")
     };
+    let size = {
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for p in &mesh.points {
+            for a in 0..3 {
+                (lo[a], hi[a]) = (lo[a].min(p[a]), hi[a].max(p[a]));
+            }
+        }
+        (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt()
+    };
+    let touching = -1e-12 * size;
+    let gaps_all: Vec<f64> = (0..n_nodes).map(gap).collect();
     // A gap that overflows is refused here, at validation (issue 32, E11).
-    if let Some(node) = (0..n_nodes).find(|&v| !gap(v).is_finite()) {
-        return Err(BodyError::Gap { node, at: at(node), gap: gap(node) });
+    if let Some(node) = (0..n_nodes).find(|&v| !gaps_all[v].is_finite()) {
+        return Err(BodyError::Gap { node, at: at(node), gap: gaps_all[node], formula });
     }
-    if let Some(node) = (0..n_nodes).find(|&v| gap(v) < 0.0) {
-        return Err(BodyError::Inside { node, at: at(node), gap: gap(node) });
+    if let Some(node) = (0..n_nodes).find(|&v| gaps_all[v] < touching) {
+        return Err(BodyError::Inside { node, at: at(node), gap: gaps_all[node], formula });
     }
     let mut clamped = vec![false; n_nodes];
     if let Some(name) = &body.clamped {
@@ -278,6 +315,24 @@ pub fn contact(mesh: &Mesh, body: &BodySpec) -> Result<BodyContact, BodyError> {
         ContactSet::Auto => {
             for &(c, f) in &facets {
                 let (nf, _) = facet_normal(mesh, c, f);
+                // The obstacle's normal at the facet's centre (the mean of its vertices).
+                let normal = match body.obstacle.plane_normal() {
+                    Some(n) => n,
+                    None => {
+                        let k = facet_vertices(mesh);
+                        let cell = mesh.cell(c);
+                        let mut centre = [0.0; 3];
+                        for &l in &data.facets[f][..k] {
+                            for a in 0..3 {
+                                centre[a] += mesh.points[cell[l]][a] / k as f64;
+                            }
+                        }
+                        match level.gap_normal(centre) {
+                            Some((_, n)) => n,
+                            None => continue,
+                        }
+                    }
+                };
                 if (0..3).map(|a| nf[a] * normal[a]).sum::<f64>() < AUTO_THRESHOLD {
                     for &a in data.facets[f] {
                         contact[mesh.cell(c)[a]] = true;
@@ -319,8 +374,19 @@ pub fn contact(mesh: &Mesh, body: &BodySpec) -> Result<BodyContact, BodyError> {
             }
         }
     }
-    let gaps = nodes.iter().map(|&v| gap(v)).collect();
-    Ok(BodyContact { nodes, gaps, areas, clamped, contact })
+    let mut gaps = Vec::with_capacity(nodes.len());
+    let mut normals = Vec::with_capacity(nodes.len());
+    for &v in &nodes {
+        let Some((_, n)) = level.gap_normal(mesh.points[v]) else {
+            let grad =
+                level.at(mesh.points[v]).1[..mesh.dim].iter().map(|x| crate::numfmt::fmt_f64(*x)).collect::<Vec<_>>();
+            let grad = format!("[{}]", grad.join(", "));
+            return Err(BodyError::NoNormal { node: v, at: at(v), grad, shape: surface.name() });
+        };
+        gaps.push(gaps_all[v].max(0.0));
+        normals.push(n);
+    }
+    Ok(BodyContact { nodes, gaps, areas, normals, clamped, contact })
 }
 
 /// The contact data of the box (`super::Support::Face`): the nodes on x = 0 (node order),
@@ -333,7 +399,8 @@ pub fn face_contact(mesh: &Mesh, gap: f64) -> BodyContact {
     let clamped = (0..n).map(|v| mesh.on_dirichlet(v)).collect();
     let nodes: Vec<usize> = (0..n).filter(|&v| contact[v]).collect();
     let areas = face_areas(mesh, &nodes);
-    BodyContact { gaps: vec![gap; nodes.len()], nodes, areas, clamped, contact }
+    let normals = vec![[1.0, 0.0, 0.0]; nodes.len()];
+    BodyContact { gaps: vec![gap; nodes.len()], nodes, areas, normals, clamped, contact }
 }
 
 /// `∫_{Γ_C} φ_c` for each node on the box's face x = 0: every cell face on it (a segment in
@@ -372,12 +439,36 @@ fn face_areas(mesh: &Mesh, contact_nodes: &[usize]) -> Vec<f64> {
     areas
 }
 
-/// The frame and the lumped masses of a body (`super::body_system`'s module docs).
+/// The frames of a body's unknowns (`R[row][col]`, orthonormal, first column the normal).
+#[derive(Debug, Clone)]
+pub enum Frames {
+    /// One R for every node, its first column the plane's normal.
+    Global([[f64; 3]; 3]),
+    /// One R per node (a curved obstacle): a contact node's first column is its n_i, a node
+    /// that needs no frame has R = I (`super::body_system`).
+    Nodes(Vec<[[f64; 3]; 3]>),
+}
+
+impl Frames {
+    /// The frame of `node`.
+    pub fn of(&self, node: usize) -> &[[f64; 3]; 3] {
+        match self {
+            Frames::Global(r) => r,
+            Frames::Nodes(r) => &r[node],
+        }
+    }
+}
+
+/// The frames and the lumped masses of a body (`super::body_system`'s module docs).
 #[derive(Debug, Clone)]
 pub struct BodyFrame {
-    /// R (`R[row][col]`), first column the plane's normal.
-    pub rot: [[f64; 3]; 3],
-    /// `m_b = ρ Σ_c w_c ∫_c φ_b` per node (the normal component's).
+    /// The frames of the unknowns.
+    pub frames: Frames,
+    /// Per-node frames only: `L_b = Σ_a R_a M_ab` (world rows, node b's frame columns), so
+    /// that the momentum is `P = Σ_b L_b v_b` (empty for a global frame).
+    pub momentum: Vec<[[f64; 3]; 3]>,
+    /// `m_b = ρ Σ_c w_c ∫_c φ_b` per node (the normal component's; under per-node frames
+    /// the weighted scalar lumped mass).
     pub lumped: Vec<f64>,
     /// The tangential components' `m_b` (= `lumped` under `mass.contact_directions = "all"`,
     /// the standard `ρ ∫ φ_b` under `"normal"`).

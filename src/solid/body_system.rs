@@ -21,7 +21,7 @@
 
 use super::assembly::{Free, Parts, SolidAssemblyError, SolidSystem, assemble, assemble_directed};
 pub use super::body::BodyFrame;
-use super::body::{BodyContact, BodySpec, from_frame, rotation, to_frame};
+use super::body::{BodyContact, BodySpec, Frames, from_frame, rotation, to_frame};
 use crate::expr::Expr;
 use crate::fem::Mesh;
 use crate::linalg::sparse;
@@ -34,7 +34,7 @@ use std::sync::Arc;
 struct BodyLoad {
     unit: Vec<(usize, usize, f64)>,
     dof_of: Vec<Option<usize>>,
-    rot: [[f64; 3]; 3],
+    frames: Frames,
     force: Vec<Expr>,
     points: Vec<[f64; 3]>,
     dim: usize,
@@ -45,20 +45,36 @@ impl BodyLoad {
     fn at(&self, t: f64, out: &mut [f64]) {
         let d = self.dim;
         let mut args = [0.0; 4];
-        let f: Vec<[f64; 3]> = self
-            .points
-            .iter()
-            .map(|p| {
-                args[..d].copy_from_slice(&p[..d]);
-                args[d] = t;
-                let mut w = [0.0; 3];
-                for (k, e) in self.force.iter().enumerate() {
-                    w[k] = e.eval(&args[..d + 1]);
-                }
-                to_frame(&self.rot, w)
-            })
-            .collect();
+        let world = |p: &[f64; 3], args: &mut [f64; 4]| {
+            args[..d].copy_from_slice(&p[..d]);
+            args[d] = t;
+            let mut w = [0.0; 3];
+            for (k, e) in self.force.iter().enumerate() {
+                w[k] = e.eval(&args[..d + 1]);
+            }
+            w
+        };
         out.fill(0.0);
+        let Frames::Global(rot) = &self.frames else {
+            // Per-node frames: F_a = R_aᵀ Σ_b (∫ φ_a φ_b) f(X_b).
+            let f: Vec<[f64; 3]> = self.points.iter().map(|p| world(p, &mut args)).collect();
+            let mut sum = vec![[0.0; 3]; self.points.len()];
+            for &(a, b, m) in &self.unit {
+                for i in 0..d {
+                    sum[a][i] += m * f[b][i];
+                }
+            }
+            for (a, s) in sum.iter().enumerate() {
+                let s = to_frame(self.frames.of(a), *s);
+                for (i, si) in s[..d].iter().enumerate() {
+                    if let Some(k) = self.dof_of[a * d + i] {
+                        out[k] = *si;
+                    }
+                }
+            }
+            return;
+        };
+        let f: Vec<[f64; 3]> = self.points.iter().map(|p| to_frame(rot, world(p, &mut args))).collect();
         for &(a, b, m) in &self.unit {
             for (i, fb) in f[b][..d].iter().enumerate() {
                 if let Some(k) = self.dof_of[a * d + i] {
@@ -67,6 +83,30 @@ impl BodyLoad {
             }
         }
     }
+}
+
+/// The load F(0) on the free unknowns and, if the force depends on t, its forcing (module
+/// docs): `unit` the scalar unit-mass triplets (node a, node b, ∫ φ_a φ_b).
+pub(super) fn body_load(
+    mesh: &Mesh,
+    free: &Free,
+    frames: Frames,
+    body: &BodySpec,
+    unit: Vec<(usize, usize, f64)>,
+) -> (Vec<f64>, Option<Forcing>) {
+    let load = BodyLoad {
+        unit,
+        dof_of: free.dof_of.clone(),
+        frames,
+        force: body.force.clone(),
+        points: mesh.points.clone(),
+        dim: mesh.dim,
+    };
+    let mut f0 = vec![0.0; free.dofs.len()];
+    load.at(0.0, &mut f0);
+    let transient = body.force.iter().any(|e| e.depends_on("t"));
+    let forcing = transient.then(|| Forcing(Arc::new(move |t, out: &mut [f64]| load.at(t, out))));
+    (f0, forcing)
 }
 
 impl SolidSystem {
@@ -80,7 +120,10 @@ impl SolidSystem {
         contact: &BodyContact,
     ) -> Result<Self, SolidAssemblyError> {
         let d = mesh.dim;
-        let rot = rotation(body.obstacle.normal, d);
+        let Some(normal) = body.obstacle.plane_normal() else {
+            return Self::assemble_curved(mesh, (weights, directions), lame, body, contact);
+        };
+        let rot = rotation(normal, d);
         let mut frame_mesh = Mesh::clone(&mesh);
         for p in frame_mesh.points.iter_mut() {
             *p = to_frame(&rot, *p);
@@ -106,21 +149,12 @@ impl SolidSystem {
         for &(_, b, v) in &scalar_unit {
             lumped_unit[b] += v;
         }
-        let load = BodyLoad {
-            unit: scalar_unit,
-            dof_of: free.dof_of.clone(),
-            rot,
-            force: body.force.clone(),
-            points: mesh.points.clone(),
-            dim: d,
-        };
-        let mut f0 = vec![0.0; free.dofs.len()];
-        load.at(0.0, &mut f0);
-        let transient = body.force.iter().any(|e| e.depends_on("t"));
-        let forcing = transient.then(|| Forcing(Arc::new(move |t, out: &mut [f64]| load.at(t, out))));
+        let (f0, forcing) = body_load(&mesh, &free, Frames::Global(rot), body, scalar_unit);
         let contact_area = contact.areas.iter().sum();
         let volume = lumped_unit.iter().sum();
-        let frame = BodyFrame { rot, lumped, lumped_tangential, volume, lumped_unit, contact_area };
+        let frames = Frames::Global(rot);
+        let frame =
+            BodyFrame { frames, momentum: Vec::new(), lumped, lumped_tangential, volume, lumped_unit, contact_area };
         let parts = Parts { mass_all, stiff_all, unit_all, load: f0, forcing, frame: Some(frame), contact_area };
         Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)
     }
@@ -129,6 +163,19 @@ impl SolidSystem {
     pub fn moments(&self, u: &[f64], v: &[f64]) -> Option<([f64; 3], [f64; 3])> {
         let frame = self.frame.as_ref()?;
         let d = self.mesh.dim;
+        let Frames::Global(rot) = &frame.frames else {
+            // Per-node frames: P = Σ_b L_b v_b, ū = Σ_b m¹_b R_b u_b / |Ω|.
+            let (mut p, mut m) = ([0.0; 3], [0.0; 3]);
+            for (k, &g) in self.dofs.iter().enumerate() {
+                let (node, comp) = (g / d, g % d);
+                let (l, r) = (&frame.momentum[node], frame.frames.of(node));
+                for a in 0..d {
+                    p[a] += l[a][comp] * v[k];
+                    m[a] += frame.lumped_unit[node] * r[a][comp] * u[k];
+                }
+            }
+            return Some((p, m.map(|x| x / frame.volume)));
+        };
         let (mut p, mut m) = ([0.0; 3], [0.0; 3]);
         for (k, &g) in self.dofs.iter().enumerate() {
             let (node, comp) = (g / d, g % d);
@@ -136,6 +183,6 @@ impl SolidSystem {
             p[comp] += m_b * v[k];
             m[comp] += frame.lumped_unit[node] * u[k];
         }
-        Some((from_frame(&frame.rot, p), from_frame(&frame.rot, m.map(|x| x / frame.volume))))
+        Some((from_frame(rot, p), from_frame(rot, m.map(|x| x / frame.volume))))
     }
 }

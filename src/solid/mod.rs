@@ -32,17 +32,20 @@
 pub mod assembly;
 pub mod body;
 pub mod body_system;
+pub mod curved;
 pub mod geometry;
 pub mod lean;
 pub mod lumped;
 pub mod problem;
 pub mod report;
 pub mod spec;
+pub mod surface;
 pub mod table;
 pub mod vtu;
 
 pub use assembly::{Lame, Lateral, SolidSystem};
-pub use body::{BodyContact, BodyError};
+pub use body::{BodyContact, BodyError, Frames};
 pub use problem::{SolidError, SolidProblem};
 pub use spec::{BodySpec, Built, ContactSet, MeshSource, Obstacle, SolidInitial, SolidSpec, Support};
+pub use surface::{Side, Surface};
 pub use table::obstacle::RawObstacle;
