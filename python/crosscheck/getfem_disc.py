@@ -138,6 +138,17 @@ def spmv(a, x):
     return np.asarray(a.mult(x)).ravel()
 
 
+def common_arguments(p, max_res):
+    """The arguments every GetFEM peer takes: Lamé's coefficients, the augmentation parameter,
+    Newton's residual, its trace and the JSON file written."""
+    p.add_argument("--lame-lambda", type=float, default=20.0)
+    p.add_argument("--lame-mu", type=float, default=20.0)
+    p.add_argument("--r", type=float, default=50.0, help="augmentation parameter (about Young's modulus)")
+    p.add_argument("--max-res", type=float, default=max_res)
+    p.add_argument("--noisy", action="store_true", help="GetFEM's Newton prints its residuals")
+    p.add_argument("--out", required=True, help="the JSON file written")
+
+
 def node_numbering(mfu):
     """GetFEM's vector dofs come in pairs (x, y) per node: the node coordinates, one per pair."""
     pts = mfu.basic_dof_nodes()
@@ -279,17 +290,12 @@ def parser():
     p.add_argument("--steps", type=int, default=300)
     p.add_argument("--beta", type=float, default=0.25)
     p.add_argument("--gamma", type=float, default=0.5)
-    p.add_argument("--lame-lambda", type=float, default=20.0)
-    p.add_argument("--lame-mu", type=float, default=20.0)
     p.add_argument("--density", type=float, default=1.0)
     p.add_argument("--force", type=float, nargs=2, default=[0.0, -0.1])
     p.add_argument("--velocity", type=float, nargs=2, default=[0.0, 0.0], help="initial velocity (uniform)")
     p.add_argument("--normal", type=float, nargs=2, default=[0.0, 1.0])
     p.add_argument("--point", type=float, nargs=2, default=[0.0, 0.0])
-    p.add_argument("--r", type=float, default=50.0, help="augmentation parameter (about Young's modulus)")
-    p.add_argument("--max-res", type=float, default=1e-9)
-    p.add_argument("--noisy", action="store_true", help="GetFEM's Newton prints its residuals")
-    p.add_argument("--out", required=True, help="the JSON file written")
+    common_arguments(p, 1e-9)
     return p
 
 

@@ -38,7 +38,7 @@ import sys
 import numpy as np
 
 import getfem as gf
-from getfem_disc import contact_faces, load, mass_matrix, node_numbering
+from getfem_disc import common_arguments, contact_faces, load, mass_matrix, node_numbering
 
 
 def run(args):
@@ -129,18 +129,13 @@ def run(args):
 def parser():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--mesh", required=True, help="an ASCII gmsh file of triangles")
-    p.add_argument("--lame-lambda", type=float, default=20.0)
-    p.add_argument("--lame-mu", type=float, default=20.0)
     p.add_argument("--force", type=float, nargs=2, default=[0.02, -0.1])
     p.add_argument("--mu", type=float, default=0.3, help="Coulomb's coefficient")
     p.add_argument("--normal", type=float, nargs=2, default=[0.0, 1.0])
     p.add_argument("--point", type=float, nargs=2, default=[0.0, 0.0])
     p.add_argument("--density", type=float, default=1.0)
     p.add_argument("--dt", type=float, default=None, help="one backward-Euler step from rest of this length (default: static)")
-    p.add_argument("--r", type=float, default=50.0, help="augmentation parameter (about Young's modulus)")
-    p.add_argument("--max-res", type=float, default=1e-12)
-    p.add_argument("--noisy", action="store_true", help="GetFEM's Newton prints its residuals")
-    p.add_argument("--out", required=True, help="the JSON file written")
+    common_arguments(p, 1e-12)
     return p
 
 
