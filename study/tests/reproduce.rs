@@ -86,6 +86,11 @@ fn expected_files(config: &Config) -> BTreeSet<String> {
     for ext in ["png", "svg", "csv"] {
         out.insert(format!("{}.{ext}", paper::friction_sphere::FRICTION_SPHERE));
     }
+    // Curved obstacles (tests/obstacles.rs checks their numbers): the table and the figure.
+    out.insert(paper::obstacles::OBSTACLES_TABLE.into());
+    for ext in ["png", "svg", "csv"] {
+        out.insert(format!("{}.{ext}", paper::obstacles::OBSTACLES_FIGURE));
+    }
     out
 }
 

@@ -46,6 +46,7 @@ pub mod mesh_scope;
 pub mod methods;
 pub mod methods_disc;
 pub mod methods_report;
+pub mod obstacles;
 mod periods;
 pub mod plate_table;
 pub mod ps_growth;
@@ -139,7 +140,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     progress.set_length(n_cases + n_figures as u64);
     progress.set_message("running");
     let (
-        Sections { results, rebound, scope, ps, lead, bodies, methods, hertz, disc_md, friction, sphere },
+        Sections { results, rebound, scope, ps, lead, bodies, methods, hertz, disc_md, friction, sphere, obstacles },
         (table2d, elastic),
     ) = compute_sections(config, &methods_config, progress)?;
     progress.set_message("drawing");
@@ -150,6 +151,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let mut body_figures = bodies_report::bodies_figures(&bodies);
     body_figures.push(hertz_report::hertz_figure(&hertz));
     body_figures.push(friction_sphere::friction_sphere_figure(&sphere));
+    body_figures.push(obstacles::obstacles_figure(&obstacles));
     let tables = tables::result_tables(config, &results);
     let mut files =
         file_names(config, &figures, &tables, &[&rebound_figure, &scope_figure, &lead_figure], table2d.is_some());
@@ -162,6 +164,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     files.splice(at..at, methods_report::METHODS_FILES.map(String::from));
     let at = files.iter().position(|f| f == "summaries.json").unwrap_or(files.len());
     files.insert(at, friction_disc::FRICTION_TABLE.to_string());
+    files.insert(at + 1, obstacles::OBSTACLES_TABLE.to_string());
     let bodies_md = bodies_report::bodies_section(&bodies) + &hertz_report::hertz_section(&hertz);
     let report = report_markdown(
         config,
@@ -177,7 +180,8 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         + &disc_md
         + "\n"
         + &friction.0
-        + &friction_sphere::friction_sphere_markdown(&sphere);
+        + &friction_sphere::friction_sphere_markdown(&sphere)
+        + &obstacles::obstacles_markdown(&obstacles);
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
         figures.par_iter().chain([&rebound_figure, &scope_figure, &lead_figure]).chain(&body_figures).try_for_each(
@@ -198,6 +202,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         let header = HERTZ_COLUMNS.map(String::from);
         tables::write_csv(&tmp.join(HERTZ_TABLE), &header, &hertz_report::hertz_csv_rows(&hertz))?;
         std::fs::write(tmp.join(friction_disc::FRICTION_TABLE), &friction.1)?;
+        std::fs::write(tmp.join(obstacles::OBSTACLES_TABLE), obstacles::obstacles_csv(&obstacles))?;
         std::fs::write(tmp.join("summaries.json"), summaries_json(config, &results)?)?;
         std::fs::write(tmp.join("report.md"), &report)
     })
@@ -222,6 +227,8 @@ struct Sections {
     friction: (String, String),
     /// The sphere landing with friction (issue 29, check 7).
     sphere: Vec<friction_sphere::SchemeRuns>,
+    /// Curved rigid obstacles (issue 30).
+    obstacles: Vec<obstacles::CaseRuns>,
 }
 
 /// Runs [`Sections`] and, beside them, the 2D tables (scalar and elastic): the elastic table's
@@ -254,6 +261,7 @@ fn compute_sections(
                         .map(|d| (friction_disc::friction_disc_markdown(&d), friction_disc::friction_disc_csv(&d)))
                 })?,
                 sphere: timed("frictional sphere", friction_sphere::compute_friction_sphere)?,
+                obstacles: timed("curved obstacles", obstacles::compute_obstacles)?,
             })
         },
         // The scalar plates run one after another; the elastic candidates in parallel beside them.
