@@ -149,6 +149,17 @@ def common_arguments(p, max_res):
     p.add_argument("--out", required=True, help="the JSON file written")
 
 
+def run_main(argv, parser, run, summary):
+    """A peer's command line: parse ``argv`` with ``parser``, run GetFEM quietly, write the result
+    as JSON to ``--out`` and print ``summary(args, result)`` on stderr."""
+    args = parser().parse_args(argv)
+    gf.util_trace_level(0)
+    result = run(args)
+    with open(args.out, "w") as f:
+        json.dump(result, f)
+    print(summary(args, result), file=sys.stderr)
+
+
 def node_numbering(mfu):
     """GetFEM's vector dofs come in pairs (x, y) per node: the node coordinates, one per pair."""
     pts = mfu.basic_dof_nodes()
@@ -299,19 +310,17 @@ def parser():
     return p
 
 
-def main(argv=None):
-    args = parser().parse_args(argv)
-    gf.util_trace_level(0)
-    result = run(args)
-    with open(args.out, "w") as f:
-        json.dump(result, f)
+def summary(args, result):
     c = np.asarray(result["complementarity"])
-    print(
+    return (
         f"getfem_disc: {args.mesh} P{result['degree']} {args.mass}: {args.steps} steps, Newton iterations "
         f"{min(result['newton_iterations'])}..{max(result['newton_iterations'])}, min distance {c[:, 0].min():.3e}, "
-        f"max |d λ| {c[:, 2].max():.3e}",
-        file=sys.stderr,
+        f"max |d λ| {c[:, 2].max():.3e}"
     )
+
+
+def main(argv=None):
+    run_main(argv, parser, run, summary)
 
 
 if __name__ == "__main__":

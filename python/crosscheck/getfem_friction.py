@@ -32,13 +32,11 @@ the contact nodes with their normal and tangential multipliers (GetFEM's signs: 
 contact), the Newton iterations and the residual reached.
 """
 import argparse
-import json
-import sys
 
 import numpy as np
 
 import getfem as gf
-from getfem_disc import common_arguments, contact_faces, load, mass_matrix, node_numbering
+from getfem_disc import common_arguments, contact_faces, load, mass_matrix, node_numbering, run_main
 
 
 def run(args):
@@ -139,17 +137,15 @@ def parser():
     return p
 
 
-def main(argv=None):
-    args = parser().parse_args(argv)
-    gf.util_trace_level(0)
-    result = run(args)
-    with open(args.out, "w") as f:
-        json.dump(result, f)
-    print(
+def summary(args, result):
+    return (
         f"getfem_friction: {args.mesh}: {len(result['contact_nodes'])} contact nodes, Newton iterations "
-        f"{result['newton_iterations']} (Δt continuation)",
-        file=sys.stderr,
+        f"{result['newton_iterations']} (Δt continuation)"
     )
+
+
+def main(argv=None):
+    run_main(argv, parser, run, summary)
 
 
 if __name__ == "__main__":

@@ -34,13 +34,11 @@ multipliers (GetFEM's sign: λ_n ≤ 0 in contact) and the largest normal deviat
 forward difference from the central one with a step 1e-3 smaller (a measure of its error).
 """
 import argparse
-import json
-import sys
 
 import numpy as np
 
 import getfem as gf
-from getfem_disc import common_arguments, load, node_numbering
+from getfem_disc import common_arguments, load, node_numbering, run_main
 
 
 def fd_normal(phi, point, eps):
@@ -129,19 +127,17 @@ def parser():
     return p
 
 
-def main(argv=None):
-    args = parser().parse_args(argv)
-    gf.util_trace_level(0)
-    result = run(args)
-    with open(args.out, "w") as f:
-        json.dump(result, f)
-    active = sum(1 for l in result["lambda_n"] if l < 0.0)
-    print(
+def summary(args, result):
+    active = sum(1 for lam in result["lambda_n"] if lam < 0.0)
+    return (
         f"getfem_obstacle: {args.mesh}: {len(result['contact_nodes'])} contact nodes, {active} pressing, "
         f"Newton iterations {result['newton_iterations']}, forward-difference normals within "
-        f"{result['normal_deviation']:.2e}",
-        file=sys.stderr,
+        f"{result['normal_deviation']:.2e}"
     )
+
+
+def main(argv=None):
+    run_main(argv, parser, run, summary)
 
 
 if __name__ == "__main__":

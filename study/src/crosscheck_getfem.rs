@@ -589,6 +589,26 @@ pub fn obstacle_case(
     })
 }
 
+/// A static case's line of `massredist crosscheck`: the relative displacement difference `rel`
+/// (None: the case could not run) in the |ΔU| column against `tolerance`, passing when it is
+/// within it and the contact states (`same`) agree; no matrix is compared (NaN).
+fn static_report(case: String, rel: Option<f64>, tolerance: f64, same: bool) -> super::CaseReport {
+    super::CaseReport {
+        backend: "getfem",
+        dim: 2,
+        physics: "elastic",
+        case,
+        mass_max_abs_diff: f64::NAN,
+        stiffness_max_abs_diff: f64::NAN,
+        trajectory_max_abs_diff: rel,
+        lambda_max_abs_diff: None,
+        mass_tolerance: f64::NAN,
+        stiffness_tolerance: f64::NAN,
+        trajectory_tolerance: Some(tolerance),
+        pass: same && rel.is_some_and(|d| d <= tolerance),
+    }
+}
+
 /// The cases of [`CASES`] as lines of `massredist crosscheck` (backend `getfem`): the |ΔM|
 /// column holds max |w − w_GetFEM| over the cells (tolerance 0: the weights are 0 and 1), the
 /// |ΔS| column is not compared (NaN), |ΔU| is the relative displacement difference
@@ -638,20 +658,7 @@ pub fn case_reports() -> Vec<super::CaseReport> {
             (None, false)
         }
     };
-    reports.push(super::CaseReport {
-        backend: "getfem",
-        dim: 2,
-        physics: "elastic",
-        case: "disc P1 Coulomb friction (static)".into(),
-        mass_max_abs_diff: f64::NAN,
-        stiffness_max_abs_diff: f64::NAN,
-        trajectory_max_abs_diff: rel,
-        lambda_max_abs_diff: None,
-        mass_tolerance: f64::NAN,
-        stiffness_tolerance: f64::NAN,
-        trajectory_tolerance: Some(FRICTION_TOL),
-        pass: same_states && rel.is_some_and(|d| d <= FRICTION_TOL),
-    });
+    reports.push(static_report("disc P1 Coulomb friction (static)".into(), rel, FRICTION_TOL, same_states));
     for case in &OBSTACLE_CASES {
         let result =
             std::fs::create_dir_all(&dir).map_err(|e| e.to_string()).and_then(|()| obstacle_case(case, &dir, &|t| t));
@@ -662,20 +669,7 @@ pub fn case_reports() -> Vec<super::CaseReport> {
                 (None, OBSTACLE_TOL, false)
             }
         };
-        reports.push(super::CaseReport {
-            backend: "getfem",
-            dim: 2,
-            physics: "elastic",
-            case: format!("{} (static)", case.name),
-            mass_max_abs_diff: f64::NAN,
-            stiffness_max_abs_diff: f64::NAN,
-            trajectory_max_abs_diff: rel,
-            lambda_max_abs_diff: None,
-            mass_tolerance: f64::NAN,
-            stiffness_tolerance: f64::NAN,
-            trajectory_tolerance: Some(tolerance),
-            pass: same && rel.is_some_and(|d| d <= tolerance),
-        });
+        reports.push(static_report(format!("{} (static)", case.name), rel, tolerance, same));
     }
     let _ = std::fs::remove_dir_all(&dir);
     reports
