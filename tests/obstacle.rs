@@ -233,6 +233,16 @@ fn bad_obstacles_are_refused_naming_the_key_or_node() {
     );
     // The disc in a cavity too small for it.
     refused("shape = \"sphere\"\ncenter = [0, 20]\nradius = 19\nside = \"inside\"", &["starts inside the obstacle"]);
+    // A gap within 1e-12 of the body's size (40: the disc's diameter) below zero is touching;
+    // beyond, the node starts inside. mutation: the allowance dropped (`< 0.0`) → the first fails.
+    let near = |y: &str| {
+        let text = format!(
+            "[solid]\ndim = 2\nmesh = \"{disc}\"\nlame_lambda = 1.0\nlame_mu = 1.0\n[obstacle]\nnormal = [0, 1]\npoint = [0, {y}]\n[time]\ndt = 0.1\nend = 1.0\n"
+        );
+        SolidScene::from_toml(&text).and_then(|s| massredist::run::setup(&s).map(|_| ())).map_err(|e| e.to_string())
+    };
+    assert!(near("1e-11").is_ok(), "{:?}", near("1e-11"));
+    assert!(near("1e-9").is_err_and(|e| e.contains("starts inside the obstacle")));
     // A level set whose gradient vanishes at a contact node: φ = y³ + 10⁻³ at the disc's
     // lowest node (0, 0).
     refused("shape = \"level-set\"\ndistance = \"y^3 + 1e-3\"", &["has no normal", "obstacle.shape = \"level-set\""]);

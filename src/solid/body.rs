@@ -1,6 +1,7 @@
-//! A body of any shape against a rigid plane (issue 19): the contact nodes, their initial gaps
-//! and shares of the contact area, the clamped nodes, and the one rotation that makes the
-//! plane's normal the first axis.
+//! A body of any shape against a rigid obstacle (issue 19; curved obstacles, issue 30: the
+//! surface's gaps and normals are [`super::surface`]'s, the per-node frames `super::curved`'s):
+//! the contact nodes, their initial gaps, normals and shares of the contact area, the clamped
+//! nodes, and for a plane the one rotation that makes its normal the first axis.
 //!
 //! ```text
 //! obstacle: {x : n · (x − p) = 0}, n the unit normal pointing into the body, p a point of it;
@@ -270,7 +271,7 @@ fn shares(nodes: usize, vertices: usize) -> Vec<f64> {
 
 /// The contact nodes, gaps, areas, normals and clamped nodes of a body on `mesh` (world
 /// coordinates; module docs, [`Surface`]). Every node is checked against the obstacle: one
-/// with a gap below −1e-12 × the body's size (its bounding box's diagonal) is refused; a gap
+/// with a gap below −1e-12 × the body's size (its bounding box's largest side) is refused; a gap
 /// in [−1e-12 size, 0) counts as touching (g = 0), so that a surface through nodes is not
 /// refused for round-off.
 pub fn contact(mesh: &Mesh, body: &BodySpec) -> Result<BodyContact, BodyError> {
@@ -284,6 +285,8 @@ pub fn contact(mesh: &Mesh, body: &BodySpec) -> Result<BodyContact, BodyError> {
         let at = mesh.points[node][..mesh.dim].iter().map(|x| crate::numfmt::fmt_f64(*x)).collect::<Vec<_>>();
         at.join(", ")
     };
+    // The body's size: its bounding box's largest side (no square to overflow; a side that
+    // overflows counts as f64::MAX, so that the allowance stays finite).
     let size = {
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         for p in &mesh.points {
@@ -291,7 +294,7 @@ pub fn contact(mesh: &Mesh, body: &BodySpec) -> Result<BodyContact, BodyError> {
                 (lo[a], hi[a]) = (lo[a].min(p[a]), hi[a].max(p[a]));
             }
         }
-        (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt()
+        (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max).min(f64::MAX)
     };
     let touching = -1e-12 * size;
     let gaps_all: Vec<f64> = (0..n_nodes).map(gap).collect();
