@@ -42,6 +42,27 @@ pub enum Column {
     SlipNodes,
     /// A solid's total tangential reaction Σ_i r_t,i, world component k (0 without friction).
     TangentialForce(u8),
+    /// A column of one pair or body of several bodies, named `<name>.<column>`
+    /// (`impact.contact_force`, `striker.momentum_x`): its full name (interned, [`intern`]) and
+    /// its slot among the geometry's own columns (`crate::solid::report`).
+    Dotted {
+        name: &'static str,
+        slot: u8,
+    },
+}
+
+/// A `'static` copy of a dotted column's name, made once per distinct name in the process
+/// (names come from scenes: a few per scene).
+pub fn intern(name: String) -> &'static str {
+    static NAMES: std::sync::Mutex<std::collections::BTreeSet<&'static str>> =
+        std::sync::Mutex::new(std::collections::BTreeSet::new());
+    let mut names = NAMES.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some(n) = names.get(name.as_str()) {
+        return n;
+    }
+    let leaked: &'static str = Box::leak(name.into_boxed_str());
+    names.insert(leaked);
+    leaked
 }
 
 impl Column {
@@ -133,6 +154,7 @@ impl Column {
             Column::TangentialForce(k) => {
                 ["tangential_force_x", "tangential_force_y", "tangential_force_z"][k.min(2) as usize]
             }
+            Column::Dotted { name, .. } => name,
         }
     }
 

@@ -52,7 +52,7 @@ pub fn series_needs(columns: &[Column]) -> Needs {
 }
 
 /// The most columns a geometry computes itself ([`GeometryView::own_columns`]).
-pub const MAX_OWN_COLUMNS: usize = 16;
+pub const MAX_OWN_COLUMNS: usize = 128;
 
 /// The values of the geometry's own columns at a sample, into `out` (None if the geometry has
 /// none, or none of them is `wanted`); computed once per row or state.
@@ -94,7 +94,9 @@ fn series_value(c: Column, s: &Sample) -> f64 {
         Column::UMean => s.u_mean,
         Column::Lambda => s.pressure,
         Column::ContactForce => s.contact_force,
-        Column::ActiveNodes | Column::MinDistance | Column::Momentum(_) | Column::MeanU(_) => f64::NAN,
+        Column::ActiveNodes | Column::MinDistance | Column::Momentum(_) | Column::MeanU(_) | Column::Dotted { .. } => {
+            f64::NAN
+        }
         Column::Energy => s.energy,
         Column::L2Error => s.l2_error,
         Column::ExactU0 => s.exact.map_or(f64::NAN, |e| e.u0(t)),
@@ -465,7 +467,7 @@ impl Observer for SummaryObserver {
                 self.final_force = values[k];
             }
             if let Some(keys) = self.own.as_mut() {
-                keys.observe(values);
+                keys.observe(st.t, values);
             }
         }
         if self.first_impact.is_none() {

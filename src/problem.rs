@@ -120,9 +120,9 @@ pub trait GeometryView: std::fmt::Debug + Send + Sync {
 /// The keys a geometry adds to `summary.json` ([`GeometryView::own_summary`]), accumulated
 /// from the values of its own columns at each state shown.
 pub trait OwnSummary: std::fmt::Debug + Send {
-    /// Takes a state's values of the geometry's own columns ([`GeometryView::own_columns`]
-    /// order).
-    fn observe(&mut self, values: &[f64]);
+    /// Takes a state's time and values of the geometry's own columns
+    /// ([`GeometryView::own_columns`] order).
+    fn observe(&mut self, t: f64, values: &[f64]);
     /// The keys over the states taken (none if no state was taken).
     fn keys(&self) -> serde_json::Map<String, serde_json::Value>;
 }

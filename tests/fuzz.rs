@@ -48,12 +48,18 @@ fn shipped() -> Vec<(String, Table)> {
         .map(|p| {
             let text = std::fs::read_to_string(&p).unwrap();
             let mut table = text.parse::<Table>().unwrap();
-            // A mesh file named relative to the scene: absolute, since the case runs elsewhere.
-            if let Some(Value::Table(solid)) = table.get_mut("solid")
-                && let Some(Value::String(mesh)) = solid.get("mesh")
-            {
-                let at = p.parent().unwrap().join(mesh).to_string_lossy().into_owned();
-                solid.insert("mesh".into(), Value::String(at));
+            // A mesh file named relative to the scene: absolute, since the case runs elsewhere
+            // (a `[solid]` table's, or each `[[solid]]` body's).
+            let solids: Vec<&mut Table> = match table.get_mut("solid") {
+                Some(Value::Table(solid)) => vec![solid],
+                Some(Value::Array(bodies)) => bodies.iter_mut().filter_map(Value::as_table_mut).collect(),
+                _ => Vec::new(),
+            };
+            for solid in solids {
+                if let Some(Value::String(mesh)) = solid.get("mesh") {
+                    let at = p.parent().unwrap().join(mesh).to_string_lossy().into_owned();
+                    solid.insert("mesh".into(), Value::String(at));
+                }
             }
             (p.file_name().unwrap().to_string_lossy().into_owned(), table)
         })

@@ -64,7 +64,11 @@ fn tag_values(table: &str, tag: &str) -> Vec<String> {
 /// The keys of one table, `table.key`, from its refusals of an unknown key (one per tag value
 /// for tagged tables).
 fn table_keys(table: &str) -> BTreeSet<String> {
-    let message = refusal(&format!("[{table}]\n{UNKNOWN} = 1\n"));
+    let mut message = refusal(&format!("[{table}]\n{UNKNOWN} = 1\n"));
+    // An array of tables (`[[pair]]`) is probed as one.
+    if message.contains("expected a sequence") {
+        message = refusal(&format!("[[{table}]]\n{UNKNOWN} = 1\n"));
+    }
     let keys = expected_keys(&message).unwrap_or_else(|| panic!("[{table}]: no key list in {message}"));
     let mut out: BTreeSet<String> = keys.iter().map(|k| format!("{table}.{k}")).collect();
     for tag in ["kind", "method"].into_iter().filter(|t| keys.iter().any(|k| k == t)) {

@@ -111,6 +111,7 @@ impl SceneGeometry for BarSpec {
             one_cell_contact_row: true,
             zero_gap: self.gap == 0.0,
             tangential_dims: 0,
+            pairs: false,
         })
     }
 

@@ -197,6 +197,12 @@ impl EngineGeometry for PlateSpec {
 /// bodies against an axis plane ([`body`]).
 impl EngineGeometry for SolidSpec {
     fn engine_refusal(&self) -> Option<String> {
+        if self.support.bodies().is_some() {
+            return Some(
+                "[[solid]]: the fenicsx engine runs one body (several bodies in contact run on the native engine)"
+                    .into(),
+            );
+        }
         if self.support.body().is_some() {
             return body::refusal(self);
         }

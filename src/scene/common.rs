@@ -176,14 +176,16 @@ pub(crate) fn parse_series(
     names: Vec<String>,
     allowed: &[Column],
     range: &'static str,
+    named: impl Fn(&str) -> Option<Column>,
 ) -> Result<Vec<Column>, SceneError> {
     let mut series = Vec::new();
     for name in names {
-        let col = allowed.iter().copied().find(|c| c.name() == name).ok_or_else(|| SceneError::Range {
-            key: "output.series",
-            value: format!("\"{name}\""),
-            range,
-        })?;
+        let col = allowed
+            .iter()
+            .copied()
+            .find(|c| c.name() == name)
+            .or_else(|| named(&name))
+            .ok_or_else(|| SceneError::Range { key: "output.series", value: format!("\"{name}\""), range })?;
         if series.contains(&col) {
             return Err(SceneError::DuplicateColumn(name));
         }
@@ -258,6 +260,15 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
     let scheme = parse_scheme(raw.scheme)?;
     let contact = super::contact::parse_contact(raw.contact)?;
     if contact_directions == ContactDirections::Normal {
+        if offer.pairs {
+            return Err(SceneError::Conflict {
+                key: "mass.contact_directions",
+                value: "\"normal\"".into(),
+                with: format!("several [[{}]] bodies", G::TABLE),
+                why: "the normal direction of the layer's inner nodes is not defined between two bodies".into(),
+                allowed: "all".into(),
+            });
+        }
         if offer.tangential_dims == 0 {
             return Err(SceneError::Conflict {
                 key: "mass.contact_directions",
@@ -276,7 +287,7 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
     let time = parse_time(raw.time, 3.0 * geometry.length(), geometry.unknowns(), geometry.size_keys())?;
     let o = raw.output.unwrap_or_default();
     let series = match o.series {
-        Some(names) => parse_series(names, G::COLUMNS, G::COLUMN_LIST)?,
+        Some(names) => parse_series(names, G::COLUMNS, G::COLUMN_LIST, |n| geometry.named_column(n))?,
         None => geometry.default_series(),
     };
     if let Some((column, why)) = series.iter().find_map(|&c| geometry.unavailable(c).map(|why| (c, why))) {

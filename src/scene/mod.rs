@@ -83,8 +83,9 @@ macro_rules! __geometries {
             Bar($crate::bar::BarSpec) as BarScene = bar;
             /// A plate scene (`[plate]`).
             Plate($crate::plate::PlateSpec) as PlateScene = plate;
-            /// An elastic solid scene (`[solid]`, and a body's `[obstacle]`).
-            Solid($crate::solid::SolidSpec) as SolidScene = solid + obstacle($crate::solid::RawObstacle);
+            /// An elastic solid scene (`[solid]`, and a body's `[obstacle]`; or `[[solid]]` bodies and
+            /// their `[[pair]]`s).
+            Solid($crate::solid::SolidSpec) as SolidScene = solid + obstacle($crate::solid::RawObstacle) + pair(Vec<$crate::solid::RawPair>);
         }
     };
 }
@@ -132,7 +133,15 @@ impl AnyScene {
         GEOMETRIES
             .iter()
             .flat_map(|(geometry, keys)| keys.iter().map(move |key| (*geometry, *key)))
-            .filter_map(|(geometry, key)| table.get(geometry)?.get(key)?.as_str())
+            // A geometry table, or an array of them (`[[solid]]` bodies).
+            .flat_map(|(geometry, key)| {
+                let tables = match table.get(geometry) {
+                    Some(toml::Value::Array(a)) => a.iter().collect(),
+                    Some(t) => vec![t],
+                    None => Vec::new(),
+                };
+                tables.into_iter().filter_map(move |t| t.get(key)?.as_str())
+            })
             .filter(|f| *f != mesh_file::ARRAY_MESH)
             .map(|f| base.join(f))
             .collect()

@@ -49,6 +49,8 @@ pub enum SolidAssemblyError {
     Force([f64; 3]),
     #[error(transparent)]
     Body(#[from] super::body::BodyError),
+    #[error(transparent)]
+    Bodies(#[from] super::bodies::BodiesError),
 }
 
 /// The weighted vector mass (with ρ) and the stiffness over all nodes and components (full
@@ -155,6 +157,8 @@ pub struct SolidSystem {
     /// A body against a plane: its frame and lumped masses (None: the box, whose frame is the
     /// world's; [`super::body_system`]). Unknowns are then components in the frame.
     pub frame: Option<super::body::BodyFrame>,
+    /// Several bodies: the layout of their pairs' and bodies' reports (`super::report`).
+    pub bodies: Option<super::bodies::BodiesLayout>,
 }
 
 impl SolidSystem {
@@ -196,6 +200,11 @@ impl SolidSystem {
                 Self::on_free(mesh, (weights, directions), lame, *lateral, free, parts, contact)
             }
             Support::Plane(body) => Self::assemble_body(mesh, (weights, directions), lame, body, contact),
+            // `mesh` and `contact` are the joined bodies' (`SolidSpec::built`): joined again here.
+            Support::Bodies(bodies) => {
+                let joined = bodies.join()?;
+                Self::assemble_bodies(weights, lame, bodies, &joined)
+            }
         }
     }
 
@@ -273,25 +282,47 @@ impl SolidSystem {
             contact_areas: contact.areas.clone(),
             contact_area,
             frame: parts.frame,
+            bodies: None,
         })
     }
 
     /// The nodal interpolant of a vector field g(x) (component i of g at `x`, world
     /// components) on the free unknowns (a body's: in its frame, Rᵀ g).
     pub fn interpolate(&self, g: impl Fn(usize, [f64; 3]) -> f64) -> Vec<f64> {
+        self.interpolate_nodes(|_, i, p| g(i, p))
+    }
+
+    /// [`SolidSystem::interpolate`] of a field that also depends on the node, `g(node, i, x)`
+    /// (several bodies: each its own data), mapped to the pairs' variables z = T⁻¹ u'.
+    pub fn interpolate_nodes(&self, g: impl Fn(usize, usize, [f64; 3]) -> f64) -> Vec<f64> {
         let d = self.mesh.dim;
         let Some(frame) = &self.frame else {
-            return self.dofs.iter().map(|&k| g(k % d, self.mesh.points[k / d])).collect();
+            return self.dofs.iter().map(|&k| g(k / d, k % d, self.mesh.points[k / d])).collect();
         };
         let at = |node: usize| {
             let p = self.mesh.points[node];
             let mut w = [0.0; 3];
             for (i, x) in w[..d].iter_mut().enumerate() {
-                *x = g(i, p);
+                *x = g(node, i, p);
             }
             super::body::to_frame(frame.frames.of(node), w)
         };
-        self.dofs.iter().map(|&k| at(k / d)[k % d]).collect()
+        let mut z: Vec<f64> = self.dofs.iter().map(|&k| at(k / d)[k % d]).collect();
+        frame.coupling.unapply(&mut z);
+        z
+    }
+
+    /// The free unknowns in the frames, u' = T z (the pairs' change of variables; z itself for
+    /// one body).
+    pub fn in_frames<'a>(&self, z: &'a [f64]) -> std::borrow::Cow<'a, [f64]> {
+        match &self.frame {
+            Some(f) if !f.coupling.is_empty() => {
+                let mut u = z.to_vec();
+                f.coupling.apply(&mut u);
+                std::borrow::Cow::Owned(u)
+            }
+            _ => std::borrow::Cow::Borrowed(z),
+        }
     }
 
     /// Total mass `Σ_c w_c ρ |c| = ∫ ρ w_h` (of the normal component; of every component
@@ -303,6 +334,7 @@ impl SolidSystem {
     /// Values on all full indices (0 where eliminated), interleaved `node·d + component`
     /// (a body's rotated back to world components, R u').
     pub fn to_nodes(&self, u: &[f64], out: &mut [f64]) {
+        let u = self.in_frames(u);
         for (g, k) in self.dof_of.iter().enumerate() {
             out[g] = k.map_or(0.0, |k| u[k]);
         }

@@ -261,7 +261,7 @@ pub fn facet_normal(mesh: &Mesh, c: usize, f: usize) -> ([f64; 3], f64) {
 }
 
 /// `∫_f φ_i / |f|` for the nodes of a facet with `nodes` nodes (module docs).
-fn shares(nodes: usize, vertices: usize) -> Vec<f64> {
+pub(super) fn shares(nodes: usize, vertices: usize) -> Vec<f64> {
     match (nodes, vertices) {
         (3, 2) => vec![1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0],
         (6, 3) => vec![0.0, 0.0, 0.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0],
@@ -482,4 +482,7 @@ pub struct BodyFrame {
     pub volume: f64,
     /// `|Γ_C| = Σ_i a_i`.
     pub contact_area: f64,
+    /// Several bodies: the pairs' change of variables u' = T z on the free unknowns
+    /// (`super::pair`; empty for one body, T = I).
+    pub coupling: super::coupling::Coupling,
 }

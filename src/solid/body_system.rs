@@ -35,7 +35,8 @@ struct BodyLoad {
     unit: Vec<(usize, usize, f64)>,
     dof_of: Vec<Option<usize>>,
     frames: Frames,
-    force: Vec<Expr>,
+    /// The force of the nodes from each first node on (one body: one entry, node 0).
+    force: Vec<(usize, Vec<Expr>)>,
     points: Vec<[f64; 3]>,
     dim: usize,
 }
@@ -45,11 +46,13 @@ impl BodyLoad {
     fn at(&self, t: f64, out: &mut [f64]) {
         let d = self.dim;
         let mut args = [0.0; 4];
-        let world = |p: &[f64; 3], args: &mut [f64; 4]| {
+        let world = |v: usize, args: &mut [f64; 4]| {
+            let p = &self.points[v];
             args[..d].copy_from_slice(&p[..d]);
             args[d] = t;
             let mut w = [0.0; 3];
-            for (k, e) in self.force.iter().enumerate() {
+            let force = &self.force[self.force.partition_point(|(first, _)| *first <= v) - 1].1;
+            for (k, e) in force.iter().enumerate() {
                 w[k] = e.eval(&args[..d + 1]);
             }
             w
@@ -57,7 +60,7 @@ impl BodyLoad {
         out.fill(0.0);
         let Frames::Global(rot) = &self.frames else {
             // Per-node frames: F_a = R_aᵀ Σ_b (∫ φ_a φ_b) f(X_b).
-            let f: Vec<[f64; 3]> = self.points.iter().map(|p| world(p, &mut args)).collect();
+            let f: Vec<[f64; 3]> = (0..self.points.len()).map(|v| world(v, &mut args)).collect();
             let mut sum = vec![[0.0; 3]; self.points.len()];
             for &(a, b, m) in &self.unit {
                 for i in 0..d {
@@ -74,7 +77,7 @@ impl BodyLoad {
             }
             return;
         };
-        let f: Vec<[f64; 3]> = self.points.iter().map(|p| to_frame(rot, world(p, &mut args))).collect();
+        let f: Vec<[f64; 3]> = (0..self.points.len()).map(|v| to_frame(rot, world(v, &mut args))).collect();
         for &(a, b, m) in &self.unit {
             for (i, fb) in f[b][..d].iter().enumerate() {
                 if let Some(k) = self.dof_of[a * d + i] {
@@ -86,26 +89,29 @@ impl BodyLoad {
 }
 
 /// The load F(0) on the free unknowns and, if the force depends on t, its forcing (module
-/// docs): `unit` the scalar unit-mass triplets (node a, node b, ∫ φ_a φ_b).
+/// docs): `unit` the scalar unit-mass triplets (node a, node b, ∫ φ_a φ_b), `force` the
+/// expressions of the nodes from each first node on (one body: `[(0, its force)]`), `coupling`
+/// the pairs' Tᵀ on the free unknowns (`super::pair`; empty for one body).
 pub(super) fn body_load(
     mesh: &Mesh,
     free: &Free,
     frames: Frames,
-    body: &BodySpec,
+    force: Vec<(usize, Vec<Expr>)>,
     unit: Vec<(usize, usize, f64)>,
+    coupling: super::coupling::Coupling,
 ) -> (Vec<f64>, Option<Forcing>) {
-    let load = BodyLoad {
-        unit,
-        dof_of: free.dof_of.clone(),
-        frames,
-        force: body.force.clone(),
-        points: mesh.points.clone(),
-        dim: mesh.dim,
-    };
+    let transient = force.iter().flat_map(|f| &f.1).any(|e| e.depends_on("t"));
+    let load =
+        BodyLoad { unit, dof_of: free.dof_of.clone(), frames, force, points: mesh.points.clone(), dim: mesh.dim };
     let mut f0 = vec![0.0; free.dofs.len()];
     load.at(0.0, &mut f0);
-    let transient = body.force.iter().any(|e| e.depends_on("t"));
-    let forcing = transient.then(|| Forcing(Arc::new(move |t, out: &mut [f64]| load.at(t, out))));
+    coupling.transpose_apply(&mut f0);
+    let forcing = transient.then(|| {
+        Forcing(Arc::new(move |t, out: &mut [f64]| {
+            load.at(t, out);
+            coupling.transpose_apply(out);
+        }))
+    });
     (f0, forcing)
 }
 
@@ -149,12 +155,21 @@ impl SolidSystem {
         for &(_, b, v) in &scalar_unit {
             lumped_unit[b] += v;
         }
-        let (f0, forcing) = body_load(&mesh, &free, Frames::Global(rot), body, scalar_unit);
+        let forces = vec![(0, body.force.clone())];
+        let (f0, forcing) = body_load(&mesh, &free, Frames::Global(rot), forces, scalar_unit, Default::default());
         let contact_area = contact.areas.iter().sum();
         let volume = lumped_unit.iter().sum();
         let frames = Frames::Global(rot);
-        let frame =
-            BodyFrame { frames, momentum: Vec::new(), lumped, lumped_tangential, volume, lumped_unit, contact_area };
+        let frame = BodyFrame {
+            frames,
+            momentum: Vec::new(),
+            lumped,
+            lumped_tangential,
+            volume,
+            lumped_unit,
+            contact_area,
+            coupling: Default::default(),
+        };
         let parts = Parts { mass_all, stiff_all, unit_all, load: f0, forcing, frame: Some(frame), contact_area };
         Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)
     }
@@ -162,19 +177,11 @@ impl SolidSystem {
     /// Momentum `P = 1ᵀ M V` and mean displacement `ū` (module docs), world components.
     pub fn moments(&self, u: &[f64], v: &[f64]) -> Option<([f64; 3], [f64; 3])> {
         let frame = self.frame.as_ref()?;
+        let (u, v) = (self.in_frames(u), self.in_frames(v));
         let d = self.mesh.dim;
-        let Frames::Global(rot) = &frame.frames else {
-            // Per-node frames: P = Σ_b L_b v_b, ū = Σ_b m¹_b R_b u_b / |Ω|.
-            let (mut p, mut m) = ([0.0; 3], [0.0; 3]);
-            for (k, &g) in self.dofs.iter().enumerate() {
-                let (node, comp) = (g / d, g % d);
-                let (l, r) = (&frame.momentum[node], frame.frames.of(node));
-                for a in 0..d {
-                    p[a] += l[a][comp] * v[k];
-                    m[a] += frame.lumped_unit[node] * r[a][comp] * u[k];
-                }
-            }
-            return Some((p, m.map(|x| x / frame.volume)));
+        let rot = match &frame.frames {
+            Frames::Global(rot) => rot,
+            Frames::Nodes(_) => return Some(self.moments_in(&u, &v, 0..self.mesh.n_nodes(), frame.volume)),
         };
         let (mut p, mut m) = ([0.0; 3], [0.0; 3]);
         for (k, &g) in self.dofs.iter().enumerate() {
@@ -184,5 +191,27 @@ impl SolidSystem {
             m[comp] += frame.lumped_unit[node] * u[k];
         }
         Some((from_frame(rot, p), from_frame(rot, m.map(|x| x / frame.volume))))
+    }
+
+    /// Per-node frames: the momentum `P = Σ_b L_b v'_b` and mean displacement
+    /// `ū = Σ_b m¹_b R_b u'_b / volume` of the nodes `nodes` (a body of several: its own, as the
+    /// bodies share no cell), from the values in the frames u', v'.
+    pub fn moments_in(&self, u: &[f64], v: &[f64], nodes: std::ops::Range<usize>, volume: f64) -> ([f64; 3], [f64; 3]) {
+        let Some(frame) = self.frame.as_ref() else { return ([f64::NAN; 3], [f64::NAN; 3]) };
+        let d = self.mesh.dim;
+        let (mut p, mut m) = ([0.0; 3], [0.0; 3]);
+        let first = self.dofs.partition_point(|&g| g < nodes.start * d);
+        for (k, &g) in self.dofs.iter().enumerate().skip(first) {
+            let (node, comp) = (g / d, g % d);
+            if node >= nodes.end {
+                break;
+            }
+            let (l, r) = (&frame.momentum[node], frame.frames.of(node));
+            for a in 0..d {
+                p[a] += l[a][comp] * v[k];
+                m[a] += frame.lumped_unit[node] * r[a][comp] * u[k];
+            }
+        }
+        (p, m.map(|x| x / volume))
     }
 }

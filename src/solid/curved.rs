@@ -81,93 +81,126 @@ impl SolidSystem {
         for (&v, &n) in contact.nodes.iter().zip(&contact.normals) {
             frames[v] = rotation(n, d);
         }
-        let k = mesh.kind.verts();
-        let (mut tm, mut ts, mut tu) = (Vec::new(), Vec::new(), Vec::new());
-        let (mut lumped, mut lumped_tangential, mut lumped_unit) =
-            (vec![0.0; n_nodes], vec![0.0; n_nodes], vec![0.0; n_nodes]);
-        for (c, &w) in weights.iter().enumerate() {
-            let e = mesh.integrals(c);
-            let v = mesh.cell(c);
-            let scale: Vec<f64> = (0..d).map(|i| directions.weight(i, w).sqrt()).collect();
-            for a in 0..k {
-                for b in 0..k {
-                    let (ra, rb) = (&frames[v[a]], &frames[v[b]]);
-                    let q = relative(ra, rb);
-                    let m = e.mass[a][b];
-                    lumped[v[b]] += lame.density * w * m;
-                    lumped_tangential[v[b]] += lame.density * directions.weight(1, w) * m;
-                    lumped_unit[v[b]] += m;
-                    // The world stiffness block, by the expression of `assembly::assemble`.
-                    let mut s = [[0.0; 3]; 3];
-                    for (i, row) in s.iter_mut().enumerate().take(d) {
-                        for (j, x) in row.iter_mut().enumerate().take(d) {
-                            for qp in 0..e.nq {
-                                let (ga, gb) = (&e.grads[qp][a], &e.grads[qp][b]);
-                                let delta = if i == j { e.grad_dot(qp, a, b) } else { 0.0 };
-                                *x += e.weights[qp] * (lame.lambda * ga[i] * gb[j] + lame.mu * (delta + ga[j] * gb[i]));
-                            }
-                        }
-                    }
-                    let world = *ra == IDENTITY && *rb == IDENTITY;
-                    for i in 0..d {
-                        for j in 0..d {
-                            let (row, col) = (v[a] * d + i, v[b] * d + j);
-                            if q == IDENTITY {
-                                if i == j {
-                                    tm.push((row, col, lame.density * directions.weight(i, w) * m));
-                                    tu.push((row, col, m));
-                                }
-                            } else {
-                                tm.push((row, col, lame.density * m * scale[i] * q[i][j] * scale[j]));
-                                tu.push((row, col, m * q[i][j]));
-                            }
-                            if world {
-                                ts.push((row, col, s[i][j]));
-                                continue;
-                            }
-                            // (R_aᵀ S R_b)_ij = Σ_kl R_a[k][i] S_kl R_b[l][j].
-                            let mut x = 0.0;
-                            for kk in 0..d {
-                                for l in 0..d {
-                                    x += ra[kk][i] * s[kk][l] * rb[l][j];
-                                }
-                            }
-                            ts.push((row, col, x));
-                        }
-                    }
-                }
-            }
-        }
-        let n = n_nodes * d;
-        let mass_all = sparse::from_triplets(n, &tm, "mass")?;
-        let stiff_all = sparse::from_triplets(n, &ts, "stiffness")?;
-        let unit_all = sparse::from_triplets(n, &tu, "mass")?;
-        drop((tm, ts, tu));
-        let mut momentum = vec![[[0.0; 3]; 3]; n_nodes];
-        for (row, col, x) in sparse::triplets(&mass_all) {
-            let (a, i, b, j) = (row / d, row % d, col / d, col % d);
-            for kk in 0..d {
-                momentum[b][kk][j] += frames[a][kk][i] * x;
-            }
-        }
+        let m = frame_matrices(&mesh, &weights, directions, &lame, &frames)?;
+        let (mass_all, stiff_all, unit_all, momentum) = (m.mass_all, m.stiff_all, m.unit_all, m.momentum);
+        let (lumped, lumped_tangential, lumped_unit) = (m.lumped, m.lumped_tangential, m.lumped_unit);
         let free = Free::new(&mesh, |g| contact.clamped[g / d]);
-        // The load's scalar unit-mass triplets (node a, node b, ∫ φ_a φ_b).
-        let mut scalar_unit = Vec::new();
-        for c in 0..mesh.n_cells() {
-            let e = mesh.integrals(c);
-            let v = mesh.cell(c);
-            for a in 0..k {
-                for b in 0..k {
-                    scalar_unit.push((v[a], v[b], e.mass[a][b]));
-                }
-            }
-        }
+        let scalar_unit = m.scalar_unit;
         let frames = Frames::Nodes(frames);
-        let (load, forcing) = super::body_system::body_load(&mesh, &free, frames.clone(), body, scalar_unit);
+        let forces = vec![(0, body.force.clone())];
+        let (load, forcing) =
+            super::body_system::body_load(&mesh, &free, frames.clone(), forces, scalar_unit, Default::default());
         let contact_area = contact.areas.iter().sum();
         let volume = lumped_unit.iter().sum();
-        let frame = BodyFrame { frames, momentum, lumped, lumped_tangential, lumped_unit, volume, contact_area };
+        let coupling = Default::default();
+        let frame =
+            BodyFrame { frames, momentum, lumped, lumped_tangential, lumped_unit, volume, contact_area, coupling };
         let parts = Parts { mass_all, stiff_all, unit_all, load, forcing, frame: Some(frame), contact_area };
         Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)
     }
+}
+
+/// What [`frame_matrices`] assembles (full indices `node·d + c`, in the frames).
+pub(super) struct FrameMatrices {
+    pub mass_all: sparse::SpMat,
+    pub stiff_all: sparse::SpMat,
+    pub unit_all: sparse::SpMat,
+    /// `L_b = Σ_a R_a M'_ab` per node.
+    pub momentum: Vec<[[f64; 3]; 3]>,
+    pub lumped: Vec<f64>,
+    pub lumped_tangential: Vec<f64>,
+    pub lumped_unit: Vec<f64>,
+    /// The scalar unit-mass triplets (node a, node b, ∫ φ_a φ_b) of the load.
+    pub scalar_unit: Vec<(usize, usize, f64)>,
+}
+
+/// M', S', M¹' and the momentum rows of `mesh` with one frame per node (module docs).
+pub(super) fn frame_matrices(
+    mesh: &Mesh,
+    weights: &[f64],
+    directions: ContactDirections,
+    lame: &Lame,
+    frames: &[[[f64; 3]; 3]],
+) -> Result<FrameMatrices, sparse::SparseError> {
+    let (d, n_nodes) = (mesh.dim, mesh.n_nodes());
+    let k = mesh.kind.verts();
+    let (mut tm, mut ts, mut tu) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut lumped, mut lumped_tangential, mut lumped_unit) =
+        (vec![0.0; n_nodes], vec![0.0; n_nodes], vec![0.0; n_nodes]);
+    for (c, &w) in weights.iter().enumerate() {
+        let e = mesh.integrals(c);
+        let v = mesh.cell(c);
+        let scale: Vec<f64> = (0..d).map(|i| directions.weight(i, w).sqrt()).collect();
+        for a in 0..k {
+            for b in 0..k {
+                let (ra, rb) = (&frames[v[a]], &frames[v[b]]);
+                let q = relative(ra, rb);
+                let m = e.mass[a][b];
+                lumped[v[b]] += lame.density * w * m;
+                lumped_tangential[v[b]] += lame.density * directions.weight(1, w) * m;
+                lumped_unit[v[b]] += m;
+                // The world stiffness block, by the expression of `assembly::assemble`.
+                let mut s = [[0.0; 3]; 3];
+                for (i, row) in s.iter_mut().enumerate().take(d) {
+                    for (j, x) in row.iter_mut().enumerate().take(d) {
+                        for qp in 0..e.nq {
+                            let (ga, gb) = (&e.grads[qp][a], &e.grads[qp][b]);
+                            let delta = if i == j { e.grad_dot(qp, a, b) } else { 0.0 };
+                            *x += e.weights[qp] * (lame.lambda * ga[i] * gb[j] + lame.mu * (delta + ga[j] * gb[i]));
+                        }
+                    }
+                }
+                let world = *ra == IDENTITY && *rb == IDENTITY;
+                for i in 0..d {
+                    for j in 0..d {
+                        let (row, col) = (v[a] * d + i, v[b] * d + j);
+                        if q == IDENTITY {
+                            if i == j {
+                                tm.push((row, col, lame.density * directions.weight(i, w) * m));
+                                tu.push((row, col, m));
+                            }
+                        } else {
+                            tm.push((row, col, lame.density * m * scale[i] * q[i][j] * scale[j]));
+                            tu.push((row, col, m * q[i][j]));
+                        }
+                        if world {
+                            ts.push((row, col, s[i][j]));
+                            continue;
+                        }
+                        // (R_aᵀ S R_b)_ij = Σ_kl R_a[k][i] S_kl R_b[l][j].
+                        let mut x = 0.0;
+                        for kk in 0..d {
+                            for l in 0..d {
+                                x += ra[kk][i] * s[kk][l] * rb[l][j];
+                            }
+                        }
+                        ts.push((row, col, x));
+                    }
+                }
+            }
+        }
+    }
+    let n = n_nodes * d;
+    let mass_all = sparse::from_triplets(n, &tm, "mass")?;
+    let stiff_all = sparse::from_triplets(n, &ts, "stiffness")?;
+    let unit_all = sparse::from_triplets(n, &tu, "mass")?;
+    drop((tm, ts, tu));
+    let mut momentum = vec![[[0.0; 3]; 3]; n_nodes];
+    for (row, col, x) in sparse::triplets(&mass_all) {
+        let (a, i, b, j) = (row / d, row % d, col / d, col % d);
+        for kk in 0..d {
+            momentum[b][kk][j] += frames[a][kk][i] * x;
+        }
+    }
+    let mut scalar_unit = Vec::new();
+    for c in 0..mesh.n_cells() {
+        let e = mesh.integrals(c);
+        let v = mesh.cell(c);
+        for a in 0..k {
+            for b in 0..k {
+                scalar_unit.push((v[a], v[b], e.mass[a][b]));
+            }
+        }
+    }
+    Ok(FrameMatrices { mass_all, stiff_all, unit_all, momentum, lumped, lumped_tangential, lumped_unit, scalar_unit })
 }

@@ -189,7 +189,11 @@ impl GeometryView for SolidSystem {
     /// A body's reactions, distances, momentum and mean displacement ([`super::report`]);
     /// none for the box.
     fn own_columns(&self) -> &[Column] {
-        if self.frame.is_some() { &super::report::COLUMNS } else { &[] }
+        match (&self.bodies, &self.frame) {
+            (Some(layout), _) => &layout.columns,
+            (None, Some(_)) => &super::report::COLUMNS,
+            (None, None) => &[],
+        }
     }
 
     fn own_values(&self, u: &[f64], v: &[f64], lambda: &[f64], out: &mut [f64]) {
@@ -197,7 +201,10 @@ impl GeometryView for SolidSystem {
     }
 
     fn own_summary(&self) -> Option<Box<dyn OwnSummary>> {
-        let keys = super::report::BodyKeys::new(self.mesh.dim);
+        let keys = match &self.bodies {
+            Some(layout) => super::report::BodyKeys::of_bodies(self.mesh.dim, layout.clone()),
+            None => super::report::BodyKeys::new(self.mesh.dim),
+        };
         self.frame.as_ref().map(|_| Box::new(keys) as Box<dyn OwnSummary>)
     }
 }

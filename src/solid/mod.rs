@@ -30,12 +30,16 @@
 //! transverse rows vanish on such fields (tests/solid.rs checks this to round-off).
 
 pub mod assembly;
+pub mod bodies;
+pub mod bodies_system;
 pub mod body;
 pub mod body_system;
+pub mod coupling;
 pub mod curved;
 pub mod geometry;
 pub mod lean;
 pub mod lumped;
+pub mod pair;
 pub mod problem;
 pub mod report;
 pub mod spec;
@@ -48,4 +52,5 @@ pub use body::{BodyContact, BodyError, Frames};
 pub use problem::{SolidError, SolidProblem};
 pub use spec::{BodySpec, Built, ContactSet, MeshSource, Obstacle, SolidInitial, SolidSpec, Support};
 pub use surface::{Side, Surface};
+pub use table::bodies::RawPair;
 pub use table::obstacle::RawObstacle;

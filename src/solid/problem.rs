@@ -39,6 +39,15 @@ impl SolidSpec {
     ) -> Result<Problem<SolidSystem>, SolidError> {
         let built = self.built()?;
         let weights = self.weights(&built, mass)?;
+        if let Some((bodies, joined)) = &built.joined {
+            // Each body its own data (`super::bodies`).
+            let solid = SolidSystem::assemble_bodies(weights, self.lame, bodies, joined)?;
+            let data = |f: fn(&super::bodies::NamedBody) -> &Vec<Expr>| {
+                solid.interpolate_nodes(|v, i, p| f(&bodies.bodies[joined.body_of(v)])[i].eval(&p[..self.dim]))
+            };
+            let (u0, v0) = (data(|b| &b.displacement), data(|b| &b.velocity));
+            return Ok(Problem { system: solid, u0, v0, exact: None });
+        }
         let mesh = Arc::clone(&built.mesh);
         let solid = SolidSystem::assemble(mesh, weights, directions, self.lame, &self.support, &built.contact)?;
         let l = self.extent[0];
@@ -98,6 +107,7 @@ impl From<super::spec::BuildError> for SolidError {
         match e {
             super::spec::BuildError::Mesh(m) => SolidError::Mesh(m),
             super::spec::BuildError::Body(b) => SolidError::Body(b),
+            super::spec::BuildError::Bodies(b) => SolidError::Assembly(b.into()),
         }
     }
 }
@@ -164,7 +174,7 @@ impl GeometrySpec for SolidSpec {
         // The box's lateral faces and gap (a body's plane is its `[obstacle]`).
         let face = match s.support {
             Support::Face { gap, lateral, .. } => Some((gap, lateral.name())),
-            Support::Plane(_) => None,
+            Support::Plane(_) | Support::Bodies(_) => None,
         };
         SolidHead {
             dim: s.dim,

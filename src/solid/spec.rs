@@ -153,6 +153,9 @@ pub enum Support {
     Face { gap: f64, lateral: Lateral, force: [f64; 3] },
     /// A body of any shape against the plane of `[obstacle]` ([`BodySpec`], `super::body`).
     Plane(BodySpec),
+    /// Several bodies (`[[solid]]`) in contact through their pairs (`[[pair]]`,
+    /// `super::bodies`); the spec's mesh is the bodies' joined mesh.
+    Bodies(super::bodies::Bodies),
 }
 
 impl Support {
@@ -164,7 +167,7 @@ impl Support {
     pub fn gap(&self) -> f64 {
         match self {
             Support::Face { gap, .. } => *gap,
-            Support::Plane(_) => 0.0,
+            Support::Plane(_) | Support::Bodies(_) => 0.0,
         }
     }
 
@@ -172,16 +175,30 @@ impl Support {
     pub fn lateral(&self) -> Lateral {
         match self {
             Support::Face { lateral, .. } => *lateral,
-            Support::Plane(_) => Lateral::Free,
+            Support::Plane(_) | Support::Bodies(_) => Lateral::Free,
         }
     }
 
     /// The body of `[obstacle]` (None: the box).
     pub fn body(&self) -> Option<&BodySpec> {
         match self {
-            Support::Face { .. } => None,
+            Support::Face { .. } | Support::Bodies(_) => None,
             Support::Plane(b) => Some(b),
         }
+    }
+
+    /// The bodies of `[[solid]]` (None: one body or the box).
+    pub fn bodies(&self) -> Option<&super::bodies::Bodies> {
+        match self {
+            Support::Bodies(b) => Some(b),
+            _ => None,
+        }
+    }
+
+    /// Whether the solid reports as a body (its contact force, distances, momentum): one body
+    /// against an obstacle, or several bodies.
+    pub fn is_body(&self) -> bool {
+        !matches!(self, Support::Face { .. })
     }
 }
 
@@ -260,6 +277,8 @@ pub enum BuildError {
     Mesh(#[from] MeshError),
     #[error(transparent)]
     Body(#[from] BodyError),
+    #[error(transparent)]
+    Bodies(#[from] super::bodies::BodiesError),
 }
 
 /// What [`SolidSpec::built`] builds: the mesh and its contact set, and the cell weights of the
@@ -268,6 +287,8 @@ pub enum BuildError {
 pub struct Built {
     pub mesh: Arc<Mesh>,
     pub contact: BodyContact,
+    /// Several bodies: the joined mesh's bodies and pairs (None: one body).
+    pub joined: Option<(super::bodies::Bodies, super::bodies::Joined)>,
     weights: Mutex<Option<(MassKind, Vec<f64>)>>,
 }
 
@@ -283,7 +304,10 @@ impl Built {
             return Ok(w.clone());
         }
         let c = &self.contact;
-        let w = cell_weights_of(&self.mesh, mass, &c.contact, &c.clamped)?;
+        let w = match &self.joined {
+            Some((bodies, joined)) => bodies.weights(joined, mass)?,
+            None => cell_weights_of(&self.mesh, mass, &c.contact, &c.clamped)?,
+        };
         *slot = Some((mass.clone(), w.clone()));
         Ok(w)
     }
@@ -328,12 +352,21 @@ impl BuildCache {
         {
             return Ok(Arc::clone(built));
         }
-        let mesh = spec.mesh()?;
-        let contact = match &spec.support {
-            Support::Face { gap, .. } => super::body::face_contact(&mesh, *gap),
-            Support::Plane(body) => super::body::contact(&mesh, body)?,
+        let (mesh, contact, joined) = match &spec.support {
+            Support::Bodies(bodies) => {
+                let j = bodies.join()?;
+                (Arc::clone(&j.mesh), j.contact.clone(), Some((bodies.clone(), j)))
+            }
+            support => {
+                let mesh = spec.mesh()?;
+                let contact = match support {
+                    Support::Plane(body) => super::body::contact(&mesh, body)?,
+                    _ => super::body::face_contact(&mesh, spec.support.gap()),
+                };
+                (mesh, contact, None)
+            }
         };
-        let built = Arc::new(Built { mesh, contact, weights: Mutex::new(None) });
+        let built = Arc::new(Built { mesh, contact, joined, weights: Mutex::new(None) });
         *slot = Some((key, Arc::clone(&built)));
         Ok(built)
     }

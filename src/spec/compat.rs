@@ -46,6 +46,8 @@ pub struct Offer {
     pub zero_gap: bool,
     /// Tangential directions at a contact node (a solid's d − 1; 0 for bars and plates).
     pub tangential_dims: usize,
+    /// Contact between bodies (`[[pair]]`s), not against an obstacle.
+    pub pairs: bool,
 }
 
 /// The one compatibility rule (module docs): Ok, or the one key to change with its allowed
@@ -140,6 +142,11 @@ fn scheme_vs_geometry(offer: &Offer, scheme: &SchemeSpec) -> Option<String> {
         return Some(format!("{name} uses the one contact node of a bar's tridiagonal system"));
     }
     if needs.lumped_mass && !offer.lumped_mass {
+        if offer.pairs {
+            return Some(format!(
+                "{name} needs a diagonal lumped mass, which two bodies with mass at their contact nodes do not have (a pair's change of variables couples the two sides); with mass.kind = mod1 | mod2 | mod3 it is diagonal"
+            ));
+        }
         return Some(format!("{name} needs a lumped mass, which this geometry does not build"));
     }
     if needs.zero_gap && !offer.zero_gap {
@@ -152,6 +159,11 @@ fn scheme_vs_geometry(offer: &Offer, scheme: &SchemeSpec) -> Option<String> {
 fn friction_vs_rest(offer: &Offer, scheme: &SchemeSpec, law: &ContactLaw) -> Option<String> {
     law.friction()?;
     let name = scheme.key_and_value().1;
+    if offer.pairs {
+        return Some(
+            "friction between two bodies ([[pair]]) is not built; friction acts against rigid obstacles".into(),
+        );
+    }
     if offer.tangential_dims == 0 {
         return Some(
             "friction acts in the tangential directions of a solid's contact nodes; a bar or a plate has none".into(),

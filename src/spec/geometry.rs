@@ -64,14 +64,26 @@ pub trait SceneGeometry: Sized {
         let w0 = self.contact_weight(mass)?;
         Ok(Offer {
             one_node_system: false,
-            lumped_mass: true,
+            // Two bodies with mass at their contact nodes: the pairs' change of variables
+            // couples them in the lumped mass (`crate::solid::pair`); massless, it stays diagonal.
+            lumped_mass: !(self.pairs() && w0 > 0.0),
             w0,
             contact_layer: Self::MASSLESS_TANGENTS && w0 == 0.0,
             massless_tangents: Self::MASSLESS_TANGENTS && w0 == 0.0,
             one_cell_contact_row: false,
             zero_gap: false,
             tangential_dims: self.tangential_dims(),
+            pairs: self.pairs(),
         })
+    }
+    /// A series column this scene names itself (several bodies' `<pair>.contact_force`), by
+    /// its name (None: none of that name).
+    fn named_column(&self, _name: &str) -> Option<Column> {
+        None
+    }
+    /// Whether the contact is between bodies (`[[pair]]`s) rather than against an obstacle.
+    fn pairs(&self) -> bool {
+        false
     }
     /// Whether `mass` leaves a node massless that is neither a contact node nor clamped (P2's
     /// edge nodes inside the contact layer): their normal components stay massless under

@@ -29,6 +29,7 @@
 //! every error names the key, `solid.…`, and its allowed range); the resolved scene writes
 //! every key back ([`SceneGeometry::raw`]). The specification itself is [`super::spec`].
 
+pub mod bodies;
 mod mesh;
 pub mod obstacle;
 
@@ -89,6 +90,54 @@ pub struct RawSolid {
     initial: Option<RawSolidInitial>,
     #[serde(skip_serializing_if = "Option::is_none")]
     clamped: Option<String>,
+    /// A `[[solid]]` body's name ([`bodies`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    name: Option<String>,
+    /// A `[[solid]]` box's lowest corner.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    offset: Option<Vec<Number>>,
+}
+
+/// `[solid]` (one body or the box) or `[[solid]]` (several bodies, [`bodies`]): read through
+/// the scene's own deserializer either way, so that an unknown key is refused with its position.
+#[derive(Debug)]
+pub enum RawSolids {
+    One(RawSolid),
+    Many(Vec<RawSolid>),
+}
+
+impl Default for RawSolids {
+    fn default() -> Self {
+        RawSolids::One(RawSolid::default())
+    }
+}
+
+impl Serialize for RawSolids {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            RawSolids::One(t) => t.serialize(s),
+            RawSolids::Many(v) => v.serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for RawSolids {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Either;
+        impl<'de> serde::de::Visitor<'de> for Either {
+            type Value = RawSolids;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a [solid] table or [[solid]] tables")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<RawSolids, A::Error> {
+                RawSolid::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(RawSolids::One)
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<RawSolids, A::Error> {
+                Vec::<RawSolid>::deserialize(serde::de::value::SeqAccessDeserializer::new(seq)).map(RawSolids::Many)
+            }
+        }
+        d.deserialize_any(Either)
+    }
 }
 
 /// `solid.initial`: `"paper"` or a table of per-component fields.
@@ -106,6 +155,19 @@ pub(crate) struct RawSolidFields {
     displacement: Option<Vec<RawField>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     velocity: Option<Vec<RawField>>,
+}
+
+/// `solid.dim` (2 | 3), with the keys a 2D solid refuses.
+fn dim_of(t: &RawSolid) -> Result<usize, SceneError> {
+    let dim = match t.dim.unwrap_or(2) {
+        d @ (2 | 3) => d as usize,
+        d => return Err(SceneError::Range { key: "solid.dim", value: d.to_string(), range: "2 | 3" }),
+    };
+    if dim == 2 {
+        forbid("solid.depth", &t.depth, "solid.dim = 2")?;
+        forbid("solid.nz", &t.nz, "solid.dim = 2")?;
+    }
+    Ok(dim)
 }
 
 /// A number key in (0, ∞).
@@ -137,14 +199,10 @@ pub(crate) fn validate_solid(
     obstacle: Option<RawObstacle>,
     inputs: MeshInputs,
 ) -> Result<SolidSpec, SceneError> {
-    let dim = match t.dim.unwrap_or(2) {
-        d @ (2 | 3) => d as usize,
-        d => return Err(SceneError::Range { key: "solid.dim", value: d.to_string(), range: "2 | 3" }),
-    };
-    if dim == 2 {
-        forbid("solid.depth", &t.depth, "solid.dim = 2")?;
-        forbid("solid.nz", &t.nz, "solid.dim = 2")?;
-    }
+    let dim = dim_of(&t)?;
+    let one = "a single [solid] table (several bodies are [[solid]] tables)";
+    forbid("solid.name", &t.name, one)?;
+    forbid("solid.offset", &t.offset, one)?;
     if obstacle.is_some() {
         forbid("solid.gap", &t.gap, "a body with an [obstacle] (obstacle.point places the plane)")?;
         forbid("solid.lateral", &t.lateral, "a body with an [obstacle] (its boundary is free but where clamped)")?;
@@ -220,6 +278,7 @@ fn setup_error(e: BuildError) -> SceneError {
     match e {
         BuildError::Mesh(m) => SceneError::Mesh(m),
         BuildError::Body(b) => b.into(),
+        BuildError::Bodies(b) => SceneError::Geometry(Box::new(b)),
     }
 }
 
@@ -330,9 +389,9 @@ const SOLID_SERIES_NAMES: &str = "any subset of u0, u_mean, lambda, contact_forc
 
 impl SceneGeometry for SolidSpec {
     const TABLE: &'static str = "solid";
-    type Raw = RawSolid;
-    /// A body's `[obstacle]`.
-    type Extras = Option<RawObstacle>;
+    type Raw = RawSolids;
+    /// A body's `[obstacle]`, several bodies' `[[pair]]`s.
+    type Extras = (Option<RawObstacle>, Option<Vec<bodies::RawPair>>);
     const EXTRAS_WHY: &'static str = "a [solid] body meets a plane";
     const FILE_KEYS: &'static [&'static str] = &["mesh"];
     const COLUMNS: &'static [Column] = &Column::SOLID;
@@ -343,6 +402,14 @@ impl SceneGeometry for SolidSpec {
 
     fn tangential_dims(&self) -> usize {
         self.dim - 1
+    }
+
+    fn pairs(&self) -> bool {
+        self.support.bodies().is_some()
+    }
+
+    fn named_column(&self, name: &str) -> Option<Column> {
+        bodies::dotted(self)?.into_iter().find(|c| c.name() == name)
     }
 
     fn massless_inner_nodes(&self, mass: &MassKind) -> Result<bool, SceneError> {
@@ -358,8 +425,14 @@ impl SceneGeometry for SolidSpec {
         Ok((0..weighed.len()).any(|v| !weighed[v] && !contact[v] && !clamped[v]))
     }
 
-    fn validate(raw: RawSolid, obstacle: Option<RawObstacle>, inputs: MeshInputs) -> Result<SolidSpec, SceneError> {
-        validate_solid(raw, obstacle, inputs)
+    fn validate(raw: RawSolids, (obstacle, pairs): Self::Extras, inputs: MeshInputs) -> Result<SolidSpec, SceneError> {
+        match raw {
+            RawSolids::One(t) => {
+                forbid("[[pair]]", &pairs, "a single [solid] (pairs join several [[solid]] bodies)")?;
+                validate_solid(t, obstacle, inputs)
+            }
+            RawSolids::Many(v) => bodies::validate_bodies(v, obstacle, pairs, inputs),
+        }
     }
 
     fn size_keys(&self) -> &'static str {
@@ -391,7 +464,7 @@ impl SceneGeometry for SolidSpec {
     }
 
     fn unavailable(&self, column: Column) -> Option<String> {
-        if column.is_body() && self.support.body().is_none() {
+        if column.is_body() && !self.support.is_body() {
             return Some("a body's columns need an [obstacle] (a body against a rigid plane)".into());
         }
         if column.component().is_some_and(|k| k >= self.dim) {
@@ -417,7 +490,15 @@ impl SceneGeometry for SolidSpec {
     }
 
     fn default_series(&self) -> Vec<Column> {
-        if self.support.body().is_some() {
+        if let Some(dotted) = bodies::dotted(self) {
+            // Every pair's contact force and every body's momentum (issue 30).
+            let mut series = vec![Column::Energy, Column::ContactForce];
+            series.extend((0..self.dim as u8).map(Column::Momentum));
+            let wanted = |n: &str| n.ends_with(".contact_force") || n.contains(".momentum_");
+            series.extend(dotted.into_iter().filter(|c| wanted(c.name())));
+            return series;
+        }
+        if self.support.is_body() {
             let mut series = vec![Column::Energy, Column::ContactForce];
             series.extend(Column::BODY.into_iter().filter(|c| c.component().is_none_or(|k| k < self.dim)));
             return series;
@@ -429,7 +510,10 @@ impl SceneGeometry for SolidSpec {
         series
     }
 
-    fn raw(&self) -> (RawSolid, Option<RawObstacle>) {
+    fn raw(&self) -> (RawSolids, Self::Extras) {
+        if let Support::Bodies(b) = &self.support {
+            return bodies::raw_bodies(b);
+        }
         let (f, i) = (|x: f64| Some(Number::Float(x)), |k: usize| Some(k as i64));
         let (three, structured) = (self.dim == 3, matches!(self.source, MeshSource::Box));
         let initial = match &self.initial {
@@ -461,6 +545,8 @@ impl SceneGeometry for SolidSpec {
             force: None,
             initial: Some(initial),
             clamped: None,
+            name: None,
+            offset: None,
         };
         let solid = match &self.support {
             Support::Face { gap, lateral, force } => RawSolid {
@@ -474,12 +560,16 @@ impl SceneGeometry for SolidSpec {
                 clamped: b.clamped.clone(),
                 ..solid
             },
+            Support::Bodies(_) => unreachable!("written by bodies::raw_bodies"),
         };
         let obstacle = self.support.body().map(|b| raw_obstacle(&b.obstacle, self.dim));
-        (solid, obstacle)
+        (RawSolids::One(solid), (obstacle, None))
     }
 
     fn header(&self, time: &TimeSpec) -> String {
+        if self.support.bodies().is_some() {
+            return format!("# Resolved scene of several bodies; {} steps.\n", time.steps);
+        }
         if self.support.body().is_some() {
             return format!("# Resolved body scene (every default filled in); {} steps.\n", time.steps);
         }
