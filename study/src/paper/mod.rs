@@ -58,6 +58,7 @@ mod runs;
 mod table2d;
 pub mod table2d_lead;
 mod tables;
+pub mod two_bodies;
 
 pub use bodies_report::{BODIES_COLUMNS, BODIES_DROP, BODIES_ENERGY, BODIES_IMPACT, BODIES_SPHERE, BODIES_TABLE};
 pub use config::Config;
@@ -140,7 +141,21 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     progress.set_length(n_cases + n_figures as u64);
     progress.set_message("running");
     let (
-        Sections { results, rebound, scope, ps, lead, bodies, methods, hertz, disc_md, friction, sphere, obstacles },
+        Sections {
+            results,
+            rebound,
+            scope,
+            ps,
+            lead,
+            bodies,
+            methods,
+            hertz,
+            disc_md,
+            friction,
+            sphere,
+            obstacles,
+            two_bodies,
+        },
         (table2d, elastic),
     ) = compute_sections(config, &methods_config, progress)?;
     progress.set_message("drawing");
@@ -152,6 +167,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     body_figures.push(hertz_report::hertz_figure(&hertz));
     body_figures.push(friction_sphere::friction_sphere_figure(&sphere));
     body_figures.push(obstacles::obstacles_figure(&obstacles));
+    body_figures.push(two_bodies::two_bodies_figure(&two_bodies));
     let tables = tables::result_tables(config, &results);
     let mut files =
         file_names(config, &figures, &tables, &[&rebound_figure, &scope_figure, &lead_figure], table2d.is_some());
@@ -165,6 +181,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let at = files.iter().position(|f| f == "summaries.json").unwrap_or(files.len());
     files.insert(at, friction_disc::FRICTION_TABLE.to_string());
     files.insert(at + 1, obstacles::OBSTACLES_TABLE.to_string());
+    files.insert(at + 2, two_bodies::TWO_BARS_TABLE.to_string());
     let bodies_md = bodies_report::bodies_section(&bodies) + &hertz_report::hertz_section(&hertz);
     let report = report_markdown(
         config,
@@ -181,7 +198,8 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         + "\n"
         + &friction.0
         + &friction_sphere::friction_sphere_markdown(&sphere)
-        + &obstacles::obstacles_markdown(&obstacles);
+        + &obstacles::obstacles_markdown(&obstacles)
+        + &two_bodies::two_bodies_markdown(&two_bodies);
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
         figures.par_iter().chain([&rebound_figure, &scope_figure, &lead_figure]).chain(&body_figures).try_for_each(
@@ -203,6 +221,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         tables::write_csv(&tmp.join(HERTZ_TABLE), &header, &hertz_report::hertz_csv_rows(&hertz))?;
         std::fs::write(tmp.join(friction_disc::FRICTION_TABLE), &friction.1)?;
         std::fs::write(tmp.join(obstacles::OBSTACLES_TABLE), obstacles::obstacles_csv(&obstacles))?;
+        std::fs::write(tmp.join(two_bodies::TWO_BARS_TABLE), two_bodies::two_bodies_csv(&two_bodies))?;
         std::fs::write(tmp.join("summaries.json"), summaries_json(config, &results)?)?;
         std::fs::write(tmp.join("report.md"), &report)
     })
@@ -229,6 +248,8 @@ struct Sections {
     sphere: Vec<friction_sphere::SchemeRuns>,
     /// Curved rigid obstacles (issue 30).
     obstacles: Vec<obstacles::CaseRuns>,
+    /// Two bodies: the two-bar impacts (issue 30).
+    two_bodies: Vec<two_bodies::CaseRuns>,
 }
 
 /// Runs [`Sections`] and, beside them, the 2D tables (scalar and elastic): the elastic table's
@@ -262,6 +283,7 @@ fn compute_sections(
                 })?,
                 sphere: timed("frictional sphere", friction_sphere::compute_friction_sphere)?,
                 obstacles: timed("curved obstacles", obstacles::compute_obstacles)?,
+                two_bodies: timed("two bodies", two_bodies::compute_two_bodies)?,
             })
         },
         // The scalar plates run one after another; the elastic candidates in parallel beside them.
