@@ -91,6 +91,11 @@ fn expected_files(config: &Config) -> BTreeSet<String> {
     for ext in ["png", "svg", "csv"] {
         out.insert(format!("{}.{ext}", paper::obstacles::OBSTACLES_FIGURE));
     }
+    // Two bodies (tests/two_bodies.rs checks their numbers): the table and the figure.
+    out.insert(paper::two_bodies::TWO_BARS_TABLE.into());
+    for ext in ["png", "svg", "csv"] {
+        out.insert(format!("{}.{ext}", paper::two_bodies::TWO_BARS_FIGURE));
+    }
     out
 }
 
