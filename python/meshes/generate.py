@@ -106,6 +106,7 @@ BENCH_FIXTURES = [
     ("hertz_disc_h0.5.msh", "hertz_disc", 0.5, 2),
     ("hertz_disc_h0.25.msh", "hertz_disc", 0.25, 2),
     ("hertz_disc_h0.125.msh", "hertz_disc", 0.125, 2),
+    ("hertz_poles_h0.25.msh", "hertz_poles", 0.25, 2),
 ]
 
 

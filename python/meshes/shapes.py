@@ -16,6 +16,8 @@ nodes on the curved geometry). ``write`` saves it as MSH 2.2 or 4.1, ASCII or bi
   size ``h`` within distance 3 of it (1.5 times the Hertz half-width 2 that
   ``study/src/paper/hertz.rs`` loads it to), growing linearly to 4 at distance 15 (``Distance``
   + ``Threshold`` fields); the same groups as ``disc``.
+- ``hertz_poles``: the same, refined near both poles (0, 0) and (0, 40): two copies, one above
+  the other, meet pole to pole (``study/src/paper/two_discs.rs``).
 """
 import math
 
@@ -65,11 +67,28 @@ def disc_geometry():
 
 
 def hertz_disc(h, order):
+    _refined_disc(h, order, [disc_geometry()])
+
+
+def hertz_poles(h, order):
     bottom = disc_geometry()
-    # Size field: h within distance 3 of the bottom point (0, 0), 4 beyond distance 15.
+    _refined_disc(h, order, [bottom, _point_at(0.0, 2 * R)])
+
+
+def _point_at(x, y):
+    """The geometry point at (x, y)."""
+    for _, tag in gmsh.model.getEntities(0):
+        p = gmsh.model.getValue(0, tag, [])
+        if abs(p[0] - x) + abs(p[1] - y) < 1e-9 * R:
+            return tag
+    raise ValueError(f"no geometry point at ({x}, {y})")
+
+
+def _refined_disc(h, order, points):
+    # Size field: h within distance 3 of the points, 4 beyond distance 15.
     field = gmsh.model.mesh.field
     dist = field.add("Distance")
-    field.setNumbers(dist, "PointsList", [bottom])
+    field.setNumbers(dist, "PointsList", points)
     field.setNumbers(dist, "CurvesList", [])
     thr = field.add("Threshold")
     field.setNumber(thr, "InField", dist)
@@ -134,7 +153,7 @@ def hemisphere(h, order):
     _mesh(3, h, order)
 
 
-SHAPES = {"disc": disc, "hertz_disc": hertz_disc, "half_disc": half_disc, "sphere": sphere, "hemisphere": hemisphere}
+SHAPES = {"disc": disc, "hertz_disc": hertz_disc, "hertz_poles": hertz_poles, "half_disc": half_disc, "sphere": sphere, "hemisphere": hemisphere}
 
 
 def write(path, version=2.2, binary=False):

@@ -258,7 +258,7 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
     let (mass, contact_directions) = parse_mass(raw.mass)?;
     let mut offer = geometry.offer(&mass)?;
     let scheme = parse_scheme(raw.scheme)?;
-    let contact = super::contact::parse_contact(raw.contact)?;
+    let contact = super::contact::pair_law(raw.contact, &geometry.pair_laws())?;
     if contact_directions == ContactDirections::Normal {
         if offer.pairs {
             return Err(SceneError::Conflict {

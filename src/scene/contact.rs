@@ -59,6 +59,55 @@ pub(crate) fn parse_contact(raw: Option<RawContact>) -> Result<ContactLaw, Scene
     read_tagged(raw)
 }
 
+/// The law of `[contact]` (`raw`) and of the pairs' own `contact` tables (`pairs`: each pair's
+/// name and table, several bodies' `pair.contact`): one law for all. Each pair's table is read
+/// as `[contact]` is (its errors prefixed with the pair); pairs that name a law name the same
+/// one, and `[contact]`, if given, and every pair without its own (which takes `[contact]`'s)
+/// agree with it; each refusal names `pair.contact`.
+pub(crate) fn pair_law(
+    raw: Option<RawContact>,
+    pairs: &[(String, Option<toml::Table>)],
+) -> Result<ContactLaw, SceneError> {
+    let given = raw.is_some();
+    let contact = parse_contact(raw)?;
+    let mut named: Option<(&str, ContactLaw)> = None;
+    for (name, table) in pairs {
+        let Some(t) = table else { continue };
+        let law = parse_contact(Some(RawSection::Read(t.clone()))).map_err(|e| {
+            SceneError::Parse(format!("[[pair]] \"{name}\": pair.contact (the keys of [contact]): {e}"))
+        })?;
+        match named {
+            None => named = Some((name, law)),
+            Some((first, first_law)) if first_law != law => {
+                return Err(SceneError::Conflict {
+                    key: "pair.contact",
+                    value: format!("method = \"{}\" in pair \"{name}\"", law.method()),
+                    with: format!("method = \"{}\" in pair \"{first}\"", first_law.method()),
+                    why: "one contact law for every pair (a law per pair is not built yet)".into(),
+                    allowed: format!("the table of pair \"{first}\""),
+                });
+            }
+            Some(_) => {}
+        }
+    }
+    let Some((_, law)) = named else { return Ok(contact) };
+    let every = pairs.iter().all(|(_, t)| t.is_some());
+    if (given || !every) && contact != law {
+        return Err(SceneError::Conflict {
+            key: "pair.contact",
+            value: format!("method = \"{}\"", law.method()),
+            with: if given {
+                format!("[contact] method = \"{}\"", contact.method())
+            } else {
+                "a pair without its own contact, which takes [contact]'s (method = \"exact\" by default)".into()
+            },
+            why: "one contact law for every pair (a law per pair is not built yet)".into(),
+            allowed: "the same law as [contact] (or [contact] left out and the law given in every pair)".into(),
+        });
+    }
+    Ok(law)
+}
+
 /// Which friction keys go together (issue 29): `mu` with `friction = "coulomb"` (required
 /// there), `threshold` with `friction = "tresca"` (required there), neither without friction;
 /// each refusal names its key. Their ranges are checked when the table is read.

@@ -43,6 +43,9 @@ pub struct PairSpec {
     pub name: String,
     pub bodies: [usize; 2],
     pub groups: [String; 2],
+    /// The pair's own law, its `contact` table as written (None: the scene's `[contact]`), read
+    /// with `[contact]` by the scene (one law for all pairs).
+    pub law: Option<toml::Table>,
 }
 
 /// The bodies and pairs of a scene.
@@ -50,6 +53,10 @@ pub struct PairSpec {
 pub struct Bodies {
     pub bodies: Vec<NamedBody>,
     pub pairs: Vec<PairSpec>,
+    /// A rigid obstacle beside the pairs (`[obstacle]`): every body meets it, with the nodes
+    /// its contact set selects on that body ("auto": the facets facing it; a group: the
+    /// bodies that have it), but the nodes of the pairs (module docs).
+    pub obstacle: Option<super::body::Obstacle>,
     /// Each body's name and its table as written (a scene's resolved file writes them back;
     /// empty for bodies built in code).
     pub written: Vec<(String, toml::Table)>,
@@ -65,6 +72,12 @@ pub enum BodiesError {
     NoGroup { key: &'static str, group: String, body: String, known: String },
     #[error(transparent)]
     Pair(#[from] PairError),
+    #[error("[obstacle] against body \"{body}\": {source}")]
+    Obstacle { body: String, source: super::body::BodyError },
+    #[error(
+        "obstacle.contact = \"{contact}\": no node of any body meets the obstacle (\"auto\": no boundary facet faces it; a group: no body has it; and nodes clamped or in a pair are not the obstacle's)"
+    )]
+    NoObstacleContact { contact: String },
 }
 
 /// The joined bodies: the one mesh, each body's first node and cell, the pairs' contact and
@@ -178,6 +191,10 @@ impl Bodies {
             }
             pairs.push(contact);
         }
+        let obstacle = self.obstacle_contact(&node0, |v| owner[v].is_some() || master_of[v].is_some())?;
+        for &(v, ..) in &obstacle {
+            layer_contact[v] = true;
+        }
         let mut slots = Vec::new();
         let mut contact = BodyContact {
             nodes: Vec::new(),
@@ -195,10 +212,54 @@ impl Bodies {
             contact.normals.extend_from_slice(&p.normals);
             slots.push(start..contact.nodes.len());
         }
+        for (v, g, a, n) in obstacle {
+            contact.nodes.push(v);
+            contact.gaps.push(g);
+            contact.areas.push(a);
+            contact.normals.push(n);
+        }
         for &v in &contact.nodes {
             contact.contact[v] = true;
         }
         Ok(Joined { mesh: Arc::new(mesh), node0, cell0, pairs, slots, contact, layer_contact })
+    }
+
+    /// The obstacle's contact nodes on every body ([`Bodies::obstacle`]; none without one): per
+    /// node (joined index, g_i, a_i, n_i), each body's nodes as one body's against the obstacle
+    /// (`super::body::contact`), but those `in_pair`. A body with no node meeting the obstacle
+    /// ("auto": no facet facing it; a group it does not have, or all clamped) takes no part;
+    /// a body starting behind the obstacle is refused, named.
+    #[allow(clippy::type_complexity)]
+    fn obstacle_contact(
+        &self,
+        node0: &[usize],
+        in_pair: impl Fn(usize) -> bool,
+    ) -> Result<Vec<(usize, f64, f64, [f64; 3])>, BodiesError> {
+        use super::body::{BodyError, BodySpec, ContactSet, contact};
+        let Some(obstacle) = &self.obstacle else { return Ok(Vec::new()) };
+        let mut out = Vec::new();
+        for (b, body) in self.bodies.iter().enumerate() {
+            let spec = BodySpec { obstacle: obstacle.clone(), clamped: body.clamped.clone(), force: Vec::new() };
+            let c = match contact(&body.mesh, &spec) {
+                Ok(c) => c,
+                Err(BodyError::NoAutoContact | BodyError::NoGroup { .. } | BodyError::AllClamped { .. }) => continue,
+                Err(source) => return Err(BodiesError::Obstacle { body: body.name.clone(), source }),
+            };
+            for k in 0..c.nodes.len() {
+                let v = c.nodes[k] + node0[b];
+                if !in_pair(v) {
+                    out.push((v, c.gaps[k], c.areas[k], c.normals[k]));
+                }
+            }
+        }
+        if out.is_empty() {
+            let contact = match &obstacle.contact {
+                ContactSet::Auto => "auto".into(),
+                ContactSet::Group(g) => g.clone(),
+            };
+            return Err(BodiesError::NoObstacleContact { contact });
+        }
+        Ok(out)
     }
 
     /// The cell weights of `mass`, each body's on its own mesh and contact layer (module docs),

@@ -85,6 +85,11 @@ pub trait SceneGeometry: Sized {
     fn pairs(&self) -> bool {
         false
     }
+    /// Each pair's name and its own contact law as written (several bodies' `pair.contact`,
+    /// read with `[contact]` by the scene: `crate::scene`'s `pair_law`).
+    fn pair_laws(&self) -> Vec<(String, Option<toml::Table>)> {
+        Vec::new()
+    }
     /// Whether `mass` leaves a node massless that is neither a contact node nor clamped (P2's
     /// edge nodes inside the contact layer): their normal components stay massless under
     /// `mass.contact_directions = "normal"`, a contact layer still ([`Offer::contact_layer`]).

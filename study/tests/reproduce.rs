@@ -95,6 +95,8 @@ fn expected_files(config: &Config) -> BTreeSet<String> {
     out.insert(paper::two_bodies::TWO_BARS_TABLE.into());
     for ext in ["png", "svg", "csv"] {
         out.insert(format!("{}.{ext}", paper::two_bodies::TWO_BARS_FIGURE));
+        // Two discs colliding (tests/two_discs.rs checks their numbers): the figure.
+        out.insert(format!("{}.{ext}", paper::two_discs::TWO_DISCS_FIGURE));
     }
     out
 }

@@ -121,12 +121,6 @@ pub(crate) fn validate_bodies(
     pairs: Option<Vec<RawPair>>,
     inputs: MeshInputs,
 ) -> Result<SolidSpec, SceneError> {
-    if obstacle.is_some() {
-        return Err(SceneError::Inapplicable {
-            key: "[obstacle]",
-            context: "a scene of several [[solid]] bodies (bodies meet each other through [[pair]]; an obstacle beside them is not built yet)".into(),
-        });
-    }
     let mut bodies: Vec<NamedBody> = Vec::with_capacity(raws.len());
     let mut material: Option<(Lame, usize, String)> = None;
     let mut raw_bodies = Vec::with_capacity(raws.len());
@@ -168,18 +162,14 @@ pub(crate) fn validate_bodies(
     let Some((lame, dim, _)) = material else {
         return Err(SceneError::Range { key: "[[solid]]", value: "no table".into(), range: "one or more bodies" });
     };
+    let obstacle = obstacle.map(|o| parse_obstacle(o, dim)).transpose()?;
     let pairs = pairs.unwrap_or_default();
-    if pairs.is_empty() {
-        let range = "at least one [[pair]] (several bodies meet through pairs)";
+    if pairs.is_empty() && obstacle.is_none() {
+        let range = "at least one [[pair]] or an [obstacle] (several bodies meet through pairs)";
         return Err(SceneError::Range { key: "[[pair]]", value: "none".into(), range });
     }
     let mut specs: Vec<PairSpec> = Vec::with_capacity(pairs.len());
     for p in pairs {
-        forbid(
-            "pair.contact",
-            &p.contact,
-            "this version ([contact] applies to every pair; a pair's own law is not built yet)",
-        )?;
         let name = required("pair.name", p.name, "a name for each [[pair]]")?;
         if name.is_empty() || name.contains('.') || specs.iter().any(|s| s.name == name) {
             let range = "a non-empty name without dots, one per pair";
@@ -204,15 +194,18 @@ pub(crate) fn validate_bodies(
             let value = format!("[\"{}\", \"{}\"]", names[0], names[1]);
             return Err(SceneError::Range { key: "pair.bodies", value, range: "two different bodies" });
         }
-        specs.push(PairSpec { name, bodies: [a, b], groups });
+        specs.push(PairSpec { name, bodies: [a, b], groups, law: p.contact });
     }
-    if let Some(lonely) = bodies.iter().enumerate().find(|(i, _)| !specs.iter().any(|p| p.bodies.contains(i))) {
-        let e = SceneError::Range { key: "pair.bodies", value: "no pair".into(), range: "every body in a pair" };
+    // Without an obstacle, a body in no pair would meet nothing.
+    let lonely = bodies.iter().enumerate().find(|(i, _)| !specs.iter().any(|p| p.bodies.contains(i)));
+    if let (Some(lonely), None) = (lonely, &obstacle) {
+        let range = "every body in a pair (or an [obstacle])";
+        let e = SceneError::Range { key: "pair.bodies", value: "no pair".into(), range };
         return Err(of_body(&lonely.1.name, e));
     }
-    let all = Bodies { bodies, pairs: specs, written: Vec::new() };
+    let all = Bodies { bodies, pairs: specs, obstacle, written: Vec::new() };
     let joined = all.join().map_err(|e| SceneError::Geometry(Box::new(e)))?;
-    check_contact_memory(joined.contact.nodes.len(), "pair.groups, or the bodies' meshes")?;
+    check_contact_memory(joined.contact.nodes.len(), "pair.groups, obstacle.contact, or the bodies' meshes")?;
     let (mesh, kind, extent) = (Arc::clone(&joined.mesh), joined.mesh.kind, joined.mesh.extent);
     let first = &all.bodies[0];
     let initial = SolidInitial::Fields { displacement: first.displacement.clone(), velocity: first.velocity.clone() };
@@ -254,7 +247,8 @@ pub(super) fn raw_bodies(b: &Bodies) -> (RawSolids, (Option<RawObstacle>, Option
             contact: None,
         })
         .collect();
-    (RawSolids::Many(solids), (None, Some(pairs)))
+    let obstacle = b.obstacle.as_ref().map(|o| raw_obstacle(o, b.dim()));
+    (RawSolids::Many(solids), (obstacle, Some(pairs)))
 }
 
 /// The dotted columns of a scene of several bodies (None: one body), as its run reports them

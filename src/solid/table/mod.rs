@@ -408,6 +408,12 @@ impl SceneGeometry for SolidSpec {
         self.support.bodies().is_some()
     }
 
+    fn pair_laws(&self) -> Vec<(String, Option<toml::Table>)> {
+        self.support
+            .bodies()
+            .map_or_else(Vec::new, |b| b.pairs.iter().map(|p| (p.name.clone(), p.law.clone())).collect())
+    }
+
     fn named_column(&self, name: &str) -> Option<Column> {
         bodies::dotted(self)?.into_iter().find(|c| c.name() == name)
     }

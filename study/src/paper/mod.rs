@@ -59,6 +59,7 @@ mod table2d;
 pub mod table2d_lead;
 mod tables;
 pub mod two_bodies;
+pub mod two_discs;
 
 pub use bodies_report::{BODIES_COLUMNS, BODIES_DROP, BODIES_ENERGY, BODIES_IMPACT, BODIES_SPHERE, BODIES_TABLE};
 pub use config::Config;
@@ -155,6 +156,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
             sphere,
             obstacles,
             two_bodies,
+            two_discs,
         },
         (table2d, elastic),
     ) = compute_sections(config, &methods_config, progress)?;
@@ -168,6 +170,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     body_figures.push(friction_sphere::friction_sphere_figure(&sphere));
     body_figures.push(obstacles::obstacles_figure(&obstacles));
     body_figures.push(two_bodies::two_bodies_figure(&two_bodies));
+    body_figures.push(two_discs::two_discs_figure(&two_discs));
     let tables = tables::result_tables(config, &results);
     let mut files =
         file_names(config, &figures, &tables, &[&rebound_figure, &scope_figure, &lead_figure], table2d.is_some());
@@ -199,7 +202,8 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         + &friction.0
         + &friction_sphere::friction_sphere_markdown(&sphere)
         + &obstacles::obstacles_markdown(&obstacles)
-        + &two_bodies::two_bodies_markdown(&two_bodies);
+        + &two_bodies::two_bodies_markdown(&two_bodies)
+        + &two_discs::two_discs_markdown(&two_discs);
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
         figures.par_iter().chain([&rebound_figure, &scope_figure, &lead_figure]).chain(&body_figures).try_for_each(
@@ -250,6 +254,8 @@ struct Sections {
     obstacles: Vec<obstacles::CaseRuns>,
     /// Two bodies: the two-bar impacts (issue 30).
     two_bodies: Vec<two_bodies::CaseRuns>,
+    /// Two discs colliding, against Hertz (issue 30).
+    two_discs: Vec<two_discs::DiscRun>,
 }
 
 /// Runs [`Sections`] and, beside them, the 2D tables (scalar and elastic): the elastic table's
@@ -284,6 +290,7 @@ fn compute_sections(
                 sphere: timed("frictional sphere", friction_sphere::compute_friction_sphere)?,
                 obstacles: timed("curved obstacles", obstacles::compute_obstacles)?,
                 two_bodies: timed("two bodies", two_bodies::compute_two_bodies)?,
+                two_discs: timed("two discs", two_discs::compute_two_discs)?,
             })
         },
         // The scalar plates run one after another; the elastic candidates in parallel beside them.
