@@ -102,8 +102,21 @@ fn wait_for(mut done: impl FnMut() -> bool) -> bool {
 
 /// Starts `exe run LONG --out out` and returns it once its temporary folder holds a series.
 fn start_long(exe: &Path, scene: &Path, out: &Path) -> (std::process::Child, PathBuf) {
-    let child =
-        Command::new(exe).arg("run").arg(scene).arg("--out").arg(out).stderr(std::process::Stdio::null()).spawn();
+    let spawn =
+        || Command::new(exe).arg("run").arg(scene).arg("--out").arg(out).stderr(std::process::Stdio::null()).spawn();
+    // A binary copied a moment ago can be "busy" (ETXTBSY) while another test thread's child,
+    // forked before exec, still holds the copy's write descriptor: retry for at most a minute
+    // (a guard, not a timing; seen once in CI).
+    let mut child = spawn();
+    for _ in 0..3000 {
+        match &child {
+            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy => {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+                child = spawn();
+            }
+            _ => break,
+        }
+    }
     let child = child.unwrap();
     let staging = out.with_file_name(format!(".{}.tmp-{}", out.file_name().unwrap().to_string_lossy(), child.id()));
     assert!(wait_for(|| staging.join("series.csv").is_file()), "the long run started writing");

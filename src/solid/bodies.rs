@@ -9,6 +9,12 @@
 //! its pairs' groups (first or second: both sides are redistributed), and its weights are
 //! computed on its own mesh ([`crate::fem::layers::cell_weights_of`]: mod2/mod3 keep each
 //! body's mass).
+//!
+//! An `[obstacle]` beside the pairs ([`Bodies::obstacle`]) meets every body with the nodes its
+//! contact set selects on that body, as for one body (`super::body::contact`), but the pairs'
+//! nodes (a pair node or a node of a facet a pair node faces: that node meets the other body).
+//! Its nodes follow the pairs' in the contact set, each in its own frame (the obstacle's normal
+//! there), and join their body's layer 0.
 
 use super::body::BodyContact;
 use super::pair::{PairContact, PairError, pair_contact};
@@ -55,7 +61,7 @@ pub struct Bodies {
     pub pairs: Vec<PairSpec>,
     /// A rigid obstacle beside the pairs (`[obstacle]`): every body meets it, with the nodes
     /// its contact set selects on that body ("auto": the facets facing it; a group: the
-    /// bodies that have it), but the nodes of the pairs (module docs).
+    /// bodies that have it), but the pairs' nodes (module docs).
     pub obstacle: Option<super::body::Obstacle>,
     /// Each body's name and its table as written (a scene's resolved file writes them back;
     /// empty for bodies built in code).

@@ -17,8 +17,10 @@
 //! ```
 //!
 //! One `[mass]` for all bodies (each body's layers its own); the bodies share one material
-//! (`lame_lambda`, `lame_mu`, `density`) and one cell kind; every body is in a pair. Not built
-//! yet, refused by name: `[obstacle]` beside several bodies, a pair's own `contact` table.
+//! (`lame_lambda`, `lame_mu`, `density`) and one cell kind; every body is in a pair, or meets
+//! an `[obstacle]` beside the pairs (its keys as for one body). A pair's own `contact` table is
+//! kept as written and read by the scene with `[contact]` (one law for all pairs:
+//! `crate::scene`'s `pair_law`).
 
 use super::*;
 use crate::solid::bodies::{Bodies, NamedBody, PairSpec};
