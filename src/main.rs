@@ -125,6 +125,11 @@ enum Command {
         /// beside it), then exit.
         #[arg(long, value_name = "CSV")]
         friction: Option<PathBuf>,
+        /// Only measure central differences' massless contact layer against the number of
+        /// contact nodes (10² … 10⁴; with --quick the two smallest) into this table (and .md
+        /// beside it), then exit.
+        #[arg(long, value_name = "CSV")]
+        layer: Option<PathBuf>,
     },
 }
 
@@ -203,6 +208,14 @@ fn main() -> ExitCode {
                 Err(m) => fail(&csv, m, exit::FAILURE),
             }
         }
+        #[cfg(feature = "study")]
+        Command::Bench { layer: Some(csv), quick, .. } => match bench::layer::run(&csv, quick) {
+            Ok(paths) => {
+                paths.iter().for_each(|p| eprintln!("wrote {}", p.display()));
+                ExitCode::SUCCESS
+            }
+            Err(m) => fail(&csv, m, exit::FAILURE),
+        },
         #[cfg(feature = "study")]
         Command::Bench { friction: Some(csv), .. } => match bench::friction::run(&csv) {
             Ok(paths) => {

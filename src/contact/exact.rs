@@ -5,11 +5,12 @@
 //! - Central differences ([`ExactExplicit`]): on massive contact nodes the forward-increment
 //!   Lagrange multiplier (Carpenter, Taylor, Katona, IJNME 32, 1991: with `ũ_c = u_cⁿ +
 //!   Δt v_c + κΔt² a_c` the contact-free prediction, `λ_c = min(0, (ũ_c − lb_c) m_c/(κΔt²))`, κ = 1,
-//!   ½ at n = 0); on massless ones the quasi-static rows solved exactly ([`super::QuasiStatic`],
-//!   with the free massless unknowns of a contact layer).
+//!   ½ at n = 0); on massless ones the quasi-static rows solved exactly ([`super::layer::Layer`]:
+//!   the contact and free massless unknowns of the layer with a sparse factor, issue 31).
 
+use super::layer::Layer;
 use super::lcp::LcpError;
-use super::{ContactSolver, ExplicitLaw, Massive, QuasiStatic, StepLaw};
+use super::{ContactSolver, ExplicitLaw, Massive, StepLaw};
 use crate::linalg::{LinalgError, SymMatrix};
 use crate::system::ContactSystem;
 
@@ -57,7 +58,7 @@ impl Split {
     }
 }
 
-/// A law's quasi-static map of the massless unknowns (the exact [`QuasiStatic`], the penalty's
+/// A law's quasi-static map of the massless unknowns (the exact [`Layer`], the penalty's
 /// `super::penalty::PenaltyQuasiStatic`).
 pub trait QuasiRows: std::fmt::Debug + Send {
     /// Takes the entries of a new load vector.
@@ -66,13 +67,13 @@ pub trait QuasiRows: std::fmt::Debug + Send {
     fn apply(&mut self, u: &mut [f64], lower: &[f64], lambda: &mut [f64]) -> Result<usize, LcpError>;
 }
 
-impl QuasiRows for QuasiStatic {
+impl QuasiRows for Layer {
     fn set_load(&mut self, load: &[f64]) {
-        QuasiStatic::set_load(self, load)
+        Layer::set_load(self, load)
     }
 
     fn apply(&mut self, u: &mut [f64], lower: &[f64], lambda: &mut [f64]) -> Result<usize, LcpError> {
-        QuasiStatic::apply(self, u, lower, lambda)
+        Layer::apply(self, u, lower, lambda)
     }
 }
 
@@ -112,7 +113,7 @@ impl<Q: QuasiRows> MasslessRows<Q> {
 pub struct ExactExplicit {
     massive: Vec<(usize, usize)>,
     lower: Vec<f64>,
-    massless: MasslessRows<QuasiStatic>,
+    massless: MasslessRows<Layer>,
 }
 
 impl ExactExplicit {
@@ -120,7 +121,7 @@ impl ExactExplicit {
         let split = Split::new(system, lumped);
         let any_massless = lumped.iter().any(|&m| m <= 0.0);
         let phi = if any_massless {
-            Some(QuasiStatic::with_free(&system.stiffness, &system.load, &split.massless, &split.free)?)
+            Some(Layer::new(&system.stiffness, &system.load, &split.massless, &split.free)?)
         } else {
             None
         };

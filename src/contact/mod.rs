@@ -30,6 +30,7 @@
 pub mod exact;
 pub mod friction;
 pub mod law;
+pub mod layer;
 pub mod lcp;
 pub mod nitsche;
 pub mod penalty;

@@ -476,24 +476,18 @@ impl SparseLlt {
             return Err(SparseError::TooLarge { matrix, n, values: symbolic.len_val(), bytes, limit, in_use });
         }
         let mut values = vec![0.0; symbolic.len_val()];
-        let mut work = MemBuffer::new(scratch);
-        symbolic
-            .factorize_numeric_llt(
-                &mut values,
-                a.as_ref(),
-                Side::Lower,
-                Default::default(),
-                Par::Seq,
-                MemStack::new(&mut work),
-                Default::default(),
-            )
-            .map_err(|e| match e {
-                faer::linalg::solvers::LltError::NonPositivePivot { index } => {
-                    SparseError::NotPositiveDefinite { matrix, index }
-                }
-            })?;
+        numeric(&symbolic, &mut values, a, MemBuffer::new(scratch), matrix)?;
         let scratch = MemBuffer::new(solve_scratch);
         Ok(Self { n, trailing: last.len(), symbolic, fwd, values, work: vec![0.0; n], scratch })
+    }
+
+    /// Factors `a` again with the stored ordering and symbolic analysis: `a` must have the
+    /// pattern of the matrix this factor was built from (new values only; entries may be zero).
+    /// On failure the factor is left unusable until a successful call.
+    pub fn refactor(&mut self, a: &SpMat, matrix: &'static str) -> Result<(), SparseError> {
+        debug_assert_eq!(a.nrows(), self.n);
+        let scratch = self.symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
+        numeric(&self.symbolic, &mut self.values, a, MemBuffer::new(scratch), matrix)
     }
 
     pub fn len(&self) -> usize {
@@ -575,6 +569,33 @@ impl SparseLlt {
         }
         result
     }
+}
+
+/// The numeric factorisation of `a` into `values` on the symbolic analysis `symbolic`, with its
+/// work space `work`.
+fn numeric(
+    symbolic: &SymbolicCholesky<usize>,
+    values: &mut [f64],
+    a: &SpMat,
+    mut work: MemBuffer,
+    matrix: &'static str,
+) -> Result<(), SparseError> {
+    symbolic
+        .factorize_numeric_llt(
+            values,
+            a.as_ref(),
+            Side::Lower,
+            Default::default(),
+            Par::Seq,
+            MemStack::new(&mut work),
+            Default::default(),
+        )
+        .map(|_| ())
+        .map_err(|e| match e {
+            faer::linalg::solvers::LltError::NonPositivePivot { index } => {
+                SparseError::NotPositiveDefinite { matrix, index }
+            }
+        })
 }
 
 /// The supernodal factor, None only for n = 0 (faer picks the simplicial variant when the flop

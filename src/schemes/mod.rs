@@ -96,12 +96,12 @@ pub trait Scheme: Send {
     fn note(&self) -> Option<String> {
         None
     }
-    /// An explicit scheme's stable limit Δt_c and its estimator (`"lanczos"` or
-    /// `"gershgorin"`; [`stable_limit`]); None for implicit schemes. The summary prints both.
     /// What friction did so far (None for a frictionless law or a scheme without one).
     fn friction(&self) -> Option<&crate::contact::friction::FrictionRecord> {
         None
     }
+    /// An explicit scheme's stable limit Δt_c and its estimator (`"lanczos"` or
+    /// `"gershgorin"`; [`stable_limit`]); None for implicit schemes. The summary prints both.
     fn stable_limit(&self) -> Option<(f64, &'static str)> {
         None
     }

@@ -15,6 +15,7 @@ pub mod baseline;
 pub mod env;
 pub mod explicit_scaling;
 pub mod friction;
+pub mod layer;
 pub mod methods;
 pub mod perf;
 pub mod report;
