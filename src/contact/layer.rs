@@ -187,7 +187,7 @@ impl Layer {
     /// the pivots.
     pub fn apply(&mut self, u: &mut [f64], lower: &[f64], lambda: &mut [f64]) -> Result<usize, LcpError> {
         let nc = self.nc;
-        // b = F_L − S_LI U, kept in `w`'s sibling `rhs` only after the active set's shift.
+        // b = F_L − S_LI U (in the `rhs` buffer, taken out while the pivoting borrows `self`).
         let mut b = std::mem::take(&mut self.rhs);
         b.copy_from_slice(&self.load);
         for &(k, j, s) in &self.coupling {
