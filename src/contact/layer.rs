@@ -91,7 +91,6 @@ pub struct Layer {
     correction: Option<Correction>,
     /// Nodes whose side may differ from the reference set before it is factored again.
     update_limit: usize,
-    factorisations: usize,
     rhs: Vec<f64>,
     x: Vec<f64>,
     w: Vec<f64>,
@@ -139,7 +138,7 @@ impl Layer {
             reference: vec![false; nc],
             correction: None,
             update_limit,
-            factorisations: 1,
+
             rhs: vec![0.0; nl],
             x: vec![0.0; nl],
             w: vec![0.0; nc],
@@ -164,11 +163,6 @@ impl Layer {
     /// both ways give the same solution).
     pub fn set_update_limit(&mut self, limit: usize) {
         self.update_limit = limit;
-    }
-
-    /// Numeric factorisations so far (the one at set-up included).
-    pub fn factorisations(&self) -> usize {
-        self.factorisations
     }
 
     /// Stored entries of the factor of S_LL (its fill).
@@ -301,7 +295,6 @@ impl Layer {
             return Err(LcpError::Breakdown { size, pivot: f64::NAN, residual: f64::NAN });
         }
         self.reference.copy_from_slice(&self.active);
-        self.factorisations += 1;
         Ok(())
     }
 

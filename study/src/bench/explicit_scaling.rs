@@ -72,7 +72,11 @@ fn thread_cpu_ms() -> f64 {
     f.get(11).zip(f.get(12)).map_or(f64::NAN, |(u, s)| (u + s) * 10.0)
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+/// The median (the upper one of an even count); NaN for no values.
+pub(super) fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
 }

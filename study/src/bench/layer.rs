@@ -17,6 +17,7 @@
 //! The table gives mod3's step and construction against the standard mass's on the same slab.
 //! An edge: it times and writes.
 
+use super::explicit_scaling::median;
 use massredist::contact::exact::Split;
 use massredist::contact::law::ContactLaw;
 use massredist::contact::layer::Layer;
@@ -96,14 +97,6 @@ fn steps(n: usize, mass: &MassKind, pressed: bool) -> Result<(Vec<(f64, usize)>,
         }
     }
     Ok((out, scheme_s))
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 fn case(n: usize, mass: MassKind, name: &'static str) -> Result<Row, String> {
