@@ -527,7 +527,7 @@ fn max_discrete_error(p: &Problem<SolidSystem>, scheme: &SchemeSpec, dt: f64, st
             let x = g.mesh.points[full / d][0];
             e[k] = st.u[k] - if full % d == 0 { exact.u(x, st.t) } else { 0.0 };
         }
-        worst = worst.max(sparse::quad_form(&g.mass_unit, &e).sqrt());
+        worst = worst.max(sparse::quad_form(g.mass_unit(), &e).sqrt());
         if n < steps {
             s.step().unwrap();
         }

@@ -193,7 +193,10 @@ pub fn principal(a: &SpMat, keep: &[usize], _matrix: &'static str) -> Result<SpM
     let (ptr, idx, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
     let m = keep.len();
     let mut col_ptr = vec![0usize; m + 1];
-    let (mut row_idx, mut val) = (Vec::new(), Vec::new());
+    // Allocated once at its size (a growing vector holds up to twice its entries at the peak).
+    let kept = |j: usize| idx[ptr[j]..ptr[j + 1]].iter().filter(|&&i| new[i] != usize::MAX).count();
+    let nnz = keep.iter().map(|&j| kept(j)).sum();
+    let (mut row_idx, mut val) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
     let mut column: Vec<(usize, f64)> = Vec::new();
     for (k, &j) in keep.iter().enumerate() {
         column.clear();

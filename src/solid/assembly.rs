@@ -33,7 +33,7 @@ use crate::fem::layers::LayerMassError;
 use crate::linalg::sparse::{self, SpMat, SparseError};
 use crate::mass::ContactDirections;
 use crate::system::{ContactSystem, Forcing};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 use thiserror::Error;
 
 pub use super::spec::Lateral;
@@ -117,17 +117,24 @@ impl Free {
     }
 }
 
-/// What a support assembles before the eliminations: the weighted and unit masses and the
-/// stiffness over all full indices, the load on the free unknowns (F(0) if it depends on
-/// time, with its `forcing`), a body's frame, and `|Γ_C|`.
+/// What a support assembles: its matrices, the load on the free unknowns (F(0) if it depends
+/// on time, with its `forcing`), a body's frame, and `|Γ_C|`.
 pub(super) struct Parts {
-    pub mass_all: SpMat,
-    pub stiff_all: SpMat,
-    pub unit_all: SpMat,
+    pub matrices: Matrices,
     pub load: Vec<f64>,
     pub forcing: Option<Forcing>,
     pub frame: Option<super::body::BodyFrame>,
     pub contact_area: f64,
+}
+
+/// The weighted mass, the stiffness and the unit mass of a support.
+pub(super) enum Matrices {
+    /// Over all full indices (a body's, in its frames): their principal submatrices on the free
+    /// unknowns are taken.
+    All { mass: SpMat, stiffness: SpMat, unit: SpMat },
+    /// Already on the free unknowns (the box's, assembled there by [`super::columns`]); the unit
+    /// mass is assembled when first asked for ([`SolidSystem::mass_unit`]).
+    Free { mass: SpMat, stiffness: SpMat },
 }
 
 /// The solid on its free unknowns: mesh, weights, material, the contact system and what the
@@ -146,8 +153,9 @@ pub struct SolidSystem {
     /// Full index → free unknown (None where eliminated).
     pub dof_of: Vec<Option<usize>>,
     pub system: ContactSystem<SpMat>,
-    /// The unweighted vector mass with ρ = 1 on the free unknowns (for L² norms).
-    pub mass_unit: SpMat,
+    /// The unweighted vector mass with ρ = 1 on the free unknowns (for L² norms): a body's set
+    /// when it is built, the box's assembled when first asked for ([`SolidSystem::mass_unit`]).
+    mass_unit: OnceLock<SpMat>,
     /// The mesh nodes that meet the obstacle (contact order).
     pub contact_nodes: Vec<usize>,
     /// `∫_{Γ_C} φ_c` per contact node (its share of the face area; they sum to |Γ_C|).
@@ -180,23 +188,30 @@ impl SolidSystem {
                     return Err(SolidAssemblyError::Force(*force));
                 }
                 crate::fem::layers::validate_weights(&mesh, &weights)?;
-                let (mass_all, stiff_all) = assemble_directed(&mesh, &weights, directions, &lame)?;
-                let unit = Lame { density: 1.0, ..lame };
-                let (unit_all, _) = assemble(&mesh, &vec![1.0; mesh.n_cells()], &unit)?;
                 let d = mesh.dim;
                 let eliminated = |g: usize| {
                     let (node, comp) = (g / d, g % d);
                     contact.clamped[node] || (*lateral == Lateral::Roller && comp >= 1 && mesh.on_lateral(node, comp))
                 };
                 let free = Free::new(&mesh, eliminated);
+                // Straight into compressed columns (`super::columns`): no triplets. The weighted
+                // mass over all full indices first, for the load's row sums, then its free part.
+                let all: Vec<Option<usize>> = (0..mesh.n_nodes() * d).map(Some).collect();
+                let mass_all = super::columns::mass(&mesh, &weights, directions, lame.density, &all, all.len());
+                drop(all);
                 // F_(a,i) = f_i ∫ w_h φ_a = f_i Σ_b M_(a,i),(b,i) / ρ (the basis sums to 1).
                 let mut row_sums = vec![0.0; mesh.n_nodes() * d];
                 for (i, _, v) in sparse::triplets(&mass_all) {
                     row_sums[i] += v;
                 }
                 let load = free.dofs.iter().map(|&g| force[g % d] * row_sums[g] / lame.density).collect();
+                drop(row_sums);
+                let mass = sparse::principal(&mass_all, &free.dofs, "mass")?;
+                drop(mass_all);
+                let stiffness = super::columns::stiffness(&mesh, &lame, &free.dof_of, free.dofs.len());
                 let contact_area = mesh.face_area();
-                let parts = Parts { mass_all, stiff_all, unit_all, load, forcing: None, frame: None, contact_area };
+                let matrices = Matrices::Free { mass, stiffness };
+                let parts = Parts { matrices, load, forcing: None, frame: None, contact_area };
                 Self::on_free(mesh, (weights, directions), lame, *lateral, free, parts, contact)
             }
             Support::Plane(body) => Self::assemble_body(mesh, (weights, directions), lame, body, contact),
@@ -221,9 +236,14 @@ impl SolidSystem {
     ) -> Result<Self, SolidAssemblyError> {
         let Free { dofs, dof_of } = free;
         let d = mesh.dim;
-        let mass = sparse::principal(&parts.mass_all, &dofs, "mass")?;
-        let stiffness = sparse::principal(&parts.stiff_all, &dofs, "stiffness")?;
-        let mass_unit = sparse::principal(&parts.unit_all, &dofs, "mass")?;
+        let (mass, stiffness, mass_unit) = match parts.matrices {
+            Matrices::All { mass, stiffness, unit } => (
+                sparse::principal(&mass, &dofs, "mass")?,
+                sparse::principal(&stiffness, &dofs, "stiffness")?,
+                OnceLock::from(sparse::principal(&unit, &dofs, "mass")?),
+            ),
+            Matrices::Free { mass, stiffness } => (mass, stiffness, OnceLock::new()),
+        };
         let unknowns = contact.nodes.iter().map(|&v| dof_of[v * d].expect("contact nodes are not clamped")).collect();
         let mut system = ContactSystem::new(mass, stiffness, parts.load, unknowns, 0.0);
         // Components 1.. of the contact nodes in the obstacle's frame (the box's: the world's),
@@ -283,6 +303,16 @@ impl SolidSystem {
             contact_area,
             frame: parts.frame,
             bodies: None,
+        })
+    }
+
+    /// The unweighted vector mass with ρ = 1 on the free unknowns (for L² norms): a body's
+    /// built with it, the box's assembled on first use (a run without an exact solution never
+    /// holds it).
+    pub fn mass_unit(&self) -> &SpMat {
+        self.mass_unit.get_or_init(|| {
+            let ones = vec![1.0; self.mesh.n_cells()];
+            super::columns::mass(&self.mesh, &ones, ContactDirections::All, 1.0, &self.dof_of, self.dofs.len())
         })
     }
 

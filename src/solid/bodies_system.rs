@@ -11,7 +11,7 @@
 //! momentum rows L_b = Σ_a R_a M'_ab are those of M' (P = Σ_b L_b v'_b with v' = T v_z), and the
 //! reports map z back to u' = T z ([`super::body::BodyFrame::coupling`]).
 
-use super::assembly::{Free, Parts, SolidAssemblyError, SolidSystem};
+use super::assembly::{Free, Matrices, Parts, SolidAssemblyError, SolidSystem};
 use super::bodies::{Bodies, Joined};
 use super::body::{BodyFrame, Frames, rotation};
 use super::coupling::Coupling;
@@ -71,7 +71,8 @@ impl SolidSystem {
             contact_area,
             coupling,
         };
-        let parts = Parts { mass_all, stiff_all, unit_all, load, forcing, frame: Some(frame), contact_area };
+        let matrices = Matrices::All { mass: mass_all, stiffness: stiff_all, unit: unit_all };
+        let parts = Parts { matrices, load, forcing, frame: Some(frame), contact_area };
         let mut system = Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)?;
         system.bodies = Some(layout(bodies, joined, &m_volumes));
         Ok(system)

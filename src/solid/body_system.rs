@@ -19,7 +19,7 @@
 //! mean displacement `ū_k = Σ_b m¹_b u_b,k / |Ω|` with the unweighted, ρ = 1 lumped mass m¹
 //! (both computed in the frame and rotated back by R).
 
-use super::assembly::{Free, Parts, SolidAssemblyError, SolidSystem, assemble, assemble_directed};
+use super::assembly::{Free, Matrices, Parts, SolidAssemblyError, SolidSystem, assemble, assemble_directed};
 pub use super::body::BodyFrame;
 use super::body::{BodyContact, BodySpec, Frames, from_frame, rotation, to_frame};
 use crate::expr::Expr;
@@ -170,7 +170,8 @@ impl SolidSystem {
             contact_area,
             coupling: Default::default(),
         };
-        let parts = Parts { mass_all, stiff_all, unit_all, load: f0, forcing, frame: Some(frame), contact_area };
+        let matrices = Matrices::All { mass: mass_all, stiffness: stiff_all, unit: unit_all };
+        let parts = Parts { matrices, load: f0, forcing, frame: Some(frame), contact_area };
         Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)
     }
 

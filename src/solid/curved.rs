@@ -20,7 +20,7 @@
 //! takes `w^(i)` itself, not `√w^(i)²`. The load is `F_a = R_aᵀ Σ_b m_ab f(X_b)` and the
 //! momentum `P = Σ_b L_b v_b`, `L_b = Σ_a R_a M'_ab` (the consistent mass's `1ᵀ M V`).
 
-use super::assembly::{Free, Parts, SolidAssemblyError, SolidSystem};
+use super::assembly::{Free, Matrices, Parts, SolidAssemblyError, SolidSystem};
 use super::body::{BodyContact, BodyFrame, BodySpec, Frames, rotation};
 use crate::fem::Mesh;
 use crate::linalg::sparse;
@@ -95,7 +95,8 @@ impl SolidSystem {
         let coupling = Default::default();
         let frame =
             BodyFrame { frames, momentum, lumped, lumped_tangential, lumped_unit, volume, contact_area, coupling };
-        let parts = Parts { mass_all, stiff_all, unit_all, load, forcing, frame: Some(frame), contact_area };
+        let matrices = Matrices::All { mass: mass_all, stiffness: stiff_all, unit: unit_all };
+        let parts = Parts { matrices, load, forcing, frame: Some(frame), contact_area };
         Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)
     }
 }

@@ -141,7 +141,7 @@ impl GeometryView for SolidSystem {
         let ex = self.x_error_squared(u, exact, t);
         let d = self.mesh.dim;
         let transverse: Vec<f64> = u.iter().zip(&self.dofs).map(|(&x, &g)| if g % d == 0 { 0.0 } else { x }).collect();
-        let et = sparse::quad_form(&self.mass_unit, &transverse);
+        let et = sparse::quad_form(self.mass_unit(), &transverse);
         (ex + et.max(0.0)).sqrt()
     }
 
@@ -155,7 +155,7 @@ impl GeometryView for SolidSystem {
         for (e, &g) in scratch.iter_mut().zip(&self.dofs) {
             *e = if g % d == 0 { exact.u(self.mesh.points[g / d][0], t) } else { 0.0 };
         }
-        sparse::quad_form(&self.mass_unit, scratch).max(0.0).sqrt()
+        sparse::quad_form(self.mass_unit(), scratch).max(0.0).sqrt()
     }
 
     /// The largest departure from a plane wave: `max |u_x(x, y, z) − u_x(x, y_0, z_0)|` and the

@@ -34,6 +34,7 @@ pub mod bodies;
 pub mod bodies_system;
 pub mod body;
 pub mod body_system;
+pub mod columns;
 pub mod coupling;
 pub mod curved;
 pub mod geometry;

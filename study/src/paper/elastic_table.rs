@@ -136,7 +136,7 @@ pub fn simplex_l2_error(solid: &SolidSystem, columns: &Columns, u: &[f64], exact
         sum
     });
     let transverse: Vec<f64> = u.iter().zip(&solid.dofs).map(|(&x, &g)| if g % d == 0 { 0.0 } else { x }).collect();
-    (x_part.max(0.0) + sparse::quad_form(&solid.mass_unit, &transverse).max(0.0)).sqrt()
+    (x_part.max(0.0) + sparse::quad_form(solid.mass_unit(), &transverse).max(0.0)).sqrt()
 }
 
 /// The running maximum of the error against the plane wave (or the fine-mesh reference), read at

@@ -1,0 +1,123 @@
+//! A box's matrices straight into compressed columns (issue 31: the scene's path at scale).
+//!
+//! The weighted mass, the unit mass and the stiffness are assembled cell by cell into their
+//! compressed columns on the free unknowns, the pattern from the node graph (unknown (a, i)
+//! couples to (b, j) when nodes a and b share a cell, and i = j for a mass): no element triplets
+//! (about 23 kB of them per hexahedron) and no matrix over all nodes. Each entry receives its
+//! cell contributions in increasing cell order, computed by the expression of
+//! [`super::assembly::assemble`] at the same position, so the matrices equal the principal
+//! submatrices of the triplet assembly bit for bit, pattern included (`tests/central_solid.rs`).
+//! [`super::SolidSystem::assemble`] takes them for a box (every scheme; the unit mass only when
+//! an L² error is asked for: [`super::SolidSystem::mass_unit`]), and so does the explicit
+//! benches' set-up ([`super::lean`]).
+
+use crate::fem::Mesh;
+use crate::linalg::sparse::{self, SpMat};
+use crate::mass::ContactDirections;
+use crate::material::Lame;
+
+/// The compressed-column pattern on the unknowns `dof_of` maps to (full index → index in
+/// 0..n, None where eliminated): unknown (a, i) couples to (b, j) when nodes a and b share a
+/// cell, and `i == j` if `diagonal` (a vector mass, `δ_ij` times a scalar). Rows increase within
+/// a column.
+fn node_graph(mesh: &Mesh, dof_of: &[Option<usize>], n: usize, diagonal: bool) -> (Vec<usize>, Vec<usize>) {
+    let d = mesh.dim;
+    let mut adj: Vec<Vec<usize>> = vec![Vec::new(); mesh.n_nodes()];
+    for c in 0..mesh.n_cells() {
+        let v = mesh.cell(c);
+        for &a in v {
+            adj[a].extend_from_slice(v);
+        }
+    }
+    adj.iter_mut().for_each(|l| {
+        l.sort_unstable();
+        l.dedup();
+    });
+    // Column (a, i) holds rows (b, j) for b adjacent to a, j free, in increasing index (the
+    // free indices increase with the full ones).
+    let rows = |g: usize| {
+        let i = g % d;
+        let comps = if diagonal { i..i + 1 } else { 0..d };
+        adj[g / d].iter().flat_map(move |&b| comps.clone().filter_map(move |j| dof_of[b * d + j]))
+    };
+    let columns = || (0..mesh.n_nodes() * d).filter(|&g| dof_of[g].is_some());
+    // Counted first, then allocated once at its size (a growing vector holds up to twice its
+    // entries at the peak).
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    col_ptr.push(0);
+    for g in columns() {
+        col_ptr.push(col_ptr[col_ptr.len() - 1] + rows(g).count());
+    }
+    let mut row_idx = Vec::with_capacity(col_ptr[n]);
+    for g in columns() {
+        row_idx.extend(rows(g));
+    }
+    (col_ptr, row_idx)
+}
+
+/// The matrix on the pattern of [`node_graph`] whose entry (row (a, i), column (b, j)) is the
+/// sum over the cells c that hold a and b, in increasing c, of `entry(c, e, a, b, i, j)` (a, b
+/// local vertex numbers of c, e its integrals): the value and the order of
+/// [`super::assembly::assemble`]'s triplets, so the two are equal bit for bit (the expressions
+/// are symmetric in exact arithmetic only: λ ∂_i φ_a ∂_j φ_b rounds otherwise than
+/// λ ∂_j φ_b ∂_i φ_a).
+fn assemble_on(
+    mesh: &Mesh,
+    dof_of: &[Option<usize>],
+    n: usize,
+    diagonal: bool,
+    entry: impl Fn(usize, &crate::fem::element::CellIntegrals, usize, usize, usize, usize) -> f64,
+) -> SpMat {
+    let d = mesh.dim;
+    let (col_ptr, row_idx) = node_graph(mesh, dof_of, n, diagonal);
+    let mut val = vec![0.0; row_idx.len()];
+    for c in 0..mesh.n_cells() {
+        let e = mesh.integrals(c);
+        let v = mesh.cell(c);
+        for a in 0..v.len() {
+            for b in 0..v.len() {
+                for i in 0..d {
+                    let Some(col) = dof_of[v[a] * d + i] else { continue };
+                    let rows = &row_idx[col_ptr[col]..col_ptr[col + 1]];
+                    let comps = if diagonal { i..i + 1 } else { 0..d };
+                    for j in comps {
+                        let Some(row) = dof_of[v[b] * d + j] else { continue };
+                        let k = rows.binary_search(&row).expect("the pattern holds every cell pair");
+                        // Entry (row, col) = ((b, j), (a, i)): the triplet of that position.
+                        val[col_ptr[col] + k] += entry(c, &e, b, a, j, i);
+                    }
+                }
+            }
+        }
+    }
+    sparse::from_csc(n, col_ptr, row_idx, val)
+}
+
+/// The stiffness on the unknowns `dof_of` maps to (full index → index in 0..n), assembled cell
+/// by cell without triplets (module docs).
+pub fn stiffness(mesh: &Mesh, lame: &Lame, dof_of: &[Option<usize>], n: usize) -> SpMat {
+    assemble_on(mesh, dof_of, n, false, |_, e, a, b, i, j| {
+        // The expression of `assembly::assemble` (bit-identical sums).
+        let mut s = 0.0;
+        for q in 0..e.nq {
+            let (ga, gb) = (&e.grads[q][a], &e.grads[q][b]);
+            let delta = if i == j { e.grad_dot(q, a, b) } else { 0.0 };
+            s += e.weights[q] * (lame.lambda * ga[i] * gb[j] + lame.mu * (delta + ga[j] * gb[i]));
+        }
+        s
+    })
+}
+
+/// The weighted vector mass `δ_ij ρ Σ_c w_c^(i) ∫_c φ_a φ_b` on the unknowns `dof_of` maps to,
+/// assembled as [`stiffness`] (the expression of [`super::assembly::assemble_directed`]).
+pub fn mass(
+    mesh: &Mesh,
+    weights: &[f64],
+    directions: ContactDirections,
+    density: f64,
+    dof_of: &[Option<usize>],
+    n: usize,
+) -> SpMat {
+    assert_eq!(weights.len(), mesh.n_cells(), "one weight per cell");
+    assemble_on(mesh, dof_of, n, true, |c, e, a, b, i, _| density * directions.weight(i, weights[c]) * e.mass[a][b])
+}
