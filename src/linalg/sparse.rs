@@ -331,6 +331,12 @@ impl RunMat {
         self.val_ptr.len() - 1
     }
 
+    /// The bytes a product reads of the matrix: its values (8 each), its runs (8 each) and its
+    /// two pointer arrays (8 per column each).
+    pub fn bytes(&self) -> usize {
+        8 * (self.val.len() + self.runs.len() + self.val_ptr.len() + self.run_ptr.len())
+    }
+
     /// `y_j = Σ_k a_jk x_k` for the rows of `ys`, j from `first`.
     fn rows(&self, x: &[f64], first: usize, ys: &mut [f64]) {
         for (r, yj) in ys.iter_mut().enumerate() {
@@ -616,6 +622,25 @@ fn supernodal<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `RunMat::bytes` of matrices whose runs are known by hand: the 5 × 5 path Laplacian (13
+    /// entries, one run per column: 5 runs, 6 + 6 pointers) and the 2 × 2 identity plus a
+    /// coupling of rows 0 and 2 in a 3 × 3 matrix (column 0 holds rows 0 and 2: two runs).
+    #[test]
+    fn a_row_run_matrix_counts_its_bytes() {
+        let mut t = Vec::new();
+        for i in 0..5 {
+            t.push((i, i, 2.0));
+            if i + 1 < 5 {
+                t.extend([(i, i + 1, -1.0), (i + 1, i, -1.0)]);
+            }
+        }
+        let path = RunMat::new(&from_triplets(5, &t, "path").unwrap()).unwrap();
+        assert_eq!(path.bytes(), 8 * (13 + 5 + 6 + 6));
+        let t = [(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0), (0, 2, 0.5), (2, 0, 0.5)];
+        let gap = RunMat::new(&from_triplets(3, &t, "gap").unwrap()).unwrap();
+        assert_eq!(gap.bytes(), 8 * (5 + 5 + 4 + 4));
+    }
 
     #[test]
     fn cholesky_solves_a_laplacian() {

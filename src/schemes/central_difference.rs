@@ -111,6 +111,13 @@ impl<A: SymMatrix> Stiffness<A> {
     }
 }
 
+/// The vectors of n values a step reads or writes, pass by pass ([`CentralDifference::streamed_bytes`];
+/// a law without residual): the half-step update reads v, u, a, M_L⁻¹ and writes v, u (6); the
+/// product K u reads u once (its neighbours' values come from cache on a mesh numbered by
+/// node) and writes Ku (2); `a = M_L⁻¹ (F − Ku)` reads M_L⁻¹, F, Ku and writes a (4); the last
+/// half-step reads v, a and writes v (3).
+pub const VECTOR_PASSES: usize = 15;
+
 #[derive(Debug)]
 pub struct CentralDifference<A: SymMatrix> {
     dt: f64,
@@ -227,6 +234,20 @@ impl<A: SymMatrix> CentralDifference<A> {
         let kinetic: f64 = self.v.iter().zip(&self.lumped).map(|(v, m)| m * v * v).sum();
         let work: f64 = self.u.iter().zip(&self.load).map(|(u, f)| u * f).sum();
         0.5 * kinetic + 0.5 * self.stiffness.quad_form(&self.u) - work + self.law.energy(&self.u)
+    }
+
+    /// The bytes a step streams through memory, counted from the data structures with STREAM's
+    /// convention (each array read or written once per pass counts its size once; no
+    /// write-allocate): the stiffness in row-run form ([`crate::linalg::sparse::RunMat::bytes`])
+    /// and [`VECTOR_PASSES`] vectors of n values. The contact law's work on the contact nodes
+    /// (a few per thousand unknowns at scale) is not counted. None where the count does not
+    /// hold: a stiffness not in row-run form, or a law with a residual (penalty, Nitsche: more
+    /// passes).
+    pub fn streamed_bytes(&self) -> Option<usize> {
+        match &self.stiffness {
+            Stiffness::Runs(r) if !self.law.has_residual() => Some(r.bytes() + VECTOR_PASSES * 8 * self.u.len()),
+            _ => None,
+        }
     }
 
     /// The massless unknowns from the quasi-static rows at t (F(t) already in `load`).

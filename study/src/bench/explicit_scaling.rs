@@ -14,7 +14,10 @@
 //! for the implicit one); the median of `steps` steps each timed alone, on rayon pools of 1 and
 //! 2 threads (explicit; the implicit step is sequential), at Δt = 0.9 Δt_c (explicit) or 0.01
 //! (implicit); and the process's peak resident memory (VmHWM, reset before each case through
-//! `/proc/self/clear_refs`). An edge: it times and writes.
+//! `/proc/self/clear_refs`). Per explicit case also the floor (issue 31, item 1): STREAM's triad
+//! on 1 and 2 threads in the case's process ([`triad_gbs`]), the bytes a step streams per unknown
+//! ([`CentralDifference::streamed_bytes`]) and the step over bytes ÷ bandwidth
+//! ([`Row::floor_ratio`]). An edge: it times and writes.
 
 use massredist::linalg::SymMatrix;
 use massredist::mass::MassKind;
@@ -44,6 +47,58 @@ pub struct Row {
     /// Median on-CPU time of a step, one thread (ms).
     pub cpu_ms_1: f64,
     pub peak_mib: f64,
+    /// Bytes a step streams per unknown ([`CentralDifference::streamed_bytes`]; NaN: implicit).
+    pub bytes_per_unknown: f64,
+    /// The triad's bandwidth in this case's process, GB/s, on 1 and 2 threads ([`triad_gbs`]).
+    pub triad_gbs_1: f64,
+    pub triad_gbs_2: f64,
+}
+
+impl Row {
+    /// The step's floor on `threads` (1 or 2): the bytes it streams over the triad's bandwidth,
+    /// ms.
+    pub fn floor_ms(&self, threads: usize) -> f64 {
+        let gbs = if threads == 1 { self.triad_gbs_1 } else { self.triad_gbs_2 };
+        self.bytes_per_unknown * self.unknowns as f64 / (gbs * 1e9) * 1e3
+    }
+
+    /// The median wall step over its floor, on `threads`.
+    pub fn floor_ratio(&self, threads: usize) -> f64 {
+        let step = if threads == 1 { self.step_ms_1 } else { self.step_ms_2 };
+        step / self.floor_ms(threads)
+    }
+}
+
+/// The triad's arrays: 2²⁴ values each (3 × 128 MiB, each 4× the 32 MiB L3 cache: STREAM's rule).
+pub const TRIAD_LEN: usize = 1 << 24;
+/// Passes of the triad; the best counts (STREAM's rule).
+pub const TRIAD_PASSES: usize = 10;
+
+/// STREAM's triad `a = b + s c` on three arrays of [`TRIAD_LEN`] values on a rayon pool of
+/// `threads` (chunks of [`massredist::linalg::sparse::PAR_ROWS`] at least, as the scheme's
+/// loops): the best of [`TRIAD_PASSES`] passes, in GB/s counting 24 bytes per element
+/// (STREAM's convention: no write-allocate). The arrays are first written on the same pool.
+pub fn triad_gbs(threads: usize) -> Result<f64, String> {
+    use rayon::prelude::*;
+    let rows = massredist::linalg::sparse::PAR_ROWS;
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| e.to_string())?;
+    Ok(pool.install(|| {
+        let fill = |x: f64| {
+            let mut v = vec![0.0; TRIAD_LEN];
+            v.par_iter_mut().with_min_len(rows).for_each(|e| *e = x);
+            v
+        };
+        let (mut a, b, c) = (fill(0.0), fill(1.0), fill(2.0));
+        let mut best = f64::INFINITY;
+        for pass in 0..TRIAD_PASSES {
+            let s = 3.0 + pass as f64;
+            let t = Instant::now();
+            (&mut a[..], &b[..], &c[..]).into_par_iter().with_min_len(rows).for_each(|(a, b, c)| *a = b + s * c);
+            best = best.min(t.elapsed().as_secs_f64());
+            std::hint::black_box(&a);
+        }
+        24.0 * TRIAD_LEN as f64 / best / 1e9
+    }))
 }
 
 /// Resets the peak resident memory (VmHWM) of this process (Linux ≥ 4.0).
@@ -121,6 +176,8 @@ fn assemble(cells: [usize; 3], mass: &MassKind) -> Result<(Problem<SolidSystem>,
 /// One explicit case: central differences at 0.9 Δt_c on the lean box system
 /// ([`massredist::solid::lean`]: no consistent mass, the stiffness moved into the scheme).
 fn explicit(shape: &'static str, cells: [usize; 3], mass: MassKind, steps: usize) -> Result<Row, String> {
+    // The triad first, its arrays freed before the peak is reset.
+    let (triad_gbs_1, triad_gbs_2) = (triad_gbs(1)?, triad_gbs(2)?);
     reset_peak();
     let t = Instant::now();
     let b = spec(cells).explicit_box(&mass).map_err(|e| e.to_string())?;
@@ -140,6 +197,7 @@ fn explicit(shape: &'static str, cells: [usize; 3], mass: MassKind, steps: usize
     let scheme_s = t.elapsed().as_secs_f64();
     let (step_ms_1, cpu_ms_1) = median_step(&mut cd, steps, 1)?;
     let (step_ms_2, _) = median_step(&mut cd, steps, 2)?;
+    let bytes = cd.streamed_bytes().ok_or("the step's bytes are not counted for this stiffness")?;
     Ok(Row {
         method: "explicit",
         shape,
@@ -153,6 +211,9 @@ fn explicit(shape: &'static str, cells: [usize; 3], mass: MassKind, steps: usize
         step_ms_2,
         cpu_ms_1,
         peak_mib: peak_mib(),
+        bytes_per_unknown: bytes as f64 / unknowns as f64,
+        triad_gbs_1,
+        triad_gbs_2,
     })
 }
 
@@ -180,6 +241,9 @@ fn implicit(n: usize, steps: usize) -> Result<Row, String> {
         step_ms_2: step,
         cpu_ms_1,
         peak_mib: peak_mib(),
+        bytes_per_unknown: f64::NAN,
+        triad_gbs_1: f64::NAN,
+        triad_gbs_2: f64::NAN,
     })
 }
 
@@ -230,6 +294,10 @@ fn from_csv_line(line: &str) -> Result<Row, String> {
         step_ms_2: x(11)?,
         cpu_ms_1: x(12)?,
         peak_mib: x(15)?,
+        // Absent from a CSV written before they were measured: NaN.
+        bytes_per_unknown: x(16).unwrap_or(f64::NAN),
+        triad_gbs_1: x(17).unwrap_or(f64::NAN),
+        triad_gbs_2: x(18).unwrap_or(f64::NAN),
     })
 }
 
@@ -287,7 +355,7 @@ fn write_outputs(csv: &Path, rows: &[Row]) -> Result<Vec<PathBuf>, String> {
     Ok(out)
 }
 
-const HEADER: &str = "method,shape,nx,ny,nz,unknowns,assembly_s,lumped_s,scheme_s,dt,step_ms_1,step_ms_2,cpu_ms_1,cpu_ns_per_unknown_1,speedup_2,peak_mib";
+const HEADER: &str = "method,shape,nx,ny,nz,unknowns,assembly_s,lumped_s,scheme_s,dt,step_ms_1,step_ms_2,cpu_ms_1,cpu_ns_per_unknown_1,speedup_2,peak_mib,bytes_per_unknown,triad_gbs_1,triad_gbs_2,floor_ratio_1,floor_ratio_2";
 
 pub fn to_csv(rows: &[Row]) -> String {
     let mut s = format!("{HEADER}\n");
@@ -296,7 +364,7 @@ pub fn to_csv(rows: &[Row]) -> String {
         let ns = r.cpu_ms_1 * 1e6 / r.unknowns as f64;
         let _ = writeln!(
             s,
-            "{},{},{x},{y},{z},{},{:.4},{:.4},{:.4},{:.6e},{:.4},{:.4},{:.4},{:.2},{:.3},{:.1}",
+            "{},{},{x},{y},{z},{},{:.4},{:.4},{:.4},{:.6e},{:.4},{:.4},{:.4},{:.2},{:.3},{:.1},{:.1},{:.2},{:.2},{:.3},{:.3}",
             r.method,
             r.shape,
             r.unknowns,
@@ -309,13 +377,65 @@ pub fn to_csv(rows: &[Row]) -> String {
             r.cpu_ms_1,
             ns,
             r.step_ms_1 / r.step_ms_2,
-            r.peak_mib
+            r.peak_mib,
+            r.bytes_per_unknown,
+            r.triad_gbs_1,
+            r.triad_gbs_2,
+            r.floor_ratio(1),
+            r.floor_ratio(2)
         );
     }
     s
 }
 
 pub fn to_markdown(rows: &[Row]) -> String {
+    let mut s = String::from(PREAMBLE);
+    s.push_str(&time_table(rows));
+    s.push_str(FLOOR_TEXT);
+    s.push_str(&floor_table(rows));
+    s
+}
+
+/// What the file holds (written by the command with the tables).
+const PREAMBLE: &str = "# Explicit at scale: implicit against explicit on 3D hex solids
+
+Written by `massredist bench --explicit-scaling docs/bench/explicit-scaling.csv` (with the CSV
+and the figure `explicit-scaling.png`/`.svg`); what the numbers show is in
+[`../bench.md`](../bench.md). Each case runs in a process of its own, so that its peak resident
+memory (VmHWM) is its own. Cases (the plane-wave solid's paper data, λ + 2μ = ρ = 1):
+
+- **implicit cube**: N³ Q1 hexahedra, mod3, Crank–Nicolson at Δt = 0.01 (the scene's set-up;
+  one sparse Cholesky factor: \"scheme s\"; a step is two triangular solves).
+- **explicit cube**: N³, the standard mass (contact by the forward-increment multipliers, one
+  closed form per contact node), central differences at 0.9 Δt_c.
+- **explicit rod**: N × 10 × 10 (h = 1/10), mod1 (the contact layer massless: its quasi-static
+  problem with exact Signorini is solved every step), central differences at 0.9 Δt_c.
+
+The explicit set-up is `SolidSpec::explicit_box` (the stiffness straight into compressed
+columns, the lumped mass as the mass matrix, no consistent mass) and
+`CentralDifference::from_system` (Δt_c by Lanczos, capped at 30 steps above 50 000 unknowns,
+then the Gershgorin bound; the stiffness moved into the row-run form `sparse::RunMat`). Step
+times: medians of 21 steps timed alone on rayon pools of 1 and 2 threads in the same process;
+\"CPU\" is the stepping thread's CPU time (`/proc/thread-self/stat`, the mean over about 2 s).
+
+";
+
+const FLOOR_TEXT: &str = "
+## The floor: bytes moved against the triad's bandwidth
+
+Per explicit case, in the same process: STREAM's triad `a = b + s c` on three arrays of 2²⁴
+values (3 × 128 MiB, each 4× the L3 cache), the best of 10 passes, on 1 and 2 threads, in GB/s
+at 24 bytes per element. The bytes a step moves are counted from its data structures
+(`CentralDifference::streamed_bytes`, STREAM's convention: each array read or written in a pass
+counts once, no write-allocate): the stiffness in row-run form (values, runs and the two
+pointer arrays, `RunMat::bytes`) and 15 vectors of n values (`VECTOR_PASSES`); the contact
+law's work on the contact nodes is not counted. The floor is bytes ÷ triad bandwidth; the ratio
+is the median wall step over it.
+
+";
+
+/// The time and memory table.
+fn time_table(rows: &[Row]) -> String {
     let mut s = String::from(
         "| method | shape | cells | unknowns | assembly s | lumped mass s | scheme s (Δt_c / factor) | step ms, 1 thread (wall) | step ms, 1 thread (CPU) | CPU ns per unknown | step ms, 2 threads (wall) | speed-up (wall) | peak MiB |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
@@ -337,6 +457,32 @@ pub fn to_markdown(rows: &[Row]) -> String {
             r.step_ms_1 / r.step_ms_2,
             r.peak_mib
         );
+    }
+    s
+}
+
+/// The floor table of the explicit rows.
+fn floor_table(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "| shape | cells | unknowns | bytes per unknown per step | triad GB/s, 1 thread | floor ms, 1 thread | step ms, 1 thread | ratio, 1 thread | triad GB/s, 2 threads | floor ms, 2 threads | step ms, 2 threads | ratio, 2 threads |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in rows.iter().filter(|r| r.method == "explicit") {
+        let [x, y, z] = r.cells;
+        let cells = [
+            r.shape.to_string(),
+            format!("{x}×{y}×{z}"),
+            r.unknowns.to_string(),
+            format!("{:.0}", r.bytes_per_unknown),
+            format!("{:.1}", r.triad_gbs_1),
+            format!("{:.2}", r.floor_ms(1)),
+            format!("{:.2}", r.step_ms_1),
+            format!("{:.2}", r.floor_ratio(1)),
+            format!("{:.1}", r.triad_gbs_2),
+            format!("{:.2}", r.floor_ms(2)),
+            format!("{:.2}", r.step_ms_2),
+            format!("{:.2}", r.floor_ratio(2)),
+        ];
+        let _ = writeln!(s, "| {} |", cells.join(" | "));
     }
     s
 }
