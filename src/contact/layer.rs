@@ -24,7 +24,8 @@
 //! solves `S_RR z = r` (r zero on A0). A set A that differs from A0 on the freed nodes
 //! I = A0 \ A and the newly fixed J = A \ A0 is solved from `z0 = S_RR⁻¹ (b_R − S_R,A0∩A lb)`
 //! by the bordered system of the k = |I| + |J| nodes ([`Correction`]: k solves with the factor
-//! and a dense k × k LU, kept while A stays): with `G = S_RR⁻¹ S_RI`, `H = S_RR⁻¹ E_Jᵀ`,
+//! and faer's dense k × k LU with partial pivoting, kept while A stays): with
+//! `G = S_RR⁻¹ S_RI`, `H = S_RR⁻¹ E_Jᵀ`,
 //!
 //! ```text
 //! [ S_II − S_IR G    −G_Jᵀ ] [x_I]   [b_I − S_I,A0∩A lb − S_IR z0]
@@ -63,6 +64,8 @@
 use super::lcp::LcpError;
 use crate::linalg::sparse::{self, SpMat, SparseError, SparseLlt};
 use crate::linalg::{LinalgError, SymMatrix};
+use faer::Mat;
+use faer::linalg::solvers::{PartialPivLu, Solve};
 
 /// Block pivots allowed without a new minimum of the number of wrong signs before single
 /// (least-index) pivots take over (Júdice–Pires' p; 3 is their value).
@@ -307,11 +310,10 @@ impl Layer {
             let c = Correction::new(self)?;
             self.correction = Some(c);
         }
-        let c = self.correction.as_ref().expect("just built");
+        let c = self.correction.as_mut().expect("just built");
         let (ptr, idx, val) = (self.s.symbolic().col_ptr(), self.s.symbolic().row_idx(), self.s.val());
-        let k = c.freed.len() + c.fixed.len();
         // Right-hand side: rhs_I − S_IR z0 (rhs_I = b_I − Σ_{a ∈ A0 ∩ A} S_Ia lb_a), lb_J − z0_J.
-        let mut r = vec![0.0; k];
+        let r = &mut c.r;
         for (m, &i) in c.freed.iter().enumerate() {
             let mut s = b[i];
             for p in ptr[i]..ptr[i + 1] {
@@ -324,22 +326,22 @@ impl Layer {
                     s -= val[p] * self.x[l];
                 }
             }
-            r[m] = s;
+            r[(m, 0)] = s;
         }
         for (m, &j) in c.fixed.iter().enumerate() {
-            r[c.freed.len() + m] = lower[j] - self.x[j];
+            r[(c.freed.len() + m, 0)] = lower[j] - self.x[j];
         }
-        lu_solve(&c.lu, &c.perm, k, &mut r);
+        c.lu.solve_in_place(r.as_mut());
         // x_R −= Σ cols · (x_I, μ); x_I set.
         let nl = self.unknowns.len();
-        for (m, &y) in r.iter().enumerate() {
-            let col = &c.cols[m * nl..(m + 1) * nl];
+        for m in 0..r.nrows() {
+            let (col, y) = (&c.cols[m * nl..(m + 1) * nl], r[(m, 0)]);
             for (x, g) in self.x.iter_mut().zip(col) {
                 *x -= g * y;
             }
         }
         for (m, &i) in c.freed.iter().enumerate() {
-            self.x[i] = r[m];
+            self.x[i] = r[(m, 0)];
         }
         Ok(())
     }
@@ -381,8 +383,10 @@ struct Correction {
     fixed: Vec<usize>,
     /// The k columns (g then h), |L| each, zero on the rows of A0.
     cols: Vec<f64>,
-    lu: Vec<f64>,
-    perm: Vec<usize>,
+    /// C's LU factor with partial pivoting (faer).
+    lu: PartialPivLu<f64>,
+    /// The k-vector of the right-hand side and solution, kept between steps.
+    r: Mat<f64>,
 }
 
 impl Correction {
@@ -410,7 +414,7 @@ impl Correction {
             layer.factor.solve_in_place(&mut cols[m * nl..(m + 1) * nl]);
         }
         let (ptr, idx, val) = (layer.s.symbolic().col_ptr(), layer.s.symbolic().row_idx(), layer.s.val());
-        let mut c = vec![0.0; k * k];
+        let mut c = Mat::<f64>::zeros(k, k);
         for (m, &i) in freed.iter().enumerate() {
             for m2 in 0..k {
                 // −S_iR · (column m2), plus S_ii' for a freed i'.
@@ -424,60 +428,22 @@ impl Correction {
                         v += val[p];
                     }
                 }
-                c[m * k + m2] = v;
+                c[(m, m2)] = v;
             }
         }
         for (m, &j) in fixed.iter().enumerate() {
             for m2 in 0..k {
-                c[(ni + m) * k + m2] = -cols[m2 * nl + j];
+                c[(ni + m, m2)] = -cols[m2 * nl + j];
             }
         }
-        let perm = lu_factor(&mut c, k).map_err(|pivot| LcpError::Breakdown {
-            size: layer.active.iter().filter(|&&a| a).count(),
-            pivot,
-            residual: f64::NAN,
-        })?;
-        Ok(Self { set: layer.active.clone(), freed, fixed, cols, lu: c, perm })
-    }
-}
-
-/// LU factorisation with partial pivoting of the row-major k × k matrix `a` in place; returns
-/// the row permutation, or Err(pivot) if a pivot is zero (C is nonsingular when S_LL is SPD).
-fn lu_factor(a: &mut [f64], k: usize) -> Result<Vec<usize>, f64> {
-    let mut perm: Vec<usize> = (0..k).collect();
-    for j in 0..k {
-        let p = (j..k).max_by(|&x, &y| a[x * k + j].abs().total_cmp(&a[y * k + j].abs())).unwrap_or(j);
-        if a[p * k + j] == 0.0 || !a[p * k + j].is_finite() {
-            return Err(a[p * k + j]);
+        let lu = c.partial_piv_lu();
+        // C is nonsingular when S_LL is positive definite: a zero or non-finite pivot of U is a
+        // breakdown.
+        let u = lu.U();
+        if let Some(pivot) = (0..k).map(|m| u[(m, m)]).find(|p| *p == 0.0 || !p.is_finite()) {
+            let size = layer.active.iter().filter(|&&a| a).count();
+            return Err(LcpError::Breakdown { size, pivot, residual: f64::NAN });
         }
-        if p != j {
-            for c in 0..k {
-                a.swap(p * k + c, j * k + c);
-            }
-            perm.swap(p, j);
-        }
-        let d = a[j * k + j];
-        for i in j + 1..k {
-            let f = a[i * k + j] / d;
-            a[i * k + j] = f;
-            for c in j + 1..k {
-                a[i * k + c] -= f * a[j * k + c];
-            }
-        }
+        Ok(Self { set: layer.active.clone(), freed, fixed, cols, lu, r: Mat::zeros(k, 1) })
     }
-    Ok(perm)
-}
-
-/// Solves `A y = r` in place with [`lu_factor`]'s output.
-fn lu_solve(lu: &[f64], perm: &[usize], k: usize, r: &mut [f64]) {
-    let mut y: Vec<f64> = perm.iter().map(|&p| r[p]).collect();
-    for i in 0..k {
-        let s: f64 = (0..i).map(|c| lu[i * k + c] * y[c]).sum();
-        y[i] -= s;
-    }
-    for i in (0..k).rev() {
-        let s: f64 = (i + 1..k).map(|c| lu[i * k + c] * y[c]).sum();
-        y[i] = (y[i] - s) / lu[i * k + i];
-    }
-    r.copy_from_slice(&y);
 }
