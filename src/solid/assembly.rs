@@ -82,13 +82,7 @@ pub fn assemble_directed(
                 }
                 for i in 0..d {
                     for j in 0..d {
-                        let mut s = 0.0;
-                        for q in 0..e.nq {
-                            let (ga, gb) = (&e.grads[q][a], &e.grads[q][b]);
-                            let delta = if i == j { e.grad_dot(q, a, b) } else { 0.0 };
-                            s += e.weights[q] * (lame.lambda * ga[i] * gb[j] + lame.mu * (delta + ga[j] * gb[i]));
-                        }
-                        ts.push((v[a] * d + i, v[b] * d + j, s));
+                        ts.push((v[a] * d + i, v[b] * d + j, super::columns::stiffness_entry(&e, lame, a, b, i, j)));
                     }
                 }
             }

@@ -4,14 +4,16 @@
 //! compressed columns on the free unknowns, the pattern from the node graph (unknown (a, i)
 //! couples to (b, j) when nodes a and b share a cell, and i = j for a mass): no element triplets
 //! (about 23 kB of them per hexahedron) and no matrix over all nodes. Each entry receives its
-//! cell contributions in increasing cell order, computed by the expression of
-//! [`super::assembly::assemble`] at the same position, so the matrices equal the principal
-//! submatrices of the triplet assembly bit for bit, pattern included (`tests/central_solid.rs`).
+//! cell contributions in increasing cell order, computed as [`super::assembly::assemble`]
+//! computes them at the same position (the stiffness by [`stiffness_entry`], which every solid
+//! assembly calls), so the matrices equal the principal submatrices of the triplet assembly bit
+//! for bit, pattern included (`tests/central_solid.rs`).
 //! [`super::SolidSystem::assemble`] takes them for a box (every scheme; the unit mass only when
 //! an L² error is asked for: [`super::SolidSystem::mass_unit`]), and so does the explicit
 //! benches' set-up ([`super::lean`]).
 
 use crate::fem::Mesh;
+use crate::fem::element::CellIntegrals;
 use crate::linalg::sparse::{self, SpMat};
 use crate::mass::ContactDirections;
 use crate::material::Lame;
@@ -96,16 +98,21 @@ fn assemble_on(
 /// The stiffness on the unknowns `dof_of` maps to (full index → index in 0..n), assembled cell
 /// by cell without triplets (module docs).
 pub fn stiffness(mesh: &Mesh, lame: &Lame, dof_of: &[Option<usize>], n: usize) -> SpMat {
-    assemble_on(mesh, dof_of, n, false, |_, e, a, b, i, j| {
-        // The expression of `assembly::assemble` (bit-identical sums).
-        let mut s = 0.0;
-        for q in 0..e.nq {
-            let (ga, gb) = (&e.grads[q][a], &e.grads[q][b]);
-            let delta = if i == j { e.grad_dot(q, a, b) } else { 0.0 };
-            s += e.weights[q] * (lame.lambda * ga[i] * gb[j] + lame.mu * (delta + ga[j] * gb[i]));
-        }
-        s
-    })
+    assemble_on(mesh, dof_of, n, false, |_, e, a, b, i, j| stiffness_entry(e, lame, a, b, i, j))
+}
+
+/// `S_(a,i),(b,j)` of one cell ([`super::assembly`]'s module docs): `Σ_q w_q (λ ∂_i φ_a ∂_j φ_b + μ (δ_ij ∇φ_a·∇φ_b +
+/// ∂_j φ_a ∂_i φ_b))` over the cell's quadrature points, a and b its local vertices. The one
+/// expression of every solid assembly (triplets, compressed columns, frames), so that they agree
+/// bit for bit.
+pub fn stiffness_entry(e: &CellIntegrals, lame: &Lame, a: usize, b: usize, i: usize, j: usize) -> f64 {
+    let mut s = 0.0;
+    for q in 0..e.nq {
+        let (ga, gb) = (&e.grads[q][a], &e.grads[q][b]);
+        let delta = if i == j { e.grad_dot(q, a, b) } else { 0.0 };
+        s += e.weights[q] * (lame.lambda * ga[i] * gb[j] + lame.mu * (delta + ga[j] * gb[i]));
+    }
+    s
 }
 
 /// The weighted vector mass `δ_ij ρ Σ_c w_c^(i) ∫_c φ_a φ_b` on the unknowns `dof_of` maps to,

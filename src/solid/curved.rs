@@ -140,15 +140,11 @@ pub(super) fn frame_matrices(
                 lumped[v[b]] += lame.density * w * m;
                 lumped_tangential[v[b]] += lame.density * directions.weight(1, w) * m;
                 lumped_unit[v[b]] += m;
-                // The world stiffness block, by the expression of `assembly::assemble`.
+                // The world stiffness block (`columns::stiffness_entry`).
                 let mut s = [[0.0; 3]; 3];
                 for (i, row) in s.iter_mut().enumerate().take(d) {
                     for (j, x) in row.iter_mut().enumerate().take(d) {
-                        for qp in 0..e.nq {
-                            let (ga, gb) = (&e.grads[qp][a], &e.grads[qp][b]);
-                            let delta = if i == j { e.grad_dot(qp, a, b) } else { 0.0 };
-                            *x += e.weights[qp] * (lame.lambda * ga[i] * gb[j] + lame.mu * (delta + ga[j] * gb[i]));
-                        }
+                        *x = super::columns::stiffness_entry(&e, lame, a, b, i, j);
                     }
                 }
                 let world = *ra == IDENTITY && *rb == IDENTITY;
