@@ -15,7 +15,7 @@ use crate::contact::law::ContactLaw;
 use crate::exact::Exact;
 use crate::schemes::{
     BackwardEuler, Beta, CentralDifference, Formulation, Gamma, Hybrid, MoreauJean, Newmark, NewmarkReduced,
-    OneNodeContact, PaoliSchatzman, Scheme, SchemeError, SchemeSpec,
+    OneNodeContact, PaoliSchatzman, Scheme, SchemeError, SchemeSpec, StiffnessOperator,
 };
 use crate::system::ContactSystem;
 
@@ -145,6 +145,13 @@ pub trait Geometry: GeometryView {
         None
     }
 
+    /// The stiffness as a matrix-free operator on the unknowns (central differences'
+    /// `scheme.operator`, issue 31), equal to [`ContactSystem::stiffness`] to round-off; None
+    /// where the geometry has none.
+    fn stiffness_operator(&self) -> Option<Box<dyn crate::linalg::Operator>> {
+        None
+    }
+
     /// The per-step diagnostics of a run on this geometry (energy, exact L² error, interpolant
     /// norm) with their workspaces, allocated once per run. The default evaluates
     /// [`ContactSystem::energy_at`], [`GeometryView::l2_error`] and
@@ -224,9 +231,20 @@ impl<G: Geometry> Problem<G> {
                 Box::new(Newmark::with_law(s, law, beta, gamma, dt, u, v)?)
             }
             SchemeSpec::BackwardEuler => Box::new(BackwardEuler::with_law(s, law, dt, u, v)?),
-            SchemeSpec::CentralDifference => {
+            SchemeSpec::CentralDifference { operator } => {
                 let lumped = self.system.lumped_mass().ok_or_else(|| needs("it needs a lumped mass"))?;
-                Box::new(CentralDifference::new(s, lumped, law, dt, u, v)?)
+                let operator = match operator {
+                    StiffnessOperator::Assembled => None,
+                    StiffnessOperator::Auto => self.system.stiffness_operator(),
+                    StiffnessOperator::MatrixFree => {
+                        Some(self.system.stiffness_operator().ok_or(SchemeError::Unsupported {
+                            key: StiffnessOperator::KEY,
+                            geometry,
+                            reason: "it has no matrix-free stiffness",
+                        })?)
+                    }
+                };
+                Box::new(CentralDifference::with_operator(s, operator, lumped, law, dt, u, v)?)
             }
             SchemeSpec::Hybrid => Box::new(Hybrid::new(s, dt, u, v)?),
             SchemeSpec::MoreauJean { theta, restitution } => {

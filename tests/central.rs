@@ -11,7 +11,7 @@ use massredist::problem::Problem;
 use massredist::scene::SchemeSpec;
 use massredist::schemes::{CentralDifference, SchemeError};
 
-const CD: SchemeSpec = SchemeSpec::CentralDifference;
+const CD: SchemeSpec = SchemeSpec::CENTRAL_DIFFERENCE;
 
 /// A clamped bar (0, 1) of m elements, ρ = 2, E = 8 (c = 2), weights `w`, obstacle `gap` away.
 fn bar(weights: Vec<f64>, gap: f64) -> BarSystem {

@@ -279,8 +279,9 @@ fn the_box_matrices_are_the_principal_parts_of_the_triplet_assembly_bit_for_bit(
 }
 
 /// Central differences give the same states bit for bit on rayon pools of 1 and 2 threads (the
-/// parallel SpMV sums each row in the sequential order; the update loops are element-wise):
-/// 2D Q1 box, mod1, 150 steps through contact; and the parallel `K x`, and the row-run form's
+/// parallel SpMV sums each row in the sequential order, the stencil each value in its terms'
+/// order; the update loops are element-wise): 2D Q1 box, mod1, 150 steps through contact,
+/// assembled and matrix-free; and the parallel `K x`, and the row-run form's
 /// (`sparse::RunMat`, what the scheme steps with), equal the sequential one bit for bit. (Mutation, as run: `par_sym_mul_into` summing each row backwards -> "K x:
 /// parallel = sequential" fails; the 1- and 2-thread states still agree, as they must: the
 /// same code runs on both.)
@@ -288,19 +289,34 @@ fn the_box_matrices_are_the_principal_parts_of_the_triplet_assembly_bit_for_bit(
 fn central_differences_do_not_depend_on_the_number_of_threads() {
     let run = massredist::run::setup(&box_scene("mod1", 0.01)).unwrap();
     let sys: &SolidSystem = &run.problem.system;
-    let states: Vec<Vec<u64>> = [1, 2]
-        .iter()
-        .map(|&threads| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            let (u0, v0) = (run.problem.u0.clone(), run.problem.v0.clone());
-            let mut cd =
-                CentralDifference::new(&sys.system, sys.lumped_mass(), &ContactLaw::Exact, 0.01, u0, v0).unwrap();
-            pool.install(|| (0..150).for_each(|_| cd.step().unwrap()));
-            assert!(cd.state().lambda.iter().any(|&l| l < 0.0), "in contact");
-            cd.state().u.iter().chain(cd.state().v).map(|x| x.to_bits()).collect()
-        })
-        .collect();
-    assert_eq!(states[0], states[1]);
+    // Assembled, then matrix-free (the box's stencil: its slabs run on the pool's threads).
+    for matrix_free in [false, true] {
+        let states: Vec<Vec<u64>> = [1, 2]
+            .iter()
+            .map(|&threads| {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+                let (u0, v0) = (run.problem.u0.clone(), run.problem.v0.clone());
+                let op = matrix_free.then(|| {
+                    Box::new(massredist::solid::stencil::BoxStencil::of_system(sys).unwrap())
+                        as Box<dyn massredist::linalg::Operator>
+                });
+                let mut cd = CentralDifference::with_operator(
+                    &sys.system,
+                    op,
+                    sys.lumped_mass(),
+                    &ContactLaw::Exact,
+                    0.01,
+                    u0,
+                    v0,
+                )
+                .unwrap();
+                pool.install(|| (0..150).for_each(|_| cd.step().unwrap()));
+                assert!(cd.state().lambda.iter().any(|&l| l < 0.0), "in contact");
+                cd.state().u.iter().chain(cd.state().v).map(|x| x.to_bits()).collect()
+            })
+            .collect();
+        assert_eq!(states[0], states[1], "matrix-free: {matrix_free}");
+    }
     let k = &sys.system.stiffness;
     let x: Vec<f64> = (0..k.nrows()).map(|i| (i as f64 * 0.37).sin()).collect();
     let (mut y1, mut y2) = (vec![0.0; x.len()], vec![0.0; x.len()]);

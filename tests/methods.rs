@@ -255,7 +255,7 @@ fn central_differences_with_the_penalty() {
     assert_eq!(limit(&massless, &penalty(1e4)), limit(&massless, &ContactLaw::Exact));
     for p in [&standard, &massless] {
         let dt = 0.9 * limit(p, &penalty(1e3));
-        let mut s = p.scheme_with(&SchemeSpec::CentralDifference, &penalty(1e3), dt).unwrap();
+        let mut s = p.scheme_with(&SchemeSpec::CENTRAL_DIFFERENCE, &penalty(1e3), dt).unwrap();
         let mut touched = false;
         for _ in 0..(2.0 / dt) as usize {
             s.step().unwrap();

@@ -168,7 +168,7 @@ fn a_massless_contact_node_makes_nitsche_exact() {
     let mut p = paper(40, 0.0);
     p.u0[0] = p.u0[1];
     let dt = 1.0 / 80.0;
-    for spec in [CN, SchemeSpec::CentralDifference] {
+    for spec in [CN, SchemeSpec::CENTRAL_DIFFERENCE] {
         let exact = trajectory(p.scheme(&spec, dt).unwrap(), 240);
         assert!(exact.iter().any(|u| u[0] == 0.0), "no contact");
         for (theta, g) in [(1.0, 100.0), (0.0, 5.0), (-1.0, 2.0)] {
@@ -197,7 +197,7 @@ fn verlet_refuses_above_its_stable_limit() {
     let law = nitsche(1.0, 100.0);
     let build = |dt: f64| CentralDifference::new(sys, lumped.clone(), &law, dt, p.u0.clone(), p.v0.clone());
     let (limit, _) = build(1e-6).unwrap().stable_limit();
-    let exact = p.scheme(&SchemeSpec::CentralDifference, 1e-6).unwrap();
+    let exact = p.scheme(&SchemeSpec::CENTRAL_DIFFERENCE, 1e-6).unwrap();
     let exact_limit: f64 = {
         let note = exact.note().unwrap();
         let at = note.find("Δt_c = ").unwrap() + "Δt_c = ".len();

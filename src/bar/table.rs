@@ -112,6 +112,7 @@ impl SceneGeometry for BarSpec {
             zero_gap: self.gap == 0.0,
             tangential_dims: 0,
             pairs: false,
+            matrix_free: false,
         })
     }
 

@@ -52,6 +52,25 @@ pub fn memory_left() -> u64 {
 }
 use std::fmt::Debug;
 use thiserror::Error;
+
+/// A symmetric operator `y = A x` on n unknowns that is applied, not stored (issue 31: the
+/// explicit scheme's stiffness without a matrix, [`crate::solid::stencil`]). `apply` and
+/// `quad_form` take `&self`: an operator keeps its own work space (behind a lock).
+pub trait Operator: Send + Sync + Debug {
+    fn n(&self) -> usize;
+    /// `y = A x`.
+    fn apply(&self, x: &[f64], y: &mut [f64]);
+    /// `xᵀ A x`.
+    fn quad_form(&self, x: &[f64]) -> f64;
+    /// The bytes the operator holds (its work space included).
+    fn bytes(&self) -> usize;
+    /// The bytes one `apply` streams through memory, by STREAM's convention (each array read or
+    /// written once per pass counts its size once).
+    fn streamed_bytes(&self) -> usize;
+    /// What it is, for the run's notes.
+    fn name(&self) -> &'static str;
+}
+
 use tridiag::{FactorError, SymTridiag};
 
 /// Failure to build, combine or factor a matrix of the contact system.

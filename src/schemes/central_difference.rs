@@ -56,8 +56,8 @@
 use super::{SchemeError, StateView, check_finite, check_range, contact_err};
 use crate::contact::law::ContactLaw;
 use crate::contact::{ExplicitLaw, Massive};
-use crate::linalg::SymMatrix;
 use crate::linalg::sparse::PAR_ROWS;
+use crate::linalg::{Operator, SymMatrix};
 use crate::system::ContactSystem;
 use rayon::prelude::*;
 
@@ -75,10 +75,13 @@ impl<A: SymMatrix> Source<'_, A> {
         }
     }
 
-    /// The stiffness the steps use: the compact row-run form where the back-end has one
-    /// (sparse: bit-identical products, ~45% fewer bytes streamed in 3D), else a copy (borrowed)
-    /// or the matrix itself (owned).
-    fn stiffness(self) -> Stiffness<A> {
+    /// The stiffness the steps use: a matrix-free operator if one is given, else the compact
+    /// row-run form where the back-end has one (sparse: bit-identical products, ~45% fewer
+    /// bytes streamed in 3D), else a copy (borrowed) or the matrix itself (owned).
+    fn stiffness(self, operator: Option<Box<dyn Operator>>) -> Stiffness<A> {
+        if let Some(op) = operator {
+            return Stiffness::Free(op);
+        }
         match self {
             Source::Borrowed(s) => {
                 s.stiffness.run_mat().map_or_else(|| Stiffness::Plain(s.stiffness.clone()), Stiffness::Runs)
@@ -93,6 +96,8 @@ impl<A: SymMatrix> Source<'_, A> {
 enum Stiffness<A> {
     Plain(A),
     Runs(crate::linalg::sparse::RunMat),
+    /// Matrix-free (`scheme.operator`).
+    Free(Box<dyn Operator>),
 }
 
 impl<A: SymMatrix> Stiffness<A> {
@@ -100,6 +105,7 @@ impl<A: SymMatrix> Stiffness<A> {
         match self {
             Stiffness::Plain(a) => a.par_mul_into(x, y),
             Stiffness::Runs(r) => r.par_mul_into(x, y),
+            Stiffness::Free(op) => op.apply(x, y),
         }
     }
 
@@ -107,6 +113,7 @@ impl<A: SymMatrix> Stiffness<A> {
         match self {
             Stiffness::Plain(a) => a.quad_form(x),
             Stiffness::Runs(r) => r.quad_form(x),
+            Stiffness::Free(op) => op.quad_form(x),
         }
     }
 }
@@ -146,7 +153,7 @@ pub struct CentralDifference<A: SymMatrix> {
 }
 
 impl<A: SymMatrix> CentralDifference<A> {
-    pub const NAME: &'static str = super::SchemeSpec::CentralDifference.name();
+    pub const NAME: &'static str = super::SchemeSpec::CENTRAL_DIFFERENCE.name();
 
     /// On `system` with the lumped mass `lumped` (one entry per unknown, ≥ 0) and the contact law
     /// (exact or penalty).
@@ -159,7 +166,25 @@ impl<A: SymMatrix> CentralDifference<A> {
         u0: Vec<f64>,
         v0: Vec<f64>,
     ) -> Result<Self, SchemeError> {
-        Self::build(Source::Borrowed(system), lumped, law, dt, u0, v0)
+        Self::build(Source::Borrowed(system), None, lumped, law, dt, u0, v0)
+    }
+
+    /// [`Self::new`] with the stiffness product taken from `operator` where one is given (equal
+    /// to `system.stiffness` to round-off: `scheme.operator`); the assembled stiffness still
+    /// gives the stable limit and the law's quasi-static rows.
+    pub fn with_operator(
+        system: &ContactSystem<A>,
+        operator: Option<Box<dyn Operator>>,
+        lumped: Vec<f64>,
+        law: &ContactLaw,
+        dt: f64,
+        u0: Vec<f64>,
+        v0: Vec<f64>,
+    ) -> Result<Self, SchemeError> {
+        if let Some(op) = &operator {
+            assert_eq!(op.n(), system.n(), "the operator acts on the system's unknowns");
+        }
+        Self::build(Source::Borrowed(system), operator, lumped, law, dt, u0, v0)
     }
 
     /// [`Self::new`] owning the system: its stiffness moves into the scheme instead of being
@@ -172,11 +197,12 @@ impl<A: SymMatrix> CentralDifference<A> {
         u0: Vec<f64>,
         v0: Vec<f64>,
     ) -> Result<Self, SchemeError> {
-        Self::build(Source::Owned(system), lumped, law, dt, u0, v0)
+        Self::build(Source::Owned(system), None, lumped, law, dt, u0, v0)
     }
 
     fn build(
         source: Source<'_, A>,
+        operator: Option<Box<dyn Operator>>,
         lumped: Vec<f64>,
         law: &ContactLaw,
         dt: f64,
@@ -199,7 +225,7 @@ impl<A: SymMatrix> CentralDifference<A> {
         let lambda = vec![0.0; system.contact.len()];
         let mut s = Self {
             dt,
-            stiffness: source.stiffness(),
+            stiffness: source.stiffness(operator),
             load,
             forcing,
             lumped,
@@ -239,13 +265,17 @@ impl<A: SymMatrix> CentralDifference<A> {
     /// The bytes a step streams through memory, counted from the data structures with STREAM's
     /// convention (each array read or written once per pass counts its size once; no
     /// write-allocate): the stiffness in row-run form ([`crate::linalg::sparse::RunMat::bytes`])
-    /// and [`VECTOR_PASSES`] vectors of n values. The contact law's work on the contact nodes
+    /// or a matrix-free operator's passes ([`Operator::streamed_bytes`]), and [`VECTOR_PASSES`]
+    /// vectors of n values. The contact law's work on the contact nodes
     /// (a few per thousand unknowns at scale) is not counted. None where the count does not
     /// hold: a stiffness not in row-run form, or a law with a residual (penalty, Nitsche: more
     /// passes).
     pub fn streamed_bytes(&self) -> Option<usize> {
         match &self.stiffness {
             Stiffness::Runs(r) if !self.law.has_residual() => Some(r.bytes() + VECTOR_PASSES * 8 * self.u.len()),
+            Stiffness::Free(op) if !self.law.has_residual() => {
+                Some(op.streamed_bytes() + VECTOR_PASSES * 8 * self.u.len())
+            }
             _ => None,
         }
     }
@@ -343,8 +373,12 @@ impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
     }
 
     fn note(&self) -> Option<String> {
+        let product = match &self.stiffness {
+            Stiffness::Free(op) => format!("; K u matrix-free ({})", op.name()),
+            _ => String::new(),
+        };
         Some(format!(
-            "central-difference: stable limit Δt_c = {} (2/√λ_max(M_L,II⁻¹ K_II{}), {}); time.dt = {}",
+            "central-difference: stable limit Δt_c = {} (2/√λ_max(M_L,II⁻¹ K_II{}), {}); time.dt = {}{product}",
             crate::numfmt::fmt_f64(self.limit),
             self.law.bound(),
             if self.converged {

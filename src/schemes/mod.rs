@@ -61,7 +61,10 @@ pub use moreau_jean::MoreauJean;
 pub use newmark::Newmark;
 pub use newmark_reduced::NewmarkReduced;
 pub use paoli_schatzman::PaoliSchatzman;
-pub use spec::{Beta, Formulation, Gamma, ImpactRestitution, ParamError, Restitution, SchemeNeeds, SchemeSpec, Theta};
+pub use spec::{
+    Beta, Formulation, Gamma, ImpactRestitution, ParamError, Restitution, SchemeNeeds, SchemeSpec, StiffnessOperator,
+    Theta,
+};
 
 /// The discrete state at `t_n = n Δt`, borrowed from the scheme (no copy).
 #[derive(Debug, Clone, Copy)]

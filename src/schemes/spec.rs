@@ -153,6 +153,52 @@ impl<'de> Deserialize<'de> for Formulation {
     }
 }
 
+/// How central differences apply the stiffness (`scheme.operator`, issue 31): `auto` (the
+/// default) matrix-free where the geometry has a matrix-free operator (a structured Q1 box:
+/// [`crate::solid::stencil`]), else the assembled matrix; `assembled` always the matrix;
+/// `matrix-free` the operator, refused by name on a geometry without one. Only the product K u
+/// changes: the lumped mass, the quasi-static contact layer, the law and the stable limit are
+/// the same.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StiffnessOperator {
+    #[default]
+    Auto,
+    Assembled,
+    MatrixFree,
+}
+
+impl StiffnessOperator {
+    /// Every choice, in the order messages list them.
+    pub const ALL: [StiffnessOperator; 3] =
+        [StiffnessOperator::Auto, StiffnessOperator::Assembled, StiffnessOperator::MatrixFree];
+    pub const KEY: &'static str = "scheme.operator";
+
+    /// The scene name: the one list of operator names.
+    pub const fn name(self) -> &'static str {
+        match self {
+            StiffnessOperator::Auto => "auto",
+            StiffnessOperator::Assembled => "assembled",
+            StiffnessOperator::MatrixFree => "matrix-free",
+        }
+    }
+}
+
+impl Serialize for StiffnessOperator {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for StiffnessOperator {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        StiffnessOperator::ALL.into_iter().find(|f| f.name() == name).ok_or_else(|| {
+            let list: Vec<&str> = StiffnessOperator::ALL.iter().map(|f| f.name()).collect();
+            serde::de::Error::custom(format!("{} = \"{name}\": allowed range is {}", Self::KEY, list.join(" | ")))
+        })
+    }
+}
+
 /// A time scheme and its parameters: the `[scheme]` table, tagged by `kind`. A missing key takes
 /// its default (the serde defaults below, those of the parameter types).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -182,7 +228,10 @@ pub enum SchemeSpec {
     Hybrid,
     /// Explicit central differences on the lumped weighted mass, with quasi-static massless
     /// unknowns (`super::central_difference`).
-    CentralDifference,
+    CentralDifference {
+        #[serde(default)]
+        operator: StiffnessOperator,
+    },
     /// Moreau–Jean's θ-scheme with an impact law on the velocities (`super::moreau_jean`).
     MoreauJean {
         #[serde(default)]
@@ -201,6 +250,8 @@ impl SchemeSpec {
     /// Paoli–Schatzman with its default β = ¼, e = 1.
     pub const PAOLI_SCHATZMAN: SchemeSpec =
         SchemeSpec::PaoliSchatzman { beta: Beta::DEFAULT, restitution: Restitution::DEFAULT };
+    /// Central differences with its default operator (`auto`).
+    pub const CENTRAL_DIFFERENCE: SchemeSpec = SchemeSpec::CentralDifference { operator: StiffnessOperator::Auto };
     /// Moreau–Jean with its default θ = ½, e = 0.
     pub const MOREAU_JEAN: SchemeSpec =
         SchemeSpec::MoreauJean { theta: Theta::DEFAULT, restitution: ImpactRestitution::DEFAULT };
@@ -211,7 +262,7 @@ impl SchemeSpec {
         SchemeSpec::BackwardEuler,
         SchemeSpec::PAOLI_SCHATZMAN,
         SchemeSpec::Hybrid,
-        SchemeSpec::CentralDifference,
+        SchemeSpec::CENTRAL_DIFFERENCE,
         SchemeSpec::MOREAU_JEAN,
     ];
 
@@ -223,7 +274,7 @@ impl SchemeSpec {
             SchemeSpec::BackwardEuler => "backward-euler",
             SchemeSpec::PaoliSchatzman { .. } => "paoli-schatzman",
             SchemeSpec::Hybrid => "hybrid",
-            SchemeSpec::CentralDifference => "central-difference",
+            SchemeSpec::CentralDifference { .. } => "central-difference",
             SchemeSpec::MoreauJean { .. } => "moreau-jean",
         }
     }
@@ -256,7 +307,7 @@ impl SchemeSpec {
             // Its projection of S on (ker M)^⊥ and its one-node impact law.
             SchemeSpec::PaoliSchatzman { .. } => SchemeNeeds { one_node_system: true, contact: Own, ..base },
             SchemeSpec::Hybrid => SchemeNeeds { contact_mass: Some(false), contact: Own, ..base },
-            SchemeSpec::CentralDifference => SchemeNeeds { lumped_mass: true, contact: Explicit, ..base },
+            SchemeSpec::CentralDifference { .. } => SchemeNeeds { lumped_mass: true, contact: Explicit, ..base },
             // An impact law has no meaning without inertia.
             SchemeSpec::MoreauJean { .. } => SchemeNeeds { contact_mass: Some(true), contact: Own, ..base },
         }

@@ -221,4 +221,9 @@ impl Geometry for SolidSystem {
     fn lumped_mass(&self) -> Option<Vec<f64>> {
         Some(SolidSystem::lumped_mass(self))
     }
+
+    /// The structured Q1 box's stencil ([`super::stencil`]).
+    fn stiffness_operator(&self) -> Option<Box<dyn crate::linalg::Operator>> {
+        super::stencil::BoxStencil::of_system(self).map(|s| Box::new(s) as Box<dyn crate::linalg::Operator>)
+    }
 }

@@ -18,6 +18,10 @@ pub struct ExplicitBox {
     pub lumped: Vec<f64>,
     pub u0: Vec<f64>,
     pub v0: Vec<f64>,
+    /// The mesh and which full indices `node·d + component` are free (a matrix-free stiffness
+    /// on the same unknowns: [`super::stencil::BoxStencil::new`]).
+    pub mesh: std::sync::Arc<crate::fem::Mesh>,
+    pub free: Vec<bool>,
 }
 
 impl SolidSpec {
@@ -52,6 +56,7 @@ impl SolidSpec {
                 (at(&|i, p| displacement[i].eval(&p[..d])), at(&|i, p| velocity[i].eval(&p[..d])))
             }
         };
-        Ok(ExplicitBox { system, lumped, u0, v0 })
+        let free = dof_of.iter().map(Option::is_some).collect();
+        Ok(ExplicitBox { system, lumped, u0, v0, mesh: built.mesh.clone(), free })
     }
 }

@@ -44,6 +44,7 @@ pub mod pair;
 pub mod problem;
 pub mod report;
 pub mod spec;
+pub mod stencil;
 pub mod surface;
 pub mod table;
 pub mod vtu;

@@ -17,11 +17,14 @@
 //! - scheme × mass: `mass.kind`, e.g. Moreau–Jean with mod3 (it needs w_0 > 0), hybrid with the
 //!   standard mass (it needs w_0 = 0);
 //! - law × anything: `contact.method`, e.g. penalty with the hybrid scheme, Nitsche on a solid.
+//!
+//! A scheme's own option that the geometry cannot carry names that option: `scheme.operator =
+//! "matrix-free"` on a geometry without a matrix-free operator.
 
 use super::error::{SceneError, short};
 use crate::contact::law::{ContactLaw, Treatment};
 use crate::mass::MassKind;
-use crate::schemes::SchemeSpec;
+use crate::schemes::{SchemeSpec, StiffnessOperator};
 
 /// What a geometry offers the schemes and laws, for one mass.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -48,6 +51,9 @@ pub struct Offer {
     pub tangential_dims: usize,
     /// Contact between bodies (`[[pair]]`s), not against an obstacle.
     pub pairs: bool,
+    /// A matrix-free stiffness operator (a structured Q1 box against the plane x = −gap:
+    /// `crate::solid::stencil`): `scheme.operator = "matrix-free"`.
+    pub matrix_free: bool,
 }
 
 /// The one compatibility rule (module docs): Ok, or the one key to change with its allowed
@@ -75,6 +81,17 @@ pub(crate) fn check(
             with: format!("a [{table}] scene"),
             why,
             allowed,
+        });
+    }
+    if let SchemeSpec::CentralDifference { operator: StiffnessOperator::MatrixFree } = scheme
+        && !offer.matrix_free
+    {
+        return Err(SceneError::Conflict {
+            key: StiffnessOperator::KEY,
+            value: quoted(StiffnessOperator::MatrixFree.name()),
+            with: format!("a [{table}] scene"),
+            why: "a matrix-free stiffness is built for the structured Q1 boxes of the box generator (solid.cells = quad | hex, no mesh file, no [obstacle]) so far".into(),
+            allowed: "auto | assembled".into(),
         });
     }
     if let Some(want) = scheme.needs().contact_mass {

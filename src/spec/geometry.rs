@@ -74,7 +74,12 @@ pub trait SceneGeometry: Sized {
             zero_gap: false,
             tangential_dims: self.tangential_dims(),
             pairs: self.pairs(),
+            matrix_free: self.matrix_free(),
         })
+    }
+    /// Whether the geometry has a matrix-free stiffness operator ([`Offer::matrix_free`]).
+    fn matrix_free(&self) -> bool {
+        false
     }
     /// A series column this scene names itself (several bodies' `<pair>.contact_force`), by
     /// its name (None: none of that name).

@@ -404,6 +404,11 @@ impl SceneGeometry for SolidSpec {
         self.dim - 1
     }
 
+    /// The box generator's Q1 box against the plane x = −gap (its unknowns in the world frame).
+    fn matrix_free(&self) -> bool {
+        crate::solid::stencil::BoxStencil::applies(self)
+    }
+
     fn pairs(&self) -> bool {
         self.support.bodies().is_some()
     }

@@ -24,6 +24,7 @@ use massredist::mass::MassKind;
 use massredist::problem::{Geometry, Problem};
 use massredist::schemes::central_difference::stable_limit_of;
 use massredist::schemes::{CentralDifference, Scheme};
+use massredist::solid::stencil::BoxStencil;
 use massredist::solid::{SolidSpec, SolidSystem};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -174,8 +175,16 @@ fn assemble(cells: [usize; 3], mass: &MassKind) -> Result<(Problem<SolidSystem>,
 }
 
 /// One explicit case: central differences at 0.9 Δt_c on the lean box system
-/// ([`massredist::solid::lean`]: no consistent mass, the stiffness moved into the scheme).
-fn explicit(shape: &'static str, cells: [usize; 3], mass: MassKind, steps: usize) -> Result<Row, String> {
+/// ([`massredist::solid::lean`]: no consistent mass), the stiffness moved into the scheme
+/// (`method` "explicit") or applied matrix-free ("matrix-free": the box's stencil,
+/// [`massredist::solid::stencil`]; the assembled stiffness kept for Δt_c, as in a scene).
+fn explicit(
+    method: &'static str,
+    shape: &'static str,
+    cells: [usize; 3],
+    mass: MassKind,
+    steps: usize,
+) -> Result<Row, String> {
     // The triad first, its arrays freed before the peak is reset.
     let (triad_gbs_1, triad_gbs_2) = (triad_gbs(1)?, triad_gbs(2)?);
     reset_peak();
@@ -193,13 +202,22 @@ fn explicit(shape: &'static str, cells: [usize; 3], mass: MassKind, steps: usize
     let (limit, _, _) = stable_limit_of(&b.system, &b.lumped, None);
     let (dt, unknowns) = (0.9 * limit, b.lumped.len());
     let t = Instant::now();
-    let mut cd = CentralDifference::from_system(b.system, b.lumped, &law, dt, b.u0, b.v0).map_err(|e| e.to_string())?;
+    let mut kept = None;
+    let mut cd = if method == "matrix-free" {
+        let lame = spec(cells).lame;
+        let op = BoxStencil::new(&b.mesh, &lame, b.free).ok_or("a structured Q1 box has a stencil")?;
+        let system = kept.insert(b.system);
+        CentralDifference::with_operator(system, Some(Box::new(op)), b.lumped, &law, dt, b.u0, b.v0)
+    } else {
+        CentralDifference::from_system(b.system, b.lumped, &law, dt, b.u0, b.v0)
+    }
+    .map_err(|e| e.to_string())?;
     let scheme_s = t.elapsed().as_secs_f64();
     let (step_ms_1, cpu_ms_1) = median_step(&mut cd, steps, 1)?;
     let (step_ms_2, _) = median_step(&mut cd, steps, 2)?;
     let bytes = cd.streamed_bytes().ok_or("the step's bytes are not counted for this stiffness")?;
     Ok(Row {
-        method: "explicit",
+        method,
         shape,
         cells,
         unknowns,
@@ -268,8 +286,9 @@ fn one_case(name: &str, steps: usize) -> Result<Row, String> {
     let n = |k: usize| f.get(k).and_then(|x| x.parse::<usize>().ok()).ok_or(format!("bad case `{name}`"));
     match (f.first().copied(), f.get(1).copied()) {
         (Some("implicit"), _) => implicit(n(2)?, steps.min(10)),
-        (Some("explicit"), Some("cube")) => explicit("cube", [n(2)?; 3], MassKind::Standard, steps),
-        (Some("explicit"), Some("rod")) => explicit("rod", [n(2)?, n(3)?, n(4)?], MassKind::Mod1, steps),
+        (Some("explicit"), Some("cube")) => explicit("explicit", "cube", [n(2)?; 3], MassKind::Standard, steps),
+        (Some("matrix-free"), Some("cube")) => explicit("matrix-free", "cube", [n(2)?; 3], MassKind::Standard, steps),
+        (Some("explicit"), Some("rod")) => explicit("explicit", "rod", [n(2)?, n(3)?, n(4)?], MassKind::Mod1, steps),
         _ => Err(format!("bad case `{name}`")),
     }
 }
@@ -278,7 +297,11 @@ fn one_case(name: &str, steps: usize) -> Result<Row, String> {
 fn from_csv_line(line: &str) -> Result<Row, String> {
     let f: Vec<&str> = line.trim().split(',').collect();
     let x = |k: usize| f.get(k).and_then(|v| v.parse::<f64>().ok()).ok_or(format!("bad row `{line}`"));
-    let method = if f[0] == "implicit" { "implicit" } else { "explicit" };
+    let method = match f[0] {
+        "implicit" => "implicit",
+        "matrix-free" => "matrix-free",
+        _ => "explicit",
+    };
     let shape = if f.get(1) == Some(&"rod") { "rod" } else { "cube" };
     let cells = [x(2)? as usize, x(3)? as usize, x(4)? as usize];
     Ok(Row {
@@ -319,6 +342,7 @@ pub fn run(csv: &Path, quick: bool, steps: usize) -> Result<Vec<PathBuf>, String
         .iter()
         .map(|n| format!("implicit cube {n} {n} {n}"))
         .chain(cube.iter().map(|n| format!("explicit cube {n} {n} {n}")))
+        .chain(cube.iter().map(|n| format!("matrix-free cube {n} {n} {n}")))
         .chain(rod.iter().map(|n| format!("explicit rod {n} 10 10")));
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let mut rows = Vec::new();
@@ -408,6 +432,9 @@ memory (VmHWM) is its own. Cases (the plane-wave solid's paper data, λ + 2μ = 
   one sparse Cholesky factor: \"scheme s\"; a step is two triangular solves).
 - **explicit cube**: N³, the standard mass (contact by the forward-increment multipliers, one
   closed form per contact node), central differences at 0.9 Δt_c.
+- **matrix-free cube**: the explicit cube with K u applied matrix-free (`scheme.operator =
+  \"matrix-free\"`: the box's stencil, `src/solid/stencil.rs`); the assembled stiffness is still
+  built, for Δt_c (as a scene's run does), so its peak memory is the explicit cube's.
 - **explicit rod**: N × 10 × 10 (h = 1/10), mod1 (the contact layer massless: its quasi-static
   problem with exact Signorini is solved every step), central differences at 0.9 Δt_c.
 
@@ -428,8 +455,10 @@ values (3 × 128 MiB, each 4× the L3 cache), the best of 10 passes, on 1 and 2 
 at 24 bytes per element. The bytes a step moves are counted from its data structures
 (`CentralDifference::streamed_bytes`, STREAM's convention: each array read or written in a pass
 counts once, no write-allocate): the stiffness in row-run form (values, runs and the two
-pointer arrays, `RunMat::bytes`) and 15 vectors of n values (`VECTOR_PASSES`); the contact
-law's work on the contact nodes is not counted. The floor is bytes ÷ triad bandwidth; the ratio
+pointer arrays, `RunMat::bytes`) or, matrix-free, the stencil's passes (the free unknowns
+scattered into its layout and gathered back, its input read once and its output written once:
+`Operator::streamed_bytes`), and 15 vectors of n values (`VECTOR_PASSES`); the contact law's
+work on the contact nodes is not counted. The floor is bytes ÷ triad bandwidth; the ratio
 is the median wall step over it.
 
 ";
@@ -464,11 +493,12 @@ fn time_table(rows: &[Row]) -> String {
 /// The floor table of the explicit rows.
 fn floor_table(rows: &[Row]) -> String {
     let mut s = String::from(
-        "| shape | cells | unknowns | bytes per unknown per step | triad GB/s, 1 thread | floor ms, 1 thread | step ms, 1 thread | ratio, 1 thread | triad GB/s, 2 threads | floor ms, 2 threads | step ms, 2 threads | ratio, 2 threads |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| method | shape | cells | unknowns | bytes per unknown per step | triad GB/s, 1 thread | floor ms, 1 thread | step ms, 1 thread | ratio, 1 thread | triad GB/s, 2 threads | floor ms, 2 threads | step ms, 2 threads | ratio, 2 threads |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
-    for r in rows.iter().filter(|r| r.method == "explicit") {
+    for r in rows.iter().filter(|r| r.method != "implicit") {
         let [x, y, z] = r.cells;
         let cells = [
+            r.method.to_string(),
             r.shape.to_string(),
             format!("{x}×{y}×{z}"),
             r.unknowns.to_string(),
@@ -503,9 +533,10 @@ where
     let (top, body) = root.split_vertically(34);
     top.titled("3D hex solids: implicit (CN) against explicit (central differences)", ("sans-serif", 18)).map_err(e)?;
     let panels = body.split_evenly((1, 2));
-    let series: [(&str, &str, RGBColor); 3] = [
+    let series: [(&str, &str, RGBColor); 4] = [
         ("implicit", "cube", RGBColor(214, 39, 40)),
         ("explicit", "cube", RGBColor(31, 119, 180)),
+        ("matrix-free", "cube", RGBColor(148, 103, 189)),
         ("explicit", "rod", RGBColor(44, 160, 44)),
     ];
     let span = |v: Vec<f64>| {
