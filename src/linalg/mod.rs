@@ -62,8 +62,6 @@ pub trait Operator: Send + Sync + Debug {
     fn apply(&self, x: &[f64], y: &mut [f64]);
     /// `xᵀ A x`.
     fn quad_form(&self, x: &[f64]) -> f64;
-    /// The bytes the operator holds (its work space included).
-    fn bytes(&self) -> usize;
     /// The bytes one `apply` streams through memory, by STREAM's convention (each array read or
     /// written once per pass counts its size once).
     fn streamed_bytes(&self) -> usize;
