@@ -146,3 +146,95 @@ fn the_operator_key_is_refused_by_name_where_it_cannot_apply() {
     let e = SolidScene::from_toml(&boxed(2, [4, 2, 0], "free", 0.0, "stencil", 1e-3)).unwrap_err().to_string();
     assert!(e.contains("scheme.operator = \"stencil\": allowed range is auto | assembled | matrix-free"), "{e}");
 }
+
+/// Δt_c without a matrix (`stable_limit_of_operator`): by Lanczos on the stencil it is the
+/// assembled Lanczos's to 1e-12 relative (both stop when θ changes by less than `REL_TOL` =
+/// 1e-12 over five steps); the Gershgorin fallback from the stencil's `|K| 1_I` is the matrix's
+/// row-sum bound to 128 ε (each row sums at most 81 absolute values, in another order). Boxes
+/// with the standard mass and with mod1 (massless contact layer, left out of I).
+/// (Mutation, as run: `apply_abs` taking the signed coefficients -> the Gershgorin check fails.)
+#[test]
+fn the_stable_limit_from_the_stencil_is_the_assembled_one() {
+    use massredist::schemes::central_difference::{stable_limit_of, stable_limit_of_operator};
+    use massredist::schemes::stable_limit::{gershgorin, gershgorin_of};
+    for (dim, n, lateral) in CASES {
+        for mass in ["standard", "mod1"] {
+            let s = scene(&boxed(dim, n, lateral, 0.0, "auto", 1e-3).replace("\"mod3\"", &format!("\"{mass}\"")));
+            let run = massredist::run::setup(&s).unwrap();
+            let sys: &SolidSystem = &run.problem.system;
+            let op = BoxStencil::of_system(sys).unwrap();
+            let lumped = sys.lumped_mass();
+            let (a, _, ca) = stable_limit_of(&sys.system, &lumped, None);
+            let (b, _, cb) = stable_limit_of_operator(&op, &lumped, None);
+            assert!(ca && cb && (a - b).abs() <= 1e-12 * a, "{dim}D {lateral} {mass}: Δt_c {a} vs {b}");
+            let d: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { (1.0 / m).sqrt() } else { 0.0 }).collect();
+            let (ga, gb) = (
+                gershgorin(&sys.system.stiffness, &d, &[], 0.0),
+                gershgorin_of(|x, y| op.apply_abs(x, y), &d, &[], 0.0),
+            );
+            assert!((ga - gb).abs() <= 128.0 * f64::EPSILON * ga, "{dim}D {lateral} {mass}: Gershgorin {ga} vs {gb}");
+        }
+    }
+}
+
+/// The lean matrix-free set-up (`SolidSpec::explicit_box_matrix_free`, the benches' path: no
+/// global matrix) keeps of the stiffness exactly the rows and columns of the massless unknowns,
+/// bit for bit (`columns::stiffness_touching`), none for the standard mass; central differences
+/// on it (the stencil's product and Δt_c) follow the assembled run through contact: a mod1
+/// box, the paper's data, 300 steps, u and v within 1e-11 of their scale (measured: 8.1e-14; the contact
+/// layer's active set is the same at every step here; the products differ at round-off).
+/// (Mutation, as run: `kept` keeping only entries whose row and column are both marked ->
+/// the pattern check fails.)
+#[test]
+fn the_lean_matrix_free_box_holds_only_the_layer_rows_and_follows_the_assembled_run() {
+    use massredist::contact::law::ContactLaw;
+    use massredist::mass::MassKind;
+    use massredist::schemes::{CentralDifference, Scheme};
+    use massredist::solid::SolidSpec;
+    for dim in [2, 3] {
+        let mut spec = SolidSpec::paper(dim, if dim == 2 { [8, 3, 0] } else { [6, 3, 2] });
+        spec.lame = massredist::solid::Lame { lambda: 0.7, mu: 0.45, density: 1.3 };
+        for mass in [MassKind::Standard, MassKind::Mod1] {
+            let full = spec.explicit_box(&mass).unwrap();
+            let (lean, op) = spec.explicit_box_matrix_free(&mass).unwrap();
+            let massless: Vec<bool> = full.lumped.iter().map(|&m| m <= 0.0).collect();
+            let want: Vec<(usize, usize, u64)> = sparse::triplets(&full.system.stiffness)
+                .filter(|&(i, j, _)| massless[i] || massless[j])
+                .map(|(i, j, v)| (i, j, v.to_bits()))
+                .collect();
+            let got: Vec<(usize, usize, u64)> =
+                sparse::triplets(&lean.system.stiffness).map(|(i, j, v)| (i, j, v.to_bits())).collect();
+            assert_eq!(got, want, "{dim}D {mass:?}: the layer's rows and columns");
+            assert_eq!(want.is_empty(), mass == MassKind::Standard);
+            let (limit, _, _) =
+                massredist::schemes::central_difference::stable_limit_of(&full.system, &full.lumped, None);
+            let dt = 0.9 * limit;
+            let mut a =
+                CentralDifference::new(&full.system, full.lumped, &ContactLaw::Exact, dt, full.u0, full.v0).unwrap();
+            let mut b = CentralDifference::with_operator(
+                &lean.system,
+                Some(Box::new(op)),
+                lean.lumped,
+                &ContactLaw::Exact,
+                dt,
+                lean.u0,
+                lean.v0,
+            )
+            .unwrap();
+            let (mut worst, mut scale, mut contact) = (0.0f64, 0.0f64, false);
+            for _ in 0..300 {
+                a.step().unwrap();
+                b.step().unwrap();
+                let (x, y) = (a.state(), b.state());
+                contact |= x.lambda.iter().any(|&l| l < 0.0);
+                for (p, q) in x.u.iter().chain(x.v).zip(y.u.iter().chain(y.v)) {
+                    worst = worst.max((p - q).abs());
+                    scale = scale.max(p.abs());
+                }
+            }
+            assert!(contact, "{dim}D {mass:?}: the run meets the obstacle");
+            assert!(worst <= 1e-11 * scale, "{dim}D {mass:?}: {worst:e} of {scale:e}");
+            eprintln!("{dim}D {mass:?}: {worst:e} of {scale:e}");
+        }
+    }
+}

@@ -62,6 +62,9 @@ pub trait Operator: Send + Sync + Debug {
     fn apply(&self, x: &[f64], y: &mut [f64]);
     /// `xᵀ A x`.
     fn quad_form(&self, x: &[f64]) -> f64;
+    /// `y = |A| x`, the entries' absolute values (the Gershgorin bound's row sums with x an
+    /// indicator).
+    fn apply_abs(&self, x: &[f64], y: &mut [f64]);
     /// The bytes one `apply` streams through memory, by STREAM's convention (each array read or
     /// written once per pass counts its size once).
     fn streamed_bytes(&self) -> usize;

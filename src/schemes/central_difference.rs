@@ -37,6 +37,12 @@
 //! is refused naming Δt_c, the margin being the stated accuracy of Δt_c
 //! ([`super::stable_limit::REL_TOL`] relative; [`super::stable_limit::refuses`]).
 //!
+//! **Matrix-free** (`scheme.operator`, issue 31): with an [`Operator`] the product K u and
+//! Δt_c come from it ([`stable_limit_of_operator`]: Lanczos on the operator, without a stored
+//! basis above `LARGE` interior unknowns, the Gershgorin bound from `|K| 1_I` where Lanczos does
+//! not converge); the system's stiffness is read only by the law, for the massless unknowns'
+//! rows, so a set-up may hold those rows alone ([`crate::solid::lean`]).
+//!
 //! **Other laws** ([`crate::contact::ExplicitLaw`]): the scheme is written once for every law.
 //! The law adds its force of the current state (Nitsche: −N(Uⁿ) in the residual before M_L⁻¹;
 //! the penalty: its springs on the massive contact nodes), solves the quasi-static rows of the
@@ -169,9 +175,10 @@ impl<A: SymMatrix> CentralDifference<A> {
         Self::build(Source::Borrowed(system), None, lumped, law, dt, u0, v0)
     }
 
-    /// [`Self::new`] with the stiffness product taken from `operator` where one is given (equal
-    /// to `system.stiffness` to round-off: `scheme.operator`); the assembled stiffness still
-    /// gives the stable limit and the law's quasi-static rows.
+    /// [`Self::new`] with the stiffness taken from `operator` where one is given (equal to
+    /// `system.stiffness` to round-off: `scheme.operator`): the product and the stable limit
+    /// ([`stable_limit_of_operator`]). `system.stiffness` is then read only by the law (the
+    /// massless unknowns' quasi-static rows: those rows and columns suffice).
     pub fn with_operator(
         system: &ContactSystem<A>,
         operator: Option<Box<dyn Operator>>,
@@ -214,7 +221,10 @@ impl<A: SymMatrix> CentralDifference<A> {
         let law = law.explicit_law(system, &lumped, dt)?;
         let n = system.n();
         let inv_mass: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
-        let (limit, lanczos_steps, converged) = stable_limit_of(system, &lumped, Some(law.as_ref()));
+        let (limit, lanczos_steps, converged) = match &operator {
+            Some(op) => stable_limit_of_operator(op.as_ref(), &lumped, Some(law.as_ref())),
+            None => stable_limit_of(system, &lumped, Some(law.as_ref())),
+        };
         // dt = Δt_c is not stable, and Δt_c is known to REL_TOL: refused from Δt_c (1 − REL_TOL)
         // down (a free–free uniform chain has Δt_c = h/c exactly: Courant 1 is refused there).
         if super::stable_limit::refuses(dt, limit) {
@@ -331,14 +341,9 @@ pub fn stable_limit_of<A: SymMatrix>(
     lumped: &[f64],
     law: Option<&dyn ExplicitLaw>,
 ) -> (f64, usize, bool) {
-    let inv_sqrt: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { (1.0 / m).sqrt() } else { 0.0 }).collect();
+    let inv_sqrt = inv_sqrt(lumped);
     let (theta, lanczos_steps, converged) = super::stable_limit::lambda_max_of(
-        |x, y| {
-            system.stiffness.par_mul_into(x, y);
-            if let Some(law) = law {
-                law.stiffen(x, y);
-            }
-        },
+        |x, y| stiffened(|x, y| system.stiffness.par_mul_into(x, y), law, x, y),
         &inv_sqrt,
     );
     // Unconverged Lanczos: the Gershgorin upper bound instead (conservative; stable_limit docs).
@@ -348,7 +353,46 @@ pub fn stable_limit_of<A: SymMatrix>(
         let (rows, extra) = law.map_or((Vec::new(), 0.0), |l| l.gershgorin());
         super::stable_limit::gershgorin(&system.stiffness, &inv_sqrt, &rows, extra)
     };
-    (if lam > 0.0 { 2.0 / lam.sqrt() } else { f64::INFINITY }, lanczos_steps, converged)
+    (limit_of(lam), lanczos_steps, converged)
+}
+
+/// [`stable_limit_of`] with the stiffness a matrix-free operator: Lanczos on the operator
+/// ([`super::stable_limit::lambda_max_lean`]: no stored basis above `LARGE` interior unknowns),
+/// and where it does not converge the Gershgorin bound from the operator's `|K| 1_I`
+/// ([`super::stable_limit::gershgorin_of`]). No assembled matrix is read.
+pub fn stable_limit_of_operator(
+    op: &dyn Operator,
+    lumped: &[f64],
+    law: Option<&dyn ExplicitLaw>,
+) -> (f64, usize, bool) {
+    let inv_sqrt = inv_sqrt(lumped);
+    let (theta, lanczos_steps, converged) =
+        super::stable_limit::lambda_max_lean(|x, y| stiffened(|x, y| op.apply(x, y), law, x, y), &inv_sqrt);
+    let lam = if converged {
+        theta
+    } else {
+        let (rows, extra) = law.map_or((Vec::new(), 0.0), |l| l.gershgorin());
+        super::stable_limit::gershgorin_of(|x, y| op.apply_abs(x, y), &inv_sqrt, &rows, extra)
+    };
+    (limit_of(lam), lanczos_steps, converged)
+}
+
+/// `M_L^{−½}` on I, 0 on the massless unknowns.
+fn inv_sqrt(lumped: &[f64]) -> Vec<f64> {
+    lumped.iter().map(|&m| if m > 0.0 { (1.0 / m).sqrt() } else { 0.0 }).collect()
+}
+
+/// `y = K x` plus the law's term B x.
+fn stiffened(mul: impl Fn(&[f64], &mut [f64]), law: Option<&dyn ExplicitLaw>, x: &[f64], y: &mut [f64]) {
+    mul(x, y);
+    if let Some(law) = law {
+        law.stiffen(x, y);
+    }
+}
+
+/// `Δt_c = 2/√λ_max` (∞ for λ_max = 0).
+fn limit_of(lam: f64) -> f64 {
+    if lam > 0.0 { 2.0 / lam.sqrt() } else { f64::INFINITY }
 }
 
 impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {

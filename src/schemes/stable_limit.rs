@@ -16,6 +16,8 @@
 //! θ 1.7e-5 below λ_max for a 2001-node bar), the caller uses the Gershgorin bound
 //! ([`gershgorin`]: the row sums of `M_I⁻¹ K_II`), an upper bound of λ_max: Δt_c is then
 //! conservative (exact for the uniform bar, whose highest mode attains it; `tests/central.rs`).
+//! A matrix-free stiffness (issue 31) takes [`lambda_max_lean`] (no stored basis above
+//! [`LARGE`]) and [`gershgorin_of`] (the row sums as `|K| 1_I`).
 
 use crate::linalg::SymMatrix;
 
@@ -83,9 +85,42 @@ pub fn gershgorin<A: SymMatrix>(stiffness: &A, inv_sqrt_mass: &[f64], springs: &
     row.iter().zip(d).filter(|(_, d)| **d > 0.0).map(|(r, _)| *r).fold(0.0, f64::max)
 }
 
+/// The Gershgorin bound of [`gershgorin`] for an operator given by `abs_mul` (`y = |K| x`):
+/// the row sums over I are `|K| 1_I` (a matrix-free stiffness, issue 31).
+pub fn gershgorin_of(
+    abs_mul: impl Fn(&[f64], &mut [f64]),
+    inv_sqrt_mass: &[f64],
+    springs: &[usize],
+    kappa: f64,
+) -> f64 {
+    let d = inv_sqrt_mass;
+    let ones: Vec<f64> = d.iter().map(|&d| if d > 0.0 { 1.0 } else { 0.0 }).collect();
+    let mut row = vec![0.0; d.len()];
+    abs_mul(&ones, &mut row);
+    row.iter_mut().zip(d).for_each(|(r, d)| *r *= d * d);
+    springs.iter().for_each(|&c| row[c] += kappa * d[c] * d[c]);
+    row.iter().zip(d).filter(|(_, d)| **d > 0.0).map(|(r, _)| *r).fold(0.0, f64::max)
+}
+
 /// [`lambda_max`] for the operator `y = K x` given as a function (a stiffness with penalty
 /// springs added).
 pub fn lambda_max_of(mul: impl Fn(&[f64], &mut [f64]), inv_sqrt_mass: &[f64]) -> (f64, usize, bool) {
+    lanczos(mul, inv_sqrt_mass, true)
+}
+
+/// [`lambda_max_of`] in O(n) memory above [`LARGE`] interior unknowns: there the basis is not
+/// stored and the recurrence is Lanczos's three-term one without reorthogonalisation (a
+/// matrix-free stiffness, issue 31: 30 stored vectors would be 240 bytes per unknown, more than
+/// the operator's whole step). Lost orthogonality makes copies of converged Ritz values, not a
+/// larger one: θ_k is still the largest eigenvalue of a tridiagonal whose eigenvalues lie in
+/// λ(B) up to round-off (Paige 1980), a lower bound of λ_max, and the same stopping rule applies.
+/// Below [`LARGE`] it is [`lambda_max_of`].
+pub fn lambda_max_lean(mul: impl Fn(&[f64], &mut [f64]), inv_sqrt_mass: &[f64]) -> (f64, usize, bool) {
+    let ni = inv_sqrt_mass.iter().filter(|&&d| d > 0.0).count();
+    lanczos(mul, inv_sqrt_mass, ni <= LARGE)
+}
+
+fn lanczos(mul: impl Fn(&[f64], &mut [f64]), inv_sqrt_mass: &[f64], reorthogonalise: bool) -> (f64, usize, bool) {
     let n = inv_sqrt_mass.len();
     let active: Vec<bool> = inv_sqrt_mass.iter().map(|&d| d > 0.0).collect();
     let ni = active.iter().filter(|&&a| a).count();
@@ -98,7 +133,9 @@ pub fn lambda_max_of(mul: impl Fn(&[f64], &mut [f64]), inv_sqrt_mass: &[f64]) ->
         .map(|i| if active[i] { 1.0 + 0.5 * ((i as f64 + 1.0) * 0.618_033_988_749_895).fract() } else { 0.0 })
         .collect();
     normalise(&mut q);
-    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(kmax);
+    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(if reorthogonalise { kmax } else { 0 });
+    // q_{k−1} of the three-term recurrence (without reorthogonalisation).
+    let mut previous = vec![0.0; if reorthogonalise { 0 } else { n }];
     let (mut alpha, mut beta) = (Vec::with_capacity(kmax), Vec::with_capacity(kmax));
     let (mut x, mut y) = (vec![0.0; n], vec![0.0; n]);
     let mut history: Vec<f64> = Vec::new();
@@ -113,14 +150,22 @@ pub fn lambda_max_of(mul: impl Fn(&[f64], &mut [f64]), inv_sqrt_mass: &[f64]) ->
         }
         let a: f64 = y.iter().zip(&q).map(|(a, b)| a * b).sum();
         alpha.push(a);
-        basis.push(q.clone());
-        // Full reorthogonalisation (twice is enough: Parlett's "twice is enough").
-        for _ in 0..2 {
-            for b in &basis {
-                let c: f64 = y.iter().zip(b).map(|(a, b)| a * b).sum();
-                for (yi, bi) in y.iter_mut().zip(b) {
-                    *yi -= c * bi;
+        if reorthogonalise {
+            basis.push(q.clone());
+            // Full reorthogonalisation (twice is enough: Parlett's "twice is enough").
+            for _ in 0..2 {
+                for b in &basis {
+                    let c: f64 = y.iter().zip(b).map(|(a, b)| a * b).sum();
+                    for (yi, bi) in y.iter_mut().zip(b) {
+                        *yi -= c * bi;
+                    }
                 }
+            }
+        } else {
+            // The three-term recurrence: y − α_k q_k − β_{k−1} q_{k−1}.
+            let b = beta.last().copied().unwrap_or(0.0);
+            for ((yi, qi), pi) in y.iter_mut().zip(&q).zip(&previous) {
+                *yi -= a * qi + b * pi;
             }
         }
         let theta = largest_eigenvalue(&alpha, &beta);
@@ -135,6 +180,9 @@ pub fn lambda_max_of(mul: impl Fn(&[f64], &mut [f64]), inv_sqrt_mass: &[f64]) ->
             return (theta, k + 1, stalled || exhausted);
         }
         beta.push(norm);
+        if !reorthogonalise {
+            previous.copy_from_slice(&q);
+        }
         for (qi, yi) in q.iter_mut().zip(&y) {
             *qi = yi / norm;
         }
@@ -201,5 +249,24 @@ mod tests {
         assert!(converged);
         let exact = 4.0 * (std::f64::consts::PI * n as f64 / (2.0 * (n as f64 + 1.0))).sin().powi(2) * 0.25;
         assert!((lam - exact).abs() <= 1e-12 * exact, "{lam} vs {exact}");
+    }
+
+    /// Without reorthogonalisation (above [`LARGE`]) the three-term recurrence must still be
+    /// Lanczos's: on `diag(1, 2, 5, 1, 2, 5, …)` of order 60 000 with M = I, the Krylov space
+    /// of any start vector has dimension 3, so the iteration exhausts it at k = 3 with
+    /// θ = λ_max = 5 to round-off (tolerance: 1e-12, `REL_TOL`). And θ is a lower bound on the
+    /// path Laplacian of order 60 000 (λ_max = 4 sin²(nπ/(2(n+1))), 30 steps, unconverged).
+    /// (Mutation, as run: the β_{k−1} q_{k−1} term dropped -> the first case fails.)
+    #[test]
+    fn lanczos_without_a_stored_basis_is_lanczos() {
+        let n = LARGE + 10_000;
+        let diag: Vec<f64> = (0..n).map(|i| [1.0, 2.0, 5.0][i % 3]).collect();
+        let mul = |x: &[f64], y: &mut [f64]| y.iter_mut().zip(x).zip(&diag).for_each(|((y, x), d)| *y = d * x);
+        let (theta, steps, converged) = lambda_max_lean(mul, &vec![1.0; n]);
+        assert!(converged && steps <= 4 && (theta - 5.0).abs() <= 1e-12 * 5.0, "{theta} {steps} {converged}");
+        let k = SymTridiag { diag: vec![2.0; n], off: vec![-1.0; n - 1] };
+        let exact = 4.0 * (n as f64 * std::f64::consts::PI / (2.0 * (n as f64 + 1.0))).sin().powi(2);
+        let (theta, steps, _) = lambda_max_lean(|x, y| k.mul_into(x, y), &vec![1.0; n]);
+        assert!(theta <= exact * (1.0 + 1e-14) && steps == LARGE_STEPS, "{theta} vs {exact} ({steps} steps)");
     }
 }

@@ -22,7 +22,13 @@ use crate::material::Lame;
 /// 0..n, None where eliminated): unknown (a, i) couples to (b, j) when nodes a and b share a
 /// cell, and `i == j` if `diagonal` (a vector mass, `δ_ij` times a scalar). Rows increase within
 /// a column.
-fn node_graph(mesh: &Mesh, dof_of: &[Option<usize>], n: usize, diagonal: bool) -> (Vec<usize>, Vec<usize>) {
+fn node_graph(
+    mesh: &Mesh,
+    dof_of: &[Option<usize>],
+    n: usize,
+    diagonal: bool,
+    keep: Option<&[bool]>,
+) -> (Vec<usize>, Vec<usize>) {
     let d = mesh.dim;
     let mut adj: Vec<Vec<usize>> = vec![Vec::new(); mesh.n_nodes()];
     for c in 0..mesh.n_cells() {
@@ -40,7 +46,11 @@ fn node_graph(mesh: &Mesh, dof_of: &[Option<usize>], n: usize, diagonal: bool) -
     let rows = |g: usize| {
         let i = g % d;
         let comps = if diagonal { i..i + 1 } else { 0..d };
-        adj[g / d].iter().flat_map(move |&b| comps.clone().filter_map(move |j| dof_of[b * d + j]))
+        let col = dof_of[g];
+        adj[g / d]
+            .iter()
+            .flat_map(move |&b| comps.clone().filter_map(move |j| dof_of[b * d + j]))
+            .filter(move |&row| kept(keep, row, col))
     };
     let columns = || (0..mesh.n_nodes() * d).filter(|&g| dof_of[g].is_some());
     // Counted first, then allocated once at its size (a growing vector holds up to twice its
@@ -68,10 +78,11 @@ fn assemble_on(
     dof_of: &[Option<usize>],
     n: usize,
     diagonal: bool,
+    keep: Option<&[bool]>,
     entry: impl Fn(usize, &crate::fem::element::CellIntegrals, usize, usize, usize, usize) -> f64,
 ) -> SpMat {
     let d = mesh.dim;
-    let (col_ptr, row_idx) = node_graph(mesh, dof_of, n, diagonal);
+    let (col_ptr, row_idx) = node_graph(mesh, dof_of, n, diagonal, keep);
     let mut val = vec![0.0; row_idx.len()];
     for c in 0..mesh.n_cells() {
         let e = mesh.integrals(c);
@@ -84,6 +95,9 @@ fn assemble_on(
                     let comps = if diagonal { i..i + 1 } else { 0..d };
                     for j in comps {
                         let Some(row) = dof_of[v[b] * d + j] else { continue };
+                        if !kept(keep, row, Some(col)) {
+                            continue;
+                        }
                         let k = rows.binary_search(&row).expect("the pattern holds every cell pair");
                         // Entry (row, col) = ((b, j), (a, i)): the triplet of that position.
                         val[col_ptr[col] + k] += entry(c, &e, b, a, j, i);
@@ -98,7 +112,24 @@ fn assemble_on(
 /// The stiffness on the unknowns `dof_of` maps to (full index → index in 0..n), assembled cell
 /// by cell without triplets (module docs).
 pub fn stiffness(mesh: &Mesh, lame: &Lame, dof_of: &[Option<usize>], n: usize) -> SpMat {
-    assemble_on(mesh, dof_of, n, false, |_, e, a, b, i, j| stiffness_entry(e, lame, a, b, i, j))
+    assemble_on(mesh, dof_of, n, false, None, |_, e, a, b, i, j| stiffness_entry(e, lame, a, b, i, j))
+}
+
+/// The entries of [`stiffness`] in the rows and columns of the unknowns `keep` marks, bit for
+/// bit, the others absent: what a massless layer's quasi-static rows read (`K_CC`, `K_CI`)
+/// where the product is matrix-free. Without a marked unknown, an empty matrix (no pattern
+/// built).
+pub fn stiffness_touching(mesh: &Mesh, lame: &Lame, dof_of: &[Option<usize>], n: usize, keep: &[bool]) -> SpMat {
+    if !keep.iter().any(|&k| k) {
+        return sparse::from_csc(n, vec![0; n + 1], Vec::new(), Vec::new());
+    }
+    assemble_on(mesh, dof_of, n, false, Some(keep), |_, e, a, b, i, j| stiffness_entry(e, lame, a, b, i, j))
+}
+
+/// Whether entry (row, col) is assembled: every entry without `keep`, else those whose row or
+/// column is marked.
+fn kept(keep: Option<&[bool]>, row: usize, col: Option<usize>) -> bool {
+    keep.is_none_or(|k| k[row] || col.is_some_and(|c| k[c]))
 }
 
 /// `S_(a,i),(b,j)` of one cell ([`super::assembly`]'s module docs): `Σ_q w_q (λ ∂_i φ_a ∂_j φ_b + μ (δ_ij ∇φ_a·∇φ_b +
@@ -126,5 +157,7 @@ pub fn mass(
     n: usize,
 ) -> SpMat {
     assert_eq!(weights.len(), mesh.n_cells(), "one weight per cell");
-    assemble_on(mesh, dof_of, n, true, |c, e, a, b, i, _| density * directions.weight(i, weights[c]) * e.mass[a][b])
+    assemble_on(mesh, dof_of, n, true, None, |c, e, a, b, i, _| {
+        density * directions.weight(i, weights[c]) * e.mass[a][b]
+    })
 }

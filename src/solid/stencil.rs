@@ -52,6 +52,8 @@ pub struct BoxStencil {
     /// The terms of each node class `Σ_axis a_axis 3^axis` (a = 0 low face, 1 inside, 2 high),
     /// by output component r, in the order (o, s).
     classes: Vec<Vec<Terms>>,
+    /// The same with each coefficient's absolute value (`|K| x`: the Gershgorin bound).
+    abs_classes: Vec<Vec<Terms>>,
     /// Whether the CPU has AVX2 and FMA (the interior then takes fused multiply–adds).
     fma: bool,
     /// Whether each full index `node·d + component` is a free unknown.
@@ -152,12 +154,17 @@ impl BoxStencil {
         let fma = std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
         #[cfg(not(target_arch = "x86_64"))]
         let fma = false;
+        let abs_classes = classes
+            .iter()
+            .map(|by_r| by_r.iter().map(|t| t.iter().map(|&(o, c)| (o, c.abs())).collect()).collect())
+            .collect();
         Some(Self {
             d,
             cells,
             slab,
             slabs,
             classes,
+            abs_classes,
             fma,
             free,
             slab_start,
@@ -226,8 +233,9 @@ impl BoxStencil {
         });
     }
 
-    /// `ys = K xs` on full vectors in the slab layout.
-    fn product(&self, xs: &[f64], ys: &mut [f64]) {
+    /// `ys = K xs` on full vectors in the slab layout, K given by the terms of its classes
+    /// (`self.classes`, or `self.abs_classes` for |K|).
+    fn product(&self, classes: &[Vec<Terms>], xs: &[f64], ys: &mut [f64]) {
         let (d, p) = (self.d, self.slab);
         let row = self.cells[0] + 1;
         let rows = p / row;
@@ -239,13 +247,13 @@ impl BoxStencil {
                 // The row's two ends, value by value.
                 for i in [0, row - 1] {
                     let q = q0 + i;
-                    for (r, terms) in self.classes[self.class(idx(i))].iter().enumerate() {
+                    for (r, terms) in classes[self.class(idx(i))].iter().enumerate() {
                         let at = base as usize + q;
                         yt[r * p + q] = terms.iter().fold(0.0, |y, &(off, c)| y + c * xs[(at as isize + off) as usize]);
                     }
                 }
                 // Its inside nodes share one class: summed in registers ([`interior`]).
-                let (lo, hi, terms) = (q0 + 1, q0 + row - 1, &self.classes[self.class(idx(1))]);
+                let (lo, hi, terms) = (q0 + 1, q0 + row - 1, &classes[self.class(idx(1))]);
                 #[cfg(target_arch = "x86_64")]
                 if self.fma {
                     // SAFETY: `fma` is set only where the CPU has AVX2 and FMA (`Self::new`).
@@ -335,7 +343,15 @@ impl Operator for BoxStencil {
         let mut work = self.work.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
         let (xs, ys) = &mut *work;
         self.scatter(x, xs);
-        self.product(xs, ys);
+        self.product(&self.classes, xs, ys);
+        self.gather(ys, y);
+    }
+
+    fn apply_abs(&self, x: &[f64], y: &mut [f64]) {
+        let mut work = self.work.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let (xs, ys) = &mut *work;
+        self.scatter(x, xs);
+        self.product(&self.abs_classes, xs, ys);
         self.gather(ys, y);
     }
 
@@ -343,7 +359,7 @@ impl Operator for BoxStencil {
         let mut work = self.work.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
         let (xs, ys) = &mut *work;
         self.scatter(x, xs);
-        self.product(xs, ys);
+        self.product(&self.classes, xs, ys);
         // The eliminated entries of xs are 0: the full dot product is the free one.
         xs.iter().zip(ys.iter()).map(|(a, b)| a * b).sum()
     }
