@@ -268,12 +268,13 @@ pub fn integrate_watched<G: Geometry>(
 /// free-flight scale of [`DivergenceWatch::with_free_flight`].
 /// A memory refusal of a factor is the run's error, not a reason to fall back to another scale
 /// (issue 32, E4: the watch's own factor is refused where the scheme's fitted).
-fn watch_of<A: SymMatrix>(
-    criterion: &DivergenceCriterion,
-    s: &ContactSystem<A>,
-    steps: usize,
-) -> Result<DivergenceWatch, LinalgError> {
-    Ok(match load_energy(s)? {
+fn watch_of<G: Geometry>(criterion: &DivergenceCriterion, g: &G, steps: usize) -> Result<DivergenceWatch, LinalgError> {
+    let s = g.system();
+    let energy = match g.load_energy() {
+        Some(e) => Some(e),
+        None => load_energy(s)?,
+    };
+    Ok(match energy {
         Some(e) => DivergenceWatch::new(criterion, e),
         None => DivergenceWatch::new(criterion, 0.0).with_free_flight(free_flight_rate(s)?, steps),
     })
@@ -340,7 +341,7 @@ fn drive<G: Geometry>(
     let cadence: Vec<usize> = observers.iter().map(|o| o.every().max(1)).collect();
     let needs: Vec<Needs> = observers.iter().map(|o| o.needs()).collect();
     let geometry: &dyn GeometryView = &problem.system;
-    let mut watch = criterion.map(|c| watch_of(c, problem.system.system(), steps)).transpose()?;
+    let mut watch = criterion.map(|c| watch_of(c, &problem.system, steps)).transpose()?;
     let lower = &problem.system.system().lower;
     let mut diagnostics = problem.system.diagnostics();
     let mut show = |scheme: &dyn Scheme, observers: &mut [&mut dyn Observer]| -> Option<Divergence> {

@@ -145,10 +145,19 @@ pub trait Geometry: GeometryView {
         None
     }
 
-    /// The stiffness as a matrix-free operator on the unknowns (central differences'
-    /// `scheme.operator`, issue 31), equal to [`ContactSystem::stiffness`] to round-off; None
-    /// where the geometry has none.
-    fn stiffness_operator(&self) -> Option<Box<dyn crate::linalg::Operator>> {
+    /// Central differences' stiffness as an operator on the unknowns for `scheme.operator =
+    /// choice` (issue 31), equal to [`ContactSystem::stiffness`] to round-off: a matrix-free
+    /// one where the geometry has it and `choice` allows it, or the operator of a system
+    /// whose own stiffness holds only the massless rows (a lean system, `crate::solid::lean`).
+    /// None: the scheme multiplies the system's stiffness (and `matrix-free` is refused).
+    fn stiffness_operator(&self, choice: StiffnessOperator) -> Option<Box<dyn crate::linalg::Operator>> {
+        let _ = choice;
+        None
+    }
+
+    /// The divergence watch's `E_F = ½ F_rᵀ S_rr⁻¹ F_r` where the geometry computes it itself
+    /// (a lean system, whose stiffness matrix is not whole); None: the driver factors `S_rr`.
+    fn load_energy(&self) -> Option<f64> {
         None
     }
 
@@ -233,17 +242,15 @@ impl<G: Geometry> Problem<G> {
             SchemeSpec::BackwardEuler => Box::new(BackwardEuler::with_law(s, law, dt, u, v)?),
             SchemeSpec::CentralDifference { operator } => {
                 let lumped = self.system.lumped_mass().ok_or_else(|| needs("it needs a lumped mass"))?;
-                let operator = match operator {
-                    StiffnessOperator::Assembled => None,
-                    StiffnessOperator::Auto => self.system.stiffness_operator(),
-                    StiffnessOperator::MatrixFree => {
-                        Some(self.system.stiffness_operator().ok_or(SchemeError::Unsupported {
-                            key: StiffnessOperator::KEY,
-                            geometry,
-                            reason: "it has no matrix-free stiffness",
-                        })?)
-                    }
-                };
+                let op = self.system.stiffness_operator(operator);
+                if operator == StiffnessOperator::MatrixFree && op.is_none() {
+                    return Err(SchemeError::Unsupported {
+                        key: StiffnessOperator::KEY,
+                        geometry,
+                        reason: "it has no matrix-free stiffness",
+                    });
+                }
+                let operator = op;
                 Box::new(CentralDifference::with_operator(s, operator, lumped, law, dt, u, v)?)
             }
             SchemeSpec::Hybrid => Box::new(Hybrid::new(s, dt, u, v)?),

@@ -114,8 +114,8 @@ fn box_scene(mass: &str, dt: f64) -> SolidScene {
 #[test]
 fn central_differences_agree_with_crank_nicolson_to_second_order_on_a_box_impact() {
     let diff = |dt: f64| {
-        let run = massredist::run::setup(&box_scene("mod1", dt)).unwrap();
-        let sys: &SolidSystem = &run.problem.system;
+        let problem = common::whole_problem(&box_scene("mod1", dt));
+        let sys: &SolidSystem = &problem.system;
         let lumped = sys.lumped_mass();
         let n = lumped.len();
         let diag: Vec<(usize, usize, f64)> = lumped.iter().enumerate().map(|(i, &m)| (i, i, m)).collect();
@@ -127,7 +127,7 @@ fn central_differences_agree_with_crank_nicolson_to_second_order_on_a_box_impact
             0.0,
         );
         lumped_system.lower = sys.system.lower.clone();
-        let (u0, v0) = (run.problem.u0.clone(), run.problem.v0.clone());
+        let (u0, v0) = (problem.u0.clone(), problem.v0.clone());
         let mut cd =
             CentralDifference::new(&sys.system, lumped, &ContactLaw::Exact, dt, u0.clone(), v0.clone()).unwrap();
         let mut cn = Hybrid::new(&lumped_system, dt, u0, v0).unwrap();
@@ -158,15 +158,15 @@ fn a_dt_above_the_stable_limit_is_refused_naming_it() {
             10.0 * dt
         )
     };
-    let run = massredist::run::setup(&scene(&text(1e-3))).unwrap();
-    let sys: &SolidSystem = &run.problem.system;
+    let problem = common::whole_problem(&scene(&text(1e-3)));
+    let sys: &SolidSystem = &problem.system;
     let cd = CentralDifference::new(
         &sys.system,
         sys.lumped_mass(),
         &ContactLaw::Exact,
         1e-3,
-        run.problem.u0.clone(),
-        run.problem.v0.clone(),
+        problem.u0.clone(),
+        problem.v0.clone(),
     )
     .unwrap();
     let (limit, _) = cd.stable_limit();
@@ -287,15 +287,15 @@ fn the_box_matrices_are_the_principal_parts_of_the_triplet_assembly_bit_for_bit(
 /// same code runs on both.)
 #[test]
 fn central_differences_do_not_depend_on_the_number_of_threads() {
-    let run = massredist::run::setup(&box_scene("mod1", 0.01)).unwrap();
-    let sys: &SolidSystem = &run.problem.system;
+    let problem = common::whole_problem(&box_scene("mod1", 0.01));
+    let sys: &SolidSystem = &problem.system;
     // Assembled, then matrix-free (the box's stencil: its slabs run on the pool's threads).
     for matrix_free in [false, true] {
         let states: Vec<Vec<u64>> = [1, 2]
             .iter()
             .map(|&threads| {
                 let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-                let (u0, v0) = (run.problem.u0.clone(), run.problem.v0.clone());
+                let (u0, v0) = (problem.u0.clone(), problem.v0.clone());
                 let op = matrix_free.then(|| {
                     Box::new(massredist::solid::stencil::BoxStencil::of_system(sys).unwrap())
                         as Box<dyn massredist::linalg::Operator>

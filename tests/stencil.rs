@@ -2,6 +2,8 @@
 //! same operator as the assembled stiffness, checked product by product and over 1000 steps of
 //! central differences without contact; `scheme.operator` chosen, reported and refused by name.
 
+mod common;
+
 use massredist::linalg::sparse;
 use massredist::linalg::{Operator, SymMatrix};
 use massredist::scene::SolidScene;
@@ -52,8 +54,8 @@ const CASES: [(usize, [usize; 3], &str); 4] =
 fn the_stencil_is_the_assembled_stiffness_to_round_off() {
     for (dim, n, lateral) in CASES {
         let s = scene(&boxed(dim, n, lateral, 0.0, "auto", 1e-3));
-        let run = massredist::run::setup(&s).unwrap();
-        let sys: &SolidSystem = &run.problem.system;
+        let problem = common::whole_problem(&s);
+        let sys: &SolidSystem = &problem.system;
         let k = &sys.system.stiffness;
         let op = BoxStencil::of_system(sys).expect("a structured Q1 box has a stencil");
         assert_eq!(op.n(), k.nrows());
@@ -160,8 +162,8 @@ fn the_stable_limit_from_the_stencil_is_the_assembled_one() {
     for (dim, n, lateral) in CASES {
         for mass in ["standard", "mod1"] {
             let s = scene(&boxed(dim, n, lateral, 0.0, "auto", 1e-3).replace("\"mod3\"", &format!("\"{mass}\"")));
-            let run = massredist::run::setup(&s).unwrap();
-            let sys: &SolidSystem = &run.problem.system;
+            let problem = common::whole_problem(&s);
+            let sys: &SolidSystem = &problem.system;
             let op = BoxStencil::of_system(sys).unwrap();
             let lumped = sys.lumped_mass();
             let (a, _, ca) = stable_limit_of(&sys.system, &lumped, None);

@@ -71,14 +71,21 @@ use faer::linalg::solvers::{PartialPivLu, Solve};
 /// (least-index) pivots take over (Júdice–Pires' p; 3 is their value).
 pub const BLOCK_TRIES: usize = 3;
 
+/// Layer rows per task of the coupling product (a few thousand entries of S_LI).
+const COUPLING_ROWS: usize = 256;
+
 /// The massless layer's map Φ with a sparse factor (module docs).
 #[derive(Debug)]
 pub struct Layer {
     /// Global unknowns of the layer, contact first (slots 0..nc), then free (nc..).
     unknowns: Vec<usize>,
     nc: usize,
-    /// `(slot, j, S_{unknowns[slot], j})` for j outside the layer.
-    coupling: Vec<(usize, usize, f64)>,
+    /// `(j, S_{unknowns[slot], j})` for j outside the layer, by slot (row) from
+    /// `coupling_ptr[slot]`, j increasing: each row's sum is taken in registers, its loads of U
+    /// independent (they miss the cache: U's coupled values lie a node row apart), in the order
+    /// of the stiffness's columns.
+    coupling: Vec<(usize, f64)>,
+    coupling_ptr: Vec<usize>,
     load: Vec<f64>,
     /// S_LL in slot numbering, and `S_A` (same pattern) for the factored set.
     s: SpMat,
@@ -122,6 +129,16 @@ impl Layer {
             (a, _) if a != usize::MAX => coupling.push((a, j, s)),
             _ => {}
         });
+        // By row, j increasing within each (a stable sort of the column-order entries).
+        coupling.sort_by_key(|&(a, _, _)| a);
+        let mut coupling_ptr = vec![0; nl + 1];
+        for &(a, _, _) in &coupling {
+            coupling_ptr[a + 1] += 1;
+        }
+        for k in 0..nl {
+            coupling_ptr[k + 1] += coupling_ptr[k];
+        }
+        let coupling: Vec<(usize, f64)> = coupling.into_iter().map(|(_, j, s)| (j, s)).collect();
         let s = sparse::from_triplets(nl, &inner, "stiffness")?;
         let diag: Vec<f64> = (0..nl).map(|k| sparse::get(&s, k, k)).collect();
         let max_abs_s = s.val().iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -149,6 +166,7 @@ impl Layer {
             unknowns,
             nc,
             coupling,
+            coupling_ptr,
         })
     }
 
@@ -186,9 +204,21 @@ impl Layer {
         let nc = self.nc;
         // b = F_L − S_LI U (in the `rhs` buffer, taken out while the pivoting borrows `self`).
         let mut b = std::mem::take(&mut self.rhs);
-        b.copy_from_slice(&self.load);
-        for &(k, j, s) in &self.coupling {
-            b[k] -= s * u[j];
+        // Rows in parallel, each summed in its one order (the same bits on any number of threads).
+        let row = |k: usize| {
+            let mut sum = self.load[k];
+            for &(j, s) in &self.coupling[self.coupling_ptr[k]..self.coupling_ptr[k + 1]] {
+                sum -= s * u[j];
+            }
+            sum
+        };
+        {
+            use rayon::prelude::*;
+            b.par_chunks_mut(COUPLING_ROWS).enumerate().for_each(|(c, bs)| {
+                for (r, bk) in bs.iter_mut().enumerate() {
+                    *bk = row(c * COUPLING_ROWS + r);
+                }
+            });
         }
         let bmax = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         self.pivots = 0;

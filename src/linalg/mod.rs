@@ -70,6 +70,39 @@ pub trait Operator: Send + Sync + Debug {
     fn streamed_bytes(&self) -> usize;
     /// What it is, for the run's notes.
     fn name(&self) -> &'static str;
+    /// Whether it holds no matrix (the run's note then says `K u matrix-free`).
+    fn is_matrix_free(&self) -> bool;
+}
+
+/// A shared operator is the operator (a run's system holds it, each scheme built on it a handle).
+impl<T: Operator + ?Sized> Operator for std::sync::Arc<T> {
+    fn n(&self) -> usize {
+        (**self).n()
+    }
+
+    fn apply(&self, x: &[f64], y: &mut [f64]) {
+        (**self).apply(x, y)
+    }
+
+    fn quad_form(&self, x: &[f64]) -> f64 {
+        (**self).quad_form(x)
+    }
+
+    fn apply_abs(&self, x: &[f64], y: &mut [f64]) {
+        (**self).apply_abs(x, y)
+    }
+
+    fn streamed_bytes(&self) -> usize {
+        (**self).streamed_bytes()
+    }
+
+    fn name(&self) -> &'static str {
+        (**self).name()
+    }
+
+    fn is_matrix_free(&self) -> bool {
+        (**self).is_matrix_free()
+    }
 }
 
 use tridiag::{FactorError, SymTridiag};

@@ -418,7 +418,7 @@ impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
 
     fn note(&self) -> Option<String> {
         let product = match &self.stiffness {
-            Stiffness::Free(op) => format!("; K u matrix-free ({})", op.name()),
+            Stiffness::Free(op) if op.is_matrix_free() => format!("; K u matrix-free ({})", op.name()),
             _ => String::new(),
         };
         Some(format!(

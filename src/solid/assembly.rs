@@ -109,6 +109,27 @@ impl Free {
         }
         Free { dofs, dof_of }
     }
+
+    /// The free unknowns of a box (`Support::Face`) after its force and cell weights are
+    /// checked: all components eliminated on the clamped face, and the normal one on the
+    /// lateral faces under `lateral = roller`.
+    pub fn of_box(
+        mesh: &Mesh,
+        weights: &[f64],
+        lateral: Lateral,
+        force: [f64; 3],
+        contact: &BodyContact,
+    ) -> Result<Self, SolidAssemblyError> {
+        if force.iter().any(|f| !f.is_finite()) {
+            return Err(SolidAssemblyError::Force(force));
+        }
+        crate::fem::layers::validate_weights(mesh, weights)?;
+        let d = mesh.dim;
+        Ok(Free::new(mesh, |g: usize| {
+            let (node, comp) = (g / d, g % d);
+            contact.clamped[node] || (lateral == Lateral::Roller && comp >= 1 && mesh.on_lateral(node, comp))
+        }))
+    }
 }
 
 /// What a support assembles: its matrices, the load on the free unknowns (F(0) if it depends
@@ -129,6 +150,19 @@ pub(super) enum Matrices {
     /// Already on the free unknowns (the box's, assembled there by [`super::columns`]); the unit
     /// mass is assembled when first asked for ([`SolidSystem::mass_unit`]).
     Free { mass: SpMat, stiffness: SpMat },
+}
+
+/// Central differences' stiffness on a run's lean system ([`super::lean`]), shared by the
+/// schemes built on it.
+#[derive(Debug, Clone)]
+pub struct LeanStiffness {
+    /// The box's stencil or the assembled matrix in row-run form.
+    pub operator: Arc<dyn crate::linalg::Operator>,
+    /// Whether `operator` is the stencil.
+    pub matrix_free: bool,
+    /// The unit mass (ρ = 1) as a stencil, for the L² norms (None: assembled when first asked
+    /// for, [`SolidSystem::mass_unit`]).
+    pub unit_mass: Option<Arc<dyn crate::linalg::Operator>>,
 }
 
 /// The solid on its free unknowns: mesh, weights, material, the contact system and what the
@@ -161,6 +195,10 @@ pub struct SolidSystem {
     pub frame: Option<super::body::BodyFrame>,
     /// Several bodies: the layout of their pairs' and bodies' reports (`super::report`).
     pub bodies: Option<super::bodies::BodiesLayout>,
+    /// Central differences' lean system ([`SolidSystem::assemble_explicit`]): the stiffness as
+    /// an operator, the system's own holding only the rows and columns of the massless
+    /// unknowns. None: the system's stiffness is whole.
+    pub(super) lean: Option<LeanStiffness>,
 }
 
 impl SolidSystem {
@@ -178,16 +216,8 @@ impl SolidSystem {
     ) -> Result<Self, SolidAssemblyError> {
         match support {
             Support::Face { gap: _, lateral, force } => {
-                if force.iter().any(|f| !f.is_finite()) {
-                    return Err(SolidAssemblyError::Force(*force));
-                }
-                crate::fem::layers::validate_weights(&mesh, &weights)?;
+                let free = Free::of_box(&mesh, &weights, *lateral, *force, contact)?;
                 let d = mesh.dim;
-                let eliminated = |g: usize| {
-                    let (node, comp) = (g / d, g % d);
-                    contact.clamped[node] || (*lateral == Lateral::Roller && comp >= 1 && mesh.on_lateral(node, comp))
-                };
-                let free = Free::new(&mesh, eliminated);
                 // Straight into compressed columns (`super::columns`): no triplets. The weighted
                 // mass over all full indices first, for the load's row sums, then its free part.
                 let all: Vec<Option<usize>> = (0..mesh.n_nodes() * d).map(Some).collect();
@@ -297,6 +327,7 @@ impl SolidSystem {
             contact_area,
             frame: parts.frame,
             bodies: None,
+            lean: None,
         })
     }
 
@@ -308,6 +339,15 @@ impl SolidSystem {
             let ones = vec![1.0; self.mesh.n_cells()];
             super::columns::mass(&self.mesh, &ones, ContactDirections::All, 1.0, &self.dof_of, self.dofs.len())
         })
+    }
+
+    /// `xᵀ M_1 x` with the unit mass ([`Self::mass_unit`]; a lean box's stencil of it,
+    /// [`super::lean`]).
+    pub fn unit_quad_form(&self, x: &[f64]) -> f64 {
+        match self.lean.as_ref().and_then(|l| l.unit_mass.as_ref()) {
+            Some(m) => m.quad_form(x),
+            None => sparse::quad_form(self.mass_unit(), x),
+        }
     }
 
     /// The nodal interpolant of a vector field g(x) (component i of g at `x`, world

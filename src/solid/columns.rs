@@ -30,8 +30,9 @@ fn node_graph(
     keep: Option<&[bool]>,
 ) -> (Vec<usize>, Vec<usize>) {
     let d = mesh.dim;
+    let cells = touching_cells(mesh, dof_of, keep);
     let mut adj: Vec<Vec<usize>> = vec![Vec::new(); mesh.n_nodes()];
-    for c in 0..mesh.n_cells() {
+    for c in (0..mesh.n_cells()).filter(|&c| cells.as_ref().is_none_or(|t| t[c])) {
         let v = mesh.cell(c);
         for &a in v {
             adj[a].extend_from_slice(v);
@@ -84,7 +85,8 @@ fn assemble_on(
     let d = mesh.dim;
     let (col_ptr, row_idx) = node_graph(mesh, dof_of, n, diagonal, keep);
     let mut val = vec![0.0; row_idx.len()];
-    for c in 0..mesh.n_cells() {
+    let cells = touching_cells(mesh, dof_of, keep);
+    for c in (0..mesh.n_cells()).filter(|&c| cells.as_ref().is_none_or(|t| t[c])) {
         let e = mesh.integrals(c);
         let v = mesh.cell(c);
         for a in 0..v.len() {
@@ -124,6 +126,16 @@ pub fn stiffness_touching(mesh: &Mesh, lame: &Lame, dof_of: &[Option<usize>], n:
         return sparse::from_csc(n, vec![0; n + 1], Vec::new(), Vec::new());
     }
     assemble_on(mesh, dof_of, n, false, Some(keep), |_, e, a, b, i, j| stiffness_entry(e, lame, a, b, i, j))
+}
+
+/// With `keep`, whether each cell holds a node with a marked unknown: a kept entry's row or
+/// column is such a node's, so every cell that adds to it is one of these, and the others are
+/// skipped (a massless layer's few cells instead of the mesh). None without `keep`.
+fn touching_cells(mesh: &Mesh, dof_of: &[Option<usize>], keep: Option<&[bool]>) -> Option<Vec<bool>> {
+    let keep = keep?;
+    let d = mesh.dim;
+    let marked = |a: usize| (0..d).any(|i| dof_of[a * d + i].is_some_and(|k| keep[k]));
+    Some((0..mesh.n_cells()).map(|c| mesh.cell(c).iter().any(|&a| marked(a))).collect())
 }
 
 /// Whether entry (row, col) is assembled: every entry without `keep`, else those whose row or

@@ -21,8 +21,8 @@ use super::assembly::SolidSystem;
 use crate::bar::assembly::Bar;
 use crate::column::Column;
 use crate::exact::Exact;
-use crate::linalg::sparse;
 use crate::problem::{Geometry, GeometryView, OwnSummary};
+use crate::schemes::StiffnessOperator;
 use crate::system::ContactSystem;
 
 impl SolidSystem {
@@ -141,7 +141,7 @@ impl GeometryView for SolidSystem {
         let ex = self.x_error_squared(u, exact, t);
         let d = self.mesh.dim;
         let transverse: Vec<f64> = u.iter().zip(&self.dofs).map(|(&x, &g)| if g % d == 0 { 0.0 } else { x }).collect();
-        let et = sparse::quad_form(self.mass_unit(), &transverse);
+        let et = self.unit_quad_form(&transverse);
         (ex + et.max(0.0)).sqrt()
     }
 
@@ -155,7 +155,7 @@ impl GeometryView for SolidSystem {
         for (e, &g) in scratch.iter_mut().zip(&self.dofs) {
             *e = if g % d == 0 { exact.u(self.mesh.points[g / d][0], t) } else { 0.0 };
         }
-        sparse::quad_form(self.mass_unit(), scratch).max(0.0).sqrt()
+        self.unit_quad_form(scratch).max(0.0).sqrt()
     }
 
     /// The largest departure from a plane wave: `max |u_x(x, y, z) − u_x(x, y_0, z_0)|` and the
@@ -222,8 +222,23 @@ impl Geometry for SolidSystem {
         Some(SolidSystem::lumped_mass(self))
     }
 
-    /// The structured Q1 box's stencil ([`super::stencil`]).
-    fn stiffness_operator(&self) -> Option<Box<dyn crate::linalg::Operator>> {
-        super::stencil::BoxStencil::of_system(self).map(|s| Box::new(s) as Box<dyn crate::linalg::Operator>)
+    /// A lean system's operator ([`super::lean`]), else the structured Q1 box's stencil
+    /// ([`super::stencil`]) unless `choice` is `assembled`.
+    fn stiffness_operator(&self, choice: StiffnessOperator) -> Option<Box<dyn crate::linalg::Operator>> {
+        if let Some(lean) = &self.lean {
+            let allowed = lean.matrix_free || choice != StiffnessOperator::MatrixFree;
+            return allowed
+                .then(|| Box::new(std::sync::Arc::clone(&lean.operator)) as Box<dyn crate::linalg::Operator>);
+        }
+        match choice {
+            StiffnessOperator::Assembled => None,
+            StiffnessOperator::Auto | StiffnessOperator::MatrixFree => {
+                super::stencil::BoxStencil::of_system(self).map(|s| Box::new(s) as Box<dyn crate::linalg::Operator>)
+            }
+        }
+    }
+
+    fn load_energy(&self) -> Option<f64> {
+        self.lean_load_energy()
     }
 }

@@ -1,19 +1,170 @@
-//! The explicit scheme's system of a box at scale (issue 20, explicit at scale): what central
-//! differences need and nothing else, in memory linear in the unknowns with a small constant
-//! (the benches' set-up): the stiffness straight into compressed columns
-//! ([`super::columns::stiffness`]), the lumped mass [`super::lumped::node_masses`] as the
-//! [`ContactSystem`]'s mass matrix (a diagonal; no consistent mass is formed), and the load
-//! `F_(a,i) = f_i ∫ w_h φ_a` (P1/Q1: the lumped mass over ρ; a P2 box has no structured mesh).
-//! Matrix-free ([`SolidSpec::explicit_box_matrix_free`], issue 31): the box's stencil, and of
-//! the stiffness only the rows and columns of the massless unknowns (none for the standard
-//! mass): about 170 bytes per unknown at 10⁶ unknowns (`bench --explicit-scaling`).
+//! The explicit scheme's system of a box at scale (issues 20 and 31, explicit at scale): what
+//! central differences need and nothing else, in memory linear in the unknowns with a small
+//! constant: the lumped mass [`super::lumped::node_masses`] as the [`ContactSystem`]'s mass
+//! matrix (a diagonal; no consistent mass is formed), the load `F_(a,i) = f_i ∫ w_h φ_a`, and the
+//! stiffness as one operator: the box's stencil ([`BoxStencil`], matrix-free) or the assembled
+//! matrix in row-run form. The system's own stiffness holds only the rows and columns of the
+//! massless unknowns ([`super::columns::stiffness_touching`], bit for bit the assembled
+//! entries): all that the contact layer's quasi-static rows and the laws read (none for the
+//! standard mass).
+//!
+//! Two entries:
+//! - **a scene's run** ([`SolidSystem::assemble_explicit`], issue 31, item 0): every box scene
+//!   stepped by central differences (not Nitsche, whose term reads a massive contact row). Its
+//!   L² norms take the unit mass as a stencil where the box has one (else it is assembled
+//!   when first asked for), and its divergence watch's `E_F` comes from conjugate gradients on
+//!   the operator ([`SolidSystem::lean_load_energy`]) instead of a factorisation;
+//! - **the benches** ([`SolidSpec::explicit_box`], [`SolidSpec::explicit_box_matrix_free`]),
+//!   which step the system themselves (P1/Q1 boxes: the load from the lumped mass over ρ).
+//!
+//! At 10⁶ unknowns: about 170 bytes per unknown matrix-free, 1.6 kB assembled
+//! (`bench --explicit-scaling`).
 
-use super::assembly::{Free, SolidAssemblyError};
-use super::spec::{Lateral, SolidInitial, SolidSpec, Support};
+use super::assembly::{Free, LeanStiffness, Matrices, Parts, SolidAssemblyError, SolidSystem};
+use super::body::BodyContact;
+use super::spec::{SolidInitial, SolidSpec, Support};
 use super::stencil::BoxStencil;
-use crate::linalg::sparse::{self, SpMat};
-use crate::mass::MassKind;
+use crate::fem::Mesh;
+use crate::linalg::Operator;
+use crate::linalg::sparse::{self, RunMat, SpMat};
+use crate::mass::{ContactDirections, MassKind};
+use crate::material::Lame;
+use crate::schemes::StiffnessOperator;
 use crate::system::ContactSystem;
+use std::sync::Arc;
+
+/// Relative residual at which [`SolidSystem::lean_load_energy`]'s conjugate gradients stop.
+/// `E_F` only sets the divergence watch's scale (a factor 10⁶ above it by default); the
+/// functional at the iterate misses it by `½ r_kᵀ K⁻¹ r_k ≤ κ tol² E_F`, far inside that factor.
+pub const LOAD_ENERGY_TOL: f64 = 1e-6;
+
+impl SolidSystem {
+    /// The lean system of a box (`Support::Face`) for central differences (module docs): the
+    /// lumped mass as a diagonal mass, the load `f_i Σ_c w_c^(i) ∫_c φ_a` cell by cell, the
+    /// stiffness as `choice` says (`auto`: the stencil where the box has one; `assembled` or
+    /// no stencil: the row-run matrix), and of the stiffness matrix only the massless
+    /// unknowns' rows and columns. Any other support is assembled whole
+    /// ([`SolidSystem::assemble`]).
+    pub fn assemble_explicit(
+        (mesh, contact): (Arc<Mesh>, &BodyContact),
+        (weights, directions): (Vec<f64>, ContactDirections),
+        lame: Lame,
+        support: &Support,
+        choice: StiffnessOperator,
+    ) -> Result<Self, SolidAssemblyError> {
+        let Support::Face { lateral, force, .. } = *support else {
+            return Self::assemble(mesh, weights, directions, lame, support, contact);
+        };
+        let free = Free::of_box(&mesh, &weights, lateral, force, contact)?;
+        let n = free.dofs.len();
+        let lumped = super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs);
+        let massless: Vec<bool> = lumped.iter().map(|&m| m <= 0.0).collect();
+        let flags = || free.dof_of.iter().map(Option::is_some).collect::<Vec<bool>>();
+        let stencil = match choice {
+            StiffnessOperator::Assembled => None,
+            StiffnessOperator::Auto | StiffnessOperator::MatrixFree => BoxStencil::new(&mesh, &lame, flags()),
+        };
+        let lean = match stencil {
+            Some(s) => LeanStiffness {
+                operator: Arc::new(s),
+                matrix_free: true,
+                unit_mass: BoxStencil::unit_mass(&mesh, flags()).map(|m| Arc::new(m) as Arc<dyn Operator>),
+            },
+            None => {
+                let k = super::columns::stiffness(&mesh, &lame, &free.dof_of, n);
+                let runs = RunMat::from_owned(k).map_err(|_| sparse::SparseError::Structure {
+                    matrix: "stiffness",
+                    detail: format!("{n} unknowns: the row-run form holds at most {} rows", u32::MAX),
+                })?;
+                LeanStiffness { operator: Arc::new(runs), matrix_free: false, unit_mass: None }
+            }
+        };
+        let stiffness = super::columns::stiffness_touching(&mesh, &lame, &free.dof_of, n, &massless);
+        let load = box_load(&mesh, &weights, directions, force, &free.dofs);
+        let diag: Vec<(usize, usize, f64)> = lumped.iter().enumerate().map(|(i, &m)| (i, i, m)).collect();
+        let mass = sparse::from_triplets(n, &diag, "mass")?;
+        let parts = Parts {
+            matrices: Matrices::Free { mass, stiffness },
+            load,
+            forcing: None,
+            frame: None,
+            contact_area: mesh.face_area(),
+        };
+        let mut system = Self::on_free(mesh, (weights, directions), lame, lateral, free, parts, contact)?;
+        system.lean = Some(lean);
+        Ok(system)
+    }
+
+    /// The divergence watch's `E_F = ½ F_rᵀ K_rr⁻¹ F_r = max_x (F_rᵀx − ½ xᵀK_rr x)` (r: the
+    /// unknowns but the contact ones) of a lean system: that functional at conjugate gradients'
+    /// iterate on its operator, from 0 to [`LOAD_ENERGY_TOL`] relative residual (at most n
+    /// iterations), below `E_F` by `½ r_kᵀ K_rr⁻¹ r_k`. None for a system that is whole (the
+    /// driver factors `K_rr`).
+    pub fn lean_load_energy(&self) -> Option<f64> {
+        let op = &self.lean.as_ref()?.operator;
+        let s = &self.system;
+        let mut b = s.load.clone();
+        for &c in &s.contact {
+            b[c] = 0.0;
+        }
+        let x = conjugate_gradients(op.as_ref(), &s.contact, &b);
+        let work: f64 = b.iter().zip(&x).map(|(b, x)| b * x).sum();
+        Some(work - 0.5 * op.quad_form(&x))
+    }
+}
+
+/// x ≈ A_rr⁻¹ b by conjugate gradients from 0 (the rows and columns `held` removed: b is 0
+/// there, and so are x and each product's entries there), to [`LOAD_ENERGY_TOL`] relative
+/// residual or n iterations.
+fn conjugate_gradients(a: &dyn Operator, held: &[usize], b: &[f64]) -> Vec<f64> {
+    let n = a.n();
+    let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
+    let bb = dot(b, b);
+    if bb == 0.0 {
+        return vec![0.0; n];
+    }
+    let (mut x, mut r, mut p, mut q) = (vec![0.0; n], b.to_vec(), b.to_vec(), vec![0.0; n]);
+    let mut rr = bb;
+    for _ in 0..n {
+        a.apply(&p, &mut q);
+        for &c in held {
+            q[c] = 0.0;
+        }
+        let alpha = rr / dot(&p, &q);
+        x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
+        r.iter_mut().zip(&q).for_each(|(r, q)| *r -= alpha * q);
+        let next = dot(&r, &r);
+        if next <= LOAD_ENERGY_TOL * LOAD_ENERGY_TOL * bb {
+            break;
+        }
+        let beta = next / rr;
+        p.iter_mut().zip(&r).for_each(|(p, r)| *p = r + beta * *p);
+        rr = next;
+    }
+    x
+}
+
+/// The box's load on the free unknowns `dofs`: `F_(a,i) = f_i Σ_c w_c^(i) Σ_b ∫_c φ_a φ_b`
+/// (the row sums of the weighted mass over ρ, as [`SolidSystem::assemble`] takes them, cell by
+/// cell without the matrix; zero without force).
+fn box_load(mesh: &Mesh, weights: &[f64], directions: ContactDirections, force: [f64; 3], dofs: &[usize]) -> Vec<f64> {
+    let d = mesh.dim;
+    if force.iter().all(|&f| f == 0.0) {
+        return vec![0.0; dofs.len()];
+    }
+    let mut sums = vec![0.0; mesh.n_nodes() * d];
+    for (c, &w) in weights.iter().enumerate() {
+        let e = mesh.integrals(c);
+        let v = mesh.cell(c);
+        for (a, &node) in v.iter().enumerate() {
+            let row: f64 = e.mass[a][..v.len()].iter().sum();
+            for (i, sum) in sums[node * d..(node + 1) * d].iter_mut().enumerate() {
+                *sum += directions.weight(i, w) * row;
+            }
+        }
+    }
+    dofs.iter().map(|&g| force[g % d] * sums[g]).collect()
+}
 
 /// The system of central differences on a box with its lumped mass and initial data.
 #[derive(Debug)]
@@ -53,11 +204,7 @@ impl SolidSpec {
         let mesh = &built.mesh;
         let weights = self.weights(&built, mass)?;
         let d = mesh.dim;
-        let eliminated = |g: usize| {
-            let (node, comp) = (g / d, g % d);
-            built.contact.clamped[node] || (lateral == Lateral::Roller && comp >= 1 && mesh.on_lateral(node, comp))
-        };
-        let Free { dofs, dof_of } = Free::new(mesh, eliminated);
+        let Free { dofs, dof_of } = Free::of_box(mesh, &weights, lateral, force, &built.contact)?;
         let n = dofs.len();
         let nodes = super::lumped::node_masses(mesh, &weights, self.lame.density);
         let lumped: Vec<f64> = dofs.iter().map(|&g| nodes[g / d]).collect();

@@ -44,26 +44,39 @@ pub fn node_masses(mesh: &Mesh, weights: &[f64], density: f64) -> Vec<f64> {
     m
 }
 
+/// The lumped mass `M_L` on the free unknowns `dofs`: `m_a` of the unknown's node (module
+/// docs), the tangential components' of the standard mass under `mass.contact_directions =
+/// "normal"`.
+pub fn lumped_on(
+    mesh: &Mesh,
+    weights: &[f64],
+    directions: ContactDirections,
+    density: f64,
+    dofs: &[usize],
+) -> Vec<f64> {
+    let d = mesh.dim;
+    let m = node_masses(mesh, weights, density);
+    let standard = match directions {
+        ContactDirections::All => None,
+        ContactDirections::Normal => Some(node_masses(mesh, &vec![1.0; mesh.n_cells()], density)),
+    };
+    dofs.iter()
+        .map(|&g| match &standard {
+            Some(s) if g % d > 0 => s[g / d],
+            _ => m[g / d],
+        })
+        .collect()
+}
+
 impl SolidSystem {
-    /// The lumped mass `M_L` on the free unknowns: `m_a` of the unknown's node (module docs),
-    /// the tangential components' of the standard mass under `mass.contact_directions =
-    /// "normal"`.
+    /// The lumped mass `M_L` on the free unknowns ([`lumped_on`]; a lean system's is its mass
+    /// matrix's diagonal, [`SolidSystem::assemble_explicit`]).
     pub fn lumped_mass(&self) -> Vec<f64> {
-        let d = self.mesh.dim;
-        let m = node_masses(&self.mesh, &self.weights, self.lame.density);
-        let standard = match self.directions {
-            ContactDirections::All => None,
-            ContactDirections::Normal => {
-                Some(node_masses(&self.mesh, &vec![1.0; self.mesh.n_cells()], self.lame.density))
-            }
-        };
-        self.dofs
-            .iter()
-            .map(|&g| match &standard {
-                Some(s) if g % d > 0 => s[g / d],
-                _ => m[g / d],
-            })
-            .collect()
+        if self.lean.is_some() {
+            use crate::linalg::SymMatrix;
+            return (0..self.dofs.len()).map(|i| self.system.mass.diag(i)).collect();
+        }
+        lumped_on(&self.mesh, &self.weights, self.directions, self.lame.density, &self.dofs)
     }
 }
 

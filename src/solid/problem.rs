@@ -5,6 +5,7 @@
 use super::assembly::{SolidAssemblyError, SolidSystem};
 use super::spec::{Built, SolidInitial, SolidSpec, Support};
 use crate::characteristics::{CharacteristicsError, InitialData};
+use crate::contact::law::ContactLaw;
 use crate::exact::{Exact, ImpactingBar, by_characteristics, paper_data};
 use crate::expr::Expr;
 use crate::fem::MeshError;
@@ -12,6 +13,7 @@ use crate::fem::frames::VtuFrames;
 use crate::mass::{ContactDirections, MassKind};
 use crate::material::{FarEnd, Material};
 use crate::problem::Problem;
+use crate::schemes::{SchemeSpec, StiffnessOperator};
 use crate::spec::Scene;
 use crate::spec::{GeometrySpec, Totals};
 use serde::Serialize;
@@ -37,6 +39,19 @@ impl SolidSpec {
         directions: ContactDirections,
         t_end: f64,
     ) -> Result<Problem<SolidSystem>, SolidError> {
+        self.problem_for(mass, directions, t_end, None)
+    }
+
+    /// [`SolidSpec::problem_directed`] for central differences with `scheme.operator =
+    /// operator` where `explicit` is Some: a box's system is then the lean one
+    /// ([`SolidSystem::assemble_explicit`]: no consistent mass, no whole stiffness matrix).
+    pub fn problem_for(
+        &self,
+        mass: &MassKind,
+        directions: ContactDirections,
+        t_end: f64,
+        explicit: Option<StiffnessOperator>,
+    ) -> Result<Problem<SolidSystem>, SolidError> {
         let built = self.built()?;
         let weights = self.weights(&built, mass)?;
         if let Some((bodies, joined)) = &built.joined {
@@ -49,7 +64,16 @@ impl SolidSpec {
             return Ok(Problem { system: solid, u0, v0, exact: None });
         }
         let mesh = Arc::clone(&built.mesh);
-        let solid = SolidSystem::assemble(mesh, weights, directions, self.lame, &self.support, &built.contact)?;
+        let solid = match explicit {
+            Some(choice) => SolidSystem::assemble_explicit(
+                (mesh, &built.contact),
+                (weights, directions),
+                self.lame,
+                &self.support,
+                choice,
+            )?,
+            None => SolidSystem::assemble(mesh, weights, directions, self.lame, &self.support, &built.contact)?,
+        };
         let l = self.extent[0];
         let (u0, v0) = match &self.initial {
             SolidInitial::Paper => {
@@ -164,8 +188,16 @@ impl GeometrySpec for SolidSpec {
         self.cells_per_axis[0]
     }
 
+    /// Central differences take the lean system (`super::lean`), but with Nitsche's law,
+    /// whose term reads a contact row that the lean stiffness does not hold.
     fn problem(scene: &Scene<Self>) -> Result<SolidProblem, SolidError> {
-        scene.geometry.problem_directed(&scene.mass, scene.contact_directions, scene.time.exact_end())
+        let explicit = match scene.scheme {
+            SchemeSpec::CentralDifference { operator } if !matches!(scene.contact, ContactLaw::Nitsche { .. }) => {
+                Some(operator)
+            }
+            _ => None,
+        };
+        scene.geometry.problem_for(&scene.mass, scene.contact_directions, scene.time.exact_end(), explicit)
     }
 
     fn summary_head(scene: &Scene<Self>, totals: &Totals) -> SolidHead {

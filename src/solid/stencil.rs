@@ -74,6 +74,22 @@ impl BoxStencil {
     /// generator; None for any other mesh) with material `lame`, on the free unknowns `free`
     /// (one flag per full index `node·d + component`).
     pub fn new(mesh: &Mesh, lame: &Lame, free: Vec<bool>) -> Option<Self> {
+        Self::with_entry(mesh, free, |e, a, b, r, s| super::columns::stiffness_entry(e, lame, a, b, r, s))
+    }
+
+    /// The unweighted vector mass with ρ = 1 of the same box (`δ_rs ∫ φ_a φ_b`), for the L²
+    /// norms of a run that assembles no mass matrix ([`super::SolidSystem::unit_quad_form`]).
+    pub fn unit_mass(mesh: &Mesh, free: Vec<bool>) -> Option<Self> {
+        Self::with_entry(mesh, free, |e, a, b, r, s| if r == s { e.mass[a][b] } else { 0.0 })
+    }
+
+    /// The stencil of the element matrix `entry(e, a, b, r, s)` = entry ((a, r), (b, s)) on
+    /// the reference cell's integrals `e`.
+    fn with_entry(
+        mesh: &Mesh,
+        free: Vec<bool>,
+        entry: impl Fn(&CellIntegrals, usize, usize, usize, usize) -> f64,
+    ) -> Option<Self> {
         let grid = mesh.grid?;
         let corners: &[[usize; 3]] = match mesh.kind {
             Cell::Quad => &QUAD,
@@ -120,7 +136,7 @@ impl BoxStencil {
                             (0..d).map(|k| ((off[k] + c[k] as isize + 1) as usize) * 3usize.pow(k as u32)).sum();
                         for r in 0..d {
                             for s in 0..d {
-                                coef[(o * d + r) * d + s] += super::columns::stiffness_entry(&e, lame, a, b, r, s);
+                                coef[(o * d + r) * d + s] += entry(&e, a, b, r, s);
                             }
                         }
                     }
@@ -373,6 +389,10 @@ impl Operator for BoxStencil {
 
     fn name(&self) -> &'static str {
         "the structured Q1 stencil"
+    }
+
+    fn is_matrix_free(&self) -> bool {
+        true
     }
 }
 

@@ -101,3 +101,11 @@ pub fn assert_refused(o: &std::process::Output, needles: &[&str]) {
     }
     assert!(!err.contains(" steps in "), "the run was computed before the refusal: {err}");
 }
+
+/// A solid scene's problem with the whole system (its consistent mass, its whole stiffness), as
+/// every scheme but central differences gets it: what tests that read the matrices start from
+/// (`run::setup` gives central differences the lean system of `solid::lean`, whose stiffness
+/// matrix holds only the massless unknowns' rows and columns).
+pub fn whole_problem(s: &massredist::scene::SolidScene) -> massredist::solid::SolidProblem {
+    s.geometry.problem_directed(&s.mass, s.contact_directions, s.time.exact_end()).unwrap()
+}

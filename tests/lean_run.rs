@@ -1,0 +1,200 @@
+//! A scene's run of central differences on a box takes the lean system (issue 31, item 0;
+//! `solid::lean`): a diagonal lumped mass and no consistent one, of the stiffness matrix only
+//! the massless unknowns' rows and columns, the product by an operator (the box's stencil, or the
+//! assembled matrix in row-run form), the divergence watch's `E_F` by conjugate gradients and
+//! the L² norms by the unit mass's stencil. Each is checked against the whole system that every
+//! other scheme gets.
+
+mod common;
+
+use massredist::contact::law::ContactLaw;
+use massredist::linalg::sparse;
+use massredist::linalg::{Operator, SymMatrix};
+use massredist::problem::Geometry;
+use massredist::scene::SolidScene;
+use massredist::schemes::{CentralDifference, Scheme};
+use massredist::solid::SolidSystem;
+
+fn scene(text: &str) -> SolidScene {
+    SolidScene::from_toml(text).unwrap_or_else(|e| panic!("{e}\n{text}"))
+}
+
+/// A box 1 × 0.5 [× 0.4] of `cells`, λ = 0.75, μ = 0.5, ρ = 1.3, free lateral faces, thrown at
+/// speed 1 onto the plane 0.001 below x = 0 with a shear in its velocity, the body force
+/// `force`, mass `mass`, central differences with `operator` at dt = 0.02 (below Δt_c ≈ 0.057
+/// for every case here).
+fn thrown(dim: usize, cells: &str, mass: &str, force: &str, operator: &str) -> String {
+    let (depth, fields) = if dim == 2 {
+        ("", r#"initial = { displacement = ["0", "0"], velocity = ["-1", "0.1*y"] }"#)
+    } else {
+        (
+            "depth = 0.4\nnz = 3\n",
+            r#"initial = { displacement = ["0", "0", "0"], velocity = ["-1", "0.1*y", "0.05*z"] }"#,
+        )
+    };
+    format!(
+        "[solid]\ndim = {dim}\nlength = 1.0\nheight = 0.5\n{depth}nx = 8\nny = 4\ncells = \"{cells}\"\nlame_lambda = 0.75\nlame_mu = 0.5\ndensity = 1.3\nlateral = \"free\"\ngap = 0.001\nforce = {force}\n{fields}\n[mass]\nkind = \"{mass}\"\n[scheme]\nkind = \"central-difference\"\noperator = \"{operator}\"\n[time]\ndt = 0.02\nend = 4.0\n"
+    )
+}
+
+/// (dim, cells, mass, force): hexahedra and quadrilaterals have a stencil, tetrahedra do not
+/// (their lean operator is the row-run matrix under `auto` too).
+const CASES: [(usize, &str, &str, &str); 5] = [
+    (3, "hex", "mod3", "[-0.5, 0.1, 0.0]"),
+    (3, "hex", "standard", "[0.0, 0.0, 0.0]"),
+    (2, "quad", "mod2", "[-0.3, 0.0]"),
+    (2, "quad", "mod1", "[0.0, 0.0]"),
+    (3, "tet", "mod3", "[-0.5, 0.1, 0.0]"),
+];
+
+/// The lean system holds a diagonal mass (the lumped one, bit for bit) and of the stiffness
+/// exactly the whole matrix's entries in the massless rows and columns (none for the standard
+/// mass), and 200 steps through contact (the box thrown at the plane, released at t ≈ 1.1 for
+/// the 3D hex) follow central differences on the whole system: bit for bit with the assembled
+/// operator and no force (the same lumped mass, the same row-run products, the same Lanczos),
+/// within 1e-11 of the scale of u, v and λ otherwise (the load is summed cell by cell instead of
+/// from the mass matrix's rows, the stencil's products differ at round-off: a stable recurrence
+/// carries such differences with at most linear growth; measured at most 4.3e-14 of the scale, in v).
+/// (Mutation, as run: the lean load without the cell weights,
+/// `directions.weight(i, w)` -> `1.0`, fails the first case, |Δu| 2.3e-2 of 0.70.)
+#[test]
+fn a_scene_run_takes_the_lean_system_and_follows_the_whole_one() {
+    for (dim, cells, mass, force) in CASES {
+        for operator in ["assembled", "auto"] {
+            let what = format!("{dim}D {cells} {mass} force {force} {operator}");
+            let s = scene(&thrown(dim, cells, mass, force, operator));
+            let whole = common::whole_problem(&s);
+            let mut lean = massredist::run::setup(&s).unwrap_or_else(|e| panic!("{what}: {e}"));
+            let (w, l): (&SolidSystem, &SolidSystem) = (&whole.system, &lean.problem.system);
+            let lumped = w.lumped_mass();
+            let n = lumped.len();
+            // The mass: the lumped diagonal, nothing else.
+            let diag: Vec<(usize, usize, u64)> = lumped.iter().enumerate().map(|(i, &m)| (i, i, m.to_bits())).collect();
+            let got: Vec<(usize, usize, u64)> =
+                sparse::triplets(&l.system.mass).map(|(i, j, v)| (i, j, v.to_bits())).collect();
+            assert_eq!(got, diag, "{what}: the mass is the lumped diagonal");
+            // The stiffness: the whole one's massless rows and columns.
+            let massless: Vec<bool> = lumped.iter().map(|&m| m <= 0.0).collect();
+            let want: Vec<(usize, usize, u64)> = sparse::triplets(&w.system.stiffness)
+                .filter(|&(i, j, _)| massless[i] || massless[j])
+                .map(|(i, j, v)| (i, j, v.to_bits()))
+                .collect();
+            let got: Vec<(usize, usize, u64)> =
+                sparse::triplets(&l.system.stiffness).map(|(i, j, v)| (i, j, v.to_bits())).collect();
+            assert_eq!(got, want, "{what}: the stiffness's massless rows and columns");
+            assert_eq!(want.is_empty(), mass == "standard", "{what}");
+            // The operator the run steps with.
+            let note = lean.scheme.note().unwrap_or_default();
+            let stencil = operator == "auto" && cells != "tet";
+            assert_eq!(note.contains("K u matrix-free"), stencil, "{what}: {note}");
+            let mut reference = CentralDifference::with_operator(
+                &w.system,
+                None,
+                lumped,
+                &ContactLaw::Exact,
+                0.02,
+                whole.u0.clone(),
+                whole.v0.clone(),
+            )
+            .unwrap();
+            let exact_bits = !stencil && !force.contains('-');
+            let (mut du, mut dv, mut dl, mut su, mut sv, mut sl) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+            let mut touched = false;
+            for _ in 0..200 {
+                reference.step().unwrap();
+                lean.scheme.step().unwrap();
+                let (a, b) = (reference.state(), lean.scheme.state());
+                if exact_bits {
+                    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(a.u), bits(b.u), "{what}: u bit for bit at step {}", a.n);
+                    assert_eq!(bits(a.v), bits(b.v), "{what}: v bit for bit at step {}", a.n);
+                }
+                touched |= b.lambda.iter().any(|&x| x < 0.0);
+                for i in 0..n {
+                    (du, su) = (du.max((a.u[i] - b.u[i]).abs()), su.max(a.u[i].abs()));
+                    (dv, sv) = (dv.max((a.v[i] - b.v[i]).abs()), sv.max(a.v[i].abs()));
+                }
+                for (x, y) in a.lambda.iter().zip(b.lambda) {
+                    (dl, sl) = (dl.max((x - y).abs()), sl.max(x.abs()));
+                }
+            }
+            assert!(touched, "{what}: contact happens");
+            eprintln!("{what}: |Δu| {du:.1e} of {su:.1e}, |Δv| {dv:.1e} of {sv:.1e}, |Δλ| {dl:.1e} of {sl:.1e}");
+            assert!(
+                du <= 1e-11 * su && dv <= 1e-11 * sv && dl <= 1e-11 * sl,
+                "{what}: |Δu| {du:e} of {su:e}, |Δv| {dv:e} of {sv:e}, |Δλ| {dl:e} of {sl:e}"
+            );
+        }
+    }
+}
+
+/// The divergence watch's `E_F = ½ F_rᵀ S_rr⁻¹ F_r` of a lean system (conjugate gradients on its
+/// operator, `SolidSystem::lean_load_energy`) is the factored one of the whole system from
+/// below, to `κ(S_rr) tol²` relative (CG's `½ bᵀx_k` misses E_F by `½ r_kᵀ S⁻¹ r_k ≤ ½ ‖r_k‖² /
+/// λ_min` and `E_F ≥ ½ ‖b‖² / λ_max`; tol = 1e-6 and κ < 1e4 on boxes of ≤ 8 cells an axis:
+/// asserted 1e-8); a whole system returns None (the driver factors). (Mutation, as run: the
+/// contact rows not held, `q[c] = 0` removed -> fails: 8.2e-3 against 3.1e-3.)
+#[test]
+fn the_lean_load_energy_is_the_factored_one() {
+    for (dim, cells, mass, force) in CASES.into_iter().filter(|c| c.3.contains('-')) {
+        for operator in ["assembled", "auto"] {
+            let what = format!("{dim}D {cells} {mass} {operator}");
+            let s = scene(&thrown(dim, cells, mass, force, operator));
+            let whole = common::whole_problem(&s);
+            let lean = massredist::run::setup(&s).unwrap();
+            let ws = &whole.system.system;
+            let held: Vec<bool> = (0..ws.n()).map(|i| ws.contact.contains(&i)).collect();
+            let rest: Vec<usize> = (0..ws.n()).filter(|&i| !held[i]).collect();
+            let f: Vec<f64> = rest.iter().map(|&i| ws.load[i]).collect();
+            let mut u = f.clone();
+            ws.stiffness.solve_principal(&rest, &mut u, "stiffness").unwrap();
+            let factored = 0.5 * u.iter().zip(&f).map(|(a, b)| a * b).sum::<f64>();
+            let cg = lean.problem.system.load_energy().expect("a lean system computes E_F");
+            assert!(whole.system.load_energy().is_none(), "{what}: the whole system leaves it to the driver");
+            eprintln!("{what}: E_F {factored:e}, by CG {cg:e}");
+            assert!(
+                cg <= factored * (1.0 + 1e-14) && factored - cg <= 1e-8 * factored,
+                "{what}: {factored:e} vs {cg:e}"
+            );
+        }
+    }
+}
+
+/// The unit mass's stencil (the L² norms of a lean box) is the assembled unit mass's quadratic
+/// form within 64 ε `|x|ᵀ|M||x|` (each stencil coefficient is a sum of ≤ 2^d cell terms on the
+/// reference cell, ≤ 16 ε from the assembled entry; each row sums ≤ 27 terms), on random
+/// vectors, for quad and hex boxes with free and roller lateral faces. (Mutation, as run: the
+/// mass stencil taking `e.mass[a][a]` for every b -> fails: 3.10e-2 against 3.07e-2.)
+#[test]
+fn the_unit_mass_stencil_is_the_assembled_unit_mass() {
+    use massredist::solid::stencil::BoxStencil;
+    for (dim, cells) in [(2, "quad"), (3, "hex")] {
+        for lateral in ["free", "roller"] {
+            let text = thrown(dim, cells, "mod3", if dim == 2 { "[0.0, 0.0]" } else { "[0.0, 0.0, 0.0]" }, "auto")
+                .replace("lateral = \"free\"", &format!("lateral = \"{lateral}\""));
+            let s = scene(&text);
+            let lean = massredist::run::setup(&s).unwrap();
+            let sys = &lean.problem.system;
+            let m = common::whole_problem(&s).system.mass_unit().clone();
+            let flags = sys.dof_of.iter().map(Option::is_some).collect();
+            let stencil = BoxStencil::unit_mass(&sys.mesh, flags).unwrap();
+            assert_eq!(stencil.n(), m.nrows());
+            let mut state = 0x9E3779B97F4A7C15u64;
+            for _ in 0..3 {
+                let x: Vec<f64> = (0..m.nrows())
+                    .map(|_| {
+                        state ^= state << 13;
+                        state ^= state >> 7;
+                        state ^= state << 17;
+                        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+                    })
+                    .collect();
+                let ax: Vec<f64> = x.iter().map(|v| v.abs()).collect();
+                let bound = 64.0 * f64::EPSILON * sparse::quad_form(&m, &ax);
+                let (a, b) = (sparse::quad_form(&m, &x), sys.unit_quad_form(&x));
+                assert!((a - b).abs() <= bound, "{dim}D {lateral}: {a:e} vs {b:e} (bound {bound:e})");
+                assert_eq!(b.to_bits(), stencil.quad_form(&x).to_bits(), "the run's L² takes the stencil");
+            }
+        }
+    }
+}
