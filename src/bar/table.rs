@@ -113,6 +113,7 @@ impl SceneGeometry for BarSpec {
             tangential_dims: 0,
             pairs: false,
             matrix_free: false,
+            dense_contact: None,
         })
     }
 

@@ -221,7 +221,7 @@ impl SceneGeometry for PlateSpec {
     /// E4): the address space at the first factor (`VmPeak`) was 688 MB for a 600² quad plate
     /// (2.5× its 276 MB of buffers) and 256 MB for 300² (3.7×, the process's own share
     /// counting more); a 1200² plate counted 1.1 GB here and aborted in its assembly at 1.8 GB.
-    fn assembly_bytes(&self) -> f64 {
+    fn assembly_bytes(&self, _scheme: Option<&crate::schemes::SchemeSpec>) -> f64 {
         let mesh = self.mesh.as_ref().expect("a validated plate has its mesh");
         let k = self.cells.verts() as f64;
         mesh.n_cells() as f64 * k * k * 48.0 * 3.0

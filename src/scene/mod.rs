@@ -209,7 +209,14 @@ impl<G: Registered> Scene<G> {
 /// memory ([`SceneGeometry::assembly_bytes`] against [`crate::linalg::memory_left`], read
 /// only for a geometry that states its bytes).
 fn validated<G: SceneGeometry>(geometry: G, raw: RawScene) -> Result<Scene<G>, SceneError> {
-    let bytes = geometry.assembly_bytes();
+    // The scheme as written (its errors are `validate_sections`'): central differences set a
+    // box up lean.
+    let scheme = match &raw.scheme {
+        Some(tagged::RawSection::Read(t)) => common::parse_scheme(Some(tagged::RawSection::Read(t.clone()))).ok(),
+        Some(tagged::RawSection::Resolved(s)) => Some(*s),
+        None => common::parse_scheme(None).ok(),
+    };
+    let bytes = geometry.assembly_bytes(scheme.as_ref());
     if bytes > 0.0 {
         let limit = crate::linalg::memory_left();
         if bytes > limit as f64 {

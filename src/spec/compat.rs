@@ -54,6 +54,12 @@ pub struct Offer {
     /// A matrix-free stiffness operator (a structured Q1 box against the plane x = −gap:
     /// `crate::solid::stencil`): `scheme.operator = "matrix-free"`.
     pub matrix_free: bool,
+    /// The contact nodes and the keys that set them, where the rule checks the size of their
+    /// dense Schur complement ([`crate::spec::check_contact_memory`]) for the schemes and laws
+    /// that form one: all but central differences with the exact law (forward increments on
+    /// massive contact nodes, the sparse layer of `crate::contact::layer` on massless ones).
+    /// None: the geometry checks it itself when it is validated.
+    pub dense_contact: Option<(usize, &'static str)>,
 }
 
 /// The one compatibility rule (module docs): Ok, or the one key to change with its allowed
@@ -66,6 +72,11 @@ pub(crate) fn check(
     scheme: &SchemeSpec,
     law: &ContactLaw,
 ) -> Result<(), SceneError> {
+    if let Some((contact, keys)) = offer.dense_contact
+        && !(matches!(scheme, SchemeSpec::CentralDifference { .. }) && *law == ContactLaw::Exact)
+    {
+        super::check_contact_memory(contact, keys)?;
+    }
     if let Some(why) = scheme_vs_geometry(offer, scheme) {
         let (key, value) = scheme.key_and_value();
         let allowed = if key == "scheme.kind" {

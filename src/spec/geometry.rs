@@ -75,11 +75,16 @@ pub trait SceneGeometry: Sized {
             tangential_dims: self.tangential_dims(),
             pairs: self.pairs(),
             matrix_free: self.matrix_free(),
+            dense_contact: self.dense_contact(),
         })
     }
     /// Whether the geometry has a matrix-free stiffness operator ([`Offer::matrix_free`]).
     fn matrix_free(&self) -> bool {
         false
+    }
+    /// The contact nodes whose dense Schur complement the rule checks ([`Offer::dense_contact`]).
+    fn dense_contact(&self) -> Option<(usize, &'static str)> {
+        None
     }
     /// A series column this scene names itself (several bodies' `<pair>.contact_force`), by
     /// its name (None: none of that name).
@@ -114,7 +119,8 @@ pub trait SceneGeometry: Sized {
     /// checked against [`crate::linalg::memory_limit`] before any mesh is assembled; each factor
     /// is checked, exactly, after its symbolic analysis, against what is left of the limit
     /// ([`crate::linalg::memory_left`]).
-    fn assembly_bytes(&self) -> f64 {
+    fn assembly_bytes(&self, scheme: Option<&crate::schemes::SchemeSpec>) -> f64 {
+        let _ = scheme;
         0.0
     }
 }

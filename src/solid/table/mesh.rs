@@ -86,9 +86,9 @@ pub(super) fn file_mesh(
     Ok(mesh)
 }
 
-/// Sizes refused before a mesh is built: more than [`MAX_ELEMENTS`] cells, more contact nodes
-/// than the dense contact Schur complement allows ([`MAX_CONTACT_VALUES`]), or cells so far from
-/// cubes that the stiffness cannot be factored in double precision (as for plates).
+/// Sizes refused before a mesh is built: more than [`MAX_ELEMENTS`] cells, or cells so far from
+/// cubes that the stiffness cannot be factored in double precision (as for plates). The contact
+/// face's dense Schur complement is the compatibility rule's ([`crate::spec::compat`]).
 fn check_size(dim: usize, extent: [f64; 3], n: [usize; 3]) -> Result<(), SceneError> {
     let axes = if dim == 2 { 2 } else { 3 };
     let cells: f64 = n[..axes].iter().map(|&k| k as f64).product();
@@ -100,8 +100,8 @@ fn check_size(dim: usize, extent: [f64; 3], n: [usize; 3]) -> Result<(), SceneEr
             range: "at most 1e7 cells",
         });
     }
-    let contact = n[1..axes].iter().map(|&k| k + 1).product::<usize>();
-    check_contact_memory(contact, if dim == 2 { "solid.ny" } else { "solid.ny, solid.nz" })?;
+    // The contact face's Schur complement: checked by the compatibility rule, which knows the
+    // scheme (`SceneGeometry::dense_contact`).
     let h: Vec<f64> = (0..axes).map(|a| extent[a] / n[a] as f64).collect();
     let (lo, hi) = h.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
     if hi / lo > 1e6 {
