@@ -17,14 +17,18 @@
 //! are `y_c = u_c − lb_c` off A and `w_a = −λ_a = (S_LL u_L − b)_a` on A; A solves the problem
 //! iff all of them are ≥ 0.
 //!
-//! **One factor for many sets.** The factor held is that of a reference set A0: the matrix
-//! `S_A0` equal to S_LL with the rows and columns of A0 replaced by their diagonal entries (the
-//! same pattern with zeros, so the ordering and symbolic analysis are done once and a new
-//! reference costs one numeric factorisation, [`SparseLlt::refactor`]); with R = L \ A0 it
-//! solves `S_RR z = r` (r zero on A0). A set A that differs from A0 on the freed nodes
+//! **One factor for many sets.** The factor held is that of a reference set A0: the principal
+//! block `S_RR` of S_LL on R = L \ A0, the unknowns not fixed by A0 (the tangential unknowns
+//! of a face on the obstacle). S_LL is ordered once (AMD); a new reference is the symbolic
+//! analysis and numeric factorisation of S_RR in the order its unknowns have in S_LL's
+//! ([`SparseLlt::with_ordering`]). A factor of S_RR alone, rather than of S_LL with the rows of
+//! A0 kept as diagonal rows, holds about (2/3)² of the entries when a 3D face is on the
+//! obstacle, and its solve, the one solve of a step whose contact set does not change, costs
+//! that much less (docs/bench.md). A set A that differs from A0 on the freed nodes
 //! I = A0 \ A and the newly fixed J = A \ A0 is solved from `z0 = S_RR⁻¹ (b_R − S_R,A0∩A lb)`
-//! by the bordered system of the k = |I| + |J| nodes ([`Correction`]: k solves with the factor
-//! and faer's dense k × k LU with partial pivoting, kept while A stays): with
+//! by the bordered system of the k = |I| + |J| nodes ([`Correction`]: k columns solved in one
+//! pass through the factor and faer's dense k × k LU with partial pivoting, kept while A
+//! stays): with
 //! `G = S_RR⁻¹ S_RI`, `H = S_RR⁻¹ E_Jᵀ`,
 //!
 //! ```text
@@ -33,9 +37,9 @@
 //! ```
 //!
 //! (eliminate x_R from the rows of R, I and the constraints x_J = lb_J with multipliers μ). When
-//! k passes a limit set by the factor's size (a correction of k nodes costs k solves, a
-//! factorisation about (stored entries)²/|L| flops: the limit is their ratio, entries/(4|L|)),
-//! A becomes the reference and is factored. Both ways solve the same system: `tests/layer.rs`
+//! k passes a limit set by the factor's size (a factorisation costs about (stored
+//! entries)²/|L| flops, entries/(4|L|) solves; a correction's column about a third of a solve:
+//! the limit is 3 entries/(4|L|), [`Layer::new`]), A becomes the reference and is factored. Both ways solve the same system: `tests/layer.rs`
 //! checks them against each other and against the dense solver.
 //!
 //! **Pivoting** (J. J. Júdice, F. M. Pires, "A block principal pivoting algorithm for
@@ -58,7 +62,7 @@
 //!
 //! **Cost** (issue 31): set-up = one AMD ordering, one symbolic analysis and one numeric
 //! factorisation of S_LL; a step = the coupling product (entries of S_LI), one sparse solve and,
-//! when the contact set changes, per pivot a correction (few nodes) or a numeric factorisation
+//! when the contact set changes, per pivot a correction (few nodes) or a new factor of S_RR
 //! (many). Measured against 10² … 10⁴ contact nodes by `massredist bench --layer`.
 
 use super::lcp::LcpError;
@@ -87,12 +91,18 @@ pub struct Layer {
     coupling: Vec<(usize, f64)>,
     coupling_ptr: Vec<usize>,
     load: Vec<f64>,
-    /// S_LL in slot numbering, and `S_A` (same pattern) for the factored set.
+    /// S_LL in slot numbering.
     s: SpMat,
-    s_active: SpMat,
     diag: Vec<f64>,
     max_abs_s: f64,
+    /// The elimination order of S_LL's factor (position → slot), kept for the factors of its
+    /// principal blocks S_RR.
+    order: Vec<usize>,
+    /// The factor of `S_RR`, R = L \ A0, the reference set's other unknowns: `free[r]` is
+    /// the slot of R's unknown r, `gather` its R values (the factor's right-hand side).
     factor: SparseLlt,
+    free: Vec<usize>,
+    gather: Vec<f64>,
     /// The warm-start set, and the reference set A0 whose `S_A0` `factor` holds.
     active: Vec<bool>,
     reference: Vec<bool>,
@@ -143,17 +153,23 @@ impl Layer {
         let diag: Vec<f64> = (0..nl).map(|k| sparse::get(&s, k, k)).collect();
         let max_abs_s = s.val().iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let factor = SparseLlt::new(&s, "stiffness").map_err(layer_error)?;
-        // A correction of k nodes costs k solves (≈ 4 stored entries of the factor each, in
-        // flops) and a refactorisation about (stored entries)²/|L| (Σ_j of a column's count
-        // squared, with the mean count): refactor once k passes their ratio.
-        let update_limit = (factor.factor_len() / (4 * nl.max(1))).max(1);
+        let order = factor.ordering().to_vec();
+        // A refactorisation costs about (stored entries)²/|L| flops (Σ_j of a column's count
+        // squared, with the mean count), a solve 4 per stored entry: their ratio is
+        // entries/(4|L|) solves (24 on the 69³ cube's layer; measured 17: 25 ms against 1.4 ms).
+        // A correction of k nodes solves its k columns in one pass through the factor, about a
+        // third of a solve each (24 columns: 9.7 ms against 24 solves' 34 ms): refactor once k
+        // passes three times that ratio.
+        let update_limit = (3 * factor.factor_len() / (4 * nl.max(1))).max(1);
         Ok(Self {
             load: unknowns.iter().map(|&i| load[i]).collect(),
-            s_active: s.clone(),
             s,
             diag,
             max_abs_s,
+            order,
             factor,
+            free: (0..nl).collect(),
+            gather: vec![0.0; nl],
             active: vec![false; nc],
             reference: vec![false; nc],
             correction: None,
@@ -287,10 +303,7 @@ impl Layer {
                 self.x[idx[p]] -= val[p] * lower[a];
             }
         }
-        for a in (0..nc).filter(|&a| self.reference[a]) {
-            self.x[a] = 0.0;
-        }
-        self.factor.solve_in_place(&mut self.x);
+        self.solve_free();
         if changed > 0 && changed <= self.update_limit {
             self.correct(b, lower)?;
         }
@@ -309,26 +322,67 @@ impl Layer {
         Ok(())
     }
 
-    /// Factors `S_A` for the current set A, which becomes the reference set A0.
-    fn refactor(&mut self) -> Result<(), LcpError> {
-        let nc = self.nc;
-        let (ptr, idx) = (self.s.symbolic().col_ptr(), self.s.symbolic().row_idx());
-        let (base, vals) = (self.s.val(), self.s_active.val_mut());
-        for j in 0..self.unknowns.len() {
-            let fixed_j = j < nc && self.active[j];
-            for p in ptr[j]..ptr[j + 1] {
-                let i = idx[p];
-                let fixed = fixed_j || (i < nc && self.active[i]);
-                vals[p] = if fixed && i != j { 0.0 } else { base[p] };
+    /// Overwrites `self.x` (slot numbering) on R = L \\ A0 with `S_RR⁻¹ x_R` and sets it to zero
+    /// on A0.
+    fn solve_free(&mut self) {
+        for (g, &k) in self.gather.iter_mut().zip(&self.free) {
+            *g = self.x[k];
+        }
+        self.factor.solve_in_place(&mut self.gather);
+        for a in (0..self.nc).filter(|&a| self.reference[a]) {
+            self.x[a] = 0.0;
+        }
+        for (&g, &k) in self.gather.iter().zip(&self.free) {
+            self.x[k] = g;
+        }
+    }
+
+    /// The same for the `k` columns of `cols` (|L| each, zero on A0), in one pass through the
+    /// factor ([`SparseLlt::solve_columns_in_place`]).
+    fn solve_free_columns(&mut self, cols: &mut [f64], k: usize) {
+        let (nl, nr) = (self.unknowns.len(), self.free.len());
+        let mut gathered = vec![0.0; nr * k];
+        for (g, col) in gathered.chunks_exact_mut(nr.max(1)).zip(cols.chunks_exact(nl)) {
+            for (g, &slot) in g.iter_mut().zip(&self.free) {
+                *g = col[slot];
             }
         }
-        self.correction = None;
-        if let Err(SparseError::NotPositiveDefinite { .. }) = self.factor.refactor(&self.s_active, "stiffness") {
-            let size = self.active.iter().filter(|&&a| a).count();
-            return Err(LcpError::Breakdown { size, pivot: f64::NAN, residual: f64::NAN });
+        self.factor.solve_columns_in_place(&mut gathered, k);
+        for (g, col) in gathered.chunks_exact(nr.max(1)).zip(cols.chunks_exact_mut(nl)) {
+            for (&g, &slot) in g.iter().zip(&self.free) {
+                col[slot] = g;
+            }
         }
+    }
+
+    /// Factors `S_RR` for the current set A, which becomes the reference set A0 (R = L \\ A:
+    /// the principal block, in the elimination order its unknowns have in S_LL's factor; the
+    /// rows of A are u_a = lb_a, not in the factor).
+    fn refactor(&mut self) -> Result<(), LcpError> {
+        let nc = self.nc;
+        let in_r = |k: usize| !(k < nc && self.active[k]);
+        let free: Vec<usize> = (0..self.unknowns.len()).filter(|&k| in_r(k)).collect();
+        let mut position = vec![usize::MAX; self.unknowns.len()];
+        for (r, &k) in free.iter().enumerate() {
+            position[k] = r;
+        }
+        let fwd: Vec<usize> = self.order.iter().filter(|&&k| in_r(k)).map(|&k| position[k]).collect();
+        self.correction = None;
+        let s_rr = sparse::principal(&self.s, &free, "stiffness").map_err(LcpError::Factor)?;
+        match SparseLlt::with_ordering(&s_rr, fwd, "stiffness") {
+            Ok(factor) => self.factor = factor,
+            Err(SparseError::NotPositiveDefinite { .. }) => return Err(self.breakdown()),
+            Err(e) => return Err(LcpError::Factor(e)),
+        }
+        self.gather = vec![0.0; free.len()];
+        self.free = free;
         self.reference.copy_from_slice(&self.active);
         Ok(())
+    }
+
+    fn breakdown(&self) -> LcpError {
+        let size = self.active.iter().filter(|&&a| a).count();
+        LcpError::Breakdown { size, pivot: f64::NAN, residual: f64::NAN }
     }
 
     /// Turns `x` = z0 (the reference set's solution) into the current set's (module docs:
@@ -426,7 +480,8 @@ impl Correction {
         let fixed: Vec<usize> = (0..nc).filter(|&c| layer.active[c] && !layer.reference[c]).collect();
         let (ni, k) = (freed.len(), freed.len() + fixed.len());
         let mut cols = vec![0.0; k * nl];
-        let in_r = |l: usize| !(l < nc && layer.reference[l]);
+        let reference = layer.reference.clone();
+        let in_r = |l: usize| !(l < nc && reference[l]);
         {
             let (ptr, idx, val) = (layer.s.symbolic().col_ptr(), layer.s.symbolic().row_idx(), layer.s.val());
             for (m, &i) in freed.iter().enumerate() {
@@ -440,9 +495,7 @@ impl Correction {
                 cols[(ni + m) * nl + j] = 1.0;
             }
         }
-        for m in 0..k {
-            layer.factor.solve_in_place(&mut cols[m * nl..(m + 1) * nl]);
-        }
+        layer.solve_free_columns(&mut cols, k);
         let (ptr, idx, val) = (layer.s.symbolic().col_ptr(), layer.s.symbolic().row_idx(), layer.s.val());
         let mut c = Mat::<f64>::zeros(k, k);
         for (m, &i) in freed.iter().enumerate() {

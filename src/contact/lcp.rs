@@ -31,12 +31,17 @@ pub enum LcpError {
         "the contact Schur complement restricted to {size} active nodes is not positive definite (pivot {pivot:e}); natural residual {residual:e}"
     )]
     Breakdown { size: usize, pivot: f64, residual: f64 },
+    /// A new factor of the massless layer's block (its contact set changed) could not be made
+    /// ([`super::layer`]: the memory it would take).
+    #[error("the massless contact layer's block could not be factored for its new contact set: {0}")]
+    Factor(crate::linalg::sparse::SparseError),
 }
 
 impl LcpError {
     pub fn residual(&self) -> f64 {
         match *self {
             LcpError::NotConverged { residual, .. } | LcpError::Breakdown { residual, .. } => residual,
+            LcpError::Factor(_) => f64::NAN,
         }
     }
 }

@@ -491,7 +491,6 @@ impl SparseLlt {
     /// The same with the distinct unknowns `last` eliminated last, in that order (type docs).
     pub fn with_trailing(a: &SpMat, last: &[usize], matrix: &'static str) -> Result<Self, SparseError> {
         let n = a.nrows();
-        let structure = |e: faer::sparse::FaerError| SparseError::Structure { matrix, detail: format!("{e:?}") };
         // The ordering and the symbolic analysis first: AMD's work space (exact) and, for the
         // principal copy and the elimination tree, 32 bytes a stored entry and 64 an unknown
         // (measured: a 600² plate's mass matrix, 3.2e6 entries, failed on a 122 MB block here).
@@ -503,6 +502,20 @@ impl SparseLlt {
             return Err(SparseError::AnalysisTooLarge { matrix, n, nnz, bytes: analysis, limit, in_use });
         }
         let fwd = ordering(a, last, matrix)?;
+        let mut factor = Self::with_ordering(a, fwd, matrix)?;
+        factor.trailing = last.len();
+        Ok(factor)
+    }
+
+    /// Symbolic analysis and numeric factorisation in the given elimination order (`fwd`:
+    /// position → unknown, a permutation of 0..n), no ordering computed (a principal block keeps
+    /// the relative order its unknowns had in the factor of the whole matrix:
+    /// [`crate::contact::layer`]).
+    pub fn with_ordering(a: &SpMat, fwd: Vec<usize>, matrix: &'static str) -> Result<Self, SparseError> {
+        let n = a.nrows();
+        debug_assert_eq!(fwd.len(), n);
+        let structure = |e: faer::sparse::FaerError| SparseError::Structure { matrix, detail: format!("{e:?}") };
+        let limit = super::memory_limit();
         let mut inv = vec![0usize; n];
         for (p, &i) in fwd.iter().enumerate() {
             inv[i] = p;
@@ -528,7 +541,12 @@ impl SparseLlt {
         let mut values = vec![0.0; symbolic.len_val()];
         numeric(&symbolic, &mut values, a, MemBuffer::new(scratch), matrix)?;
         let scratch = MemBuffer::new(solve_scratch);
-        Ok(Self { n, trailing: last.len(), symbolic, fwd, values, work: vec![0.0; n], scratch })
+        Ok(Self { n, trailing: 0, symbolic, fwd, values, work: vec![0.0; n], scratch })
+    }
+
+    /// The elimination order (position → unknown).
+    pub fn ordering(&self) -> &[usize] {
+        &self.fwd
     }
 
     /// Factors `a` again with the stored ordering and symbolic analysis: `a` must have the
@@ -582,6 +600,34 @@ impl SparseLlt {
             }
         }
         u
+    }
+
+    /// Overwrites the k columns of `b` (column-major, n × k) with `A⁻¹ b`: one pass through the
+    /// factor for all of them, its dense kernels on k columns (many solves at once cost far less
+    /// than one at a time when the factor does not stay in cache). Allocates its work space.
+    pub fn solve_columns_in_place(&mut self, b: &mut [f64], k: usize) {
+        let n = self.n;
+        debug_assert_eq!(b.len(), n * k);
+        if n == 0 || k == 0 {
+            return;
+        }
+        let Some(llt) = supernodal(&self.symbolic, &self.values) else { return };
+        let mut work = vec![0.0; n * k];
+        for (w, x) in work.chunks_exact_mut(n).zip(b.chunks_exact(n)) {
+            for (w, &i) in w.iter_mut().zip(self.fwd.iter()) {
+                *w = x[i];
+            }
+        }
+        let mut scratch = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, Par::Seq));
+        let x = MatMut::from_column_major_slice_mut(&mut work, n, k);
+        llt.l_solve_with_conj(Conj::No, x, Par::Seq, MemStack::new(&mut scratch));
+        let x = MatMut::from_column_major_slice_mut(&mut work, n, k);
+        llt.l_transpose_solve_with_conj(Conj::No, x, Par::Seq, MemStack::new(&mut scratch));
+        for (w, x) in work.chunks_exact(n).zip(b.chunks_exact_mut(n)) {
+            for (w, &i) in w.iter().zip(self.fwd.iter()) {
+                x[i] = *w;
+            }
+        }
     }
 
     /// Overwrites `b` with `A⁻¹ b` (no allocation).
