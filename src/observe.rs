@@ -197,13 +197,14 @@ pub struct Summary {
     pub max_y_variation: Option<f64>,
     /// Largest pivot count of one step's contact solves.
     pub max_pivots: usize,
-    /// An explicit scheme's stable limit Δt_c (null for implicit schemes), and which estimator
-    /// gave it: `"lanczos"` (converged Ritz value, ~1e-12 relative) or `"gershgorin"` (the
-    /// row-sum upper bound of λ_max, taken when Lanczos stopped unconverged: Δt_c then errs on
-    /// the small side). A comparison reads the step's safety factor as `dt / stable_limit`
-    /// (issue 32, item 3).
-    pub stable_limit: Option<f64>,
-    pub stable_limit_estimator: Option<&'static str>,
+    /// An explicit scheme's stable step Δt_c (null for implicit schemes), and which estimator
+    /// gave it (issue 31, item 3): `"lanczos"` (converged Ritz value, ~1e-12 relative), or,
+    /// where Lanczos stopped unconverged, the smaller of two upper bounds of λ_max, so that
+    /// Δt_c errs on the small side: `"element"` (the element eigenvalue inequality, where the
+    /// stiffness knows its cells) or `"gershgorin"` (the row sums). A comparison reads the
+    /// step's safety factor as `dt / stable_step` (issue 32, item 3).
+    pub stable_step: Option<f64>,
+    pub stable_step_method: Option<&'static str>,
     pub final_u_mean: f64,
     /// Σ_c λ_c at the last state (a geometry that computes `contact_force` itself: its value,
     /// a body's total reaction Σ_i R_i ≥ 0).
@@ -400,8 +401,8 @@ impl SummaryObserver {
             energy_max_increase_after_first: self.max_increase_after_first,
             max_y_variation: self.with_y.then_some(self.max_y_variation),
             max_pivots: self.max_pivots,
-            stable_limit: None,
-            stable_limit_estimator: None,
+            stable_step: None,
+            stable_step_method: None,
             final_u_mean: self.final_u_mean,
             final_contact_force: self.final_force,
             friction: self.friction_dim.map(|d| FrictionKeys::of(d, self.friction.as_ref())),

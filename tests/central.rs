@@ -359,10 +359,10 @@ fn the_summary_names_the_stable_limits_estimator() {
     };
     for (m, estimator) in [(20, "lanczos"), (2000, "gershgorin")] {
         let s = summary(m, "central-difference");
-        assert_eq!(s.stable_limit_estimator, Some(estimator), "m = {m}");
-        let limit = s.stable_limit.unwrap();
+        assert_eq!(s.stable_step_method, Some(estimator), "m = {m}");
+        let limit = s.stable_step.unwrap();
         assert!(approx::relative_eq!(limit * m as f64, 1.0, epsilon = 1e-11, max_relative = 0.0), "m = {m}: {limit:e}");
     }
     let s = summary(20, "crank-nicolson");
-    assert_eq!((s.stable_limit, s.stable_limit_estimator), (None, None));
+    assert_eq!((s.stable_step, s.stable_step_method), (None, None));
 }

@@ -198,3 +198,29 @@ fn the_unit_mass_stencil_is_the_assembled_unit_mass() {
         }
     }
 }
+
+/// A box above `stable_limit::LARGE` interior unknowns (26³ cells: 59 049 unknowns) runs
+/// Lanczos unconverged in its 30 steps; the run's Δt_c is then the smaller of the element
+/// eigenvalue bound and Gershgorin's, and the summary says which: on a 3D box with the standard
+/// mass the element bound is the smaller (`tests/stencil.rs`), so `stable_step_method` is
+/// `"element"` and `stable_step` = 2/√(the stencil's element bound), to the bound's rounding.
+/// (Mutation, as run: `Some(e) if e <= gershgorin` -> `Some(e) if e > gershgorin` in
+/// `stable_limit_of_operator` -> the method reads "gershgorin".)
+#[test]
+fn a_large_box_takes_the_element_bound_and_says_so() {
+    let text = thrown(3, "hex", "standard", "[0.0, 0.0, 0.0]", "auto")
+        .replace("nx = 8\nny = 4\n", "nx = 26\nny = 26\n")
+        .replace("nz = 3\n", "nz = 26\n")
+        .replace("height = 0.5", "height = 1.0")
+        .replace("depth = 0.4", "depth = 1.0")
+        .replace("dt = 0.02\nend = 4.0", "dt = 0.001\nend = 0.001");
+    let s = scene(&text);
+    let summary = massredist::run::run_scene(&s, &mut []).unwrap().summary;
+    assert_eq!(summary.stable_step_method, Some("element"));
+    let problem = common::whole_problem(&s);
+    let sys: &SolidSystem = &problem.system;
+    let op = massredist::solid::stencil::BoxStencil::of_system(sys).unwrap();
+    let bound = op.element_bound(&sys.lumped_mass()).unwrap();
+    let step = summary.stable_step.unwrap();
+    assert!((step * bound.sqrt() / 2.0 - 1.0).abs() < 1e-14, "Δt_c {step:e}, element bound {bound:e}");
+}

@@ -181,7 +181,7 @@ def summary(case):
                max_y_variation=0.0, max_contact_force=-np.inf, min_distance=np.inf, min_u0=np.inf,
                max_lambda=-np.inf, max_complementarity_product=0.0, first_impact_time=None, first_release_time=None,
                # CN, Newmark, BE and hybrid are implicit: no stable limit (docs/scenes.md, summary.json)
-               stable_limit=None, stable_limit_estimator=None,
+               stable_step=None, stable_step_method=None,
                # frictionless contact: the friction keys of every solid read 0 and empty
                friction_dissipation=0.0, tangential_impulse=[0.0] * d, final_stick_nodes=0,
                final_slip_nodes=0, max_cone_excess=0.0)

@@ -72,6 +72,12 @@ pub trait Operator: Send + Sync + Debug {
     fn name(&self) -> &'static str;
     /// Whether it holds no matrix (the run's note then says `K u matrix-free`).
     fn is_matrix_free(&self) -> bool;
+    /// An upper bound of `λ_max(M_L,II⁻¹ A_II)` from the element eigenvalue inequality, I the
+    /// unknowns with `lumped > 0` (where the operator knows its cells: the stable step of
+    /// central differences, [`crate::schemes::stable_limit`]); None where it does not.
+    fn element_bound(&self, _lumped: &[f64]) -> Option<f64> {
+        None
+    }
 }
 
 /// A shared operator is the operator (a run's system holds it, each scheme built on it a handle).
@@ -102,6 +108,10 @@ impl<T: Operator + ?Sized> Operator for std::sync::Arc<T> {
 
     fn is_matrix_free(&self) -> bool {
         (**self).is_matrix_free()
+    }
+
+    fn element_bound(&self, lumped: &[f64]) -> Option<f64> {
+        (**self).element_bound(lumped)
     }
 }
 

@@ -170,7 +170,7 @@ fn run_observed<G: GeometrySpec + Registered>(
     let _ = integrate_watched(problem, scheme, time.steps, &criterion, &mut all).map_err(set_up::<G>)?;
     let mut summary = summary.finish();
     if let Some((limit, estimator)) = scheme.stable_limit() {
-        (summary.stable_limit, summary.stable_limit_estimator) = (Some(limit), Some(estimator));
+        (summary.stable_step, summary.stable_step_method) = (Some(limit), Some(estimator));
     }
     Ok(summary)
 }

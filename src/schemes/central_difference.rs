@@ -59,6 +59,7 @@
 //! **Energy**: `½ V·M_L V + ½ U·K U − F·U` plus the law's ([`CentralDifference::energy`]); without contact and
 //! with Δt < Δt_c it stays within O(Δt²) of its initial value (a shadow energy is conserved).
 
+use super::stable_limit::Method;
 use super::{SchemeError, StateView, check_finite, check_range, contact_err};
 use crate::contact::law::ContactLaw;
 use crate::contact::{ExplicitLaw, Massive};
@@ -147,8 +148,8 @@ pub struct CentralDifference<A: SymMatrix> {
     massless_old: Vec<f64>,
     limit: f64,
     lanczos_steps: usize,
-    /// Whether Lanczos converged (false: Δt_c from the Gershgorin bound).
-    converged: bool,
+    /// Which estimator gave Δt_c.
+    method: Method,
     n: usize,
     u: Vec<f64>,
     v: Vec<f64>,
@@ -221,7 +222,7 @@ impl<A: SymMatrix> CentralDifference<A> {
         let law = law.explicit_law(system, &lumped, dt)?;
         let n = system.n();
         let inv_mass: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
-        let (limit, lanczos_steps, converged) = match &operator {
+        let (limit, lanczos_steps, method) = match &operator {
             Some(op) => stable_limit_of_operator(op.as_ref(), &lumped, Some(law.as_ref())),
             None => stable_limit_of(system, &lumped, Some(law.as_ref())),
         };
@@ -245,7 +246,7 @@ impl<A: SymMatrix> CentralDifference<A> {
             massless,
             limit,
             lanczos_steps,
-            converged,
+            method,
             n: 0,
             u: u0,
             a: vec![0.0; n],
@@ -340,7 +341,7 @@ pub fn stable_limit_of<A: SymMatrix>(
     system: &ContactSystem<A>,
     lumped: &[f64],
     law: Option<&dyn ExplicitLaw>,
-) -> (f64, usize, bool) {
+) -> (f64, usize, Method) {
     let inv_sqrt = inv_sqrt(lumped);
     let (theta, lanczos_steps, converged) = super::stable_limit::lambda_max_of(
         |x, y| stiffened(|x, y| system.stiffness.par_mul_into(x, y), law, x, y),
@@ -353,28 +354,33 @@ pub fn stable_limit_of<A: SymMatrix>(
         let (rows, extra) = law.map_or((Vec::new(), 0.0), |l| l.gershgorin());
         super::stable_limit::gershgorin(&system.stiffness, &inv_sqrt, &rows, extra)
     };
-    (limit_of(lam), lanczos_steps, converged)
+    (limit_of(lam), lanczos_steps, if converged { Method::Lanczos } else { Method::Gershgorin })
 }
 
 /// [`stable_limit_of`] with the stiffness a matrix-free operator: Lanczos on the operator
 /// ([`super::stable_limit::lambda_max_lean`]: no stored basis above `LARGE` interior unknowns),
-/// and where it does not converge the Gershgorin bound from the operator's `|K| 1_I`
-/// ([`super::stable_limit::gershgorin_of`]). No assembled matrix is read.
+/// and where it does not converge the smaller of two upper bounds: the element eigenvalue bound
+/// where the operator has one ([`Operator::element_bound`], plus the law's term by Weyl's
+/// inequality, [`super::stable_limit::law_term_bound`]) and the Gershgorin bound from the
+/// operator's `|K| 1_I` ([`super::stable_limit::gershgorin_of`]). No assembled matrix is read.
 pub fn stable_limit_of_operator(
     op: &dyn Operator,
     lumped: &[f64],
     law: Option<&dyn ExplicitLaw>,
-) -> (f64, usize, bool) {
+) -> (f64, usize, Method) {
     let inv_sqrt = inv_sqrt(lumped);
     let (theta, lanczos_steps, converged) =
         super::stable_limit::lambda_max_lean(|x, y| stiffened(|x, y| op.apply(x, y), law, x, y), &inv_sqrt);
-    let lam = if converged {
-        theta
-    } else {
-        let (rows, extra) = law.map_or((Vec::new(), 0.0), |l| l.gershgorin());
-        super::stable_limit::gershgorin_of(|x, y| op.apply_abs(x, y), &inv_sqrt, &rows, extra)
-    };
-    (limit_of(lam), lanczos_steps, converged)
+    if converged {
+        return (limit_of(theta), lanczos_steps, Method::Lanczos);
+    }
+    let (rows, extra) = law.map_or((Vec::new(), 0.0), |l| l.gershgorin());
+    let gershgorin = super::stable_limit::gershgorin_of(|x, y| op.apply_abs(x, y), &inv_sqrt, &rows, extra);
+    let element = op.element_bound(lumped).map(|b| b + super::stable_limit::law_term_bound(&inv_sqrt, &rows, extra));
+    match element {
+        Some(e) if e <= gershgorin => (limit_of(e), lanczos_steps, Method::Element),
+        _ => (limit_of(gershgorin), lanczos_steps, Method::Gershgorin),
+    }
 }
 
 /// `M_L^{−½}` on I, 0 on the massless unknowns.
@@ -413,7 +419,7 @@ impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
     }
 
     fn stable_limit(&self) -> Option<(f64, &'static str)> {
-        Some((self.limit, if self.converged { "lanczos" } else { "gershgorin" }))
+        Some((self.limit, self.method.name()))
     }
 
     fn note(&self) -> Option<String> {
@@ -425,10 +431,13 @@ impl<A: SymMatrix + Send> super::Scheme for CentralDifference<A> {
             "central-difference: stable limit Δt_c = {} (2/√λ_max(M_L,II⁻¹ K_II{}), {}); time.dt = {}{product}",
             crate::numfmt::fmt_f64(self.limit),
             self.law.bound(),
-            if self.converged {
-                format!("Lanczos, {} steps, to ~{:e} relative", self.lanczos_steps, super::stable_limit::REL_TOL)
-            } else {
-                format!("Gershgorin bound: Lanczos unconverged after {} steps", self.lanczos_steps)
+            match self.method {
+                Method::Lanczos =>
+                    format!("Lanczos, {} steps, to ~{:e} relative", self.lanczos_steps, super::stable_limit::REL_TOL),
+                Method::Element =>
+                    format!("element eigenvalue bound: Lanczos unconverged after {} steps", self.lanczos_steps),
+                Method::Gershgorin =>
+                    format!("Gershgorin bound: Lanczos unconverged after {} steps", self.lanczos_steps),
             },
             crate::numfmt::fmt_f64(self.dt),
         ))

@@ -103,8 +103,9 @@ pub trait Scheme: Send {
     fn friction(&self) -> Option<&crate::contact::friction::FrictionRecord> {
         None
     }
-    /// An explicit scheme's stable limit Δt_c and its estimator (`"lanczos"` or
-    /// `"gershgorin"`; [`stable_limit`]); None for implicit schemes. The summary prints both.
+    /// An explicit scheme's stable limit Δt_c and its estimator (`"lanczos"`, `"element"` or
+    /// `"gershgorin"`; [`stable_limit::Method`]); None for implicit schemes. The summary prints
+    /// both (`stable_step`, `stable_step_method`).
     fn stable_limit(&self) -> Option<(f64, &'static str)> {
         None
     }

@@ -21,6 +21,35 @@
 
 use crate::linalg::SymMatrix;
 
+/// Which estimator gave Δt_c (the summary's `stable_step_method`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Lanczos converged (~[`REL_TOL`] relative).
+    Lanczos,
+    /// Lanczos unconverged; the element eigenvalue bound, an upper bound of λ_max (module docs).
+    Element,
+    /// Lanczos unconverged; the Gershgorin row-sum bound, an upper bound of λ_max.
+    Gershgorin,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Lanczos => "lanczos",
+            Method::Element => "element",
+            Method::Gershgorin => "gershgorin",
+        }
+    }
+}
+
+/// An upper bound of `λ_max(M_I⁻¹ B)` for the law's term B whose rows `rows` have absolute row
+/// sums at most `extra` ([`crate::contact::ExplicitLaw::gershgorin`]): the ∞-norm of
+/// `M_I⁻¹ B`, `max_rows d_i² extra`. Added to a bound of `λ_max(M_I⁻¹ K_II)`, it bounds
+/// `λ_max(M_I⁻¹ (K + B)_II)` (Weyl's inequality on `D K D + D B D`).
+pub fn law_term_bound(inv_sqrt_mass: &[f64], rows: &[usize], extra: f64) -> f64 {
+    rows.iter().map(|&c| extra * inv_sqrt_mass[c] * inv_sqrt_mass[c]).fold(0.0, f64::max)
+}
+
 /// Relative change of the Ritz value over [`WINDOW`] steps that stops the iteration.
 pub const REL_TOL: f64 = 1e-12;
 

@@ -56,6 +56,10 @@ pub struct BoxStencil {
     abs_classes: Vec<Vec<Terms>>,
     /// Whether the CPU has AVX2 and FMA (the interior then takes fused multiply–adds).
     fma: bool,
+    /// The reference cell's vertices and its element matrix `K[(a, r), (b, s)]`, row-major
+    /// (k d × k d, k vertices): the element eigenvalue bound ([`Operator::element_bound`]).
+    corners: &'static [[usize; 3]],
+    element: Vec<f64>,
     /// Whether each full index `node·d + component` is a free unknown.
     free: Vec<bool>,
     /// The first free unknown of each slab (slabs + 1 entries).
@@ -109,6 +113,13 @@ impl BoxStencil {
             p[v] = std::array::from_fn(|k| c[k] as f64 * h[k]);
         }
         let e = CellIntegrals::new(mesh.kind, &p);
+        let kd = corners.len() * d;
+        let element: Vec<f64> = (0..kd * kd)
+            .map(|ij| {
+                let ((a, r), (b, s)) = ((ij / kd / d, ij / kd % d), (ij % kd / d, ij % kd % d));
+                entry(&e, a, b, r, s)
+            })
+            .collect();
         // Node strides in the slab layout: along the slab's axes 1 and nx+1, across slabs d·P.
         let stride: [isize; 3] = match d {
             2 => [1, (d * slab) as isize, 0],
@@ -182,6 +193,8 @@ impl BoxStencil {
             classes,
             abs_classes,
             fma,
+            corners,
+            element,
             free,
             slab_start,
             n,
@@ -393,6 +406,79 @@ impl Operator for BoxStencil {
 
     fn is_matrix_free(&self) -> bool {
         true
+    }
+
+    /// The element eigenvalue bound: with the lumped mass split into cell parts,
+    /// `M_L,II = Σ_c D_c` (`D_c ≥ 0` diagonal, positive on the cell's unknowns in I), every x on
+    /// I has `xᵀK x = Σ_c x_cᵀK_c x_c ≤ Σ_c λ_c x_cᵀD_c x_c ≤ (max_c λ_c) xᵀM_L x`, so
+    /// `λ_max(M_L,II⁻¹ K_II) ≤ max_c λ_max(D_c⁻¹ K_c)` on each cell's unknowns in I (Irons,
+    /// Int. J. Numer. Meth. Eng. 2, 1970; Hughes, *The Finite Element Method*, §9.3). Any such
+    /// split gives a bound; here each node's mass is shared equally among its cells (for the
+    /// standard mass, each cell's own lumped mass; a split in proportion to the cells' row sums
+    /// on I was tried and gave looser bounds on every box of `tests/stencil.rs`). Cells are
+    /// grouped by their `D_c` (rounded down to 31 bits of mantissa): a box has a few dozen
+    /// kinds (faces, edges, corners, the cells beside a massless layer), each computed once by
+    /// faer's symmetric eigenvalue solver and raised by `64 k d ε` relative (its error). Uses the
+    /// operator's work space.
+    fn element_bound(&self, lumped: &[f64]) -> Option<f64> {
+        let (d, kd) = (self.d, self.corners.len() * self.d);
+        let mut work = self.work.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let (mass, _) = &mut *work;
+        self.scatter(lumped, mass);
+        let count: [usize; 3] = std::array::from_fn(|k| if k < d { self.cells[k] } else { 1 });
+        let mut kinds: std::collections::HashMap<[u64; 24], f64> = std::collections::HashMap::new();
+        let mut bound = 0.0f64;
+        for c in 0..count[0] * count[1] * count[2] {
+            let (dofs, sharing) = self.cell_dofs(c, count);
+            // 0 (left out) where eliminated or massless. Each share rounded down to 31 bits of
+            // mantissa (a smaller mass only raises the bound; 2^-31 relative at most): the masses
+            // of equal nodes differ at round-off (each cell integrated on its own coordinates),
+            // and their kinds would otherwise be as many as the cells.
+            let key: [u64; 24] =
+                std::array::from_fn(|i| if i < kd { (mass[dofs[i]] / sharing[i]).to_bits() & !SHARE_ULPS } else { 0 });
+            let lam = *kinds.entry(key).or_insert_with(|| self.element_eigenvalue(&key[..kd]));
+            bound = bound.max(lam);
+        }
+        Some(bound * (1.0 + 64.0 * kd as f64 * f64::EPSILON))
+    }
+}
+
+/// The low mantissa bits cleared from a cell's mass shares before they are grouped (a positive
+/// value's bits rounded toward zero: [`BoxStencil::element_bound`]).
+const SHARE_ULPS: u64 = (1 << 21) - 1;
+
+impl BoxStencil {
+    /// The slab-layout positions of cell c's unknowns `(a, r)` at `a d + r` (cells counted x
+    /// fastest; `count` cells per axis, 1 past the dimension), and the number of cells that
+    /// share each one's node.
+    fn cell_dofs(&self, c: usize, count: [usize; 3]) -> ([usize; 24], [f64; 24]) {
+        let (d, p) = (self.d, self.slab);
+        let cell = [c % count[0], c / count[0] % count[1], c / count[0] / count[1]];
+        let (mut dofs, mut sharing) = ([0usize; 24], [1.0; 24]);
+        for (a, corner) in self.corners.iter().enumerate() {
+            let node: [usize; 3] = std::array::from_fn(|k| if k < d { cell[k] + corner[k] } else { 0 });
+            let (t, q) = if d == 2 { (node[1], node[0]) } else { (node[2], node[1] * (self.cells[0] + 1) + node[0]) };
+            let cells: f64 = (0..d).map(|k| if node[k] == 0 || node[k] == self.cells[k] { 1.0 } else { 2.0 }).product();
+            for r in 0..d {
+                (dofs[a * d + r], sharing[a * d + r]) = ((t * d + r) * p + q, cells);
+            }
+        }
+        (dofs, sharing)
+    }
+
+    /// `λ_max(D⁻¹ K_e)` on the unknowns with a positive mass share (`shares`: the bits of
+    /// `D`'s diagonal, 0 left out), as the largest eigenvalue of `D^{−½} K_e D^{−½}`.
+    fn element_eigenvalue(&self, shares: &[u64]) -> f64 {
+        let kd = shares.len();
+        let kept: Vec<usize> = (0..kd).filter(|&i| f64::from_bits(shares[i]) > 0.0).collect();
+        if kept.is_empty() {
+            return 0.0;
+        }
+        let scale: Vec<f64> = kept.iter().map(|&i| 1.0 / f64::from_bits(shares[i]).sqrt()).collect();
+        let a = faer::Mat::<f64>::from_fn(kept.len(), kept.len(), |i, j| {
+            scale[i] * self.element[kept[i] * kd + kept[j]] * scale[j]
+        });
+        a.self_adjoint_eigenvalues(faer::Side::Lower).ok().and_then(|v| v.last().copied()).unwrap_or(f64::INFINITY)
     }
 }
 

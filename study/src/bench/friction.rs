@@ -118,7 +118,7 @@ fn scene(case: &Case, scheme: &str, dt: f64, end: f64, mu: Option<f64>) -> Resul
 fn stable_limit(case: &Case) -> Result<(f64, &'static str), String> {
     let probe = scene(case, "central-difference", 1e-9, 1e-9, None)?;
     let r = run_scene(&probe, &mut []).map_err(|e| format!("{}: {e}", case.name))?;
-    r.summary.stable_limit.zip(r.summary.stable_limit_estimator).ok_or_else(|| format!("{}: no Δt_c", case.name))
+    r.summary.stable_step.zip(r.summary.stable_step_method).ok_or_else(|| format!("{}: no Δt_c", case.name))
 }
 
 fn measure(

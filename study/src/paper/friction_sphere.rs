@@ -97,7 +97,7 @@ fn run_one(label: &str, kind: &str, copy: usize) -> Result<SphereRun, ReproduceE
         balance: (last(&energy) + last(&dissipation) - e0) / e0,
         max_stick: count(&col(Column::StickNodes)),
         max_slip: count(&col(Column::SlipNodes)),
-        limit: run.summary.stable_limit.zip(run.summary.stable_limit_estimator),
+        limit: run.summary.stable_step.zip(run.summary.stable_step_method),
         series: [run.series.times().to_vec(), vx, vz, d],
     })
 }
