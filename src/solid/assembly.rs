@@ -156,10 +156,9 @@ pub(super) enum Matrices {
 /// schemes built on it.
 #[derive(Debug, Clone)]
 pub struct LeanStiffness {
-    /// The box's stencil or the assembled matrix in row-run form.
+    /// The box's stencil or the assembled matrix in row-run form (which
+    /// [`crate::linalg::Operator::is_matrix_free`] tells apart).
     pub operator: Arc<dyn crate::linalg::Operator>,
-    /// Whether `operator` is the stencil.
-    pub matrix_free: bool,
     /// The unit mass (ρ = 1) as a stencil, for the L² norms (None: assembled when first asked
     /// for, [`SolidSystem::mass_unit`]).
     pub unit_mass: Option<Arc<dyn crate::linalg::Operator>>,

@@ -226,7 +226,7 @@ impl Geometry for SolidSystem {
     /// ([`super::stencil`]) unless `choice` is `assembled`.
     fn stiffness_operator(&self, choice: StiffnessOperator) -> Option<Box<dyn crate::linalg::Operator>> {
         if let Some(lean) = &self.lean {
-            let allowed = lean.matrix_free || choice != StiffnessOperator::MatrixFree;
+            let allowed = lean.operator.is_matrix_free() || choice != StiffnessOperator::MatrixFree;
             return allowed
                 .then(|| Box::new(std::sync::Arc::clone(&lean.operator)) as Box<dyn crate::linalg::Operator>);
         }

@@ -67,7 +67,6 @@ impl SolidSystem {
         let lean = match stencil {
             Some(s) => LeanStiffness {
                 operator: Arc::new(s),
-                matrix_free: true,
                 unit_mass: BoxStencil::unit_mass(&mesh, flags()).map(|m| Arc::new(m) as Arc<dyn Operator>),
             },
             None => {
@@ -76,7 +75,7 @@ impl SolidSystem {
                     matrix: "stiffness",
                     detail: format!("{n} unknowns: the row-run form holds at most {} rows", u32::MAX),
                 })?;
-                LeanStiffness { operator: Arc::new(runs), matrix_free: false, unit_mass: None }
+                LeanStiffness { operator: Arc::new(runs), unit_mass: None }
             }
         };
         let stiffness = super::columns::stiffness_touching(&mesh, &lame, &free.dof_of, n, &massless);
