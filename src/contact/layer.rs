@@ -39,8 +39,9 @@
 //! (eliminate x_R from the rows of R, I and the constraints x_J = lb_J with multipliers μ). When
 //! k passes a limit set by the factor's size (a factorisation costs about (stored
 //! entries)²/|L| flops, entries/(4|L|) solves; a correction's column about a third of a solve:
-//! the limit is 3 entries/(4|L|), [`Layer::new`]), A becomes the reference and is factored. Both ways solve the same system: `tests/layer.rs`
-//! checks them against each other and against the dense solver.
+//! the limit is 3 entries/(4|L|), [`Layer::new`]), A becomes the reference and is factored.
+//! Both ways solve the same system: `tests/layer.rs` checks them against each other and
+//! against the dense solver.
 //!
 //! **Pivoting** (J. J. Júdice, F. M. Pires, "A block principal pivoting algorithm for
 //! large-scale strictly monotone linear complementarity problems", Comput. Oper. Res. 21 (1994)
@@ -103,7 +104,7 @@ pub struct Layer {
     factor: SparseLlt,
     free: Vec<usize>,
     gather: Vec<f64>,
-    /// The warm-start set, and the reference set A0 whose `S_A0` `factor` holds.
+    /// The warm-start set, and the reference set A0 whose `S_RR` `factor` holds.
     active: Vec<bool>,
     reference: Vec<bool>,
     /// The correction of the reference factor to the current set, kept while the set is the
@@ -322,7 +323,7 @@ impl Layer {
         Ok(())
     }
 
-    /// Overwrites `self.x` (slot numbering) on R = L \\ A0 with `S_RR⁻¹ x_R` and sets it to zero
+    /// Overwrites `self.x` (slot numbering) on R = L \ A0 with `S_RR⁻¹ x_R` and sets it to zero
     /// on A0.
     fn solve_free(&mut self) {
         for (g, &k) in self.gather.iter_mut().zip(&self.free) {
@@ -355,7 +356,7 @@ impl Layer {
         }
     }
 
-    /// Factors `S_RR` for the current set A, which becomes the reference set A0 (R = L \\ A:
+    /// Factors `S_RR` for the current set A, which becomes the reference set A0 (R = L \ A:
     /// the principal block, in the elimination order its unknowns have in S_LL's factor; the
     /// rows of A are u_a = lb_a, not in the factor).
     fn refactor(&mut self) -> Result<(), LcpError> {

@@ -549,15 +549,6 @@ impl SparseLlt {
         &self.fwd
     }
 
-    /// Factors `a` again with the stored ordering and symbolic analysis: `a` must have the
-    /// pattern of the matrix this factor was built from (new values only; entries may be zero).
-    /// On failure the factor is left unusable until a successful call.
-    pub fn refactor(&mut self, a: &SpMat, matrix: &'static str) -> Result<(), SparseError> {
-        debug_assert_eq!(a.nrows(), self.n);
-        let scratch = self.symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
-        numeric(&self.symbolic, &mut self.values, a, MemBuffer::new(scratch), matrix)
-    }
-
     pub fn len(&self) -> usize {
         self.n
     }
