@@ -17,7 +17,10 @@
 //! ([`gershgorin`]: the row sums of `M_I⁻¹ K_II`), an upper bound of λ_max: Δt_c is then
 //! conservative (exact for the uniform bar, whose highest mode attains it; `tests/central.rs`).
 //! A matrix-free stiffness (issue 31) takes [`lambda_max_lean`] (no stored basis above
-//! [`LARGE`]) and [`gershgorin_of`] (the row sums as `|K| 1_I`).
+//! [`LARGE`]) and, unconverged, the smaller of [`gershgorin_of`] (the row sums as `|K| 1_I`)
+//! and the operator's element eigenvalue bound where it has one
+//! ([`crate::linalg::Operator::element_bound`], plus [`law_term_bound`]); [`Method`] names
+//! the estimator used.
 
 use crate::linalg::SymMatrix;
 
