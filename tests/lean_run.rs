@@ -70,17 +70,11 @@ fn a_scene_run_takes_the_lean_system_and_follows_the_whole_one() {
             let n = lumped.len();
             // The mass: the lumped diagonal, nothing else.
             let diag: Vec<(usize, usize, u64)> = lumped.iter().enumerate().map(|(i, &m)| (i, i, m.to_bits())).collect();
-            let got: Vec<(usize, usize, u64)> =
-                sparse::triplets(&l.system.mass).map(|(i, j, v)| (i, j, v.to_bits())).collect();
-            assert_eq!(got, diag, "{what}: the mass is the lumped diagonal");
+            assert_eq!(common::bits_of(&l.system.mass, |_, _| true), diag, "{what}: the mass is the lumped diagonal");
             // The stiffness: the whole one's massless rows and columns.
             let massless: Vec<bool> = lumped.iter().map(|&m| m <= 0.0).collect();
-            let want: Vec<(usize, usize, u64)> = sparse::triplets(&w.system.stiffness)
-                .filter(|&(i, j, _)| massless[i] || massless[j])
-                .map(|(i, j, v)| (i, j, v.to_bits()))
-                .collect();
-            let got: Vec<(usize, usize, u64)> =
-                sparse::triplets(&l.system.stiffness).map(|(i, j, v)| (i, j, v.to_bits())).collect();
+            let want = common::bits_of(&w.system.stiffness, |i, j| massless[i] || massless[j]);
+            let got = common::bits_of(&l.system.stiffness, |_, _| true);
             assert_eq!(got, want, "{what}: the stiffness's massless rows and columns");
             assert_eq!(want.is_empty(), mass == "standard", "{what}");
             // The operator the run steps with.

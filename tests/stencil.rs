@@ -241,12 +241,8 @@ fn the_lean_matrix_free_box_holds_only_the_layer_rows_and_follows_the_assembled_
             let full = spec.explicit_box(&mass).unwrap();
             let (lean, op) = spec.explicit_box_matrix_free(&mass).unwrap();
             let massless: Vec<bool> = full.lumped.iter().map(|&m| m <= 0.0).collect();
-            let want: Vec<(usize, usize, u64)> = sparse::triplets(&full.system.stiffness)
-                .filter(|&(i, j, _)| massless[i] || massless[j])
-                .map(|(i, j, v)| (i, j, v.to_bits()))
-                .collect();
-            let got: Vec<(usize, usize, u64)> =
-                sparse::triplets(&lean.system.stiffness).map(|(i, j, v)| (i, j, v.to_bits())).collect();
+            let want = common::bits_of(&full.system.stiffness, |i, j| massless[i] || massless[j]);
+            let got = common::bits_of(&lean.system.stiffness, |_, _| true);
             assert_eq!(got, want, "{dim}D {mass:?}: the layer's rows and columns");
             assert_eq!(want.is_empty(), mass == MassKind::Standard);
             let (limit, _, _) =

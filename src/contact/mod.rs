@@ -173,7 +173,11 @@ pub struct Massive<'a> {
 pub trait ExplicitLaw: Debug + Send {
     /// `y += B x` with B the term the law adds to K in the stable-limit bound (0 by default).
     fn stiffen(&self, _x: &[f64], _y: &mut [f64]) {}
-    /// The rows of B and the bound of their absolute row sums, for Gershgorin's bound.
+    /// The rows of B and a bound of their absolute row sums: every row i of B not listed is
+    /// zero, and `Σ_j |B_ij| ≤ extra` for every listed one. Both the Gershgorin bound of K + B and
+    /// the element bound plus B's term ([`crate::schemes::stable_limit::law_term_bound`]: Weyl's
+    /// inequality with `λ_max(D B D) ≤ max_i d_i² extra`) rest on exactly this, so a law must
+    /// bound |B|'s row sums here, not those of a difference with K.
     fn gershgorin(&self) -> (Vec<usize>, f64) {
         (Vec::new(), 0.0)
     }

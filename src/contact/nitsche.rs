@@ -316,7 +316,8 @@ impl ExplicitLaw for NitscheExplicit {
         y[t.j] += sx * s.1 / g;
     }
 
-    /// |B − K| has row sums 2γ + 2k²/γ (node 0) and 2k²/γ (node 1); the larger bounds both.
+    /// B = 2γ e_c e_cᵀ + ssᵀ/γ with s = k(−e_c + e_j) ([`NitscheTerm::vectors`]): |B| has row
+    /// sums 2γ + 2k²/γ (node c) and 2k²/γ (node j); the larger bounds both (the trait's contract).
     fn gershgorin(&self) -> (Vec<usize>, f64) {
         let (t, g) = (self.term, self.term.gamma);
         (vec![t.c, t.j], 2.0 * g + 2.0 * t.k * t.k / g)

@@ -602,23 +602,12 @@ impl SparseLlt {
         if n == 0 || k == 0 {
             return;
         }
-        let Some(llt) = supernodal(&self.symbolic, &self.values) else { return };
         let mut work = vec![0.0; n * k];
-        for (w, x) in work.chunks_exact_mut(n).zip(b.chunks_exact(n)) {
-            for (w, &i) in w.iter_mut().zip(self.fwd.iter()) {
-                *w = x[i];
-            }
-        }
+        permute_in(&self.fwd, b, &mut work);
         let mut scratch = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, Par::Seq));
-        let x = MatMut::from_column_major_slice_mut(&mut work, n, k);
-        llt.l_solve_with_conj(Conj::No, x, Par::Seq, MemStack::new(&mut scratch));
-        let x = MatMut::from_column_major_slice_mut(&mut work, n, k);
-        llt.l_transpose_solve_with_conj(Conj::No, x, Par::Seq, MemStack::new(&mut scratch));
-        for (w, x) in work.chunks_exact(n).zip(b.chunks_exact_mut(n)) {
-            for (w, &i) in w.iter().zip(self.fwd.iter()) {
-                x[i] = *w;
-            }
-        }
+        let llt = supernodal(&self.symbolic, &self.values);
+        halves(llt, &mut work, k, &mut scratch, |_| Ok::<(), ()>(())).expect("no error without a hook");
+        permute_out(&self.fwd, &work, b);
     }
 
     /// Overwrites `b` with `A⁻¹ b` (no allocation).
@@ -637,25 +626,59 @@ impl SparseLlt {
     ) -> Result<(), E> {
         debug_assert_eq!(b.len(), self.n);
         let Self { n, trailing, symbolic, fwd, values, work, scratch } = self;
-        for (w, &i) in work.iter_mut().zip(fwd.iter()) {
-            *w = b[i];
-        }
-        let result = match supernodal(symbolic, values) {
-            None => between(&mut work[*n - *trailing..]),
-            Some(llt) => {
-                let x = MatMut::from_column_major_slice_mut(work, *n, 1);
-                llt.l_solve_with_conj(Conj::No, x, Par::Seq, MemStack::new(scratch));
-                let result = between(&mut work[*n - *trailing..]);
-                let x = MatMut::from_column_major_slice_mut(work, *n, 1);
-                llt.l_transpose_solve_with_conj(Conj::No, x, Par::Seq, MemStack::new(scratch));
-                result
-            }
-        };
-        for (w, &i) in work.iter().zip(fwd.iter()) {
-            b[i] = *w;
-        }
+        let start = *n - *trailing;
+        permute_in(fwd, b, work);
+        let result = halves(supernodal(symbolic, values), work, 1, scratch, |y| between(&mut y[start..]));
+        permute_out(fwd, work, b);
         result
     }
+}
+
+/// `work ← P b` column by column (n × k column-major blocks, n = `fwd.len()`; nothing for n = 0).
+fn permute_in(fwd: &[usize], b: &[f64], work: &mut [f64]) {
+    if fwd.is_empty() {
+        return;
+    }
+    for (w, x) in work.chunks_exact_mut(fwd.len()).zip(b.chunks_exact(fwd.len())) {
+        for (w, &i) in w.iter_mut().zip(fwd) {
+            *w = x[i];
+        }
+    }
+}
+
+/// `b ← Pᵀ work` column by column (the inverse of [`permute_in`]).
+fn permute_out(fwd: &[usize], work: &[f64], b: &mut [f64]) {
+    if fwd.is_empty() {
+        return;
+    }
+    for (w, x) in work.chunks_exact(fwd.len()).zip(b.chunks_exact_mut(fwd.len())) {
+        for (w, &i) in w.iter().zip(fwd) {
+            x[i] = *w;
+        }
+    }
+}
+
+/// `x ← L⁻ᵀ between(L⁻¹ x)` on the n × k column-major block `x` (elimination order, n =
+/// `x.len() / k`); `between` sees the whole block after the forward solve. Without a factor
+/// (n = 0) only `between` runs.
+fn halves<E>(
+    llt: Option<SupernodalLltRef<'_, usize, f64>>,
+    x: &mut [f64],
+    k: usize,
+    scratch: &mut MemBuffer,
+    between: impl FnOnce(&mut [f64]) -> Result<(), E>,
+) -> Result<(), E> {
+    let Some(llt) = llt else { return between(x) };
+    let n = x.len() / k;
+    llt.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(x, n, k), Par::Seq, MemStack::new(scratch));
+    let result = between(x);
+    llt.l_transpose_solve_with_conj(
+        Conj::No,
+        MatMut::from_column_major_slice_mut(x, n, k),
+        Par::Seq,
+        MemStack::new(scratch),
+    );
+    result
 }
 
 /// The numeric factorisation of `a` into `values` on the symbolic analysis `symbolic`, with its

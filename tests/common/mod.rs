@@ -109,3 +109,12 @@ pub fn assert_refused(o: &std::process::Output, needles: &[&str]) {
 pub fn whole_problem(s: &massredist::scene::SolidScene) -> massredist::solid::SolidProblem {
     s.geometry.problem_directed(&s.mass, s.contact_directions, s.time.exact_end()).unwrap()
 }
+
+/// The stored entries of `a` as (row, column, bits of the value), only those where
+/// `keep(i, j)`: for bit-for-bit comparisons of assembled matrices.
+pub fn bits_of(a: &massredist::linalg::sparse::SpMat, keep: impl Fn(usize, usize) -> bool) -> Vec<(usize, usize, u64)> {
+    massredist::linalg::sparse::triplets(a)
+        .filter(|&(i, j, _)| keep(i, j))
+        .map(|(i, j, v)| (i, j, v.to_bits()))
+        .collect()
+}
