@@ -8,7 +8,8 @@
 //! (the largest eigenvalue of the k × k tridiagonal, by Sturm bisection to round-off) satisfies
 //! `θ_k ≤ λ_max`, and it increases with k. The iteration stops when θ_k has changed by less than
 //! [`REL_TOL`] relative over the last [`WINDOW`] steps, or at k = n (then θ_k = λ_max up to
-//! round-off), or at [`MAX_STEPS`]. **Stated accuracy**: θ is a lower bound of λ_max. When the
+//! round-off), or at [`MAX_STEPS`] (not below [`EXHAUST`] interior unknowns: there it always
+//! converges). **Stated accuracy**: θ is a lower bound of λ_max. When the
 //! iteration stops by stagnation or exhausts the space, θ is used: it agrees with λ_max to about
 //! `REL_TOL` on the meshes tested (the path Laplacian's closed form below), so Δt_c is accurate
 //! to about `REL_TOL / 2` relative and errs, if at all, on the large side by that much. When it
@@ -85,8 +86,15 @@ pub fn above(scheme: &str, dt: f64, limit: f64, spring: &str) -> String {
     }
 }
 pub const WINDOW: usize = 5;
-/// Upper bound on the Lanczos steps (its basis is stored for the reorthogonalisation).
+/// Upper bound on the Lanczos steps (its basis is stored for the reorthogonalisation), above
+/// [`EXHAUST`] interior unknowns.
 pub const MAX_STEPS: usize = 300;
+/// Up to this many interior unknowns Lanczos is not capped: it runs until it stalls or exhausts
+/// the space (k = n, where θ_k = λ_max up to round-off), so it always converges. A uniform bar of
+/// 400 elements has the top of its spectrum clustered (relative gaps ~ (π/n)²) and did not stall
+/// in [`MAX_STEPS`]: the Gershgorin fallback then decided Δt (issue 32, item 3). The cost is at
+/// most `4 EXHAUST³` flops of reorthogonalisation (5e8: a fraction of a second).
+pub const EXHAUST: usize = 512;
 /// Above [`LARGE`] interior unknowns the steps are capped at [`LARGE_STEPS`], so that the stored
 /// basis (k vectors) and the reorthogonalisation (O(k² n)) stay a small multiple of one SpMV's
 /// cost and memory: Δt_c's set-up linear in n (issue 20, explicit at scale). Such meshes stop
@@ -159,7 +167,7 @@ fn lanczos(mul: impl Fn(&[f64], &mut [f64]), inv_sqrt_mass: &[f64], reorthogonal
     if ni == 0 {
         return (0.0, 0, true);
     }
-    let kmax = ni.min(if ni > LARGE { LARGE_STEPS } else { MAX_STEPS });
+    let kmax = if ni <= EXHAUST { ni } else { ni.min(if ni > LARGE { LARGE_STEPS } else { MAX_STEPS }) };
     // A fixed start vector with components on every eigenvector in general position.
     let mut q: Vec<f64> = (0..n)
         .map(|i| if active[i] { 1.0 + 0.5 * ((i as f64 + 1.0) * 0.618_033_988_749_895).fract() } else { 0.0 })

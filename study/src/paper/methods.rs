@@ -66,10 +66,28 @@ pub struct Method {
     pub law: Law,
     /// The masses it applies to.
     pub masses: &'static [&'static str],
+    /// How its time step is chosen.
+    pub step: Step,
+}
+
+/// The time step of a method (issue 32, item 2: every explicit run of the comparison at one
+/// stated safety factor).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// Δt = h/c: the implicit classes, which have no stable limit; for an explicit scheme the
+    /// special case of a uniform 1D mesh, where h/c is the characteristic step (Courant 1) and
+    /// lies below Δt_c only for mod3 (its Δt_c is h/c (1 + O(1/m²))). A case whose Δt_c is at
+    /// or below h/c is refused, not moved.
+    Courant,
+    /// Δt = [`SAFETY`] · Δt_c, with Δt_c from the scheme's estimator (converged Lanczos on
+    /// these bars, `stable_step_method`).
+    Stable,
 }
 
 const ALL: &[&str] = &["standard", "mod1", "mod2", "mod3"];
 const MASSLESS: &[&str] = &["mod1", "mod2", "mod3"];
+/// The masses whose Δt_c on a uniform bar lies above h/c ([`Step::Courant`]'s special case).
+const COURANT_ONE: &[&str] = &["mod3"];
 /// Moreau–Jean needs inertia at the contact node (w_0 > 0).
 const MASSIVE: &[&str] = &["standard"];
 const CN: &str = "kind = \"crank-nicolson\"";
@@ -79,23 +97,24 @@ const CD: &str = "kind = \"central-difference\"";
 /// The one table of methods, one line each (a new method or law: one more line).
 #[rustfmt::skip]
 pub const METHODS: &[Method] = &[
-    Method { label: "CN", class: "implicit, exact", scheme: CN, law: Law::Exact, masses: ALL },
-    Method { label: "BE", class: "implicit, exact", scheme: BE, law: Law::Exact, masses: ALL },
-    Method { label: "hybrid", class: "implicit, exact", scheme: "kind = \"hybrid\"", law: Law::Exact, masses: MASSLESS },
-    Method { label: "PS e=1", class: "implicit, exact", scheme: "kind = \"paoli-schatzman\"\nbeta = 0.25\nrestitution = 1.0", law: Law::Exact, masses: ALL },
-    Method { label: "CN pen 1", class: "implicit, penalty", scheme: CN, law: Law::Penalty(1.0), masses: ALL },
-    Method { label: "CN pen 100", class: "implicit, penalty", scheme: CN, law: Law::Penalty(100.0), masses: ALL },
-    Method { label: "BE pen 1", class: "implicit, penalty", scheme: BE, law: Law::Penalty(1.0), masses: ALL },
-    Method { label: "BE pen 100", class: "implicit, penalty", scheme: BE, law: Law::Penalty(100.0), masses: ALL },
-    Method { label: "CD", class: "explicit, exact", scheme: CD, law: Law::Exact, masses: ALL },
-    Method { label: "CD pen 1", class: "explicit, penalty", scheme: CD, law: Law::Penalty(1.0), masses: ALL },
-    Method { label: "CD pen 100", class: "explicit, penalty", scheme: CD, law: Law::Penalty(100.0), masses: ALL },
-    Method { label: "CN Nitsche", class: "implicit, Nitsche", scheme: CN, law: Law::Toml("method = \"nitsche\"\nnitsche_theta = 1\nnitsche_gamma0 = 100.0"), masses: ALL },
-    Method { label: "CD Nitsche", class: "explicit, Nitsche", scheme: CD, law: Law::Toml("method = \"nitsche\"\nnitsche_theta = 1\nnitsche_gamma0 = 100.0"), masses: ALL },
-    Method { label: "MJ θ=½ e=0", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 0.5\nrestitution = 0.0", law: Law::Exact, masses: MASSIVE },
-    Method { label: "MJ θ=½ e=½", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 0.5\nrestitution = 0.5", law: Law::Exact, masses: MASSIVE },
-    Method { label: "MJ θ=1 e=0", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 1.0\nrestitution = 0.0", law: Law::Exact, masses: MASSIVE },
-    Method { label: "MJ θ=1 e=½", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 1.0\nrestitution = 0.5", law: Law::Exact, masses: MASSIVE },
+    Method { label: "CN", class: "implicit, exact", scheme: CN, law: Law::Exact, masses: ALL, step: Step::Courant },
+    Method { label: "BE", class: "implicit, exact", scheme: BE, law: Law::Exact, masses: ALL, step: Step::Courant },
+    Method { label: "hybrid", class: "implicit, exact", scheme: "kind = \"hybrid\"", law: Law::Exact, masses: MASSLESS, step: Step::Courant },
+    Method { label: "PS e=1", class: "implicit, exact", scheme: "kind = \"paoli-schatzman\"\nbeta = 0.25\nrestitution = 1.0", law: Law::Exact, masses: ALL, step: Step::Courant },
+    Method { label: "CN pen 1", class: "implicit, penalty", scheme: CN, law: Law::Penalty(1.0), masses: ALL, step: Step::Courant },
+    Method { label: "CN pen 100", class: "implicit, penalty", scheme: CN, law: Law::Penalty(100.0), masses: ALL, step: Step::Courant },
+    Method { label: "BE pen 1", class: "implicit, penalty", scheme: BE, law: Law::Penalty(1.0), masses: ALL, step: Step::Courant },
+    Method { label: "BE pen 100", class: "implicit, penalty", scheme: BE, law: Law::Penalty(100.0), masses: ALL, step: Step::Courant },
+    Method { label: "CD", class: "explicit, exact", scheme: CD, law: Law::Exact, masses: ALL, step: Step::Stable },
+    Method { label: "CD c=1", class: "explicit, exact", scheme: CD, law: Law::Exact, masses: COURANT_ONE, step: Step::Courant },
+    Method { label: "CD pen 1", class: "explicit, penalty", scheme: CD, law: Law::Penalty(1.0), masses: ALL, step: Step::Stable },
+    Method { label: "CD pen 100", class: "explicit, penalty", scheme: CD, law: Law::Penalty(100.0), masses: ALL, step: Step::Stable },
+    Method { label: "CN Nitsche", class: "implicit, Nitsche", scheme: CN, law: Law::Toml("method = \"nitsche\"\nnitsche_theta = 1\nnitsche_gamma0 = 100.0"), masses: ALL, step: Step::Courant },
+    Method { label: "CD Nitsche", class: "explicit, Nitsche", scheme: CD, law: Law::Toml("method = \"nitsche\"\nnitsche_theta = 1\nnitsche_gamma0 = 100.0"), masses: ALL, step: Step::Stable },
+    Method { label: "MJ θ=½ e=0", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 0.5\nrestitution = 0.0", law: Law::Exact, masses: MASSIVE, step: Step::Courant },
+    Method { label: "MJ θ=½ e=½", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 0.5\nrestitution = 0.5", law: Law::Exact, masses: MASSIVE, step: Step::Courant },
+    Method { label: "MJ θ=1 e=0", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 1.0\nrestitution = 0.0", law: Law::Exact, masses: MASSIVE, step: Step::Courant },
+    Method { label: "MJ θ=1 e=½", class: "velocity impulse", scheme: "kind = \"moreau-jean\"\ntheta = 1.0\nrestitution = 0.5", law: Law::Exact, masses: MASSIVE, step: Step::Courant },
 ];
 
 /// A 1D test problem with an exact solution (no body force).
@@ -190,7 +209,7 @@ pub const PROBLEMS: [Problem1d; 4] = [
 /// Meshes of a comparison.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MethodsConfig {
-    /// Element counts of the work–precision sweep (Δt = h/c, or 0.9 Δt_c if the stable limit Δt_c is smaller).
+    /// Element counts of the work–precision sweep (Δt by [`Step`]: h/c, or 0.9 Δt_c for explicit runs).
     pub elements: Vec<usize>,
     /// The mesh of the tables (one of `elements`).
     pub table_elements: usize,
@@ -298,21 +317,37 @@ pub struct MethodResult {
     pub cpu_seconds: f64,
     /// The stepping alone, in the same fastest run.
     pub step_seconds: f64,
+    /// An explicit scheme's stable limit Δt_c and the estimator that gave it (the summary's
+    /// `stable_step`, `stable_step_method`); None for the implicit classes.
+    pub stable_step: Option<f64>,
+    pub stable_step_method: Option<&'static str>,
 }
 
-/// The safety factor on the stable limit where it binds: at Δt_c itself the highest mode is
-/// marginally stable and central differences with mod1 on the paper's bar gain 160 E(0) over ten
-/// periods (measured), at 0.9 Δt_c its energy stays within 1 % (the usual explicit practice).
+/// The one safety factor of every explicit run ([`Step::Stable`]): at Δt_c itself the highest
+/// mode is marginally stable and central differences with mod1 on the paper's bar gain 160 E(0)
+/// over ten periods (measured), at 0.9 Δt_c its energy stays within 1 % (the usual explicit
+/// practice; issue 32, item 2).
 pub const SAFETY: f64 = 0.9;
 
-/// Time step of a case: h/c, or [`SAFETY`] times the stable limit of an explicit scheme if h/c
-/// is above that limit.
-fn time_step(case: &Case, problem: &BarProblem, scene: &BarScene) -> Result<f64, SchemeError> {
-    let dt = case.problem.length / case.elements as f64 / case.problem.c();
-    match problem.scheme_with(&scene.scheme, &scene.contact, dt) {
-        Ok(_) => Ok(dt),
-        Err(SchemeError::AboveStableLimit { limit, .. }) => Ok(SAFETY * limit),
-        Err(e) => Err(e),
+/// Time step of a case ([`Step`]) and, for an explicit scheme, its stable limit and estimator.
+fn time_step(
+    case: &Case,
+    problem: &BarProblem,
+    scene: &BarScene,
+) -> Result<(f64, Option<(f64, &'static str)>), SchemeError> {
+    let courant = case.problem.length / case.elements as f64 / case.problem.c();
+    let build = |dt: f64| problem.scheme_with(&scene.scheme, &scene.contact, dt);
+    match (build(courant), case.method.step) {
+        (Ok(s), Step::Stable) => match s.stable_limit() {
+            Some((limit, by)) => Ok((SAFETY * limit, Some((limit, by)))),
+            None => Ok((courant, None)),
+        },
+        (Ok(s), Step::Courant) => Ok((courant, s.stable_limit())),
+        (Err(SchemeError::AboveStableLimit { limit, .. }), Step::Stable) => {
+            let dt = SAFETY * limit;
+            Ok((dt, build(dt)?.stable_limit()))
+        }
+        (Err(e), _) => Err(e),
     }
 }
 
@@ -342,12 +377,17 @@ pub fn run_case(case: &Case) -> MethodResult {
         runs: Vec::new(),
         cpu_seconds: f64::NAN,
         step_seconds: f64::NAN,
+        stable_step: None,
+        stable_step_method: None,
     };
     // Δt from a first build at h/c (any horizon: only Δt matters there).
     let dt = match build(case, p.length / case.elements as f64 / p.c(), 1)
         .and_then(|(s, pr)| time_step(case, &pr, &s).map_err(|e| e.to_string()))
     {
-        Ok(dt) => dt,
+        Ok((dt, limit)) => {
+            (r.stable_step, r.stable_step_method) = (limit.map(|l| l.0), limit.map(|l| l.1));
+            dt
+        }
         Err(e) => {
             r.failure = Some(e);
             return r;

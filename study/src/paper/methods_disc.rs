@@ -1,7 +1,10 @@
 //! Problem (e) of the method comparison (issue 20, item 2): a solid that impacts, GetFEM's disc
 //! of the bodies section ([`super::bodies`]) dropped onto the plane y = 0: radius 20, λ = μ = 20,
 //! ρ = 1, P2 meshes h = 8 and 4, [`DROP_GAP`] above the plane at [`DROP_SPEED`] downwards, no
-//! force, Δt = [`DT`], T = [`DROP_END`] (impact, about 16 of contact, free flight after).
+//! force, T = [`DROP_END`] (impact, about 16 of contact, free flight after). The implicit classes
+//! step at Δt = [`DT`]; central differences at the comparison's one safety factor,
+//! [`SAFETY`] · Δt_c (rounded down to divide T; [`disc_dt`]), with Δt_c and its estimator from
+//! a one-step probe (issue 32, item 2).
 //!
 //! There is no exact solution; the rigid approach brings the disc onto the plane at exactly
 //! t = 0.5 (free flight is exact in every scheme) and the elastic disc should leave with |v̄| close
@@ -20,10 +23,11 @@
 //! nodes on solids).
 
 use super::ReproduceError;
-use super::band::{count_band, stable_digits};
+use super::band::{count_band, sig, stable_digits};
 use super::bodies::{
     COPIES, DROP_END, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION, mesh_dir, metrics, velocity_perturbation,
 };
+use super::methods::SAFETY;
 use super::replicate::{Copies, Printed, replicate};
 use massredist::observe::Column;
 use massredist::run::run_scene;
@@ -47,6 +51,8 @@ pub struct DiscMethod {
     pub scheme: &'static str,
     pub penalty: Option<f64>,
     pub masses: &'static [&'static str],
+    /// Explicit: stepped at [`SAFETY`] · Δt_c ([`disc_dt`]), else at [`DT`].
+    pub explicit: bool,
 }
 
 const ALL: &[&str] = &["standard", "mod1", "mod2", "mod3"];
@@ -59,15 +65,15 @@ const CD: &str = "kind = \"central-difference\"";
 /// The methods of problem (e), one line each.
 #[rustfmt::skip]
 pub const DISC_METHODS: &[DiscMethod] = &[
-    DiscMethod { label: "CN", scheme: CN, penalty: None, masses: ALL },
-    DiscMethod { label: "BE", scheme: BE, penalty: None, masses: ALL },
-    DiscMethod { label: "hybrid", scheme: "kind = \"hybrid\"", penalty: None, masses: MASSLESS },
-    DiscMethod { label: "CN pen 100", scheme: CN, penalty: Some(100.0), masses: ALL },
-    DiscMethod { label: "BE pen 100", scheme: BE, penalty: Some(100.0), masses: ALL },
-    DiscMethod { label: "CD", scheme: CD, penalty: None, masses: ALL },
-    DiscMethod { label: "CD pen 100", scheme: CD, penalty: Some(100.0), masses: STANDARD },
-    DiscMethod { label: "MJ θ=½ e=0", scheme: "kind = \"moreau-jean\"\ntheta = 0.5\nrestitution = 0.0", penalty: None, masses: STANDARD },
-    DiscMethod { label: "MJ θ=1 e=0", scheme: "kind = \"moreau-jean\"\ntheta = 1.0\nrestitution = 0.0", penalty: None, masses: STANDARD },
+    DiscMethod { label: "CN", scheme: CN, penalty: None, masses: ALL, explicit: false },
+    DiscMethod { label: "BE", scheme: BE, penalty: None, masses: ALL, explicit: false },
+    DiscMethod { label: "hybrid", scheme: "kind = \"hybrid\"", penalty: None, masses: MASSLESS, explicit: false },
+    DiscMethod { label: "CN pen 100", scheme: CN, penalty: Some(100.0), masses: ALL, explicit: false },
+    DiscMethod { label: "BE pen 100", scheme: BE, penalty: Some(100.0), masses: ALL, explicit: false },
+    DiscMethod { label: "CD", scheme: CD, penalty: None, masses: ALL, explicit: true },
+    DiscMethod { label: "CD pen 100", scheme: CD, penalty: Some(100.0), masses: STANDARD, explicit: true },
+    DiscMethod { label: "MJ θ=½ e=0", scheme: "kind = \"moreau-jean\"\ntheta = 0.5\nrestitution = 0.0", penalty: None, masses: STANDARD, explicit: false },
+    DiscMethod { label: "MJ θ=1 e=0", scheme: "kind = \"moreau-jean\"\ntheta = 1.0\nrestitution = 0.0", penalty: None, masses: STANDARD, explicit: false },
 ];
 
 /// The meshes of problem (e): the bodies section's two coarsest.
@@ -79,6 +85,12 @@ pub struct DiscResult {
     pub method: &'static str,
     pub mass: &'static str,
     pub h: f64,
+    /// The time step ([`disc_dt`]).
+    pub dt: f64,
+    /// Central differences' Δt_c and its estimator (the summary's `stable_step`,
+    /// `stable_step_method`); None for the implicit classes.
+    pub stable_step: Option<f64>,
+    pub stable_step_method: Option<&'static str>,
     /// The unperturbed run first, then the copies.
     #[serde(skip)]
     pub metrics: Vec<Metrics>,
@@ -88,9 +100,9 @@ pub struct DiscResult {
     pub cpu_seconds: f64,
 }
 
-/// The scene of `method` with `mass` on mesh `mesh`; copy `copy` (0: unperturbed) as in the
-/// bodies section ([`velocity_perturbation`]).
-pub fn disc_scene(method: &DiscMethod, mass: &str, mesh: usize, copy: usize) -> String {
+/// The scene of `method` with `mass` on mesh `mesh` at time step `dt` to `end`; copy `copy` (0:
+/// unperturbed) as in the bodies section ([`velocity_perturbation`]).
+pub fn disc_scene(method: &DiscMethod, mass: &str, mesh: usize, copy: usize, dt: f64, end: f64) -> String {
     let (h, file) = MESHES[mesh];
     let dv = velocity_perturbation(copy);
     let contact = method
@@ -100,25 +112,50 @@ pub fn disc_scene(method: &DiscMethod, mass: &str, mesh: usize, copy: usize) -> 
         "[solid]\ndim = 2\nmesh = \"{file}\"\nlame_lambda = 20.0\nlame_mu = 20.0\ndensity = 1.0\nforce = [\"0\", \"0\"]\n\
          initial = {{ displacement = [\"0\", \"0\"], velocity = [\"0\", \"{:?}{dv}\"] }}\n\
          [obstacle]\nnormal = [0.0, 1.0]\npoint = [0.0, {:?}]\ncontact = \"auto\"\n[mass]\nkind = \"{mass}\"\n\
-         [scheme]\n{}\n{contact}[time]\ndt = {DT:?}\nend = {DROP_END:?}\n\
+         [scheme]\n{}\n{contact}[time]\ndt = {dt:?}\nend = {end:?}\n\
          [output]\nseries = [\"energy\", \"contact_force\", \"active_nodes\", \"min_distance\", \"momentum_y\"]\n\
          divergence_factor = 1e300\n",
         -DROP_SPEED, -DROP_GAP, method.scheme,
     )
 }
 
-/// One run: its metrics, 1ᵀM1 and its CPU (wall, one thread) seconds.
+/// The parsed scene of a case (`case` names it in errors).
+fn parsed(text: &str, case: &str) -> Result<Scene<SolidSpec>, ReproduceError> {
+    AnyScene::from_toml_at(text, &mesh_dir())
+        .and_then(SolidSpec::from_any)
+        .map_err(|source| ReproduceError::Scene { case: case.to_string(), source })
+}
+
+/// The time step of `method` with `mass` on mesh `mesh`, and for an explicit method its Δt_c and
+/// estimator: [`DT`] for the implicit classes; for central differences the largest Δt dividing
+/// T = [`DROP_END`] that is at most [`SAFETY`] · Δt_c, Δt_c read off a one-step probe's summary.
+pub fn disc_dt(
+    method: &DiscMethod,
+    mass: &str,
+    mesh: usize,
+) -> Result<(f64, Option<(f64, &'static str)>), ReproduceError> {
+    if !method.explicit {
+        return Ok((DT, None));
+    }
+    let case = format!("disc-drop {} {mass} h={} (Δt_c probe)", method.label, MESHES[mesh].0);
+    let probe = parsed(&disc_scene(method, mass, mesh, 0, 1e-9, 1e-9), &case)?;
+    let run = run_scene(&probe, &mut []).map_err(|source| ReproduceError::Run { case: case.clone(), source })?;
+    let Some((limit, by)) = run.summary.stable_step.zip(run.summary.stable_step_method) else {
+        return Err(ReproduceError::NoStableLimit { case });
+    };
+    Ok((DROP_END / (DROP_END / (SAFETY * limit)).ceil(), Some((limit, by))))
+}
+
+/// One run at time step `dt`: its metrics, 1ᵀM1 and its CPU (wall, one thread) seconds.
 pub fn run_one(
     method: &DiscMethod,
     mass: &str,
     mesh: usize,
     copy: usize,
+    dt: f64,
 ) -> Result<(Metrics, f64, f64), ReproduceError> {
     let case = format!("disc-drop {} {mass} h={} copy {copy}", method.label, MESHES[mesh].0);
-    let text = disc_scene(method, mass, mesh, copy);
-    let scene: Scene<SolidSpec> = AnyScene::from_toml_at(&text, &mesh_dir())
-        .and_then(SolidSpec::from_any)
-        .map_err(|source| ReproduceError::Scene { case: case.clone(), source })?;
+    let scene = parsed(&disc_scene(method, mass, mesh, copy, dt, DROP_END), &case)?;
     let started = Instant::now();
     let run = run_scene(&scene, &mut []).map_err(|source| ReproduceError::Run { case, source })?;
     let seconds = started.elapsed().as_secs_f64();
@@ -145,10 +182,11 @@ pub fn compute_disc(copies: Copies) -> Result<Vec<DiscResult>, ReproduceError> {
     cases
         .par_iter()
         .map(|&(method, mass, mesh)| {
+            let (dt, limit) = disc_dt(method, mass, mesh)?;
             // Copy k of `replicate` is the bodies' velocity pattern k + 1 (0 is the base run).
             let runs = replicate(
                 copies,
-                |c| run_one(method, mass, mesh, c.index().map_or(0, |k| k + 1)),
+                |c| run_one(method, mass, mesh, c.index().map_or(0, |k| k + 1), dt),
                 |r| r.as_ref().map_or(vec![Printed::Value(None, 0)], |(m, total, _)| printed(m, *total)),
             );
             let runs = runs.into_iter().collect::<Result<Vec<_>, _>>()?;
@@ -156,6 +194,9 @@ pub fn compute_disc(copies: Copies) -> Result<Vec<DiscResult>, ReproduceError> {
                 method: method.label,
                 mass,
                 h: MESHES[mesh].0,
+                dt,
+                stable_step: limit.map(|l| l.0),
+                stable_step_method: limit.map(|l| l.1),
                 metrics: runs.iter().map(|r| r.0).collect(),
                 mass_total: runs[0].1,
                 cpu_seconds: runs[0].2,
@@ -184,15 +225,16 @@ fn printed(m: &Metrics, total: f64) -> Vec<Printed> {
 /// The markdown table of problem (e) (shared digits of the five runs, at most 4 significant).
 pub fn disc_markdown(results: &[DiscResult]) -> String {
     let mut out = format!(
-        "### (e) GetFEM's disc dropped onto the plane (P2, h = 8 and 4; Δt = {DT}, T = {DROP_END})\n\n\
+        "### (e) GetFEM's disc dropped onto the plane (P2, h = 8 and 4; Δt = {DT} implicit, 0.9 Δt_c explicit; T = {DROP_END})\n\n\
          No exact solution: the disc reaches the plane at exactly t = {:.1} (free flight is exact); every contact event is read off the force \
          (first impact: the first step with Σ R > 0; release: the first later step with Σ R = 0; episodes: runs of steps with Σ R > 0); an energy-conserving method \
          leaves with v̄/V₀ near 1. Each run is repeated {COPIES} times from a velocity perturbed by at most \
          {PERTURBATION:e} (four patterns): cells keep only the digits all five runs share, else their band min–max; \
          episodes are one count, or the band min–max. Penetration is max(0, −min_distance)/R. CPU s is one run \
-         (wall time of one thread, runs in parallel).\n\n\
-         | h | method | mass | first impact | contact duration | rebound v̄/V₀ | energy drift | force TV | episodes | penetration/R | CPU s |\n\
-         |---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+         (wall time of one thread, runs in parallel). The implicit classes step at Δt = {DT}; central differences at \
+         {SAFETY} Δt_c (the largest Δt dividing T below it), Δt_c by the estimator named beside it.\n\n\
+         | h | method | mass | Δt | Δt_c (estimator) | first impact | contact duration | rebound v̄/V₀ | energy drift | force TV | episodes | penetration/R | CPU s |\n\
+         |---:|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
         DROP_GAP / DROP_SPEED
     );
     for r in results {
@@ -202,10 +244,12 @@ pub fn disc_markdown(results: &[DiscResult]) -> String {
         };
         let e0 = 0.5 * r.mass_total * DROP_SPEED * DROP_SPEED;
         out += &format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |\n",
             r.h,
             r.method,
             r.mass,
+            sig(r.dt, 4),
+            r.stable_step.zip(r.stable_step_method).map_or("—".into(), |(l, by)| format!("{} ({by})", sig(l, 4))),
             d(&|m, _| m.first_impact),
             d(&|m, _| m.first_impact.zip(m.first_release).map(|(a, b)| b - a)),
             d(&|m, _| Some(m.rebound_velocity / DROP_SPEED)),
@@ -227,17 +271,20 @@ fn episodes(runs: &[Metrics]) -> String {
 /// The CSV rows of problem (e), one per run (copy 0, unperturbed, to [`COPIES`]).
 pub fn disc_csv(results: &[DiscResult]) -> String {
     let mut out = String::from(
-        "method,mass,h,copy,first_impact,first_release,rebound_ratio,energy_drift,force_tv,episodes,min_distance,mass_total,cpu_seconds\n",
+        "method,mass,h,dt,stable_step,stable_step_method,copy,first_impact,first_release,rebound_ratio,energy_drift,force_tv,episodes,min_distance,mass_total,cpu_seconds\n",
     );
     let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:e}"));
     for r in results {
         let e0 = 0.5 * r.mass_total * DROP_SPEED * DROP_SPEED;
         for (k, m) in r.metrics.iter().enumerate() {
             out += &format!(
-                "{},{},{},{k},{},{},{:e},{:e},{:e},{},{:e},{:e},{:e}\n",
+                "{},{},{},{:e},{},{},{k},{},{},{:e},{:e},{:e},{},{:e},{:e},{:e}\n",
                 r.method,
                 r.mass,
                 r.h,
+                r.dt,
+                opt(r.stable_step),
+                r.stable_step_method.unwrap_or(""),
                 opt(m.first_impact),
                 opt(m.first_release),
                 m.rebound_velocity / DROP_SPEED,

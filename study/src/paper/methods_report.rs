@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// Column names of [`methods_csv`].
-pub const METHODS_COLUMNS: [&str; 21] = [
+pub const METHODS_COLUMNS: [&str; 23] = [
     "problem",
     "method",
     "class",
@@ -33,6 +33,8 @@ pub const METHODS_COLUMNS: [&str; 21] = [
     "exact_impacts",
     "cpu_seconds",
     "step_seconds",
+    "stable_step",
+    "stable_step_method",
 ];
 
 /// Every run as CSV: one row per copy (copy 0 is the unperturbed run); a diverged or failed run
@@ -53,13 +55,14 @@ pub fn methods_csv(results: &[MethodResult]) -> String {
             f(r.courant),
             r.steps
         );
+        let limit = format!("{},{}", o(r.stable_step), r.stable_step_method.unwrap_or(""));
         if r.runs.is_empty() {
-            let _ = writeln!(s, "{head},0,{},,,,,,,,,{},,", r.status, r.exact_impacts);
+            let _ = writeln!(s, "{head},0,{},,,,,,,,,{},,,{limit}", r.status, r.exact_impacts);
         }
         for (k, m) in r.runs.iter().enumerate() {
             let _ = writeln!(
                 s,
-                "{head},{k},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{head},{k},{},{},{},{},{},{},{},{},{},{},{},{},{limit}",
                 r.status,
                 f(m.l2_error),
                 o(m.impact_error),
@@ -123,15 +126,19 @@ pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> Strin
         let impacts = rows.first().map_or(0, |r| r.exact_impacts);
         let _ = writeln!(
             s,
-            "### {} (m = {}, Δt = h/c or 0.9 Δt_c)\n\n{}\n\n\
-             | method | class | mass | cΔt/h | L∞(L²) rel. | impact err./D | duration err./D | rebound v̄/V₀ | force TV / exact | impulse / exact | penetration/L | energy drift ({impacts} impacts) | CPU s | of which steps |\n\
-             |---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+            "### {} (m = {}, Δt = h/c implicit, 0.9 Δt_c explicit)\n\n{}\n\n\
+             | method | class | mass | cΔt/h | cΔt_c/h (estimator) | L∞(L²) rel. | impact err./D | duration err./D | rebound v̄/V₀ | force TV / exact | impulse / exact | penetration/L | energy drift ({impacts} impacts) | CPU s | of which steps |\n\
+             |---|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
             p.title,
             config.table_elements,
             exact_values(p)
         );
         for r in rows {
-            let head = format!("| {} | {} | {} | {} ", r.method, r.class, r.mass, sig(r.courant, 3));
+            let limit = match (r.stable_step, r.stable_step_method) {
+                (Some(l), Some(by)) => format!("{} ({by})", sig(l * r.courant / r.dt, 6)),
+                _ => "—".into(),
+            };
+            let head = format!("| {} | {} | {} | {} | {limit} ", r.method, r.class, r.mass, sig(r.courant, 3));
             if r.runs.is_empty() {
                 let why = r.failure.as_deref().unwrap_or("").replace('|', "/");
                 let _ = writeln!(s, "{head}| {} ({why}) | | | | | | | | | |", r.status);
@@ -157,8 +164,8 @@ pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> Strin
     s
 }
 
-/// Colours per method, by position in [`METHODS`] (tab20).
-const COLOURS: [(u8, u8, u8); 16] = [
+/// Colours per method, by position in [`METHODS`] (tab20; one each while there are at most 20).
+const COLOURS: [(u8, u8, u8); 20] = [
     (31, 119, 180),
     (174, 199, 232),
     (255, 127, 14),
@@ -175,6 +182,10 @@ const COLOURS: [(u8, u8, u8); 16] = [
     (127, 127, 127),
     (188, 189, 34),
     (23, 190, 207),
+    (219, 219, 141),
+    (158, 218, 229),
+    (199, 199, 199),
+    (247, 182, 210),
 ];
 
 const MASSES: [&str; 4] = ["standard", "mod1", "mod2", "mod3"];
@@ -213,7 +224,7 @@ where
     root.fill(&WHITE).map_err(e)?;
     let (top, body) = root.split_vertically(34);
     top.titled(
-        "Work–precision of the method classes: relative L∞(L²) error against CPU time (Δt = h/c or 0.9 Δt_c; \
+        "Work–precision of the method classes: relative L∞(L²) error against CPU time (Δt = h/c, explicit 0.9 Δt_c; \
          markers: ● standard ▲ mod1 ■ mod2 ✚ mod3)",
         ("sans-serif", 16),
     )
@@ -289,10 +300,14 @@ pub fn methods_markdown(config: &MethodsConfig, results: &[MethodResult], figure
     let _ = writeln!(
         s,
         "Every method class of issue 20 ({} methods × their masses) on four 1D problems with exact solutions by \
-         characteristics; meshes m = {:?}, Δt = h/c (explicit runs: 0.9 Δt_c when the stable limit Δt_c is below h/c). \
+         characteristics; meshes m = {:?}. Δt = h/c for the implicit classes; every explicit run steps at one safety \
+         factor, Δt = 0.9 Δt_c, with Δt_c from the estimator its row names (Lanczos, run to convergence); \
+         \"CD c=1\" is the special case of these uniform meshes, central differences at Courant 1 (h/c), the \
+         characteristic step, which lies below Δt_c only for mod3. Central differences use the lumped mass, the \
+         implicit schemes the consistent one. \
          Penalty κ = factor · E/h (\"pen 1\", \"pen 100\"). D is the exact first contact's duration; the energy drift \
          is (E(T) − E(0))/E(0) of each scheme's own energy. CPU time is set-up (factorisations; for central \
-         differences the stable limit: Lanczos, at most 300 steps, else the Gershgorin bound) and stepping, fastest of up \
+         differences the stable limit: Lanczos, full reorthogonalisation, to convergence) and stepping, fastest of up \
          to 3 runs; \"of which steps\" is the stepping alone. Standard-mass and Paoli–Schatzman runs are repeated from \
          4 perturbed U⁰ and V⁰ (|δ| ≤ 1e-13 relative, and on V⁰ absolute times V₀, or c/2 on the paper's bar): their cells show only the digits all 5 runs share, else the band min–max \
          (src/paper/methods.rs documents every column).\n\n![work–precision]({figure})\n",

@@ -97,6 +97,8 @@ pub enum ReproduceError {
     Scene { case: String, source: SceneError },
     #[error("{case}: no exact solution by characteristics")]
     NoExact { case: String },
+    #[error("{case}: the explicit scheme reported no stable limit Δt_c")]
+    NoStableLimit { case: String },
     #[error("writing {dir}: {source}")]
     Io { dir: String, source: std::io::Error },
 }
