@@ -65,6 +65,9 @@ fn expected_files(config: &Config) -> BTreeSet<String> {
     }
     out.insert(REBOUND_TABLE.into());
     for ext in ["png", "svg", "csv"] {
+        out.insert(format!("{}.{ext}", paper::cd_growth::CD_GROWTH_FIGURE));
+    }
+    for ext in ["png", "svg", "csv"] {
         out.insert(format!("{}.{ext}", paper::mesh_scope::SCOPE_FIGURE));
         out.insert(format!("{}.{ext}", paper::table2d_lead::LEAD_FIGURE));
     }

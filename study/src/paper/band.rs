@@ -73,6 +73,18 @@ impl Verdict {
         }
     }
 
+    /// Diverged (the run stopped), grows (its largest energy above [`DRIFT_FACTOR`] times the
+    /// first), else bounded: the growth sections' rule (`max_ratio` = max E/E₀).
+    pub fn of_growth(diverged: bool, max_ratio: f64) -> Verdict {
+        if diverged {
+            Verdict::Diverged
+        } else if max_ratio > DRIFT_FACTOR {
+            Verdict::Grows
+        } else {
+            Verdict::Bounded
+        }
+    }
+
     /// Diverged (the run stopped), grows (energy above 10 E(0), or the per-period maximum up by
     /// more than [`DRIFT_FACTOR`]: `growth` = last/first per-period maximum), else bounded.
     pub fn of(s: &Summary, growth: Option<f64>) -> Verdict {

@@ -29,6 +29,7 @@
 mod band;
 pub mod bodies;
 mod bodies_report;
+pub mod cd_growth;
 mod claims;
 mod config;
 pub mod elastic_fixture;
@@ -149,6 +150,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
             rebound,
             scope,
             ps,
+            cd,
             lead,
             bodies,
             methods,
@@ -167,6 +169,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     let rebound_figure = rebound_report::rebound_figure(config, &rebound);
     let scope_figure = mesh_scope::scope_figure(config, &scope);
     let lead_figure = table2d_lead::lead_figure(&lead.curves[0]);
+    let cd_figure = cd_growth::cd_growth_figure(&cd);
     let mut body_figures = bodies_report::bodies_figures(&bodies);
     body_figures.push(hertz_report::hertz_figure(&hertz));
     body_figures.push(friction_sphere::friction_sphere_figure(&sphere));
@@ -174,8 +177,13 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
     body_figures.push(two_bodies::two_bodies_figure(&two_bodies));
     body_figures.push(two_discs::two_discs_figure(&two_discs));
     let tables = tables::result_tables(config, &results);
-    let mut files =
-        file_names(config, &figures, &tables, &[&rebound_figure, &scope_figure, &lead_figure], table2d.is_some());
+    let mut files = file_names(
+        config,
+        &figures,
+        &tables,
+        &[&rebound_figure, &scope_figure, &lead_figure, &cd_figure],
+        table2d.is_some(),
+    );
     // The bodies section's files go before summaries.json (always written, so always found).
     let at = files.iter().position(|f| f == "summaries.json").unwrap_or(files.len());
     let body_files =
@@ -192,7 +200,7 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         config,
         &results,
         &rebound,
-        (&scope, &ps, &table2d_lead::lead_section(&lead)),
+        (&scope, &ps, &cd_growth::cd_growth_section(&cd, quick), &table2d_lead::lead_section(&lead)),
         &files,
         table2d.as_ref(),
         &elastic,
@@ -208,13 +216,15 @@ pub fn reproduce(out: OutputDir, config: &Config, progress: &ProgressBar) -> Res
         + &two_discs::two_discs_markdown(&two_discs);
     let dir = out.path().display().to_string();
     out.commit(|tmp| {
-        figures.par_iter().chain([&rebound_figure, &scope_figure, &lead_figure]).chain(&body_figures).try_for_each(
-            |f| -> std::io::Result<()> {
+        figures
+            .par_iter()
+            .chain([&rebound_figure, &scope_figure, &lead_figure, &cd_figure])
+            .chain(&body_figures)
+            .try_for_each(|f| -> std::io::Result<()> {
                 f.write(tmp)?;
                 progress.inc(1);
                 Ok(())
-            },
-        )?;
+            })?;
         tables::write_tables(tmp, config, &results, &tables)?;
         let header = REBOUND_COLUMNS.map(String::from);
         tables::write_csv(&tmp.join(REBOUND_TABLE), &header, &rebound_report::rebound_csv_rows(&rebound))?;
@@ -242,6 +252,8 @@ struct Sections {
     rebound: Rebound,
     scope: Vec<mesh_scope::ScopeEntry>,
     ps: ps_growth::PsGrowth,
+    /// Central differences' energy growth against Δt/Δt_c (issue 32, item 5).
+    cd: Vec<cd_growth::CdGrowth>,
     lead: table2d_lead::LeadRuns,
     bodies: Vec<bodies::BodyResult>,
     methods: Vec<methods::MethodResult>,
@@ -278,6 +290,7 @@ fn compute_sections(
                 rebound: timed("rebound", || compute_rebound(config, &|| progress.inc(1)))?,
                 scope: timed("mesh scope", || mesh_scope::mesh_scope(config))?,
                 ps: timed("Paoli–Schatzman growth", || ps_growth::ps_growth(config))?,
+                cd: timed("central-difference growth", || cd_growth::cd_growth(quick))?,
                 lead: timed("Table 1 lead", table2d_lead::lead_runs),
                 bodies: timed("bodies", || bodies::compute_bodies(quick, &|| progress.inc(1)))?,
                 methods: timed("method classes", || methods::compute(methods_config, &|| progress.inc(1))),
@@ -328,7 +341,7 @@ fn elastic_rows(quick: bool) -> Vec<elastic_table::ElasticRow> {
 
 /// The files [`reproduce`] writes, in the order of [`Outcome::files`]: figures, tables, events,
 /// the rebounding bar's figure, the mesh-scope figure ([`mesh_scope`]), the Table 1 lead's figure
-/// ([`table2d_lead`]), the rebounding bar's table, `table-2d.csv`, `table-2d-elastic.csv`, `summaries.json`, `report.md`, and
+/// ([`table2d_lead`]), central differences' growth figure ([`cd_growth`]), the rebounding bar's table, `table-2d.csv`, `table-2d-elastic.csv`, `summaries.json`, `report.md`, and
 /// `table-2d-sweep.csv` if the 2D runs gave one.
 fn file_names(
     config: &Config,

@@ -134,13 +134,7 @@ pub struct GrowthRun {
 
 impl GrowthRun {
     pub fn verdict(&self) -> Verdict {
-        if self.diverged {
-            Verdict::Diverged
-        } else if self.max_ratio > DRIFT_FACTOR {
-            Verdict::Grows
-        } else {
-            Verdict::Bounded
-        }
+        Verdict::of_growth(self.diverged, self.max_ratio)
     }
 }
 

@@ -24,7 +24,7 @@ use std::fmt::Write as _;
 
 /// `report.md`: configuration, tables, the claims, the scope of "mod3 is best" over meshes and
 /// horizons ([`super::mesh_scope`]), Paoli–Schatzman's growth against Δt/h
-/// ([`super::ps_growth`]), one paragraph per figure, the 2D table with its best lead
+/// ([`super::ps_growth`]) and central differences' against Δt/Δt_c (`cd`, [`super::cd_growth`]), one paragraph per figure, the 2D table with its best lead
 /// ([`super::table2d_lead`]), the 2D table (scalar
 /// plates, then elastic solids), the rebounding bar and `bodies` (the bodies section,
 /// [`super::bodies_report`]), both beyond the paper.
@@ -32,7 +32,7 @@ pub fn report_markdown(
     config: &Config,
     results: &[CaseResult],
     rebound: &Rebound,
-    (scope, ps, lead): (&[ScopeEntry], &PsGrowth, &str),
+    (scope, ps, cd, lead): (&[ScopeEntry], &PsGrowth, &str, &str),
     files: &[String],
     table2d: Option<&Table2d>,
     elastic: &[ElasticRow],
@@ -43,6 +43,7 @@ pub fn report_markdown(
     s.push_str(&claims(config, results));
     s.push_str(&scope_section(config, scope));
     s.push_str(&ps_section(config, ps));
+    s.push_str(cd);
     s.push_str(&figure_sections(config, results));
     s.push_str(&table_2d(table2d));
     s.push_str(lead);
