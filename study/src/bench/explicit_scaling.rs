@@ -207,7 +207,7 @@ fn explicit(
         Some(op) => stable_limit_of_operator(op, &b.lumped, None),
         None => stable_limit_of(&b.system, &b.lumped, None),
     };
-    let (dt, unknowns) = (0.9 * limit, b.lumped.len());
+    let (dt, unknowns) = (crate::paper::methods::SAFETY * limit, b.lumped.len());
     let t = Instant::now();
     let mut kept = None;
     let mut cd = match stencil {

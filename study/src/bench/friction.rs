@@ -18,6 +18,7 @@
 //! law has work) and over all steps, the largest sweep count of a step, and the frictional
 //! run's ratio to the frictionless one's. An edge: it times and writes.
 
+use crate::paper::methods::{SAFETY, step_dividing};
 use massredist::driver::{Observer, Sample};
 use massredist::run::run_scene;
 use massredist::scene::SolidScene;
@@ -27,8 +28,6 @@ use std::time::Instant;
 
 /// Coulomb's coefficient of every frictional run (GetFEM's `dynamic_friction` disc used 0.1).
 const MU: f64 = 0.1;
-/// Central differences' Δt against Δt_c: the one safety factor of explicit runs.
-const SAFETY: f64 = 0.9;
 
 /// One case: a shipped scene and the changes to its data.
 struct Case {
@@ -163,7 +162,7 @@ pub fn run(csv: &Path) -> Result<Vec<PathBuf>, String> {
         let limit = stable_limit(case)?;
         // The largest Δt dividing the end at most min(0.9 Δt_c, the implicit Δt): the explicit
         // run takes no fewer steps than the implicit one.
-        let explicit_dt = case.end / (case.end / (SAFETY * limit.0).min(implicit_dt)).ceil();
+        let explicit_dt = step_dividing(case.end, (SAFETY * limit.0).min(implicit_dt));
         for (scheme, dt, limit) in
             [("crank-nicolson", implicit_dt, None), ("central-difference", explicit_dt, Some(limit))]
         {

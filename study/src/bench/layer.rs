@@ -18,6 +18,7 @@
 //! An edge: it times and writes.
 
 use super::explicit_scaling::median;
+use crate::paper::methods::SAFETY;
 use massredist::contact::exact::Split;
 use massredist::contact::law::ContactLaw;
 use massredist::contact::layer::Layer;
@@ -30,8 +31,6 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Central differences' Δt against Δt_c: the one safety factor of explicit runs.
-const SAFETY: f64 = 0.9;
 /// Steps timed per case (their median is reported).
 const STEPS: usize = 21;
 /// The body force towards the obstacle (per unit volume; λ + 2μ = 1): the slab starts at rest

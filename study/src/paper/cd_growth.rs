@@ -203,10 +203,12 @@ fn problem(mass: &MassKind, k: Option<usize>) -> Result<BarProblem, RunError> {
 }
 
 /// Δt_c of central differences on the bar with `mass`, and its estimator.
-fn stable_limit(mass: &MassKind) -> Result<(f64, &'static str), RunError> {
-    let p = problem(mass, None)?;
-    let scheme = p.scheme(&spec(), 1e-9)?;
-    Ok(scheme.stable_limit().expect("central differences have a stable limit"))
+fn stable_limit(mass: &MassKind) -> Result<(f64, &'static str), ReproduceError> {
+    let case = format!("CD growth / {} / Δt_c", mass.name());
+    let run = |source| ReproduceError::Run { case: case.clone(), source };
+    let p = problem(mass, None).map_err(run)?;
+    let scheme = p.scheme(&spec(), 1e-9).map_err(|e| run(e.into()))?;
+    scheme.stable_limit().ok_or(ReproduceError::NoStableLimit { case: case.clone() })
 }
 
 fn run_one(mass: &MassKind, dt: f64, periods: usize, k: Option<usize>) -> Result<CdRun, RunError> {
@@ -243,7 +245,7 @@ fn compute(masses: &[MassKind], fractions: &[f64], periods: usize) -> Result<Vec
     let wrap = |case: String| move |source| ReproduceError::Run { case, source };
     let mut jobs = Vec::new();
     for mass in masses {
-        let (limit, method) = stable_limit(mass).map_err(wrap(format!("CD growth / {} / Δt_c", mass.name())))?;
+        let (limit, method) = stable_limit(mass)?;
         jobs.extend(fractions.iter().map(|&f| (mass.clone(), f, limit, method)));
     }
     jobs.par_iter()

@@ -329,6 +329,12 @@ pub struct MethodResult {
 /// practice; issue 32, item 2).
 pub const SAFETY: f64 = 0.9;
 
+/// The largest Δt that divides `end` and is at most `at_most` (an explicit run at the one safety
+/// factor, `at_most` = [`SAFETY`] · Δt_c, on a horizon it must reach exactly).
+pub fn step_dividing(end: f64, at_most: f64) -> f64 {
+    end / (end / at_most).ceil()
+}
+
 /// Time step of a case ([`Step`]) and, for an explicit scheme, its stable limit and estimator.
 fn time_step(
     case: &Case,

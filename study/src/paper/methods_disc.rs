@@ -27,7 +27,7 @@ use super::band::{count_band, sig, stable_digits};
 use super::bodies::{
     COPIES, DROP_END, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION, mesh_dir, metrics, velocity_perturbation,
 };
-use super::methods::SAFETY;
+use super::methods::{SAFETY, step_dividing};
 use super::replicate::{Copies, Printed, replicate};
 use massredist::observe::Column;
 use massredist::run::run_scene;
@@ -143,7 +143,7 @@ pub fn disc_dt(
     let Some((limit, by)) = run.summary.stable_step.zip(run.summary.stable_step_method) else {
         return Err(ReproduceError::NoStableLimit { case });
     };
-    Ok((DROP_END / (DROP_END / (SAFETY * limit)).ceil(), Some((limit, by))))
+    Ok((step_dividing(DROP_END, SAFETY * limit), Some((limit, by))))
 }
 
 /// One run at time step `dt`: its metrics, 1ᵀM1 and its CPU (wall, one thread) seconds.

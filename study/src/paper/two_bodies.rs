@@ -14,7 +14,7 @@ use super::ReproduceError;
 use super::band::stable_digits;
 use super::bodies::PERTURBATION;
 use super::figures::{FigureFile, grid_rows};
-use super::methods::SAFETY;
+use super::methods::{SAFETY, step_dividing};
 use super::replicate::{Copies, Printed, replicate};
 use crate::plot::{Curve, Figure, Panel, Style};
 use massredist::models::{TwoBarCase, TwoBarErrors, TwoBars};
@@ -95,9 +95,7 @@ fn run_one(case: TwoBarCase, m: &Method, copy: usize) -> Result<Run, ReproduceEr
     let problem = <SolidSpec as GeometrySpec>::problem(&scene)
         .map_err(|e| ReproduceError::Run { case: name.clone(), source: massredist::run::RunError::problem(e) })?;
     let scene = match problem.scheme_with(&scene.scheme, &scene.contact, dt) {
-        Err(SchemeError::AboveStableLimit { limit, .. }) => {
-            scene_at(bars.end() / (bars.end() / (SAFETY * limit)).ceil())?
-        }
+        Err(SchemeError::AboveStableLimit { limit, .. }) => scene_at(step_dividing(bars.end(), SAFETY * limit))?,
         _ => scene,
     };
     let (errors, s) = bars.measure(&scene);
