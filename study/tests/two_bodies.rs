@@ -3,8 +3,9 @@
 //! src/solid/pair.rs (ν = +n_A) → the bound acts the wrong way, the bars pass through each other:
 //! no force, and this fails.
 
-use massredist::models::TwoBarCase;
-use massredist_study::paper::two_bodies::{CaseRuns, compute_two_bodies};
+use massredist::models::{TwoBarCase, TwoBars};
+use massredist_study::paper::methods::SAFETY;
+use massredist_study::paper::two_bodies::{CaseRuns, N, compute_two_bodies};
 
 #[test]
 fn mod3_holds_the_force_and_the_standard_mass_and_penalty_chatter() {
@@ -13,6 +14,21 @@ fn mod3_holds_the_force_and_the_standard_mass_and_penalty_chatter() {
         r.iter().find(|x| x.case == case && x.method == method).unwrap_or_else(|| panic!("{method}"))
     };
     for case in TwoBarCase::ALL {
+        // Central differences step at the largest Δt dividing T at most the one safety factor
+        // times Δt_c (issue 32, item 2): n = T/Δt steps with SAFETY·Δt_c·n/(n+1) < Δt ≤ SAFETY·Δt_c.
+        // mutation: Δt = h/c where the scheme accepts it (the old rule) → fails (Δt above 0.9 Δt_c).
+        let end = TwoBars::new(case, N).end();
+        for x in &of(case, "CD mod3").runs {
+            let (limit, by) = x.stable.unwrap_or_else(|| panic!("{}: CD without a stable limit", case.name()));
+            let n = (end / x.dt).round();
+            assert!((end / x.dt - n).abs() < 1e-9 * n, "{}: Δt = {} does not divide T = {end}", case.name(), x.dt);
+            assert!(
+                x.dt <= SAFETY * limit && x.dt > SAFETY * limit * n / (n + 1.0),
+                "{}: Δt = {}, Δt_c = {limit} ({by})",
+                case.name(),
+                x.dt
+            );
+        }
         for k in 0..5 {
             // mod3 with CN (and the hybrid scheme): in contact over the whole exact window, the
             // plateau at Z V/2 to 1e-5, the duration and the final momenta within 1 % at 100 cells

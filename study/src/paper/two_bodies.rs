@@ -1,7 +1,7 @@
 //! Two bodies in contact (issue 30, check 5): the two-bar impacts (a)–(c) of
 //! [`massredist::models::TwoBars`] for every mass and scheme that takes two bodies, and the
-//! penalty law, at [`N`] cells per unit length with cΔt/h = 1 (central differences: [`SAFETY`] ×
-//! its stable limit, just below h/c here): the contact duration between the
+//! penalty law, at [`N`] cells per unit length with cΔt/h = 1 (central differences: the largest
+//! Δt dividing T at most [`SAFETY`] × the stable limit): the contact duration between the
 //! half-force crossings, the plateau force and the final momenta against d'Alembert, the peak
 //! force, the force's total variation over Z V/2 (its chatter; exact: 2, up and down), the
 //! fraction of the steps of the exact contact window with Σ R > 0 (exact: all), and E(T)/E(0).
@@ -57,6 +57,9 @@ pub const METHODS: [Method; 8] = [
 /// One run's numbers, and (kept for the figure) its t and Σ R.
 #[derive(Debug, Clone)]
 pub struct Run {
+    /// The time step, and (central differences) Δt_c and its estimator.
+    pub dt: f64,
+    pub stable: Option<(f64, &'static str)>,
     pub errors: TwoBarErrors,
     pub force_tv: f64,
     pub in_contact: f64,
@@ -88,21 +91,34 @@ fn run_one(case: TwoBarCase, m: &Method, copy: usize) -> Result<Run, ReproduceEr
         SolidScene::from_toml(&bars.text(m.mass, m.scheme, &contact, dt, &tail))
             .map_err(|source| ReproduceError::Scene { case: name.clone(), source })
     };
-    // h/c, or where h/c is above Δt_c (central differences: the strip's transverse modes put
-    // Δt_c just below h/c) the largest Δt dividing T that is at most the study's one safety
-    // factor times Δt_c.
+    // h/c for the implicit schemes; central differences at the largest Δt dividing T that is at
+    // most the study's one safety factor times Δt_c (issue 32, item 2; Δt_c from the scheme,
+    // built at h/c, which it refuses where h/c is above Δt_c).
     let scene = scene_at(dt)?;
     let problem = <SolidSpec as GeometrySpec>::problem(&scene)
         .map_err(|e| ReproduceError::Run { case: name.clone(), source: massredist::run::RunError::problem(e) })?;
-    let scene = match problem.scheme_with(&scene.scheme, &scene.contact, dt) {
-        Err(SchemeError::AboveStableLimit { limit, .. }) => scene_at(step_dividing(bars.end(), SAFETY * limit))?,
-        _ => scene,
+    let stable = match problem.scheme_with(&scene.scheme, &scene.contact, dt) {
+        Err(SchemeError::AboveStableLimit { limit, .. }) => {
+            let rebuilt = problem.scheme_with(&scene.scheme, &scene.contact, SAFETY * limit);
+            rebuilt.ok().and_then(|s| s.stable_limit())
+        }
+        Ok(s) => s.stable_limit(),
+        Err(e) => return Err(ReproduceError::Run { case: name, source: e.into() }),
+    };
+    let (scene, dt) = match stable {
+        Some((limit, _)) => {
+            let dt = step_dividing(bars.end(), SAFETY * limit);
+            (scene_at(dt)?, dt)
+        }
+        None => (scene, dt),
     };
     let (errors, s) = bars.measure(&scene);
     let f = bars.force();
     let window: Vec<f64> =
         s.t.iter().zip(&s.force).filter(|(t, _)| **t > 0.0 && **t <= bars.duration()).map(|x| *x.1).collect();
     Ok(Run {
+        dt,
+        stable,
         errors,
         force_tv: s.force.windows(2).map(|w| (w[1] - w[0]).abs()).sum::<f64>() / f,
         in_contact: window.iter().filter(|&&x| x > 0.0).count() as f64 / window.len() as f64,
@@ -142,24 +158,27 @@ pub fn two_bodies_markdown(results: &[CaseRuns]) -> String {
          Two 2D strips (λ = 0, μ = ½, ρ = 1: c = 1, Z = ρ c A = 0.1), the striker at V = 1 touching the target at \
          t = 0 (`[[solid]]`, `[[pair]]`, [scenes.md](../scenes.md#two-bodies-in-contact-solid-and-pair); \
          `src/models/two_bars.rs`): (a) onto a free bar of the same length, (b) onto a bar clamped at its far end \
-         (Code_Aster SDNL111), (c) onto a free bar twice as long. {N} cells per unit length, cΔt/h = 1, T = twice the \
-         exact contact plus 1. Errors are relative: the duration between the crossings of Z V/4, the mean force over \
+         (Code_Aster SDNL111), (c) onto a free bar twice as long. {N} cells per unit length, T = twice the exact \
+         contact plus 1; the implicit schemes at cΔt/h = 1 with the consistent mass, central differences with the \
+         lumped mass at the largest Δt dividing T that is at most {SAFETY} Δt_c (Δt_c and its estimator: the CSV's \
+         `stable_step`, `stable_step_method`). Errors are relative: the duration between the crossings of Z V/4, the mean force over \
          the middle half of the exact window against Z V/2, the final momenta against d'Alembert (over ρ A V); the \
          peak and the force's total variation are over Z V/2 (exact: 1 and 2); \"in contact\" is the fraction of the \
          exact window's steps with Σ R > 0 (exact: 1). The penalty law: κ = {PENALTY_FACTOR} × the bar's axial \
          stiffness per interface node. Each run is repeated five times from a speed perturbed by at most \
          {:e}: cells keep the digits all five runs share, else their band.\n\n\
-         | case | method | duration | plateau | momenta | peak | force TV | in contact | E(T)/E(0) |\n\
-         |---|---|---:|---:|---:|---:|---:|---:|---:|\n",
+         | case | method | cΔt/h | duration | plateau | momenta | peak | force TV | in contact | E(T)/E(0) |\n\
+         |---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
         PERTURBATION * 4.0
     );
     for r in results {
         let d = |f: &dyn Fn(&Run) -> f64| stable_digits(&r.runs.iter().map(|x| Some(f(x))).collect::<Vec<_>>(), 3);
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.case.name(),
             r.method,
+            d(&|x| x.dt * N as f64),
             d(&|x| x.errors.duration),
             d(&|x| x.errors.plateau),
             d(&|x| x.errors.momentum),
@@ -176,16 +195,19 @@ pub fn two_bodies_markdown(results: &[CaseRuns]) -> String {
 /// The CSV rows, one per run.
 pub fn two_bodies_csv(results: &[CaseRuns]) -> String {
     let mut out = String::from(
-        "case,method,copy,duration_error,plateau_error,momentum_error,peak,force_tv,in_contact,energy_ratio,contact_time\n",
+        "case,method,copy,dt,stable_step,stable_step_method,duration_error,plateau_error,momentum_error,peak,force_tv,in_contact,energy_ratio,contact_time\n",
     );
     for r in results {
         for (k, x) in r.runs.iter().enumerate() {
             let e = &x.errors;
             let _ = writeln!(
                 out,
-                "{},{},{k},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+                "{},{},{k},{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
                 r.case.name(),
                 r.method,
+                x.dt,
+                x.stable.map_or(String::new(), |(l, _)| format!("{l:e}")),
+                x.stable.map_or("", |(_, by)| by),
                 e.duration,
                 e.plateau,
                 e.momentum,
