@@ -103,6 +103,8 @@ BENCH_FIXTURES = [
     ("disc_p2_h2.msh", "disc", 2.0, 2),
     ("sphere_tet10_h16.msh", "sphere", 16.0, 2),
     ("sphere_tet10_h14.msh", "sphere", 14.0, 2),
+    ("sphere_tet10_h5.msh", "sphere", 5.0, 2),
+    ("sphere_tet10_h4.msh", "sphere", 4.0, 2),
     ("hertz_disc_h0.5.msh", "hertz_disc", 0.5, 2),
     ("hertz_disc_h0.25.msh", "hertz_disc", 0.25, 2),
     ("hertz_disc_h0.125.msh", "hertz_disc", 0.125, 2),

@@ -4,9 +4,14 @@
 //! exact complementarity, momentum balance in free flight, backward Euler's dissipation, the
 //! rebound velocity bounded by the energy — and the metrics' definitions on hand-made series.
 
+mod common;
+
+use common::half_last_place;
 use massredist::mass::MassKind;
 use massredist_study::paper::Experiment;
-use massredist_study::paper::bodies::{Bench, BodyResult, COPIES, DROP_GAP, DROP_SPEED, compute_bodies, metrics};
+use massredist_study::paper::bodies::{
+    Bench, BodyResult, BodyScheme, COPIES, DROP_GAP, DROP_SPEED, compute_bodies, metrics,
+};
 use massredist_study::paper::replicate::settled;
 use std::sync::OnceLock;
 
@@ -21,8 +26,9 @@ fn the_quick_set_has_every_scheme_and_mass_at_rest_and_every_mass_dropped() {
     let rest = r.iter().filter(|x| x.case.bench == Bench::Rest).count();
     let drop = r.iter().filter(|x| x.case.bench == Bench::Drop).count();
     let sphere = r.iter().filter(|x| x.case.bench == Bench::Sphere).count();
-    // CN and BE with 4 masses, hybrid with the 3 of w_0 = 0; the drops with CN's 4.
-    assert_eq!((rest, drop, sphere), (11, 4, 4));
+    // CN and BE with 4 masses, hybrid with the 3 of w_0 = 0; the drops with CN's 4 and the
+    // reference (central differences, the standard mass).
+    assert_eq!((rest, drop, sphere), (11, 5, 5));
 }
 
 #[test]
@@ -36,7 +42,7 @@ fn contact_at_rest_is_exact_the_min_distance_is_zero() {
     // impact is 0.
     for r in results().iter().filter(|r| r.case.bench == Bench::Rest) {
         assert!(r.runs().all(|m| m.min_distance == 0.0), "{}", r.case.name());
-        let first = if r.case.experiment == Experiment::Hybrid { 0.0 } else { r.case.bench.dt() };
+        let first = if r.case.scheme == BodyScheme::Paper(Experiment::Hybrid) { 0.0 } else { r.case.bench.dt() };
         assert_eq!(r.metrics.first_impact, Some(first), "{}: pressed from the first state with force", r.case.name());
     }
 }
@@ -48,7 +54,8 @@ fn backward_euler_never_increases_the_energy() {
     // (far from round-off), so the bound is 0 itself. mutation: the rest runs given
     // Crank–Nicolson's scheme table whatever their experiment (in body_scene_text) -> the
     // "backward-euler" standard run reaches ΔE = +14.9 > 0, fails (tried).
-    let be: Vec<&BodyResult> = results().iter().filter(|r| r.case.experiment == Experiment::BackwardEuler).collect();
+    let be: Vec<&BodyResult> =
+        results().iter().filter(|r| r.case.scheme == BodyScheme::Paper(Experiment::BackwardEuler)).collect();
     assert_eq!(be.len(), 4);
     for r in be {
         let up = r.energy.windows(2).map(|w| w[1] - w[0]).fold(f64::NEG_INFINITY, f64::max);
@@ -70,9 +77,14 @@ fn the_drop_keeps_its_momentum_until_impact_then_rebounds_below_its_energy() {
         let p0 = -DROP_SPEED * total;
         assert!((r.momentum_y[0] - p0).abs() <= 1e-12 * total, "{name}: P(0) = {}", r.momentum_y[0]);
         let impact = r.metrics.first_impact.expect("the disc meets the plane");
-        // The first t_n at or after gap/speed = 0.5 (one step of round-off in the gap: dt + 1e-4).
-        let dt = r.case.bench.dt();
+        // The first t_n at or after gap/speed = 0.5 (one step of round-off in the gap: dt + 1e-4);
+        // the reference's force acts from the step before the body would pass the plane, so its
+        // first force is within one step of 0.5 either side.
+        let dt = r.dt;
         assert!((impact - DROP_GAP / DROP_SPEED).abs() <= dt + 1e-4, "{name}: impact at {impact}");
+        if r.case.scheme != BodyScheme::Reference {
+            assert!(impact >= DROP_GAP / DROP_SPEED - 1e-4, "{name}: impact at {impact}");
+        }
         for (t, p) in r.t.iter().zip(&r.momentum_y).take_while(|(t, _)| **t < impact) {
             assert!((p - p0).abs() <= 1e-12 * total, "{name}: P({t}) = {p}");
         }
@@ -89,10 +101,11 @@ fn the_drop_keeps_its_momentum_until_impact_then_rebounds_below_its_energy() {
 #[test]
 fn the_mod_masses_release_once_the_standard_mass_chatters() {
     // The w_0 = 0 masses give one contact episode; the standard mass with CN chatters (many),
-    // the difference the paper's §4 shows on the bar, here on the disc.
+    // the difference the paper's §4 shows on the bar, here on the disc. The reference (the
+    // standard mass, central differences with the forward-increment multiplier) does not chatter.
     for r in results().iter().filter(|r| r.case.bench != Bench::Rest) {
         let m = &r.metrics;
-        if r.case.mass == MassKind::Standard {
+        if r.case.mass == MassKind::Standard && r.case.scheme != BodyScheme::Reference {
             assert!(m.episodes > 10, "{}: {} episodes", r.case.name(), m.episodes);
         } else {
             assert_eq!(m.episodes, 1, "{}", r.case.name());
@@ -137,14 +150,6 @@ fn the_impact_snapshot_is_the_state_of_largest_contact_force() {
         assert!(s.pressure.iter().all(|p| p.1 >= 0.0), "{name}");
         assert!(s.pressure.windows(2).all(|w| w[0].0 <= w[1].0), "{name}: sorted by x");
     }
-}
-
-/// Half a unit of the last digit printed in `cell` (`0.9978` → 5e-5, `13515` → 0.5, `2.4e4` →
-/// 500), the rounding error of a printed number.
-fn half_last_place(cell: &str) -> f64 {
-    let (mantissa, exponent) = cell.split_once('e').map_or((cell, 0), |(m, e)| (m, e.parse::<i32>().unwrap()));
-    let decimals = mantissa.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
-    0.5 * 10f64.powi(exponent - decimals)
 }
 
 /// Issue 22: every number of the section is one that all five runs (the unperturbed run and
@@ -226,4 +231,31 @@ fn every_printed_number_is_shared_by_the_five_runs() {
     }
     // The perturbations reach the runs: some standard drop's episode count is a band.
     assert!(chatter_bands > 0, "no standard-mass run differs between its five runs");
+}
+
+#[test]
+fn the_layer_mass_fraction_is_the_mass_mod1_drops() {
+    // Issue 32, item 6: "layer mass" = Σ|c| over the cells whose weight is not 1, over |Ω|. mod1
+    // sets layer 0's weight to 0 and keeps every other cell's at 1, so its 1ᵀM1 (the lumped sum)
+    // is ρ|Ω| (1 − its layer fraction), ρ|Ω| being the standard mass's 1ᵀM1: two sums computed
+    // apart (the mass matrix, the mesh's cell measures), equal to round-off (1e-12 relative: sums
+    // of ~1000 terms). The standard mass has no layer; mod3's is larger than mod1's (layers 0
+    // and 1). mutation: the fraction counting the cells of weight 1 → fails.
+    for bench in [Bench::Drop, Bench::Sphere] {
+        let of = |mass: MassKind| {
+            results()
+                .iter()
+                .find(|r| r.case.bench == bench && r.case.mass == mass && r.case.scheme != BodyScheme::Reference)
+                .unwrap_or_else(|| panic!("{bench:?} {mass:?}"))
+        };
+        let (standard, mod1, mod3) = (of(MassKind::Standard), of(MassKind::Mod1), of(MassKind::Mod3));
+        assert_eq!(standard.layer_fraction, 0.0);
+        let expected = standard.mass_total * (1.0 - mod1.layer_fraction);
+        assert!(
+            (mod1.mass_total - expected).abs() <= 1e-12 * standard.mass_total,
+            "{bench:?}: mod1 1ᵀM1 = {}, ρ|Ω|(1 − f) = {expected}",
+            mod1.mass_total
+        );
+        assert!(mod1.layer_fraction > 0.0 && mod3.layer_fraction > mod1.layer_fraction && mod3.layer_fraction < 1.0);
+    }
 }

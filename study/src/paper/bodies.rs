@@ -45,6 +45,7 @@ use massredist::mass::MassKind;
 use massredist::observe::{Column, Summary};
 use massredist::run::{RunError, run_scene};
 use massredist::scene::{AnyScene, Registered, Scene};
+use massredist::schemes::SchemeSpec;
 use massredist::solid::SolidSpec;
 use rayon::prelude::*;
 
@@ -81,9 +82,22 @@ pub fn velocity_perturbation(copy: usize) -> String {
 
 /// The meshes: (nominal gmsh size h, file under `fixtures/meshes/`), coarsest first.
 pub const MESHES: [(f64, &str); 3] = [(8.0, "disc_p2_22a.msh"), (4.0, "disc_p2_h4.msh"), (2.0, "disc_p2_h2.msh")];
-/// The sphere's tetra10 meshes (gmsh size h; 1485, 2121 and 2871 unknowns), coarsest first.
-pub const SPHERE_MESHES: [(f64, &str); 3] =
-    [(20.0, "sphere_tet10_22a.msh"), (16.0, "sphere_tet10_h16.msh"), (14.0, "sphere_tet10_h14.msh")];
+/// The sphere's tetra10 meshes (gmsh size h; 1485, 2121, 2871, 8181 and 13 218 unknowns),
+/// coarsest first. The first [`SPHERE_ALL_MASSES`] run every mass; the finer ones (issue 32,
+/// item 6: the coarse meshes put over half the sphere's mass in the redistributed layer) run
+/// mod1, mod3 and the reference ([`FINE_MASSES`]: the standard mass chatters with CN and costs
+/// all five runs, mod2 follows mod3).
+pub const SPHERE_MESHES: [(f64, &str); 5] = [
+    (20.0, "sphere_tet10_22a.msh"),
+    (16.0, "sphere_tet10_h16.msh"),
+    (14.0, "sphere_tet10_h14.msh"),
+    (5.0, "sphere_tet10_h5.msh"),
+    (4.0, "sphere_tet10_h4.msh"),
+];
+/// The sphere meshes that run every mass with Crank–Nicolson.
+pub const SPHERE_ALL_MASSES: usize = 3;
+/// The masses of the finer sphere meshes.
+pub const FINE_MASSES: [MassKind; 2] = [MassKind::Mod1, MassKind::Mod3];
 /// The sphere's time step and final time (release near t = 19.8 at h = 20, measured; free
 /// flight after it).
 pub const SPHERE_DT: f64 = 0.02;
@@ -110,11 +124,44 @@ impl Bench {
     }
 }
 
+/// A run's scheme: one of the paper's at the bench's Δt, or the redistribution-free reference
+/// of the drops (issue 32, item 6): central differences with the standard lumped mass at the
+/// largest Δt dividing T that is at most [`super::methods::SAFETY`] · Δt_c, whose contact node keeps its mass
+/// and whose contact is exact (the forward-increment multiplier).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BodyScheme {
+    Paper(Experiment),
+    Reference,
+}
+
+impl BodyScheme {
+    /// The scheme table of the scene.
+    pub fn spec(self) -> SchemeSpec {
+        match self {
+            BodyScheme::Paper(e) => e.spec(),
+            BodyScheme::Reference => SchemeSpec::CENTRAL_DIFFERENCE,
+        }
+    }
+
+    /// File-name part (the scene's `scheme.kind`).
+    pub fn slug(self) -> &'static str {
+        self.spec().name()
+    }
+
+    /// Name in tables and titles.
+    pub fn title(self) -> &'static str {
+        match self {
+            BodyScheme::Paper(e) => e.title(),
+            BodyScheme::Reference => "central differences",
+        }
+    }
+}
+
 /// One run: benchmark, scheme, mass, mesh (index into [`MESHES`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BodyCase {
     pub bench: Bench,
-    pub experiment: Experiment,
+    pub scheme: BodyScheme,
     pub mass: MassKind,
     pub mesh: usize,
 }
@@ -126,7 +173,7 @@ impl BodyCase {
             Bench::Drop => "disc-drop",
             Bench::Sphere => "sphere-drop",
         };
-        format!("{b} / h = {} / {} / {}", self.h(), self.experiment.slug(), self.mass.name())
+        format!("{b} / h = {} / {} / {}", self.h(), self.scheme.slug(), self.mass.name())
     }
 
     /// The nominal mesh size.
@@ -136,25 +183,29 @@ impl BodyCase {
 }
 
 /// The runs: at rest, CN, BE and hybrid × their masses on every mesh (`quick`: the coarsest
-/// only); the drop and the sphere, CN × every mass on every mesh (`quick`: the coarsest).
+/// only); the drops, CN × every mass (the sphere's finer meshes: [`FINE_MASSES`]) and the
+/// reference (central differences, the standard mass) on every mesh (`quick`: the coarsest).
 pub fn body_cases(quick: bool) -> Vec<BodyCase> {
     let schemes = [Experiment::CrankNicolson, Experiment::BackwardEuler, Experiment::Hybrid];
-    let rest_meshes = if quick { 1 } else { MESHES.len() };
-    let drop_meshes = if quick { 1 } else { MESHES.len() };
+    let meshes = |b: Bench| if quick { 1 } else { b.meshes().len() };
     let mut out = Vec::new();
-    for mesh in 0..rest_meshes {
+    for mesh in 0..meshes(Bench::Rest) {
         for e in schemes {
-            out.extend(e.masses().into_iter().map(|mass| BodyCase { bench: Bench::Rest, experiment: e, mass, mesh }));
-        }
-    }
-    for bench in [Bench::Drop, Bench::Sphere] {
-        for mesh in 0..drop_meshes {
-            out.extend(Experiment::CrankNicolson.masses().into_iter().map(|mass| BodyCase {
-                bench,
-                experiment: Experiment::CrankNicolson,
+            out.extend(e.masses().into_iter().map(|mass| BodyCase {
+                bench: Bench::Rest,
+                scheme: BodyScheme::Paper(e),
                 mass,
                 mesh,
             }));
+        }
+    }
+    for bench in [Bench::Drop, Bench::Sphere] {
+        for mesh in 0..meshes(bench) {
+            let all = bench != Bench::Sphere || mesh < SPHERE_ALL_MASSES;
+            let masses = if all { Experiment::CrankNicolson.masses() } else { FINE_MASSES.to_vec() };
+            let cn = BodyScheme::Paper(Experiment::CrankNicolson);
+            out.extend(masses.into_iter().map(|mass| BodyCase { bench, scheme: cn, mass, mesh }));
+            out.push(BodyCase { bench, scheme: BodyScheme::Reference, mass: MassKind::Standard, mesh });
         }
     }
     out
@@ -164,9 +215,9 @@ pub fn body_cases(quick: bool) -> Vec<BodyCase> {
 /// (0: none) perturbs the initial normal velocity by [`velocity_perturbation`]. The
 /// divergence criterion is off in effect (factor 1e300): E⁰ is 0 or, perturbed, ~1e-24, which
 /// gives it no scale (the first step's energy, ~0.1, would stop the run).
-pub fn body_scene_text(case: &BodyCase, end: f64, copy: usize) -> String {
+pub fn body_scene_text(case: &BodyCase, dt: f64, end: f64, copy: usize) -> String {
     if case.bench == Bench::Sphere {
-        return sphere_scene_text(case, end, copy);
+        return sphere_scene_text(case, dt, end, copy);
     }
     let (fy, v0, point) = match case.bench {
         Bench::Rest => ("-0.1", 0.0, 0.0),
@@ -177,30 +228,30 @@ pub fn body_scene_text(case: &BodyCase, end: f64, copy: usize) -> String {
         "[solid]\ndim = 2\nmesh = \"{}\"\nlame_lambda = 20.0\nlame_mu = 20.0\ndensity = 1.0\n\
          force = [\"0\", \"{fy}\"]\ninitial = {{ displacement = [\"0\", \"0\"], velocity = [\"0\", \"{v0:?}{dv}\"] }}\n\
          [obstacle]\nnormal = [0.0, 1.0]\npoint = [0.0, {point:?}]\ncontact = \"auto\"\n\
-         [mass]\nkind = \"{}\"\n[scheme]\n{}\n[time]\ndt = {DT:?}\nend = {end:?}\n\
+         [mass]\nkind = \"{}\"\n[scheme]\n{}\n[time]\ndt = {dt:?}\nend = {end:?}\n\
          [output]\nseries = [\"energy\", \"contact_force\", \"active_nodes\", \"min_distance\", \"momentum_y\"]\n\
          divergence_factor = 1e300\n",
         MESHES[case.mesh].1,
         case.mass.name(),
-        toml::to_string(&case.experiment.spec()).expect("a scheme always serialises").trim_end(),
+        toml::to_string(&case.scheme.spec()).expect("a scheme always serialises").trim_end(),
     )
 }
 
 /// The sphere's scene ([`body_scene_text`]; the same perturbation, along z).
-fn sphere_scene_text(case: &BodyCase, end: f64, copy: usize) -> String {
+fn sphere_scene_text(case: &BodyCase, dt: f64, end: f64, copy: usize) -> String {
     let dv = velocity_perturbation(copy);
     format!(
         "[solid]\ndim = 3\nmesh = \"{}\"\nlame_lambda = 20.0\nlame_mu = 20.0\ndensity = 1.0\n\
          force = [\"0\", \"0\", \"0\"]\ninitial = {{ displacement = [\"0\", \"0\", \"0\"], velocity = [\"0\", \"0\", \"{:?}{dv}\"] }}\n\
          [obstacle]\nnormal = [0.0, 0.0, 1.0]\npoint = [0.0, 0.0, {:?}]\ncontact = \"auto\"\n\
-         [mass]\nkind = \"{}\"\n[scheme]\n{}\n[time]\ndt = {SPHERE_DT:?}\nend = {end:?}\n\
+         [mass]\nkind = \"{}\"\n[scheme]\n{}\n[time]\ndt = {dt:?}\nend = {end:?}\n\
          [output]\nseries = [\"energy\", \"contact_force\", \"active_nodes\", \"min_distance\", \"momentum_z\"]\n\
          divergence_factor = 1e300\n",
         SPHERE_MESHES[case.mesh].1,
         -DROP_SPEED,
         -DROP_GAP,
         case.mass.name(),
-        toml::to_string(&case.experiment.spec()).expect("a scheme always serialises").trim_end(),
+        toml::to_string(&case.scheme.spec()).expect("a scheme always serialises").trim_end(),
     )
 }
 
@@ -214,6 +265,14 @@ pub fn mesh_dir() -> std::path::PathBuf {
 pub struct BodyResult {
     pub case: BodyCase,
     pub end: f64,
+    /// The time step, and (the reference) Δt_c and its estimator.
+    pub dt: f64,
+    pub stable: Option<(f64, &'static str)>,
+    /// Unknowns of the run (3 per node for the sphere, 2 for the disc; the body is free).
+    pub unknowns: usize,
+    /// The redistributed layer's share of the body's mass: Σ ρ|c| over the cells whose weight
+    /// is not 1, over ρ|Ω| (0 for the standard mass).
+    pub layer_fraction: f64,
     pub summary: Summary,
     /// Recorded every step: t, energy, total contact force, active nodes, P_y (P_z for the sphere).
     pub t: Vec<f64>,
@@ -374,16 +433,33 @@ pub fn metrics(energy: &[f64], force: &[f64], active: &[f64], momentum_y: &[f64]
     }
 }
 
-/// One run: its summary, 1ᵀM1, the series (t, E, Σ R, active nodes, P_y), metrics and snapshot.
-type OneRun = (Summary, f64, [Vec<f64>; 5], Metrics, Option<Snapshot>);
+/// One run: its summary, 1ᵀM1, the series (t, E, Σ R, active nodes, P_y), metrics, snapshot,
+/// unknowns and layer fraction.
+type OneRun = (Summary, f64, [Vec<f64>; 5], Metrics, Option<Snapshot>, usize, f64);
 
-/// One run of `case` to `end` (copy `copy`, 0: unperturbed): the summary, the series and the metrics.
-fn run_one(case: &BodyCase, end: f64, copy: usize) -> Result<OneRun, ReproduceError> {
-    let name = case.name();
-    let text = body_scene_text(case, end, copy);
-    let scene: Scene<SolidSpec> = AnyScene::from_toml_at(&text, &mesh_dir())
+/// The parsed scene of `case` at `dt` to `end`, copy `copy`.
+fn scene_of(case: &BodyCase, dt: f64, end: f64, copy: usize) -> Result<Scene<SolidSpec>, ReproduceError> {
+    AnyScene::from_toml_at(&body_scene_text(case, dt, end, copy), &mesh_dir())
         .and_then(SolidSpec::from_any)
-        .map_err(|source| ReproduceError::Scene { case: name.clone(), source })?;
+        .map_err(|source| ReproduceError::Scene { case: case.name(), source })
+}
+
+/// The time step of `case` ending at `end`, and for the reference its Δt_c and estimator: the
+/// bench's Δt for the paper's schemes; for central differences the largest Δt dividing `end`
+/// that is at most [`super::methods::SAFETY`] · Δt_c, Δt_c read off a one-step probe's summary.
+pub fn body_dt(case: &BodyCase, end: f64) -> Result<(f64, Option<(f64, &'static str)>), ReproduceError> {
+    if case.scheme != BodyScheme::Reference {
+        return Ok((case.bench.dt(), None));
+    }
+    let probe = scene_of(case, 1e-9, 1e-9, 0)?;
+    let (dt, limit) = super::methods_disc::explicit_step(&probe, end, format!("{} (Δt_c probe)", case.name()))?;
+    Ok((dt, Some(limit)))
+}
+
+/// One run of `case` at `dt` to `end` (copy `copy`, 0: unperturbed): the summary, the series and the metrics.
+fn run_one(case: &BodyCase, dt: f64, end: f64, copy: usize) -> Result<OneRun, ReproduceError> {
+    let name = case.name();
+    let scene = scene_of(case, dt, end, copy)?;
     let mut peak = PeakForce::default();
     let run =
         run_scene(&scene, &mut [&mut peak]).map_err(|source: RunError| ReproduceError::Run { case: name, source })?;
@@ -399,7 +475,22 @@ fn run_one(case: &BodyCase, end: f64, copy: usize) -> Result<OneRun, ReproduceEr
         col(Column::Momentum(if case.bench == Bench::Sphere { 2 } else { 1 })),
     ];
     let m = metrics(&series[1], &series[2], &series[3], &series[4], volume, &run.summary);
-    Ok((run.summary, volume, series, m, snapshot(&run.problem.system, &peak)))
+    let solid = &run.problem.system;
+    let layer = layer_fraction(&solid.mesh, &solid.weights);
+    Ok((run.summary, volume, series, m, snapshot(solid, &peak), solid.system.n(), layer))
+}
+
+/// Σ |c| over the cells whose weight is not 1, over Σ |c| (ρ uniform: the layer's mass share).
+pub fn layer_fraction(mesh: &massredist::fem::mesh::Mesh, weights: &[f64]) -> f64 {
+    let (mut layer, mut all) = (0.0, 0.0);
+    for (c, &w) in weights.iter().enumerate() {
+        let v = mesh.measure(c);
+        all += v;
+        if w != 1.0 {
+            layer += v;
+        }
+    }
+    layer / all
 }
 
 /// Runs `case` and its [`COPIES`] perturbed copies.
@@ -412,17 +503,23 @@ pub fn run_body(case: &BodyCase, quick: bool) -> Result<BodyResult, ReproduceErr
     };
     // Copy k of `replicate` is this section's pattern k + 1 (0 is the base run).
     let printed = |r: &Result<OneRun, ReproduceError>| match r {
-        Ok((.., m, _)) => Metrics::printed(m),
+        Ok((_, _, _, m, ..)) => Metrics::printed(m),
         Err(_) => vec![Printed::Value(None, 0)],
     };
-    let mut runs =
-        replicate(Copies::WherePrinted, |c| run_one(case, end, c.index().map_or(0, |k| k + 1)), printed).into_iter();
+    let (dt, stable) = body_dt(case, end)?;
+    let mut runs = replicate(Copies::WherePrinted, |c| run_one(case, dt, end, c.index().map_or(0, |k| k + 1)), printed)
+        .into_iter();
     let first = runs.next().expect("the base run");
-    let (summary, volume, [t, energy, contact_force, active, momentum_y], metrics, snapshot) = first?;
+    let (summary, volume, [t, energy, contact_force, active, momentum_y], metrics, snapshot, unknowns, layer_fraction) =
+        first?;
     let perturbed = runs.map(|r| r.map(|r| r.3)).collect::<Result<Vec<_>, _>>()?;
     Ok(BodyResult {
         case: case.clone(),
         end,
+        dt,
+        stable,
+        unknowns,
+        layer_fraction,
         summary,
         t,
         energy,

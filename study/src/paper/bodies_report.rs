@@ -6,9 +6,14 @@
 //! disc, finest mesh, mod3, at its largest total contact force: the deformed mesh on the plane
 //! and the contact pressure), and the report section. Pure: strings and figure data from the results.
 
-use super::bodies::{Bench, BodyResult, COPIES, DROP_GAP, DROP_SPEED, DT, MESHES, Metrics, PERTURBATION, SPHERE_DT};
+use super::band::sig;
+use super::bodies::{
+    Bench, BodyResult, BodyScheme, COPIES, DROP_GAP, DROP_SPEED, DT, FINE_MASSES, MESHES, Metrics, PERTURBATION,
+    SPHERE_DT,
+};
 use super::experiments::Experiment;
 use super::figures::{FigureFile, grid_rows, mass_style, off_scale, points};
+use super::methods::SAFETY;
 use crate::plot::{self, Curve, Figure, Panel, Style};
 use massredist::mass::MassKind;
 use massredist::output::fmt_f64;
@@ -22,12 +27,17 @@ pub const BODIES_SPHERE: &str = "bodies-sphere";
 pub const BODIES_IMPACT: &str = "bodies-impact";
 
 /// Header of `bodies.csv`.
-pub const BODIES_COLUMNS: [&str; 16] = [
+pub const BODIES_COLUMNS: [&str; 21] = [
     "bench",
     "h",
     "scheme",
     "mass",
     "end",
+    "dt",
+    "stable_step",
+    "stable_step_method",
+    "unknowns",
+    "layer_mass_fraction",
     "energy_drift",
     "max_energy_deviation",
     "max_energy_increase",
@@ -63,9 +73,14 @@ pub(super) fn bodies_csv_rows(results: &[BodyResult]) -> Vec<Vec<String>> {
             vec![
                 bench_name(r.case.bench).into(),
                 fmt_f64(r.case.h()),
-                r.case.experiment.slug().into(),
+                r.case.scheme.slug().into(),
                 r.case.mass.name().into(),
                 fmt_f64(r.end),
+                fmt_f64(r.dt),
+                r.stable.map_or(String::new(), |(l, _)| fmt_f64(l)),
+                r.stable.map_or(String::new(), |(_, by)| by.to_string()),
+                r.unknowns.to_string(),
+                fmt_f64(r.layer_fraction),
                 fmt_f64(m.drift),
                 fmt_f64(m.max_energy_deviation),
                 fmt_f64(m.max_energy_increase),
@@ -81,6 +96,9 @@ pub(super) fn bodies_csv_rows(results: &[BodyResult]) -> Vec<Vec<String>> {
         })
         .collect()
 }
+
+/// The drops' scheme (the figures draw its runs; the reference has its own step grid).
+const CN: BodyScheme = BodyScheme::Paper(Experiment::CrankNicolson);
 
 /// A panel of one curve per run of `runs`, y from `y`.
 fn panel(title: String, y_label: &str, runs: &[&BodyResult], y: impl Fn(&BodyResult) -> Vec<f64>) -> Panel {
@@ -104,9 +122,7 @@ fn panel(title: String, y_label: &str, runs: &[&BodyResult], y: impl Fn(&BodyRes
     // perturbation, and so does whether they leave the range (issue 22: in the drop at h = 4 it
     // did in one run and not in a perturbed one). Such a curve is always named, whatever this
     // run did; other standard curves are named (without digits) when they leave the range.
-    let chatters = |c: &Curve| {
-        c.label == MassKind::Standard.name() && runs.iter().any(|r| r.case.experiment == Experiment::CrankNicolson)
-    };
+    let chatters = |c: &Curve| c.label == MassKind::Standard.name() && runs.iter().any(|r| r.case.scheme == CN);
     let has_massless = curves.iter().any(|c| c.label != MassKind::Standard.name());
     let notes: Vec<String> = curves
         .iter()
@@ -152,13 +168,15 @@ pub(super) fn bodies_figures(results: &[BodyResult]) -> Vec<FigureFile> {
     let panels = schemes
         .iter()
         .map(|&e| {
-            let runs: Vec<&BodyResult> = rest.iter().copied().filter(|r| r.case.experiment == e).collect();
+            let runs: Vec<&BodyResult> =
+                rest.iter().copied().filter(|r| r.case.scheme == BodyScheme::Paper(e)).collect();
             panel(format!("energy Eⁿ, {}", e.title()), "E", &runs, |r| r.energy.clone())
         })
         .collect();
     let title = format!("GetFEM's disc at rest on the plane, P2, h = {}, Δt = {}", MESHES[rest_mesh].0, fmt_f64(DT));
     let energy = figure(BODIES_ENERGY, title, panels, &rest, &[("", |r| r.energy.clone())]);
-    let drops: Vec<&BodyResult> = results.iter().filter(|r| r.case.bench == Bench::Drop).collect();
+    let drops: Vec<&BodyResult> =
+        results.iter().filter(|r| r.case.bench == Bench::Drop && r.case.scheme == CN).collect();
     let panels = by_mesh(&drops)
         .iter()
         .map(|runs| panel(format!("P_y/(1ᵀM1), h = {}", runs[0].case.h()), "v̄_y", runs, com_velocity))
@@ -175,7 +193,7 @@ pub(super) fn bodies_figures(results: &[BodyResult]) -> Vec<FigureFile> {
 fn impact_figure(results: &[BodyResult]) -> Option<FigureFile> {
     let r = results
         .iter()
-        .filter(|r| r.case.bench == Bench::Drop && r.case.mass == MassKind::Mod3)
+        .filter(|r| r.case.bench == Bench::Drop && r.case.scheme == CN && r.case.mass == MassKind::Mod3)
         .max_by_key(|r| r.case.mesh)?;
     let snap = r.snapshot.as_ref()?;
     let mut curves: Vec<Curve> = snap
@@ -231,7 +249,8 @@ fn by_mesh<'a>(runs: &[&'a BodyResult]) -> Vec<Vec<&'a BodyResult>> {
 
 /// `bodies-sphere`: a column per mesh, P_z/(1ᵀM1) above, ΣR below.
 fn sphere_figure(results: &[BodyResult]) -> FigureFile {
-    let spheres: Vec<&BodyResult> = results.iter().filter(|r| r.case.bench == Bench::Sphere).collect();
+    let spheres: Vec<&BodyResult> =
+        results.iter().filter(|r| r.case.bench == Bench::Sphere && r.case.scheme == CN).collect();
     let groups = by_mesh(&spheres);
     let force = |r: &BodyResult| r.contact_force.clone();
     let velocity =
@@ -264,7 +283,7 @@ pub(super) fn bodies_section(results: &[BodyResult]) -> String {
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             fmt_f64(r.case.h()),
             fmt_f64(r.end),
-            r.case.experiment.title(),
+            r.case.scheme.title(),
             r.case.mass.name(),
             r.stable(|m| Some(m.drift)),
             r.stable(|m| Some(m.max_energy_deviation)),
@@ -276,10 +295,11 @@ pub(super) fn bodies_section(results: &[BodyResult]) -> String {
     }
     let _ = write!(
         s,
-        "\n![{BODIES_ENERGY}]({BODIES_ENERGY}.png)\n\n### Dropped at {DROP_SPEED} from {DROP_GAP} above the plane (no force), Crank–Nicolson\n\n\
+        "\n![{BODIES_ENERGY}]({BODIES_ENERGY}.png)\n\n### Dropped at {DROP_SPEED} from {DROP_GAP} above the plane (no force), Crank–Nicolson and the reference\n\n\
          Rebound velocity = P_y(T)/(1ᵀM1), the velocity of the centre of the redistributed mass after release (constant in free flight; \
          +{DROP_SPEED} for an elastic rebound that keeps no vibration energy; 1ᵀM1 = ρ|Ω| but for mod1, which drops layer 0's mass).\n\n\
-         | h | mass | first impact | first release | contact duration | rebound velocity | episodes | min_distance |\n|---|---|---|---|---|---|---|---|\n",
+         {}\n\n{DROP_HEADER}",
+        reference(),
     );
     drop_rows(&mut s, results, Bench::Drop);
     let _ = writeln!(s, "\n![{BODIES_DROP}]({BODIES_DROP}.png)\n\n![{BODIES_IMPACT}]({BODIES_IMPACT}.png)");
@@ -292,9 +312,13 @@ fn drop_rows(s: &mut String, results: &[BodyResult], bench: Bench) {
     for r in results.iter().filter(|r| r.case.bench == bench) {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {:.0} % | {} | {} | {} | {} | {} | {} |",
             fmt_f64(r.case.h()),
+            r.unknowns,
+            r.case.scheme.title(),
             r.case.mass.name(),
+            sig(r.dt, 4),
+            100.0 * r.layer_fraction,
             r.stable(|m| m.first_impact),
             r.stable(|m| m.first_release),
             r.stable(duration),
@@ -308,14 +332,97 @@ fn drop_rows(s: &mut String, results: &[BodyResult], bench: Bench) {
 /// The sphere's table and figure.
 fn sphere_section(results: &[BodyResult]) -> String {
     let mut s = format!(
-        "\n### A sphere dropped at {DROP_SPEED} from {DROP_GAP} above the plane (no force), Crank–Nicolson\n\n\
+        "\n### A sphere dropped at {DROP_SPEED} from {DROP_GAP} above the plane (no force), Crank–Nicolson and the reference\n\n\
          Sphere of radius 20 centred at (0, 0, 20), the disc's material, tetra10 (gmsh, nominal size h), free body, contact nodes by GetFEM's rule \
-         on z = 0, Δt = {} (twice the disc's, to keep the set's cost down; the contact lasts about 950 steps). \
-         Rebound velocity = P_z(T)/(1ᵀM1); the same five runs and stable digits as above.\n\n\
-         | h | mass | first impact | first release | contact duration | rebound velocity | episodes | min_distance |\n|---|---|---|---|---|---|---|---|\n",
-        fmt_f64(SPHERE_DT)
+         on z = 0, Δt = {} (twice the disc's, to keep the set's cost down; the contact lasts 890–960 steps). \
+         Rebound velocity = P_z(T)/(1ᵀM1); the same five runs, stable digits and reference as above. The three coarse meshes put over \
+         half the sphere's mass in the redistributed layer (the column \"layer mass\"); the two finer ones (h = 5 and 4) run mod1, mod3 \
+         and the reference only ({}: the standard mass chatters with Crank–Nicolson and costs all five runs; mod2 follows mod3). \
+         The reference is the same discrete model without redistribution, not a closed form.\n\n{DROP_HEADER}",
+        fmt_f64(SPHERE_DT),
+        FINE_MASSES.map(|m| m.name()).join(", "),
     );
     drop_rows(&mut s, results, Bench::Sphere);
     let _ = writeln!(s, "\n![{BODIES_SPHERE}]({BODIES_SPHERE}.png)");
+    s.push_str(&convergence_table(results));
+    s
+}
+
+/// The drops' table head.
+const DROP_HEADER: &str = "| h | unknowns | scheme | mass | Δt | layer mass | first impact | first release | contact duration | rebound velocity | episodes | min_distance |\n\
+     |---|---|---|---|---|---|---|---|---|---|---|---|\n";
+
+/// What the reference rows are.
+fn reference() -> String {
+    format!(
+        "The reference (scheme \"central differences\") is free of redistribution: the standard lumped mass, whose contact \
+     nodes keep their mass, exact contact (the forward-increment multiplier), at the largest Δt dividing T that is at most {SAFETY} Δt_c \
+     (Δt_c and its estimator: `stable_step`, `stable_step_method` in the CSV). Its force acts from the step before the body would \
+     reach the plane, so its first impact can be read up to one of its steps early. \"layer mass\" = Σ ρ|c| over the cells whose \
+     weight is not 1, over ρ|Ω|: mod1's layer 0 (the mass it drops), mod3's layers 0 and 1; mod2 rescales every cell (100 %)."
+    )
+}
+
+/// The contact duration against the mesh: mod1, mod3 and the reference per mesh, with the
+/// relative change from the previous mesh (the convergence the section's meshes show).
+fn convergence_table(results: &[BodyResult]) -> String {
+    let mut s = String::from(
+        "\n### The contact duration against the mesh\n\n\
+         From the two tables above (the same runs): the contact duration of mod1 and mod3 (Crank–Nicolson) and of the reference, and \
+         each one's relative change from the previous mesh (run k against run k, two digits or the band).\n\n\
+         | body | h | unknowns | layer mass mod1 | layer mass mod3 | mod1 | mod3 | reference | mod1 change | mod3 change | reference change |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for bench in [Bench::Drop, Bench::Sphere] {
+        let of = |mesh: usize, scheme: BodyScheme, mass: &MassKind| {
+            results.iter().find(|r| {
+                r.case.bench == bench && r.case.mesh == mesh && r.case.scheme == scheme && r.case.mass == *mass
+            })
+        };
+        let columns = [(CN, MassKind::Mod1), (CN, MassKind::Mod3), (BodyScheme::Reference, MassKind::Standard)];
+        let meshes = results.iter().filter(|r| r.case.bench == bench).map(|r| r.case.mesh).max().map_or(0, |m| m + 1);
+        for mesh in 0..meshes {
+            let (Some(mod1), Some(mod3)) = (of(mesh, CN, &MassKind::Mod1), of(mesh, CN, &MassKind::Mod3)) else {
+                continue;
+            };
+            let cells: Vec<String> = columns
+                .iter()
+                .map(|(sch, mass)| of(mesh, *sch, mass).map_or("—".into(), |r| r.stable(duration)))
+                .collect();
+            let changes: Vec<String> = columns
+                .iter()
+                .map(|(sch, mass)| {
+                    let now = of(mesh, *sch, mass);
+                    let before = mesh.checked_sub(1).and_then(|k| of(k, *sch, mass));
+                    let Some((now, before)) = now.zip(before) else { return "—".into() };
+                    // Run k against run k of the previous mesh (the copies are perturbed alike).
+                    let change =
+                        |(a, b): (&Metrics, &Metrics)| duration(a).zip(duration(b)).map(|(a, b)| 100.0 * (a - b) / b);
+                    let v: Vec<Option<f64>> = now.runs().zip(before.runs()).map(change).collect();
+                    let printed = super::band::stable_digits(&v, 2);
+                    if printed.starts_with('-') || printed == "—" {
+                        format!("{printed} %")
+                    } else {
+                        format!("+{printed} %")
+                    }
+                })
+                .collect();
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {:.0} % | {:.0} % | {} | {} | {} | {} | {} | {} |",
+                if bench == Bench::Sphere { "sphere" } else { "disc" },
+                fmt_f64(mod3.case.h()),
+                mod3.unknowns,
+                100.0 * mod1.layer_fraction,
+                100.0 * mod3.layer_fraction,
+                cells[0],
+                cells[1],
+                cells[2],
+                changes[0],
+                changes[1],
+                changes[2],
+            );
+        }
+    }
     s
 }

@@ -139,11 +139,23 @@ pub fn disc_dt(
     }
     let case = format!("disc-drop {} {mass} h={} (Δt_c probe)", method.label, MESHES[mesh].0);
     let probe = parsed(&disc_scene(method, mass, mesh, 0, 1e-9, 1e-9), &case)?;
-    let run = run_scene(&probe, &mut []).map_err(|source| ReproduceError::Run { case: case.clone(), source })?;
+    let (dt, limit) = explicit_step(&probe, DROP_END, case)?;
+    Ok((dt, Some(limit)))
+}
+
+/// The one safety factor's step of an explicit body scene ending at `end`: the largest Δt
+/// dividing `end` that is at most [`SAFETY`] · Δt_c, with Δt_c and its estimator read off the
+/// summary of `probe` (the scene run for one tiny step; `case` names it in errors).
+pub fn explicit_step(
+    probe: &Scene<SolidSpec>,
+    end: f64,
+    case: String,
+) -> Result<(f64, (f64, &'static str)), ReproduceError> {
+    let run = run_scene(probe, &mut []).map_err(|source| ReproduceError::Run { case: case.clone(), source })?;
     let Some((limit, by)) = run.summary.stable_step.zip(run.summary.stable_step_method) else {
         return Err(ReproduceError::NoStableLimit { case });
     };
-    Ok((step_dividing(DROP_END, SAFETY * limit), Some((limit, by))))
+    Ok((step_dividing(end, SAFETY * limit), (limit, by)))
 }
 
 /// One run at time step `dt`: its metrics, 1ᵀM1 and its CPU (wall, one thread) seconds.
