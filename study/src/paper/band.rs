@@ -109,6 +109,13 @@ impl Verdict {
 /// so they print as the band `18.74–18.76`. Runs that agree on all `digits` print them (their
 /// range at that precision is the one value).
 pub fn stable_digits(values: &[Option<f64>], digits: usize) -> String {
+    let printed = stable_digits_of(values, digits);
+    let v: Vec<f64> = values.iter().flatten().copied().collect();
+    audit::record(&printed, &v, Some(digits));
+    printed
+}
+
+fn stable_digits_of(values: &[Option<f64>], digits: usize) -> String {
     let Some(first) = values.first() else { return "—".into() };
     if values.iter().any(|v| v.is_some() != first.is_some()) {
         return "varies".into();
@@ -156,10 +163,45 @@ pub fn agreed_digits(values: &[Option<f64>]) -> usize {
 
 /// Counts of several runs: the one value if all agree, else the band `min–max` (`—` if none).
 pub fn count_band(counts: &[usize]) -> String {
-    match (counts.iter().min(), counts.iter().max()) {
+    let printed = match (counts.iter().min(), counts.iter().max()) {
         (Some(lo), Some(hi)) if lo == hi => lo.to_string(),
         (Some(lo), Some(hi)) => format!("{lo}–{hi}"),
         _ => "—".into(),
+    };
+    audit::record(&printed, &counts.iter().map(|&c| c as f64).collect::<Vec<_>>(), None);
+    printed
+}
+
+/// What the report printed from runs, for the test over the full report (issue 32, item 7: no
+/// printed value outside its runs' range). Every cell [`stable_digits`] and [`count_band`] make
+/// is recorded while [`audit::during`] runs; nothing computed or printed depends on it.
+pub mod audit {
+    use std::sync::Mutex;
+
+    /// One printed cell: the text, the runs' values, and the column's digits (None: a count).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct Cell {
+        pub printed: String,
+        pub values: Vec<f64>,
+        pub digits: Option<usize>,
+    }
+
+    static CELLS: Mutex<Option<Vec<Cell>>> = Mutex::new(None);
+
+    pub(super) fn record(printed: &str, values: &[f64], digits: Option<usize>) {
+        if let Ok(mut cells) = CELLS.lock()
+            && let Some(cells) = cells.as_mut()
+        {
+            cells.push(Cell { printed: printed.to_string(), values: values.to_vec(), digits });
+        }
+    }
+
+    /// `f`'s result and every cell printed while it ran (from any thread).
+    pub fn during<T>(f: impl FnOnce() -> T) -> (T, Vec<Cell>) {
+        *CELLS.lock().unwrap_or_else(|e| e.into_inner()) = Some(Vec::new());
+        let out = f();
+        let cells = CELLS.lock().unwrap_or_else(|e| e.into_inner()).take().unwrap_or_default();
+        (out, cells)
     }
 }
 

@@ -26,7 +26,7 @@
 //! that appears complete or not at all. Every number in the report is computed here, none is
 //! typed in.
 
-mod band;
+pub mod band;
 pub mod bodies;
 mod bodies_report;
 pub mod cd_growth;
