@@ -3,7 +3,8 @@
 //! the schemes' known properties say the table must show.
 
 use massredist_study::paper::methods::{
-    METHODS, MethodResult, MethodsConfig, PROBLEMS, SAFETY, Step, compute, sensitive,
+    KEPT_STEP_FRACTION, KEPT_STEP_PENALTY, Law, METHODS, MethodResult, MethodsConfig, PROBLEMS, SAFETY, Step, compute,
+    sensitive,
 };
 use massredist_study::paper::methods_report::{METHODS_COLUMNS, methods_csv, methods_tables};
 
@@ -23,15 +24,38 @@ fn row<'a>(rs: &'a [MethodResult], problem: &str, method: &str, mass: &str) -> &
 /// impact step).
 #[test]
 fn every_method_runs_and_the_table_matches_the_exact_solutions() {
-    let config = MethodsConfig { elements: vec![50], table_elements: 50 };
+    let config = MethodsConfig { elements: vec![50], table_elements: 50, sweep: vec![5.0] };
     let rs = compute(&config, &|| {});
-    let per_problem: usize = METHODS.iter().map(|m| m.masses.len()).sum();
+    // Every method × mass on the mesh, and each implicit one once more at 5 h/c (the Δt sweep).
+    let per_problem: usize = METHODS.iter().map(|m| m.masses.len() * if m.implicit() { 2 } else { 1 }).sum();
     assert_eq!(rs.len(), PROBLEMS.len() * per_problem);
+    for r in rs.iter().filter(|r| r.in_sweep) {
+        let m = METHODS.iter().find(|m| m.label == r.method).unwrap();
+        assert!(m.implicit() && (r.courant - 5.0).abs() < 1e-12 && r.stable_step.is_none(), "{} {}", r.method, r.mass);
+    }
+    // A larger step is less accurate: CN and BE with mod3 at 5 h/c against h/c, on every
+    // problem (second and first order in Δt: at least twice the error). mutation: the sweep's
+    // Δt left at h/c (`case.courant` unused in time_step) → fails (cΔt/h = 1 in the sweep).
+    for p in &PROBLEMS {
+        for method in ["CN", "BE"] {
+            let of = |sweep: bool| {
+                rs.iter()
+                    .find(|r| r.problem == p.key && r.method == method && r.mass == "mod3" && r.in_sweep == sweep)
+                    .unwrap()
+                    .runs[0]
+                    .l2_error
+            };
+            assert!(of(true) > 2.0 * of(false), "{} {method}: {} at 5 h/c, {} at h/c", p.key, of(true), of(false));
+        }
+    }
     // Every run goes to its end; the chaos rule's copies are there exactly for the sensitive cases.
     for r in &rs {
         assert_eq!(r.status, "ok", "{} {} {}: {:?}", r.problem, r.method, r.mass, r.failure);
         let sens = r.mass == "standard" || r.method.starts_with("PS");
         assert_eq!(r.runs.len(), if sens { 5 } else { 1 }, "{} {}", r.method, r.mass);
+        if r.in_sweep {
+            continue;
+        }
         assert!(r.courant <= 1.0 + 1e-12 && r.courant > 0.0, "{} {}: {}", r.method, r.mass, r.courant);
         // One safety factor for every explicit run (issue 32, item 2): Δt = 0.9 Δt_c exactly,
         // Δt_c from converged Lanczos, never a fallback bound (item 3); the implicit classes at
@@ -52,6 +76,42 @@ fn every_method_runs_and_the_table_matches_the_exact_solutions() {
         }
         if r.stable_step.is_some() {
             assert_eq!(r.stable_step_method, Some("lanczos"), "{} {} {}", r.problem, r.method, r.mass);
+        }
+    }
+    // The explicit penalty sized to keep Δt_c (issue 32, item 4; `KEPT_STEP_PENALTY`): on the
+    // standard mass its Δt_c is the end node's localised mode's, ϱ(r) h/c with
+    // ϱ(r) = √(2/(1 + √(1 + r²))) = 0.99 to the constant's four digits (the mode decays as
+    // q^j, q = 0.75: exact to round-off on these bars; Lanczos converged to 1e-9), below the
+    // penalty-free Δt_c = h/c (1 + O(1/m²)); with a massless contact node it does not move (to
+    // 1e-10: Lanczos' convergence). mutation: κ = E/h (the old "CD pen 1") → 0.910, fails.
+    let r = KEPT_STEP_PENALTY;
+    let kept_fraction = (2.0 / (1.0 + (1.0 + r * r).sqrt())).sqrt();
+    assert!((kept_fraction - KEPT_STEP_FRACTION).abs() < 1e-4, "ϱ({r}) = {kept_fraction}");
+    for p in &PROBLEMS {
+        let pen = row(&rs, p.key, "CD pen 0.29", "standard");
+        let h_over_c = pen.dt / pen.courant;
+        let kept = pen.stable_step.unwrap() / h_over_c;
+        assert!((kept - kept_fraction).abs() < 1e-9, "{}: Δt_c = {kept} h/c against {kept_fraction}", p.key);
+        for mass in ["mod1", "mod2", "mod3"] {
+            let (a, b) = (
+                row(&rs, p.key, "CD", mass).stable_step.unwrap(),
+                row(&rs, p.key, "CD pen 0.29", mass).stable_step.unwrap(),
+            );
+            assert!((a / b - 1.0).abs() < 1e-10, "{} {mass}: {}", p.key, a / b);
+        }
+    }
+    // Verlet's half-step energy (issue 32, item 4) is reported exactly for central differences
+    // with the exact law (whose shadow energy it is), finite, and bounded like the integer-step
+    // energy below Δt_c (measured at m = 50: |drift| ≤ 4.1 %, the standard mass on the paper's
+    // bar). mutation: the half-step energy kept for the penalty and Nitsche laws too → fails.
+    for r in &rs {
+        let m = METHODS.iter().find(|m| m.label == r.method).unwrap();
+        let verlet = m.scheme.contains("central-difference") && m.law == Law::Exact;
+        for x in &r.runs {
+            assert_eq!(x.half_step_drift.is_some(), verlet, "{} {} {}", r.problem, r.method, r.mass);
+            if let Some(d) = x.half_step_drift {
+                assert!(d.is_finite() && d.abs() < 0.1, "{} {} {}: {d}", r.problem, r.method, r.mass);
+            }
         }
     }
     // The exact solutions: ten impacts in ten periods of the paper's bar, one for the free rods.
@@ -101,7 +161,7 @@ fn every_method_runs_and_the_table_matches_the_exact_solutions() {
     }
     // A stiffer spring penetrates less (penetration ~ force/κ), on every problem and mass.
     for p in &PROBLEMS {
-        for (soft, stiff) in [("CN pen 1", "CN pen 100"), ("BE pen 1", "BE pen 100"), ("CD pen 1", "CD pen 100")] {
+        for (soft, stiff) in [("CN pen 1", "CN pen 100"), ("BE pen 1", "BE pen 100"), ("CD pen 0.29", "CD pen 100")] {
             for mass in ["mod1", "mod2", "mod3"] {
                 let (a, b) = (row(&rs, p.key, soft, mass), row(&rs, p.key, stiff, mass));
                 assert!(
@@ -186,7 +246,13 @@ fn tables_problem(tables: &str, line: &str) -> &'static str {
 fn sensitive_label(r: &MethodResult) -> bool {
     let method = METHODS.iter().find(|m| m.label == r.method).unwrap();
     let problem = PROBLEMS.iter().find(|p| p.key == r.problem).unwrap();
-    sensitive(&massredist_study::paper::methods::Case { method, mass: r.mass, problem, elements: r.elements })
+    sensitive(&massredist_study::paper::methods::Case {
+        method,
+        mass: r.mass,
+        problem,
+        elements: r.elements,
+        courant: 1.0,
+    })
 }
 
 /// Problem (e), the dropped disc (h = 8): free flight is exact, so the first impact is the
@@ -243,7 +309,7 @@ fn the_perturbed_copies_of_the_free_rods_differ() {
     for problem in PROBLEMS.iter().filter(|p| p.v0.is_some()) {
         for label in ["CN", "CD"] {
             let method = METHODS.iter().find(|m| m.label == label).expect(label);
-            let case = Case { method, mass: "standard", problem, elements: 25 };
+            let case = Case { method, mass: "standard", problem, elements: 25, courant: 1.0 };
             assert!(sensitive(&case));
             let r = run_case(&case);
             assert_eq!((r.status, r.runs.len()), ("ok", 5), "{} {label}: {:?}", problem.key, r.failure);

@@ -123,19 +123,7 @@ impl Observer for Shadow<'_> {
         self.e_max = self.e_max.max(s.energy / e0);
         self.phases = [self.phases[1], self.phases[2], Some(s.state.lambda[0] < 0.0)];
         if !self.prev.is_empty() {
-            // H^{n+½} from (Uⁿ, U^{n+1}) = (prev, u).
-            self.stiffness.mul_into(u, &mut self.work);
-            let mixed: f64 = self.prev.iter().zip(&self.work).map(|(a, b)| a * b).sum();
-            let kinetic: f64 = self
-                .lumped
-                .iter()
-                .zip(u.iter().zip(&self.prev))
-                .map(|(m, (a, b))| {
-                    let d = (a - b) / self.dt;
-                    m * d * d
-                })
-                .sum();
-            let h = 0.5 * (kinetic + mixed);
+            let h = shadow_energy(self.stiffness, self.lumped, &self.prev, u, self.dt, &mut self.work);
             match self.h0 {
                 None => self.h0 = Some(h),
                 Some(_) => {
@@ -156,6 +144,30 @@ impl Observer for Shadow<'_> {
         self.prev.clear();
         self.prev.extend_from_slice(u);
     }
+}
+
+/// Störmer–Verlet's half-step (shadow) energy of a bar from two consecutive states (Uⁿ, U^{n+1}) =
+/// (`prev`, `u`): H^{n+½} = ½ DᵀM_L D + ½ UⁿᵀK U^{n+1}, D = (U^{n+1} − Uⁿ)/Δt (no force; the
+/// exact contact law adds no energy). `work` holds K U^{n+1}.
+pub fn shadow_energy(
+    stiffness: &SymTridiag,
+    lumped: &[f64],
+    prev: &[f64],
+    u: &[f64],
+    dt: f64,
+    work: &mut [f64],
+) -> f64 {
+    stiffness.mul_into(u, work);
+    let mixed: f64 = prev.iter().zip(work.iter()).map(|(a, b)| a * b).sum();
+    let kinetic: f64 = lumped
+        .iter()
+        .zip(u.iter().zip(prev))
+        .map(|(m, (a, b))| {
+            let d = (a - b) / dt;
+            m * d * d
+        })
+        .sum();
+    0.5 * (kinetic + mixed)
 }
 
 /// One run's measurements (module docs), relative to E₀ = E(0) and H₀ = H^{½}.

@@ -90,6 +90,21 @@ const MASSLESS: &[&str] = &["mod1", "mod2", "mod3"];
 const COURANT_ONE: &[&str] = &["mod3"];
 /// Moreau–Jean needs inertia at the contact node (w_0 > 0).
 const MASSIVE: &[&str] = &["standard"];
+/// The explicit penalty sized to keep Δt_c (issue 32, item 4): κ = r E/h with
+/// r = √((2/ϱ² − 1)² − 1) and ϱ = [`KEPT_STEP_FRACTION`].
+///
+/// On the lumped standard mass of a uniform bar (node masses ρh, ρh/2 at the end, springs
+/// k = E/h) a spring κ at the end node adds a mode localised there, u_j = (−q)^j with
+/// 1/q − q = 2κ/k: the interior rows give mω² = k(2 + q + 1/q), the end row
+/// ½mω² = k + κ + kq. So ω² = (2k/m)(1 + √(1 + r²)), r = κ/k, above the band's edge 4k/m for
+/// every κ > 0, and Δt_c falls by ϱ = √(2/(1 + √(1 + r²))): κ = E/h (r = 1) gives 0.910, the
+/// Δt_c Lanczos found for the old "CD pen 1" row on the standard mass. Solving for r at
+/// ϱ = 0.99 gives 0.2879: a spring that keeps 99 % of Δt_c. With a massless contact node
+/// (w_0 = 0) the spring acts in series with the first element and Δt_c does not move at all.
+pub const KEPT_STEP_PENALTY: f64 = 0.2879;
+/// The share of the penalty-free Δt_c that [`KEPT_STEP_PENALTY`] keeps.
+pub const KEPT_STEP_FRACTION: f64 = 0.99;
+
 const CN: &str = "kind = \"crank-nicolson\"";
 const BE: &str = "kind = \"backward-euler\"";
 const CD: &str = "kind = \"central-difference\"";
@@ -107,7 +122,7 @@ pub const METHODS: &[Method] = &[
     Method { label: "BE pen 100", class: "implicit, penalty", scheme: BE, law: Law::Penalty(100.0), masses: ALL, step: Step::Courant },
     Method { label: "CD", class: "explicit, exact", scheme: CD, law: Law::Exact, masses: ALL, step: Step::Stable },
     Method { label: "CD c=1", class: "explicit, exact", scheme: CD, law: Law::Exact, masses: COURANT_ONE, step: Step::Courant },
-    Method { label: "CD pen 1", class: "explicit, penalty", scheme: CD, law: Law::Penalty(1.0), masses: ALL, step: Step::Stable },
+    Method { label: "CD pen 0.29", class: "explicit, penalty", scheme: CD, law: Law::Penalty(KEPT_STEP_PENALTY), masses: ALL, step: Step::Stable },
     Method { label: "CD pen 100", class: "explicit, penalty", scheme: CD, law: Law::Penalty(100.0), masses: ALL, step: Step::Stable },
     Method { label: "CN Nitsche", class: "implicit, Nitsche", scheme: CN, law: Law::Toml("method = \"nitsche\"\nnitsche_theta = 1\nnitsche_gamma0 = 100.0"), masses: ALL, step: Step::Courant },
     Method { label: "CD Nitsche", class: "explicit, Nitsche", scheme: CD, law: Law::Toml("method = \"nitsche\"\nnitsche_theta = 1\nnitsche_gamma0 = 100.0"), masses: ALL, step: Step::Stable },
@@ -213,17 +228,21 @@ pub struct MethodsConfig {
     pub elements: Vec<usize>,
     /// The mesh of the tables (one of `elements`).
     pub table_elements: usize,
+    /// The implicit classes' Δt sweep (issue 32, item 4): multiples k of h/c beyond 1 at which
+    /// every implicit method also runs on the tables' mesh, for a work–precision comparison at
+    /// a fixed mesh ([`Case::courant`]).
+    pub sweep: Vec<f64>,
 }
 
 impl MethodsConfig {
     /// `bench --methods`.
     pub fn bench() -> Self {
-        Self { elements: vec![25, 50, 100, 200, 400], table_elements: 100 }
+        Self { elements: vec![25, 50, 100, 200, 400], table_elements: 100, sweep: vec![2.0, 5.0, 10.0] }
     }
 
     /// The `reproduce` section (small: a few seconds).
     pub fn reproduce() -> Self {
-        Self { elements: vec![25, 50, 100], table_elements: 50 }
+        Self { elements: vec![25, 50, 100], table_elements: 50, sweep: Vec::new() }
     }
 }
 
@@ -234,16 +253,30 @@ pub struct Case {
     pub mass: &'static str,
     pub problem: &'static Problem1d,
     pub elements: usize,
+    /// cΔt/h of an implicit method ([`Step::Courant`]): 1, or a multiple of the Δt sweep.
+    pub courant: f64,
 }
 
-/// Every (problem, method, mass, mesh) of `config`.
+impl Method {
+    /// An implicit class: no stable limit, Δt by [`Step::Courant`] (the Δt sweep runs these).
+    pub fn implicit(&self) -> bool {
+        self.step == Step::Courant && self.scheme != CD
+    }
+}
+
+/// Every (problem, method, mass, mesh) of `config`, and the implicit methods' Δt sweep on the
+/// tables' mesh.
 pub fn cases(config: &MethodsConfig) -> Vec<Case> {
     let mut out = Vec::new();
     for problem in &PROBLEMS {
         for method in METHODS {
             for &mass in method.masses {
                 for &elements in &config.elements {
-                    out.push(Case { method, mass, problem, elements });
+                    out.push(Case { method, mass, problem, elements, courant: 1.0 });
+                }
+                if method.implicit() {
+                    let elements = config.table_elements;
+                    out.extend(config.sweep.iter().map(|&courant| Case { method, mass, problem, elements, courant }));
                 }
             }
         }
@@ -293,6 +326,10 @@ pub struct Metrics {
     pub impulse: Option<f64>,
     pub penetration: f64,
     pub energy_drift: f64,
+    /// Central differences with the exact law: the drift of Störmer–Verlet's half-step energy
+    /// H^{n+½} ([`super::cd_growth::shadow_energy`]), (H_end − H^{½})/H^{½}, beside the
+    /// integer-step energy's (issue 32, item 4).
+    pub half_step_drift: Option<f64>,
 }
 
 /// A case's result: the unperturbed run and, for a [`sensitive`] case, the perturbed copies.
@@ -306,6 +343,9 @@ pub struct MethodResult {
     pub dt: f64,
     /// c Δt / h.
     pub courant: f64,
+    /// A run of the implicit classes' Δt sweep ([`MethodsConfig::sweep`], cΔt/h > 1), not of
+    /// the tables and mesh lines.
+    pub in_sweep: bool,
     pub steps: usize,
     /// Impacts of the exact solution in (0, T].
     pub exact_impacts: usize,
@@ -341,7 +381,7 @@ fn time_step(
     problem: &BarProblem,
     scene: &BarScene,
 ) -> Result<(f64, Option<(f64, &'static str)>), SchemeError> {
-    let courant = case.problem.length / case.elements as f64 / case.problem.c();
+    let courant = case.courant * case.problem.length / case.elements as f64 / case.problem.c();
     let build = |dt: f64| problem.scheme_with(&scene.scheme, &scene.contact, dt);
     match (build(courant), case.method.step) {
         (Ok(s), Step::Stable) => match s.stable_limit() {
@@ -376,6 +416,7 @@ pub fn run_case(case: &Case) -> MethodResult {
         elements: case.elements,
         dt: f64::NAN,
         courant: f64::NAN,
+        in_sweep: case.courant != 1.0,
         steps: 0,
         exact_impacts: 0,
         status: "failed",
@@ -501,7 +542,8 @@ fn measure(
     let p = case.problem;
     let mut scheme = problem.scheme_with(&scene.scheme, &scene.contact, dt).map_err(|e| e.to_string())?;
     let window = p.error_window.map_or(f64::INFINITY, |w| w * p.length / p.c());
-    let mut watch = Watch::new(problem, window);
+    let verlet = case.method.scheme == CD && case.method.law == Law::Exact;
+    let mut watch = Watch::new(problem, window, verlet.then_some(dt));
     let criterion = DivergenceCriterion::default();
     let outcome =
         integrate_watched(problem, scheme.as_mut(), steps, &criterion, &mut [&mut watch]).map_err(|e| e.to_string())?;
@@ -531,10 +573,23 @@ struct Watch {
     e0: f64,
     e: f64,
     mean_velocity: f64,
+    /// Central differences with the exact law: the half-step energy's state.
+    half: Option<HalfStep>,
+}
+
+/// What the half-step energy needs: K, M_L, Δt, Uⁿ, and H^{½} and the latest H.
+struct HalfStep {
+    stiffness: massredist::linalg::tridiag::SymTridiag,
+    lumped: Vec<f64>,
+    dt: f64,
+    prev: Vec<f64>,
+    work: Vec<f64>,
+    first: Option<f64>,
+    last: f64,
 }
 
 impl Watch {
-    fn new(problem: &BarProblem, window: f64) -> Self {
+    fn new(problem: &BarProblem, window: f64, verlet_dt: Option<f64>) -> Self {
         let system = &problem.system.system;
         let mut weights = vec![0.0; system.n()];
         system.mass.mul_into(&vec![1.0; system.n()], &mut weights);
@@ -556,6 +611,15 @@ impl Watch {
             e0: f64::NAN,
             e: f64::NAN,
             mean_velocity: f64::NAN,
+            half: verlet_dt.map(|dt| HalfStep {
+                stiffness: system.stiffness.clone(),
+                lumped: problem.system.lumped.clone(),
+                dt,
+                prev: Vec::new(),
+                work: vec![0.0; system.n()],
+                first: None,
+                last: f64::NAN,
+            }),
         }
     }
 
@@ -580,6 +644,7 @@ impl Watch {
             impulse: ratio(self.impulse, self.impulse_exact),
             penetration: (self.lower - self.min_u0).max(0.0) / p.length,
             energy_drift: (self.e - self.e0) / self.e0.abs(),
+            half_step_drift: self.half.as_ref().and_then(|h| h.first.map(|h0| (h.last - h0) / h0.abs())),
         }
     }
 }
@@ -617,6 +682,15 @@ impl Observer for Watch {
         self.e = s.energy;
         let momentum: f64 = self.weights.iter().zip(s.state.v).map(|(w, v)| w * v).sum();
         self.mean_velocity = momentum / self.total;
+        if let Some(h) = self.half.as_mut() {
+            if !h.prev.is_empty() {
+                let e = super::cd_growth::shadow_energy(&h.stiffness, &h.lumped, &h.prev, s.state.u, h.dt, &mut h.work);
+                h.first.get_or_insert(e);
+                h.last = e;
+            }
+            h.prev.clear();
+            h.prev.extend_from_slice(s.state.u);
+        }
     }
 }
 
@@ -625,7 +699,9 @@ impl Observer for Watch {
 pub fn compute(config: &MethodsConfig, tick: &(dyn Fn() + Sync)) -> Vec<MethodResult> {
     let all = cases(config);
     let mut order: Vec<usize> = (0..all.len()).collect();
-    let work = |c: &Case| (c.elements * c.elements) as f64 * c.problem.crossings * if sensitive(c) { 5.0 } else { 1.0 };
+    let work = |c: &Case| {
+        (c.elements * c.elements) as f64 * c.problem.crossings * if sensitive(c) { 5.0 } else { 1.0 } / c.courant
+    };
     order.sort_by(|&a, &b| work(&all[b]).total_cmp(&work(&all[a])));
     let mut out: Vec<(usize, MethodResult)> = order
         .par_iter()

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// Column names of [`methods_csv`].
-pub const METHODS_COLUMNS: [&str; 23] = [
+pub const METHODS_COLUMNS: [&str; 24] = [
     "problem",
     "method",
     "class",
@@ -30,6 +30,7 @@ pub const METHODS_COLUMNS: [&str; 23] = [
     "impulse_ratio",
     "penetration",
     "energy_drift",
+    "half_step_energy_drift",
     "exact_impacts",
     "cpu_seconds",
     "step_seconds",
@@ -57,12 +58,12 @@ pub fn methods_csv(results: &[MethodResult]) -> String {
         );
         let limit = format!("{},{}", o(r.stable_step), r.stable_step_method.unwrap_or(""));
         if r.runs.is_empty() {
-            let _ = writeln!(s, "{head},0,{},,,,,,,,,{},,,{limit}", r.status, r.exact_impacts);
+            let _ = writeln!(s, "{head},0,{},,,,,,,,,,{},,,{limit}", r.status, r.exact_impacts);
         }
         for (k, m) in r.runs.iter().enumerate() {
             let _ = writeln!(
                 s,
-                "{head},{k},{},{},{},{},{},{},{},{},{},{},{},{},{limit}",
+                "{head},{k},{},{},{},{},{},{},{},{},{},{},{},{},{},{limit}",
                 r.status,
                 f(m.l2_error),
                 o(m.impact_error),
@@ -72,6 +73,7 @@ pub fn methods_csv(results: &[MethodResult]) -> String {
                 o(m.impulse),
                 f(m.penetration),
                 f(m.energy_drift),
+                o(m.half_step_drift),
                 r.exact_impacts,
                 if k == 0 { f(r.cpu_seconds) } else { String::new() },
                 if k == 0 { f(r.step_seconds) } else { String::new() }
@@ -121,14 +123,16 @@ fn exact_values(p: &Problem1d) -> String {
 pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> String {
     let mut s = String::new();
     for p in &PROBLEMS {
-        let rows: Vec<&MethodResult> =
-            results.iter().filter(|r| r.problem == p.key && r.elements == config.table_elements).collect();
+        let rows: Vec<&MethodResult> = results
+            .iter()
+            .filter(|r| r.problem == p.key && r.elements == config.table_elements && !r.in_sweep)
+            .collect();
         let impacts = rows.first().map_or(0, |r| r.exact_impacts);
         let _ = writeln!(
             s,
             "### {} (m = {}, Δt = h/c implicit, 0.9 Δt_c explicit)\n\n{}\n\n\
-             | method | class | mass | cΔt/h | cΔt_c/h (estimator) | L∞(L²) rel. | impact err./D | duration err./D | rebound v̄/V₀ | force TV / exact | impulse / exact | penetration/L | energy drift ({impacts} impacts) | CPU s | of which steps |\n\
-             |---|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+             | method | class | mass | cΔt/h | cΔt_c/h (estimator) | L∞(L²) rel. | impact err./D | duration err./D | rebound v̄/V₀ | force TV / exact | impulse / exact | penetration/L | energy drift ({impacts} impacts) | half-step drift (Verlet) | CPU s | of which steps |\n\
+             |---|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
             p.title,
             config.table_elements,
             exact_values(p)
@@ -141,12 +145,12 @@ pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> Strin
             let head = format!("| {} | {} | {} | {} | {limit} ", r.method, r.class, r.mass, sig(r.courant, 3));
             if r.runs.is_empty() {
                 let why = r.failure.as_deref().unwrap_or("").replace('|', "/");
-                let _ = writeln!(s, "{head}| {} ({why}) | | | | | | | | | |", r.status);
+                let _ = writeln!(s, "{head}| {} ({why}) | | | | | | | | | | |", r.status);
                 continue;
             }
             let _ = writeln!(
                 s,
-                "{head}| {} | {} | {} | {} | {} | {} | {} | {} | {:.2e} | {:.2e} |",
+                "{head}| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2e} | {:.2e} |",
                 cell(r, |m| Some(m.l2_error)),
                 cell(r, |m| m.impact_error),
                 cell(r, |m| m.duration_error),
@@ -155,6 +159,7 @@ pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> Strin
                 cell(r, |m| m.impulse),
                 cell(r, |m| Some(m.penetration)),
                 cell(r, |m| Some(m.energy_drift)),
+                cell(r, |m| m.half_step_drift),
                 r.cpu_seconds,
                 r.step_seconds
             );
@@ -162,6 +167,64 @@ pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> Strin
         let _ = writeln!(s);
     }
     s
+}
+
+/// The implicit classes' Δt sweep (issue 32, item 4): per problem, every implicit method and
+/// mass at cΔt/h = 1 and each multiple of [`MethodsConfig::sweep`] on the tables' mesh, its
+/// L∞(L²) error and CPU seconds, beside central differences at 0.9 Δt_c (and Courant 1) on the
+/// same mesh: a work–precision comparison at a fixed mesh. Empty without a sweep.
+pub fn sweep_tables(config: &MethodsConfig, results: &[MethodResult]) -> String {
+    if config.sweep.is_empty() {
+        return String::new();
+    }
+    let mut multiples = vec![1.0];
+    multiples.extend(&config.sweep);
+    let head: Vec<String> = multiples.iter().map(|k| format!("cΔt/h = {}", sig(*k, 3))).collect();
+    let mut s = format!(
+        "## The implicit classes against Δt (m = {})\n\n\
+         Each cell: relative L∞(L²) error, then CPU seconds (set-up and stepping, as above). The explicit rows run at \
+         their one step (0.9 Δt_c, or Courant 1 for \"CD c=1\"), in the first column.\n",
+        config.table_elements
+    );
+    for p in &PROBLEMS {
+        let _ = write!(
+            s,
+            "\n### {}\n\n| method | mass | {} |\n|---|---|{}\n",
+            p.title,
+            head.join(" | "),
+            "---:|".repeat(multiples.len())
+        );
+        let at = |r: &&MethodResult| r.problem == p.key && r.elements == config.table_elements;
+        for m in METHODS {
+            for &mass in m.masses {
+                let runs: Vec<&MethodResult> =
+                    results.iter().filter(at).filter(|r| r.method == m.label && r.mass == mass).collect();
+                let cells: Vec<String> = if m.implicit() {
+                    multiples
+                        .iter()
+                        .map(|k| {
+                            let r = runs.iter().find(|r| (r.courant - k).abs() <= 1e-9 * k);
+                            r.map_or("—".into(), |r| sweep_cell(r))
+                        })
+                        .collect()
+                } else {
+                    let mut c = vec![runs.first().map_or("—".into(), |r| sweep_cell(r))];
+                    c.resize(multiples.len(), String::new());
+                    c
+                };
+                let _ = writeln!(s, "| {} | {mass} | {} |", m.label, cells.join(" | "));
+            }
+        }
+    }
+    s
+}
+
+/// A sweep cell: the error over the runs, then the CPU seconds (or the run's status).
+fn sweep_cell(r: &MethodResult) -> String {
+    if r.runs.is_empty() {
+        return r.status.into();
+    }
+    format!("{} ({:.2e} s)", cell(r, |m| Some(m.l2_error)), r.cpu_seconds)
 }
 
 /// Colours per method, by position in [`METHODS`] (tab20; one each while there are at most 20).
@@ -197,7 +260,7 @@ fn lines(results: &[MethodResult], problem: &str) -> Vec<(usize, usize, Vec<(f64
         for (ki, mass) in MASSES.iter().enumerate() {
             let mut pts: Vec<(usize, f64, f64)> = results
                 .iter()
-                .filter(|r| r.problem == problem && r.method == m.label && r.mass == *mass)
+                .filter(|r| r.problem == problem && r.method == m.label && r.mass == *mass && !r.in_sweep)
                 .filter_map(|r| {
                     // The largest error over the copies (a sensitive case's worst run).
                     let e = r.runs.iter().map(|x| x.l2_error).fold(f64::NAN, f64::max);
@@ -305,7 +368,8 @@ pub fn methods_markdown(config: &MethodsConfig, results: &[MethodResult], figure
          \"CD c=1\" is the special case of these uniform meshes, central differences at Courant 1 (h/c), the \
          characteristic step, which lies below Δt_c only for mod3. Central differences use the lumped mass, the \
          implicit schemes the consistent one. \
-         Penalty κ = factor · E/h (\"pen 1\", \"pen 100\"). D is the exact first contact's duration; the energy drift \
+         Penalty κ = factor · E/h (\"pen 1\", \"pen 100\"; the explicit \"pen 0.29\" is sized to keep 0.99 Δt_c on \
+         the standard mass, `KEPT_STEP_PENALTY`). D is the exact first contact's duration; the energy drift \
          is (E(T) − E(0))/E(0) of each scheme's own energy. CPU time is set-up (factorisations; for central \
          differences the stable limit: Lanczos, full reorthogonalisation, to convergence) and stepping, fastest of up \
          to 3 runs; \"of which steps\" is the stepping alone. Standard-mass and Paoli–Schatzman runs are repeated from \
@@ -315,6 +379,7 @@ pub fn methods_markdown(config: &MethodsConfig, results: &[MethodResult], figure
         config.elements
     );
     s += &methods_tables(config, results);
+    s += &sweep_tables(config, results);
     if !failed.is_empty() {
         let _ = writeln!(s, "Runs that diverged or failed:\n\n{}\n", failed.join("\n"));
     }
