@@ -3,8 +3,8 @@
 //! the schemes' known properties say the table must show.
 
 use massredist_study::paper::methods::{
-    KEPT_STEP_FRACTION, KEPT_STEP_PENALTY, Law, METHODS, MethodResult, MethodsConfig, PROBLEMS, SAFETY, Step, compute,
-    sensitive,
+    Case, KEPT_STEP_FRACTION, KEPT_STEP_PENALTY, Law, METHODS, Method, MethodResult, MethodsConfig, PROBLEMS, SAFETY,
+    Step, compute, run_case, sensitive,
 };
 use massredist_study::paper::methods_report::{METHODS_COLUMNS, methods_csv, methods_tables};
 
@@ -316,4 +316,24 @@ fn the_perturbed_copies_of_the_free_rods_differ() {
             assert!(r.runs[1..].iter().any(|m| *m != r.runs[0]), "{} {label}: five identical runs", problem.key);
         }
     }
+}
+
+/// A method stepped by its stable limit whose scheme has none (an implicit scheme here) fails
+/// by name; it is never stepped at a default h/c (issue 32, item 3: no default decides a
+/// ranking). mutation: the old fallback `None => Ok((courant, None))` in `time_step` → the run
+/// is "ok", fails.
+#[test]
+fn a_stable_step_without_a_stable_limit_is_an_error() {
+    static IMPLICIT_AS_EXPLICIT: Method = Method {
+        label: "CN stepped by Δt_c",
+        class: "test",
+        scheme: "kind = \"crank-nicolson\"",
+        law: Law::Exact,
+        masses: &["mod3"],
+        step: Step::Stable,
+    };
+    let case = Case { method: &IMPLICIT_AS_EXPLICIT, mass: "mod3", problem: &PROBLEMS[0], elements: 25, courant: 1.0 };
+    let r = run_case(&case);
+    assert_eq!(r.status, "failed");
+    assert!(r.failure.as_deref().is_some_and(|f| f.contains("no stable limit")), "{:?}", r.failure);
 }

@@ -23,6 +23,8 @@
 //! impulse    Σ_n λⁿ / Σ_n λ(t_n)                                                  (exact: 1)
 //! penetration max_n max(0, −gap − u_0ⁿ) / L
 //! drift      (E(T) − E(0))/E(0) of the scheme's own energy, after the exact solution's impacts in (0, T]
+//! half-step  (H(T) − H^{½})/H^{½} of Störmer–Verlet's half-step energy H^{n+½} (central
+//!            differences with the exact law only; issue 32, item 4)
 //! CPU        seconds of set-up and stepping alone (no diagnostics), fastest of up to 3 runs; and
 //!            of the stepping alone (central differences' set-up includes its stable limit)
 //! ```
@@ -376,24 +378,28 @@ pub fn step_dividing(end: f64, at_most: f64) -> f64 {
 }
 
 /// Time step of a case ([`Step`]) and, for an explicit scheme, its stable limit and estimator.
+/// A [`Step::Stable`] method whose scheme reports no stable limit is an error, never a silent
+/// step at h/c (no bound or default may decide a ranking; issue 32, item 3).
 fn time_step(
     case: &Case,
     problem: &BarProblem,
     scene: &BarScene,
-) -> Result<(f64, Option<(f64, &'static str)>), SchemeError> {
+) -> Result<(f64, Option<(f64, &'static str)>), String> {
     let courant = case.courant * case.problem.length / case.elements as f64 / case.problem.c();
     let build = |dt: f64| problem.scheme_with(&scene.scheme, &scene.contact, dt);
+    let no_limit = || format!("{}: an explicit method whose scheme reports no stable limit", case.method.label);
     match (build(courant), case.method.step) {
         (Ok(s), Step::Stable) => match s.stable_limit() {
             Some((limit, by)) => Ok((SAFETY * limit, Some((limit, by)))),
-            None => Ok((courant, None)),
+            None => Err(no_limit()),
         },
         (Ok(s), Step::Courant) => Ok((courant, s.stable_limit())),
         (Err(SchemeError::AboveStableLimit { limit, .. }), Step::Stable) => {
             let dt = SAFETY * limit;
-            Ok((dt, build(dt)?.stable_limit()))
+            let limit = build(dt).map_err(|e| e.to_string())?.stable_limit().ok_or_else(no_limit)?;
+            Ok((dt, Some(limit)))
         }
-        (Err(e), _) => Err(e),
+        (Err(e), _) => Err(e.to_string()),
     }
 }
 
@@ -428,8 +434,7 @@ pub fn run_case(case: &Case) -> MethodResult {
         stable_step_method: None,
     };
     // Δt from a first build at h/c (any horizon: only Δt matters there).
-    let dt = match build(case, p.length / case.elements as f64 / p.c(), 1)
-        .and_then(|(s, pr)| time_step(case, &pr, &s).map_err(|e| e.to_string()))
+    let dt = match build(case, p.length / case.elements as f64 / p.c(), 1).and_then(|(s, pr)| time_step(case, &pr, &s))
     {
         Ok((dt, limit)) => {
             (r.stable_step, r.stable_step_method) = (limit.map(|l| l.0), limit.map(|l| l.1));
