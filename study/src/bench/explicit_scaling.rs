@@ -434,7 +434,7 @@ and the figure `explicit-scaling.png`/`.svg`); what the numbers show is in
 [`../bench.md`](../bench.md). Each case runs in a process of its own, so that its peak resident
 memory (VmHWM) is its own. Cases (the plane-wave solid's paper data, λ + 2μ = ρ = 1):
 
-- **implicit cube**: N³ Q1 hexahedra, mod3, Crank–Nicolson at Δt = 0.01 (the scene's set-up;
+- **implicit cube**: N³ Q1 hexahedra, mod3, Crank–Nicolson at Δt = 0.01 with a direct solver (the scene's set-up;
   one sparse Cholesky factor: \"scheme s\"; a step is two triangular solves).
 - **explicit cube**: N³, the standard mass (contact by the forward-increment multipliers, one
   closed form per contact node), central differences at 0.9 Δt_c.
