@@ -24,11 +24,26 @@ fn row<'a>(rs: &'a [MethodResult], problem: &str, method: &str, mass: &str) -> &
 /// impact step).
 #[test]
 fn every_method_runs_and_the_table_matches_the_exact_solutions() {
-    let config = MethodsConfig { elements: vec![50], table_elements: 50, sweep: vec![5.0] };
+    let config = MethodsConfig { elements: vec![50], table_elements: 50, sweep: vec![5.0], own: true };
     let rs = compute(&config, &|| {});
-    // Every method × mass on the mesh, and each implicit one once more at 5 h/c (the Δt sweep).
+    // Every method × mass on the mesh, each implicit one once more at 5 h/c (the Δt sweep), and
+    // every method × mass once more at VM265's own discretisation.
     let per_problem: usize = METHODS.iter().map(|m| m.masses.len() * if m.implicit() { 2 } else { 1 }).sum();
-    assert_eq!(rs.len(), PROBLEMS.len() * per_problem);
+    let all_methods: usize = METHODS.iter().map(|m| m.masses.len()).sum();
+    assert_eq!(rs.len(), PROBLEMS.len() * per_problem + all_methods);
+    // VM265 at ANSYS's own discretisation (issue 32, item 7: 20 elements, Δt = 2.226e-6 s): an
+    // outside review's numpy run found the contact, read off the force, on [5.120e-5, 1.491e-4] s
+    // for CN, hybrid and central differences with mod3: t_23 the first step in contact, t_67 the
+    // last, so the release (the first later step without force) is t_68; here to 1e-9 of a
+    // step. mutation: the own Δt ignored (`case.dt` unused in time_step) → fails.
+    for method in ["CN", "hybrid", "CD"] {
+        let r = rs.iter().find(|r| r.own && r.method == method && r.mass == "mod3").unwrap();
+        assert_eq!((r.status, r.elements, r.dt), ("ok", 20, 2.226e-6), "{method}");
+        let m = r.runs[0];
+        let (a, b) = (m.first_impact.unwrap(), m.first_release.unwrap());
+        assert!((a / 2.226e-6 - 23.0).abs() < 1e-9 && (b / 2.226e-6 - 68.0).abs() < 1e-9, "{method}: [{a}, {b}]");
+    }
+    let rs: Vec<MethodResult> = rs.into_iter().filter(|r| !r.own).collect();
     for r in rs.iter().filter(|r| r.in_sweep) {
         let m = METHODS.iter().find(|m| m.label == r.method).unwrap();
         assert!(m.implicit() && (r.courant - 5.0).abs() < 1e-12 && r.stable_step.is_none(), "{} {}", r.method, r.mass);
@@ -252,6 +267,7 @@ fn sensitive_label(r: &MethodResult) -> bool {
         problem,
         elements: r.elements,
         courant: 1.0,
+        dt: None,
     })
 }
 
@@ -309,7 +325,7 @@ fn the_perturbed_copies_of_the_free_rods_differ() {
     for problem in PROBLEMS.iter().filter(|p| p.v0.is_some()) {
         for label in ["CN", "CD"] {
             let method = METHODS.iter().find(|m| m.label == label).expect(label);
-            let case = Case { method, mass: "standard", problem, elements: 25, courant: 1.0 };
+            let case = Case { method, mass: "standard", problem, elements: 25, courant: 1.0, dt: None };
             assert!(sensitive(&case));
             let r = run_case(&case);
             assert_eq!((r.status, r.runs.len()), ("ok", 5), "{} {label}: {:?}", problem.key, r.failure);
@@ -332,7 +348,14 @@ fn a_stable_step_without_a_stable_limit_is_an_error() {
         masses: &["mod3"],
         step: Step::Stable,
     };
-    let case = Case { method: &IMPLICIT_AS_EXPLICIT, mass: "mod3", problem: &PROBLEMS[0], elements: 25, courant: 1.0 };
+    let case = Case {
+        method: &IMPLICIT_AS_EXPLICIT,
+        mass: "mod3",
+        problem: &PROBLEMS[0],
+        elements: 25,
+        courant: 1.0,
+        dt: None,
+    };
     let r = run_case(&case);
     assert_eq!(r.status, "failed");
     assert!(r.failure.as_deref().is_some_and(|f| f.contains("no stable limit")), "{:?}", r.failure);

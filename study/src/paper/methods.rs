@@ -151,6 +151,9 @@ pub struct Problem1d {
     pub crossings: f64,
     /// The L∞(L²) window in crossing times (None: the whole horizon).
     pub error_window: Option<f64>,
+    /// The benchmark's own discretisation (elements, Δt), where it has one (issue 32, item 7:
+    /// VM265's 20 elements and Δt = 2.226e-6 s), run by [`MethodsConfig::own`].
+    pub own: Option<(usize, f64)>,
 }
 
 impl Problem1d {
@@ -184,6 +187,7 @@ pub const PROBLEMS: [Problem1d; 4] = [
         v0: None,
         crossings: 30.0,
         error_window: Some(3.0),
+        own: None,
     },
     Problem1d {
         key: "rebound-bar",
@@ -196,6 +200,7 @@ pub const PROBLEMS: [Problem1d; 4] = [
         v0: Some(1.0),
         crossings: 3.0,
         error_window: None,
+        own: None,
     },
     Problem1d {
         key: "vm265",
@@ -208,6 +213,7 @@ pub const PROBLEMS: [Problem1d; 4] = [
         v0: Some(202.2),
         crossings: 3.0,
         error_window: None,
+        own: Some((20, 2.226e-6)),
     },
     Problem1d {
         key: "sdnv100",
@@ -220,6 +226,7 @@ pub const PROBLEMS: [Problem1d; 4] = [
         v0: Some(100.0),
         crossings: 3.0,
         error_window: None,
+        own: None,
     },
 ];
 
@@ -234,17 +241,19 @@ pub struct MethodsConfig {
     /// every implicit method also runs on the tables' mesh, for a work–precision comparison at
     /// a fixed mesh ([`Case::courant`]).
     pub sweep: Vec<f64>,
+    /// Whether every method also runs at each problem's own discretisation ([`Problem1d::own`]).
+    pub own: bool,
 }
 
 impl MethodsConfig {
     /// `bench --methods`.
     pub fn bench() -> Self {
-        Self { elements: vec![25, 50, 100, 200, 400], table_elements: 100, sweep: vec![2.0, 5.0, 10.0] }
+        Self { elements: vec![25, 50, 100, 200, 400], table_elements: 100, sweep: vec![2.0, 5.0, 10.0], own: true }
     }
 
     /// The `reproduce` section (small: a few seconds).
     pub fn reproduce() -> Self {
-        Self { elements: vec![25, 50, 100], table_elements: 50, sweep: Vec::new() }
+        Self { elements: vec![25, 50, 100], table_elements: 50, sweep: Vec::new(), own: false }
     }
 }
 
@@ -257,6 +266,9 @@ pub struct Case {
     pub elements: usize,
     /// cΔt/h of an implicit method ([`Step::Courant`]): 1, or a multiple of the Δt sweep.
     pub courant: f64,
+    /// A fixed Δt, the benchmark's own ([`Problem1d::own`]), whatever the method's [`Step`] (an
+    /// explicit scheme refuses it above its Δt_c).
+    pub dt: Option<f64>,
 }
 
 impl Method {
@@ -274,11 +286,15 @@ pub fn cases(config: &MethodsConfig) -> Vec<Case> {
         for method in METHODS {
             for &mass in method.masses {
                 for &elements in &config.elements {
-                    out.push(Case { method, mass, problem, elements, courant: 1.0 });
+                    out.push(Case { method, mass, problem, elements, courant: 1.0, dt: None });
                 }
                 if method.implicit() {
                     let elements = config.table_elements;
-                    out.extend(config.sweep.iter().map(|&courant| Case { method, mass, problem, elements, courant }));
+                    let sweep = config.sweep.iter();
+                    out.extend(sweep.map(|&courant| Case { method, mass, problem, elements, courant, dt: None }));
+                }
+                if let (true, Some((elements, dt))) = (config.own, problem.own) {
+                    out.push(Case { method, mass, problem, elements, courant: 1.0, dt: Some(dt) });
                 }
             }
         }
@@ -332,6 +348,9 @@ pub struct Metrics {
     /// H^{n+½} ([`super::cd_growth::shadow_energy`]), (H_end − H^{½})/H^{½}, beside the
     /// integer-step energy's (issue 32, item 4).
     pub half_step_drift: Option<f64>,
+    /// The first t_n with λⁿ < 0 and the first later one with λⁿ = 0 (seconds).
+    pub first_impact: Option<f64>,
+    pub first_release: Option<f64>,
 }
 
 /// A case's result: the unperturbed run and, for a [`sensitive`] case, the perturbed copies.
@@ -348,6 +367,8 @@ pub struct MethodResult {
     /// A run of the implicit classes' Δt sweep ([`MethodsConfig::sweep`], cΔt/h > 1), not of
     /// the tables and mesh lines.
     pub in_sweep: bool,
+    /// A run at the benchmark's own discretisation ([`Case::dt`]), not of the tables and lines.
+    pub own: bool,
     pub steps: usize,
     /// Impacts of the exact solution in (0, T].
     pub exact_impacts: usize,
@@ -388,6 +409,9 @@ fn time_step(
     let courant = case.courant * case.problem.length / case.elements as f64 / case.problem.c();
     let build = |dt: f64| problem.scheme_with(&scene.scheme, &scene.contact, dt);
     let no_limit = || format!("{}: an explicit method whose scheme reports no stable limit", case.method.label);
+    if let Some(dt) = case.dt {
+        return build(dt).map(|s| (dt, s.stable_limit())).map_err(|e| e.to_string());
+    }
     match (build(courant), case.method.step) {
         (Ok(s), Step::Stable) => match s.stable_limit() {
             Some((limit, by)) => Ok((SAFETY * limit, Some((limit, by)))),
@@ -423,6 +447,7 @@ pub fn run_case(case: &Case) -> MethodResult {
         dt: f64::NAN,
         courant: f64::NAN,
         in_sweep: case.courant != 1.0,
+        own: case.dt.is_some(),
         steps: 0,
         exact_impacts: 0,
         status: "failed",
@@ -650,6 +675,8 @@ impl Watch {
             penetration: (self.lower - self.min_u0).max(0.0) / p.length,
             energy_drift: (self.e - self.e0) / self.e0.abs(),
             half_step_drift: self.half.as_ref().and_then(|h| h.first.map(|h0| (h.last - h0) / h0.abs())),
+            first_impact: self.first_impact,
+            first_release: self.first_release,
         }
     }
 }

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// Column names of [`methods_csv`].
-pub const METHODS_COLUMNS: [&str; 24] = [
+pub const METHODS_COLUMNS: [&str; 26] = [
     "problem",
     "method",
     "class",
@@ -31,6 +31,8 @@ pub const METHODS_COLUMNS: [&str; 24] = [
     "penetration",
     "energy_drift",
     "half_step_energy_drift",
+    "first_impact_time",
+    "first_release_time",
     "exact_impacts",
     "cpu_seconds",
     "step_seconds",
@@ -58,12 +60,12 @@ pub fn methods_csv(results: &[MethodResult]) -> String {
         );
         let limit = format!("{},{}", o(r.stable_step), r.stable_step_method.unwrap_or(""));
         if r.runs.is_empty() {
-            let _ = writeln!(s, "{head},0,{},,,,,,,,,,{},,,{limit}", r.status, r.exact_impacts);
+            let _ = writeln!(s, "{head},0,{},,,,,,,,,,,,{},,,{limit}", r.status, r.exact_impacts);
         }
         for (k, m) in r.runs.iter().enumerate() {
             let _ = writeln!(
                 s,
-                "{head},{k},{},{},{},{},{},{},{},{},{},{},{},{},{},{limit}",
+                "{head},{k},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{limit}",
                 r.status,
                 f(m.l2_error),
                 o(m.impact_error),
@@ -74,6 +76,8 @@ pub fn methods_csv(results: &[MethodResult]) -> String {
                 f(m.penetration),
                 f(m.energy_drift),
                 o(m.half_step_drift),
+                o(m.first_impact),
+                o(m.first_release),
                 r.exact_impacts,
                 if k == 0 { f(r.cpu_seconds) } else { String::new() },
                 if k == 0 { f(r.step_seconds) } else { String::new() }
@@ -125,7 +129,7 @@ pub fn methods_tables(config: &MethodsConfig, results: &[MethodResult]) -> Strin
     for p in &PROBLEMS {
         let rows: Vec<&MethodResult> = results
             .iter()
-            .filter(|r| r.problem == p.key && r.elements == config.table_elements && !r.in_sweep)
+            .filter(|r| r.problem == p.key && r.elements == config.table_elements && !r.in_sweep && !r.own)
             .collect();
         let impacts = rows.first().map_or(0, |r| r.exact_impacts);
         let _ = writeln!(
@@ -194,7 +198,7 @@ pub fn sweep_tables(config: &MethodsConfig, results: &[MethodResult]) -> String 
             head.join(" | "),
             "---:|".repeat(multiples.len())
         );
-        let at = |r: &&MethodResult| r.problem == p.key && r.elements == config.table_elements;
+        let at = |r: &&MethodResult| r.problem == p.key && r.elements == config.table_elements && !r.own;
         for m in METHODS {
             for &mass in m.masses {
                 let runs: Vec<&MethodResult> =
@@ -214,6 +218,57 @@ pub fn sweep_tables(config: &MethodsConfig, results: &[MethodResult]) -> String 
                 };
                 let _ = writeln!(s, "| {} | {mass} | {} |", m.label, cells.join(" | "));
             }
+        }
+    }
+    s
+}
+
+/// Every method at a benchmark's own discretisation ([`super::methods::Problem1d::own`]; issue
+/// 32, item 7: ANSYS VM265's 20 elements and Δt = 2.226e-6 s): the contact window read off the
+/// force, its errors against the exact one, and the L∞(L²) error. A scheme whose Δt_c lies below
+/// the benchmark's Δt says so. Empty without such runs.
+pub fn own_tables(results: &[MethodResult]) -> String {
+    let mut s = String::new();
+    for p in PROBLEMS.iter() {
+        let Some((elements, dt)) = p.own else { continue };
+        let rows: Vec<&MethodResult> = results.iter().filter(|r| r.problem == p.key && r.own).collect();
+        if rows.is_empty() {
+            continue;
+        }
+        let _ = write!(
+            s,
+            "\n## {} at the benchmark's own discretisation (m = {elements}, Δt = {dt:e})\n\n\
+             Every method at the benchmark's own mesh and step, whatever its usual rule; {} The contact window is \
+             [first t_n with λ < 0, first later t_n with λ = 0], read off the force.\n\n\
+             | method | mass | cΔt/h | cΔt_c/h | contact window | impact err./D | duration err./D | impulse / exact | force TV / exact | L∞(L²) rel. |\n\
+             |---|---|---:|---:|---|---:|---:|---:|---:|---:|\n",
+            p.title,
+            exact_values(p)
+        );
+        for r in rows {
+            let limit = r.stable_step.map_or("—".into(), |l| sig(l * r.courant / r.dt, 6));
+            if r.runs.is_empty() {
+                // Refused or failed at set-up (no step taken: no cΔt/h of its own).
+                let why = r.failure.as_deref().unwrap_or("").replace('|', "/");
+                let courant = sig(dt * p.c() * elements as f64 / p.length, 4);
+                let _ =
+                    writeln!(s, "| {} | {} | {courant} | {limit} | {} ({why}) | | | | | |", r.method, r.mass, r.status);
+                continue;
+            }
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {limit} | [{}, {}] | {} | {} | {} | {} | {} |",
+                r.method,
+                r.mass,
+                sig(r.courant, 4),
+                cell(r, |m| m.first_impact),
+                cell(r, |m| m.first_release),
+                cell(r, |m| m.impact_error),
+                cell(r, |m| m.duration_error),
+                cell(r, |m| m.impulse),
+                cell(r, |m| m.force_tv),
+                cell(r, |m| Some(m.l2_error)),
+            );
         }
     }
     s
@@ -260,7 +315,7 @@ fn lines(results: &[MethodResult], problem: &str) -> Vec<(usize, usize, Vec<(f64
         for (ki, mass) in MASSES.iter().enumerate() {
             let mut pts: Vec<(usize, f64, f64)> = results
                 .iter()
-                .filter(|r| r.problem == problem && r.method == m.label && r.mass == *mass && !r.in_sweep)
+                .filter(|r| r.problem == problem && r.method == m.label && r.mass == *mass && !r.in_sweep && !r.own)
                 .filter_map(|r| {
                     // The largest error over the copies (a sensitive case's worst run).
                     let e = r.runs.iter().map(|x| x.l2_error).fold(f64::NAN, f64::max);
@@ -380,6 +435,7 @@ pub fn methods_markdown(config: &MethodsConfig, results: &[MethodResult], figure
     );
     s += &methods_tables(config, results);
     s += &sweep_tables(config, results);
+    s += &own_tables(results);
     if !failed.is_empty() {
         let _ = writeln!(s, "Runs that diverged or failed:\n\n{}\n", failed.join("\n"));
     }
