@@ -45,7 +45,7 @@ pub struct MoreauJean<A: Backend> {
     /// Exact velocity solvers of the last [`SOLVERS_KEPT`] active sets (contact-order flags),
     /// the most recent first; the empty set uses the solver of every node with unreachable
     /// bounds when the back-end has no solver without contact nodes (the bar's one-node closed
-    /// form), else its own. Bounded: a body's active set changes at most steps of an impact, and
+    /// form), else its own. Bounded: a body's active set changes in most steps of an impact, and
     /// a factor kept per set grew without limit (20 GB for the tetra10 sphere of 13 218
     /// unknowns, standard mass, 1100 steps).
     solvers: Vec<(Vec<bool>, (A::Solver, Vec<usize>))>,
