@@ -10,66 +10,12 @@
 //! distance (its N = t_stop/Δt velocity steps sum to (1 − 1/N) of the integral): 5e-4 here;
 //! the elastic scale ρ g H²/μ_L = 2.5e-5. Hence the contract's 1e-3.
 
+mod common;
+
+use common::block::{COULOMB, TRESCA, block, block3, run};
 use massredist::driver::{Observer, Sample};
 use massredist::observe::Column;
-use massredist::run::{SceneRun, run_scene};
 use massredist::scene::SolidScene;
-use massredist::solid::SolidSystem;
-
-/// The block scene with a `[contact]` body, a mass (a kind, or `kind/normal` for
-/// `contact_directions = "normal"`), a scheme, Δt and the end time; gravity `force` (two
-/// expressions) and initial velocity `v0` along x.
-fn block(contact: &str, mass: &str, scheme: &str, dt: f64, end: f64, force: [&str; 2], v0: f64) -> SolidScene {
-    let mass = mass_table(mass);
-    let text = format!(
-        r#"[solid]
-dim = 2
-length = 1.0
-height = 0.5
-nx = 10
-ny = 5
-cells = "triangle"
-lame_lambda = 1e4
-lame_mu = 1e4
-density = 1.0
-force = ["{}", "{}"]
-initial = {{ displacement = ["0", "0"], velocity = ["{v0}", "0"] }}
-[obstacle]
-normal = [0.0, 1.0]
-point = [0.0, 0.0]
-contact = "auto"
-[contact]
-{contact}
-[mass]
-{mass}
-[scheme]
-kind = "{scheme}"
-[time]
-dt = {dt}
-end = {end}
-[output]
-series = ["contact_force", "momentum_x", "momentum_y", "mean_u_x", "friction_dissipation", "slip_nodes", "tangential_force_x", "tangential_force_y"]
-"#,
-        force[0], force[1]
-    );
-    SolidScene::from_toml(&text).unwrap_or_else(|e| panic!("{e}\n{text}"))
-}
-
-/// The `[mass]` table's lines of a kind, or of `kind/normal` (`contact_directions = "normal"`).
-fn mass_table(mass: &str) -> String {
-    match mass.split_once('/') {
-        Some((kind, directions)) => format!("kind = \"{kind}\"\ncontact_directions = \"{directions}\""),
-        None => format!("kind = \"{mass}\""),
-    }
-}
-
-fn run(s: &SolidScene, extra: &mut [&mut dyn Observer]) -> SceneRun<SolidSystem> {
-    run_scene(s, extra).unwrap_or_else(|e| panic!("{e}"))
-}
-
-const COULOMB: &str = "method = \"exact\"\nfriction = \"coulomb\"\nmu = 0.5";
-/// s |Γ_C| = 0.25 = μ m g of [`COULOMB`]: the same deceleration.
-const TRESCA: &str = "method = \"exact\"\nfriction = \"tresca\"\nthreshold = 0.25";
 
 /// Sliding to rest, backward Euler, Coulomb and Tresca with the standard mass and mod3 (its
 /// contact layer massless in every component, `all`, or in the normal one, `normal`): the distance v₀²/(2μg) = 1 to 1e-3 (module
@@ -259,57 +205,6 @@ fn backward_euler_loses_the_friction_dissipation_plus_its_own() {
     }
 }
 
-/// Central differences with Coulomb friction on mod3's contact layer, massless in every
-/// direction (the step's only solve is the layer's quasi-static frictional problem): the balance
-/// of velocity Verlet, ΔP_x = ½ Δt (Σ r_tⁿ + Σ r_t^{n+1}) (the interior feels friction through
-/// K_IM only, 1ᵀK = 0 along x), at every step to round-off; the dissipation never decreases; the
-/// cone holds; the block decelerates at μ g while it slides (P_x(½) = 0.375 to 1e-2: the
-/// undamped elastic block rocks and chatters under sliding friction, as Crank–Nicolson's does,
-/// see docs/scenes.md; measured 0.3766). The balance measured 1.5e-14.
-/// mutation: the massless rows' load `*r = load[i]` → `*r = 0.0` in FrictionExplicit -> gravity
-/// is lost at the contact nodes and P_x(½) fails; the initial solve's totals not cleared ->
-/// the impulse check fails.
-#[test]
-fn central_differences_balance_momentum_with_friction_on_the_massless_layer() {
-    #[derive(Default)]
-    struct Verlet {
-        prev: Option<(f64, f64, f64)>,
-        worst: f64,
-        worst_dissipation: f64,
-        excess: f64,
-        impulse: f64,
-    }
-    impl Observer for Verlet {
-        fn observe(&mut self, s: &Sample) {
-            let f = s.friction.expect("a friction law");
-            let mut own = [0.0; 9];
-            s.geometry.own_values(s.state.u, s.state.v, s.state.lambda, &mut own);
-            let p = own[3];
-            if let Some((p0, r0, d0)) = self.prev {
-                let dt = 2e-4;
-                self.worst = self.worst.max((p - p0 - 0.5 * dt * (r0 + f.force[0])).abs());
-                self.worst_dissipation = self.worst_dissipation.min(f.dissipation - d0);
-            } else {
-                self.impulse = f.impulse[0];
-            }
-            self.excess = self.excess.max(f.max_cone_excess);
-            self.prev = Some((p, f.force[0], f.dissipation));
-        }
-    }
-    let s = block(COULOMB, "mod3", "central-difference", 2e-4, 1.0, ["0", "-1"], 1.0);
-    let mut b = Verlet::default();
-    let r = run(&s, &mut [&mut b]);
-    // Each step's ΔP carries the rounding of ½Δt Σ (F − K U)_I: 132 entries of K U with |K| ≤
-    // 4e4 and |U| ≤ 1, so 132 · 4e4 · ε · Δt = 2.3e-13.
-    let tol = 132.0 * 4e4 * f64::EPSILON * 2e-4;
-    assert!(b.worst <= tol, "ΔP_x − ½Δt (Σ r_tⁿ + Σ r_t^(n+1)): {:e} (tol {tol:e})", b.worst);
-    assert!(b.worst_dissipation >= -1e-15, "the dissipation fell by {:e}", -b.worst_dissipation);
-    assert!(b.excess <= 1e-10 * 0.5 * 1.0, "max_cone_excess {:e}", b.excess);
-    assert_eq!(b.impulse, 0.0, "the initial state's quasi-static solve is not a step");
-    let p = r.series.column(Column::Momentum(0)).unwrap();
-    assert!((p[2500] - 0.375).abs() <= 1e-2, "P_x(½) = {} (rigid 0.375)", p[2500]);
-}
-
 /// The incline, as gravity tilted by θ on the plane y = 0 (the same physics as a plane tilted by
 /// θ under vertical gravity, rotated): tan θ = 0.4 < μ = ½ holds the block (its mean x
 /// displacement stays below the elastic scale ρ g H²/μ_L = 2.5e-5 and does not drift over the
@@ -370,46 +265,6 @@ fn the_frames_carry_slip_state_and_friction_traction() {
         stuck |= stick_col[n] > 0.0 && slip_col[n] == 0.0;
     }
     assert!(slid && stuck, "frames while sliding and at rest");
-}
-
-/// The 3D block (0, 1) × (0, ½) × (0, 1) (the data of [`block`], m = ½, bottom face of area 1)
-/// on the plane y = 0, sliding at v₀ = 1 along (cos 30°, 0, sin 30°).
-fn block3(contact: &str, mass: &str, cells: &str, scheme: &str, dt: f64, end: f64, g: &str) -> SolidScene {
-    let mass = mass_table(mass);
-    let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
-    let text = format!(
-        r#"[solid]
-dim = 3
-length = 1.0
-height = 0.5
-depth = 1.0
-nx = 4
-ny = 2
-nz = 4
-cells = "{cells}"
-lame_lambda = 1e4
-lame_mu = 1e4
-density = 1.0
-force = ["0", "{g}", "0"]
-initial = {{ displacement = ["0", "0", "0"], velocity = ["{c}", "0", "{s}"] }}
-[obstacle]
-normal = [0.0, 1.0, 0.0]
-point = [0.0, 0.0, 0.0]
-contact = "auto"
-[contact]
-{contact}
-[mass]
-{mass}
-[scheme]
-kind = "{scheme}"
-[time]
-dt = {dt}
-end = {end}
-[output]
-series = ["mean_u_x", "mean_u_z", "momentum_x", "momentum_z", "contact_force", "tangential_force_x", "tangential_force_z"]
-"#
-    );
-    SolidScene::from_toml(&text).unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
 
 /// The isotropic cone (issue 29, check 2 in 3D): the block of [`block3`] sliding at 30° to x
@@ -570,14 +425,15 @@ fn friction_is_refused_by_name_where_it_is_not_built() {
     assert_eq!(key(&solid(false, "crank-nicolson", "friction = \"tresca\"\nthreshold = 0.1")), "accepted");
     assert_eq!(key(&format!("[bar]\nelements = 10\n[contact]\n{coulomb}\n")), "contact.friction");
     assert_eq!(key(&solid(true, "backward-euler", coulomb)), "accepted");
-    assert_eq!(key(&solid(false, "central-difference", coulomb)), "contact.friction");
-    // Central differences take friction on a contact layer massless in every direction only.
+    // Central differences take friction on massive contact nodes (the forward increment) and
+    // on a contact layer massless in every direction (its quasi-static frictional problem).
+    assert_eq!(key(&solid(false, "central-difference", coulomb)), "accepted");
     let cd = |directions: &str| {
         solid(false, "central-difference", coulomb)
             .replace("kind = \"standard\"", &format!("kind = \"mod3\"\ncontact_directions = \"{directions}\""))
     };
     assert_eq!(key(&cd("all")), "accepted");
-    assert_eq!(key(&cd("normal")), "contact.friction");
+    assert_eq!(key(&cd("normal")), "accepted");
     assert_eq!(key(&solid(false, "hybrid", coulomb)), "contact.friction");
     assert_eq!(key(&solid(false, "backward-euler", "friction = \"coulomb\"")), "contact.mu");
     assert_eq!(key(&solid(false, "backward-euler", "friction = \"tresca\"")), "contact.threshold");

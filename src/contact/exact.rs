@@ -131,7 +131,7 @@ impl ExactExplicit {
 }
 
 impl ExplicitLaw for ExactExplicit {
-    fn massive(&self, s: Massive<'_>) {
+    fn massive(&mut self, s: Massive<'_>) {
         let dt2 = s.kappa * s.dt * s.dt;
         for &(k, c) in &self.massive {
             let predicted = s.u[c] + s.dt * s.v[c] + dt2 * s.a[c];

@@ -256,8 +256,8 @@ impl ContactLaw {
                 tangential: false,
             },
             // Built so far for the schemes that take a law in one implicit step (backward
-            // Euler, Newmark/Crank–Nicolson) and for central differences on a contact layer
-            // massless in every direction; the hybrid scheme is still to come (issue 29).
+            // Euler, Newmark/Crank–Nicolson) and for central differences (massive or massless
+            // tangential unknowns); the hybrid scheme is still to come (issue 29).
             ContactLaw::Frictional(_) => LawNeeds {
                 treatments: &[ImplicitStep, Explicit],
                 one_cell_contact_row: false,
@@ -318,7 +318,13 @@ impl ContactLaw {
     ) -> Result<Box<dyn ExplicitLaw>, SetupError> {
         Ok(match *self {
             ContactLaw::Exact => Box::new(ExactExplicit::new(system, lumped)?),
-            ContactLaw::Frictional(f) => Box::new(super::friction::FrictionExplicit::new(system, lumped, f, dt)?),
+            // The contact nodes' tangential unknowns massless (`contact_directions = "all"`
+            // with w_0 = 0): the layer's quasi-static frictional problem; massive (the standard
+            // mass, or `"normal"`): the forward increment, node by node.
+            ContactLaw::Frictional(f) if massless_tangents(system, lumped) => {
+                Box::new(super::friction::FrictionExplicit::new(system, lumped, f, dt)?)
+            }
+            ContactLaw::Frictional(f) => Box::new(super::friction::FrictionMassive::new(system, lumped, f)?),
             ContactLaw::Penalty { penalty } => Box::new(PenaltyExplicit::new(system, lumped, penalty)?),
             ContactLaw::Nitsche { .. } => Box::new(NitscheExplicit::new(self.nitsche_term(system)?, lumped)?),
         })
@@ -372,6 +378,13 @@ impl ContactLaw {
             _ => 0.0,
         }
     }
+}
+
+/// Whether every tangential unknown of the contact nodes is massless (friction's quasi-static
+/// rows in central differences); false without tangential unknowns.
+fn massless_tangents<A>(system: &ContactSystem<A>, lumped: &[f64]) -> bool {
+    let mut tangents = system.tangential.iter().flat_map(|t| t.unknowns.iter().flatten()).peekable();
+    tangents.peek().is_some() && tangents.all(|&t| lumped[t] <= 0.0)
 }
 
 #[cfg(test)]

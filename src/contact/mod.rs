@@ -193,7 +193,7 @@ pub trait ExplicitLaw: Debug + Send {
     fn add_residual(&self, _u: &[f64], _r: &mut [f64]) {}
     /// The contact forces of the massive contact nodes after `A = M_L⁻¹(F − KU)`: writes their λ
     /// and corrects their A.
-    fn massive(&self, _s: Massive<'_>) {}
+    fn massive(&mut self, _s: Massive<'_>) {}
     /// The quasi-static massless unknowns at the current time (`load` = F(t), `forced`: F depends
     /// on t); writes their λ. Returns the pivots.
     fn quasi_static(

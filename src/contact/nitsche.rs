@@ -336,7 +336,7 @@ impl ExplicitLaw for NitscheExplicit {
     }
 
     /// λ = −[P(U)]_+ (the force itself is in the residual).
-    fn massive(&self, s: Massive<'_>) {
+    fn massive(&mut self, s: Massive<'_>) {
         s.lambda[0] = self.term.lambda(s.u);
     }
 

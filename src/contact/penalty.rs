@@ -196,7 +196,7 @@ impl ExplicitLaw for PenaltyExplicit {
         if self.springs.is_empty() { "" } else { " + κ E_Cᵀ E_C" }
     }
 
-    fn massive(&self, s: Massive<'_>) {
+    fn massive(&mut self, s: Massive<'_>) {
         for &(k, c) in &self.massive {
             let l = self.kappa * (s.u[c] - self.lower[k]).min(0.0);
             s.lambda[k] = l;

@@ -28,6 +28,8 @@
 //! node: with `ũ_c = u_cⁿ + Δt v_c^{n−½} + Δt² a_c` (a_c without contact, `v^{n−½} = V^{n−1} +
 //! ½ΔtA^{n−1}`; at n = 0, `ũ_c = u_c⁰ + Δt v_c⁰ + ½Δt² a_c`, coefficient ½ instead of 1),
 //! `λ_c = min(0, (ũ_c − lb_c) m_c / (κ Δt²))`, κ = 1 (κ = ½ at n = 0).
+//! With friction the tangential unknowns of a massive contact node take the same forward
+//! increment, returned onto the friction disc ([`crate::contact::friction::FrictionMassive`]).
 //!
 //! **Stability**: `Δt ≤ Δt_c = 2/√λ_max(M_L,II⁻¹ K_II)` ([`super::stable_limit`]: Lanczos, its
 //! accuracy stated there). The massless unknowns enter the interior rows through the quasi-static

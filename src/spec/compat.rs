@@ -40,9 +40,6 @@ pub struct Offer {
     /// Massless unknowns beside the contact unknowns (a contact layer: a solid's tangential
     /// components at the contact face when w_0 = 0).
     pub contact_layer: bool,
-    /// The contact nodes massless in every direction (a solid with w_0 = 0 and
-    /// `mass.contact_directions = "all"`): friction's quasi-static rows in central differences.
-    pub massless_tangents: bool,
     /// One contact unknown whose stiffness row is one P1 cell (a bar: Nitsche's σ_n).
     pub one_cell_contact_row: bool,
     /// The obstacle at gap 0.
@@ -201,11 +198,6 @@ fn friction_vs_rest(offer: &Offer, scheme: &SchemeSpec, law: &ContactLaw) -> Opt
     if !law.needs().treatments.contains(&treatment) {
         return Some(format!(
             "friction is built for the schemes that solve one implicit step with a law (backward_euler, crank_nicolson, newmark) and for central differences so far, not for {name}"
-        ));
-    }
-    if treatment == Treatment::Explicit && !offer.massless_tangents {
-        return Some(format!(
-            "{name} with friction solves the quasi-static frictional problem of a contact layer massless in every direction (mass.kind = mod1 | mod2 | mod3 with mass.contact_directions = \"all\"); friction on massive contact nodes is not built"
         ));
     }
     None

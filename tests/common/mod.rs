@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod alloc;
+pub mod block;
 
 use massredist::bar::BarProblem;
 use massredist::driver::{Observer, Sample, integrate};

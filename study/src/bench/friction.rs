@@ -8,8 +8,14 @@
 //! - the P2 sphere of `scenes/body-sphere-drop.toml` (3D), given the tangential velocity 0.5
 //!   beside its normal −1, t ∈ (0, 6): it lands at t = 0.52 and slides.
 //!
-//! Each with mod3 (`contact_directions = "all"`, the layer central differences need with
-//! friction) under Crank–Nicolson at the scene's Δt and under central differences at the largest
+//! - the explicit cube of `bench --explicit-scaling` (issue 29's bound): N³ Q1 hexahedra, N = 69
+//!   (1 030 000 unknowns), the standard mass (the forward increment on every contact node,
+//!   `src/contact/friction/massive.rs` with friction), pushed onto the plane x = 0 at velocity
+//!   (−1, 0.5, 0) so that every contact node carries force and slides; central differences only,
+//!   at 0.9 Δt_c for [`CUBE_STEPS`] steps.
+//!
+//! The disc and sphere with mod3 (`contact_directions = "all"`: the massless layer's frictional
+//! problem) under Crank–Nicolson at the scene's Δt and under central differences at the largest
 //! Δt dividing the end that is at most both 0.9 Δt_c and the scene's Δt (Δt_c from a one-step
 //! probe of the same scene; the estimator is in the table), each once
 //! frictionless and once with Coulomb friction μ = 0.1, one after the other in this process.
@@ -29,23 +35,43 @@ use std::time::Instant;
 /// Coulomb's coefficient of every frictional run (GetFEM's `dynamic_friction` disc used 0.1).
 const MU: f64 = 0.1;
 
-/// One case: a shipped scene and the changes to its data.
+/// One case: a shipped scene and the changes to its data, or the explicit cube.
 struct Case {
     name: &'static str,
-    scene: &'static str,
+    scene: Source,
     /// The initial velocity, if changed.
     velocity: Option<&'static [&'static str]>,
+    /// The end (the cube: ignored, [`CUBE_STEPS`] steps at 0.9 Δt_c).
     end: f64,
 }
 
-const CASES: [Case; 2] = [
-    Case { name: "disc P2 (2D)", scene: "scenes/body-getfem-disc-p2-standard.toml", velocity: None, end: 2.0 },
+/// Where a case's scene comes from.
+enum Source {
+    /// A shipped scene file (mod3).
+    File(&'static str),
+    /// The N³ box of `bench --explicit-scaling` (the standard mass, central differences only).
+    Cube(usize),
+}
+
+/// The cube's side in cells (N³ Q1 hexahedra: 3 · 70² · 70 ≈ 1.03 · 10⁶ unknowns).
+pub const CUBE_CELLS: usize = 69;
+/// The cube's steps per run.
+pub const CUBE_STEPS: usize = 60;
+
+const CASES: [Case; 3] = [
+    Case {
+        name: "disc P2 (2D)",
+        scene: Source::File("scenes/body-getfem-disc-p2-standard.toml"),
+        velocity: None,
+        end: 2.0,
+    },
     Case {
         name: "sphere P2 (3D)",
-        scene: "scenes/body-sphere-drop.toml",
+        scene: Source::File("scenes/body-sphere-drop.toml"),
         velocity: Some(&["0.5", "0", "-1"]),
         end: 6.0,
     },
+    Case { name: "explicit cube (3D)", scene: Source::Cube(CUBE_CELLS), velocity: Some(&["-1", "0.5", "0"]), end: 0.0 },
 ];
 
 /// One measured run.
@@ -86,21 +112,33 @@ impl Observer for Clock {
 
 /// The case's scene with mod3, `scheme`, Δt, and the law (None: frictionless).
 fn scene(case: &Case, scheme: &str, dt: f64, end: f64, mu: Option<f64>) -> Result<SolidScene, String> {
-    let path = crate::repo::root().join(case.scene);
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut t: toml::Table = text.parse().map_err(|e| format!("{}: {e}", path.display()))?;
+    let (mut t, mass) = match case.scene {
+        Source::File(file) => {
+            let path = crate::repo::root().join(file);
+            let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let mut t: toml::Table = text.parse().map_err(|e| format!("{}: {e}", path.display()))?;
+            let solid = t.get_mut("solid").and_then(toml::Value::as_table_mut).ok_or("no [solid]")?;
+            let dir = path.parent().unwrap_or(Path::new("."));
+            if let Some(toml::Value::String(mesh)) = solid.get_mut("mesh") {
+                *mesh = dir.join(&*mesh).to_string_lossy().into_owned();
+            }
+            (t, "mod3")
+        }
+        Source::Cube(n) => {
+            let text = format!(
+                "[solid]\ndim = 3\nnx = {n}\nny = {n}\nnz = {n}\ninitial = {{ displacement = [\"0\", \"0\", \"0\"] }}\n"
+            );
+            (text.parse().map_err(|e| format!("the cube: {e}"))?, "standard")
+        }
+    };
     let solid = t.get_mut("solid").and_then(toml::Value::as_table_mut).ok_or("no [solid]")?;
-    let dir = path.parent().unwrap_or(Path::new("."));
-    if let Some(toml::Value::String(mesh)) = solid.get_mut("mesh") {
-        *mesh = dir.join(&*mesh).to_string_lossy().into_owned();
-    }
     if let (Some(v), Some(init)) = (case.velocity, solid.get_mut("initial").and_then(toml::Value::as_table_mut)) {
         init.insert("velocity".into(), toml::Value::Array(v.iter().map(|x| toml::Value::from(*x)).collect()));
     }
     let table = |pairs: &[(&str, toml::Value)]| {
         toml::Value::Table(pairs.iter().map(|(k, v)| (k.to_string(), v.clone())).collect())
     };
-    t.insert("mass".into(), table(&[("kind", "mod3".into())]));
+    t.insert("mass".into(), table(&[("kind", mass.into())]));
     t.insert("scheme".into(), table(&[("kind", scheme.into())]));
     t.insert("time".into(), table(&[("dt", dt.into()), ("end", end.into())]));
     let contact = match mu {
@@ -110,7 +148,7 @@ fn scene(case: &Case, scheme: &str, dt: f64, end: f64, mu: Option<f64>) -> Resul
     t.insert("contact".into(), contact);
     t.insert("output".into(), table(&[("series", toml::Value::Array(vec!["contact_force".into()]))]));
     let text = toml::to_string(&t).map_err(|e| e.to_string())?;
-    SolidScene::from_toml(&text).map_err(|e| format!("{}: {e}", case.scene))
+    SolidScene::from_toml(&text).map_err(|e| format!("{}: {e}", case.name))
 }
 
 /// Central differences' Δt_c on the case (a one-step probe) and its estimator.
@@ -124,10 +162,11 @@ fn measure(
     case: &Case,
     scheme: &'static str,
     dt: f64,
+    end: f64,
     limit: Option<(f64, &'static str)>,
     mu: Option<f64>,
 ) -> Result<Row, String> {
-    let s = scene(case, scheme, dt, case.end, mu)?;
+    let s = scene(case, scheme, dt, end, mu)?;
     let mut clock = Clock::default();
     let r = run_scene(&s, &mut [&mut clock]).map_err(|e| format!("{} {scheme}: {e}", case.name))?;
     let contact: Vec<f64> = clock.steps.iter().filter(|s| s.1).map(|s| s.0).collect();
@@ -153,22 +192,32 @@ fn measure(
 pub fn run(csv: &Path) -> Result<Vec<PathBuf>, String> {
     let mut rows = Vec::new();
     for case in &CASES {
-        let implicit_dt = {
-            let path = crate::repo::root().join(case.scene);
-            let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-            let t: toml::Table = text.parse().map_err(|e| format!("{}: {e}", path.display()))?;
-            t.get("time").and_then(|t| t.get("dt")).and_then(toml::Value::as_float).ok_or("no time.dt")?
-        };
         let limit = stable_limit(case)?;
-        // The largest Δt dividing the end at most min(0.9 Δt_c, the implicit Δt): the explicit
-        // run takes no fewer steps than the implicit one.
-        let explicit_dt = step_dividing(case.end, (SAFETY * limit.0).min(implicit_dt));
-        for (scheme, dt, limit) in
-            [("crank-nicolson", implicit_dt, None), ("central-difference", explicit_dt, Some(limit))]
-        {
+        let runs = match case.scene {
+            Source::File(file) => {
+                let implicit_dt = {
+                    let path = crate::repo::root().join(file);
+                    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+                    let t: toml::Table = text.parse().map_err(|e| format!("{}: {e}", path.display()))?;
+                    t.get("time").and_then(|t| t.get("dt")).and_then(toml::Value::as_float).ok_or("no time.dt")?
+                };
+                // The largest Δt dividing the end at most min(0.9 Δt_c, the implicit Δt): the
+                // explicit run takes no fewer steps than the implicit one.
+                let explicit_dt = step_dividing(case.end, (SAFETY * limit.0).min(implicit_dt));
+                vec![
+                    ("crank-nicolson", implicit_dt, case.end, None),
+                    ("central-difference", explicit_dt, case.end, Some(limit)),
+                ]
+            }
+            Source::Cube(_) => {
+                let dt = SAFETY * limit.0;
+                vec![("central-difference", dt, CUBE_STEPS as f64 * dt, Some(limit))]
+            }
+        };
+        for (scheme, dt, end, limit) in runs {
             for mu in [None, Some(MU)] {
                 eprintln!("{} {scheme} {}", case.name, if mu.is_some() { "coulomb" } else { "frictionless" });
-                rows.push(measure(case, scheme, dt, limit, mu)?);
+                rows.push(measure(case, scheme, dt, end, limit, mu)?);
             }
         }
     }
@@ -208,8 +257,10 @@ pub fn to_markdown(rows: &[Row]) -> String {
     let mut s = format!(
         "# The cost of friction\n\nWritten by `massredist bench --friction docs/bench/friction.csv` (study/src/bench/friction.rs) on \
          {} ({} logical CPUs), {} build, massredist {} at {}{}. Each case run frictionless and with Coulomb friction \
-         μ = {MU}, one after the other in this process; mod3 (`contact_directions = \"all\"`); central differences at \
-         the largest Δt dividing the end that is at most {SAFETY} Δt_c and the implicit Δt. A step's time is the wall time between two observer calls; \"in contact\" are the steps after \
+         μ = {MU}, one after the other in this process; the disc and the sphere with mod3 (`contact_directions = \"all\"`), \
+         central differences at the largest Δt dividing the end that is at most {SAFETY} Δt_c and the implicit Δt; \
+         the explicit cube ({CUBE_CELLS}³ Q1 hexahedra, the standard mass, pushed onto the plane at velocity (−1, 0.5, 0)) \
+         under central differences at {SAFETY} Δt_c for {CUBE_STEPS} steps. A step's time is the wall time between two observer calls; \"in contact\" are the steps after \
          which some node carries force.\n\n\
          | case | scheme | unknowns | Δt | steps (in contact) | frictionless ms/step in contact | Coulomb ms/step in contact | ratio | ratio over all steps | largest sweeps (Coulomb) |\n\
          |---|---|---|---|---|---|---|---|---|---|\n",
@@ -246,9 +297,9 @@ pub fn to_markdown(rows: &[Row]) -> String {
         "\nThe frictional step solves the contact nodes' frictional problem on the dense `D = Eᵀ K⁻¹ E` of all \
          candidate contact-node unknowns (normal and tangential): its sweeps, its checks and the two triangular \
          solves with the factor's trailing block cost O(m²) per step for m such unknowns, where the frictionless \
-         exact law works on the normal unknowns alone (`src/contact/friction.rs`, `cone.rs`). The explicit \
-         10⁶-unknown cube of issue 29's bound (1.3×) needs a contact face solved in linear time (issue 31): not \
-         measured here.\n",
+         exact law works on the normal unknowns alone (`src/contact/friction.rs`, `cone.rs`). On massive contact \
+         nodes (the explicit cube's standard mass) friction is the forward-increment multiplier returned onto the \
+         friction disc node by node, O(1) per contact node (`src/contact/friction/massive.rs`).\n",
     );
     s
 }
