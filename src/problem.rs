@@ -253,7 +253,7 @@ impl<G: Geometry> Problem<G> {
                 let operator = op;
                 Box::new(CentralDifference::with_operator(s, operator, lumped, law, dt, u, v)?)
             }
-            SchemeSpec::Hybrid => Box::new(Hybrid::new(s, dt, u, v)?),
+            SchemeSpec::Hybrid => Box::new(Hybrid::with_law(s, law, dt, u, v)?),
             SchemeSpec::MoreauJean { theta, restitution } => {
                 Box::new(MoreauJean::new(s, theta, restitution, dt, u, v)?)
             }

@@ -107,6 +107,7 @@ impl SceneGeometry for BarSpec {
             lumped_mass: true,
             w0: self.contact_weight(mass)?,
             contact_layer: false,
+            massless_tangents: false,
             one_cell_contact_row: true,
             zero_gap: self.gap == 0.0,
             tangential_dims: 0,

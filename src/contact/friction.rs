@@ -184,6 +184,9 @@ struct Dense {
     friction: Friction,
     sigma: f64,
     dt: f64,
+    /// The step's increment over the solved value's: `Δu_t = span (u_t − u_tⁿ)`; 1 where the
+    /// solve gives U^{n+1}, 2 for the hybrid scheme's midpoint `Ū = (Uⁿ + U^{n+1})/2`.
+    span: f64,
     /// Targets: lb on normal slots, `u_tⁿ` on tangential ones.
     target: Vec<f64>,
     /// Whether each node carried normal force in the previous step (Tresca's active set).
@@ -201,7 +204,8 @@ struct Dense {
 }
 
 impl FrictionStep {
-    /// Factors `k` with the contact-node unknowns last and builds D (O(m³) once).
+    /// Factors `k` with the contact-node unknowns last and builds D (O(m³) once); the solve
+    /// gives U^{n+1} (`span` 1, [`Self::midpoint`] for the hybrid scheme's).
     pub fn new(
         k: &crate::linalg::sparse::SpMat,
         contact: &[usize],
@@ -249,6 +253,7 @@ impl FrictionStep {
             friction,
             sigma,
             dt,
+            span: 1.0,
             target: vec![0.0; m],
             was_closed: vec![false; nc],
             f: vec![0.0; m],
@@ -260,6 +265,15 @@ impl FrictionStep {
             sweeps: 0,
         };
         Ok(Self { factor, upper, unknowns, dense })
+    }
+
+    /// The law in the hybrid scheme's midpoint step: the solve gives `Ū = (Uⁿ + U^{n+1})/2`,
+    /// so the stick condition `ū_t = u_tⁿ` is `Δu_t = 0`, a slide's `ū_t − u_tⁿ` points along
+    /// `Δu_t = 2 (ū_t − u_tⁿ)` (the conditions hold for any positive multiple of the increment),
+    /// and the record and the next targets take `Δu_t` and `u_t^{n+1} = 2ū_t − u_tⁿ`.
+    pub fn midpoint(mut self) -> Self {
+        self.dense.span = 2.0;
+        self
     }
 }
 
@@ -512,9 +526,9 @@ impl Dense {
             };
             // The node's tangential reaction r_t (one or two components) and its increment Δu_t.
             let mut r_t = [self.f[t] / self.sigma, 0.0];
-            let mut du = [self.y[t], 0.0];
+            let mut du = [self.span * self.y[t], 0.0];
             if let Some(t2) = s.t2 {
-                (r_t[1], du[1]) = (self.f[t2] / self.sigma, self.y[t2]);
+                (r_t[1], du[1]) = (self.f[t2] / self.sigma, self.span * self.y[t2]);
             }
             let bound = self.bound(i, &self.f) / self.sigma;
             let size = if s.t2.is_some() { r_t[0].hypot(r_t[1]) } else { r_t[0].abs() };
@@ -768,9 +782,10 @@ impl StepLaw for FrictionStep {
             rhs[i] = dense.u[k];
         }
         dense.update_record();
-        // The next step's tangential targets: u_t^{n+1}.
+        // The next step's tangential targets: u_t^{n+1} (`2ū_t − u_tⁿ` from the midpoint, as
+        // the hybrid scheme forms it).
         for t in dense.slots.iter().flat_map(|s| [s.t, s.t2]).flatten() {
-            dense.target[t] = dense.u[t];
+            dense.target[t] = if dense.span == 1.0 { dense.u[t] } else { 2.0 * dense.u[t] - dense.target[t] };
         }
         Ok(dense.sweeps)
     }

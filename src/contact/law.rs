@@ -173,8 +173,11 @@ pub enum Treatment {
     /// on massless ones (central differences: generic over the law).
     Explicit,
     /// The scheme's own contact treatment of the exact condition (Paoli–Schatzman's and
-    /// Moreau–Jean's impact laws, the reduced and hybrid schemes' `u_0 = u_1⁺`).
+    /// Moreau–Jean's impact laws, the reduced scheme's `u_0 = u_1⁺`).
     Own,
+    /// The hybrid scheme: its midpoint step with the law ([`ContactLaw::midpoint_law`]: the
+    /// exact condition, frictionless or with friction), then its own quasi-static map Φ.
+    Midpoint,
 }
 
 /// What a law needs of the scheme and the geometry (checked once, by the scene's compatibility
@@ -250,16 +253,16 @@ impl ContactLaw {
         use Treatment::*;
         match self {
             ContactLaw::Exact => LawNeeds {
-                treatments: &[ImplicitStep, Explicit, Own],
+                treatments: &[ImplicitStep, Explicit, Own, Midpoint],
                 one_cell_contact_row: false,
                 explicit_without_layer: false,
                 tangential: false,
             },
-            // Built so far for the schemes that take a law in one implicit step (backward
-            // Euler, Newmark/Crank–Nicolson) and for central differences (massive or massless
-            // tangential unknowns); the hybrid scheme is still to come (issue 29).
+            // The schemes that take a law in one implicit step (backward Euler,
+            // Newmark/Crank–Nicolson), central differences (massive or massless tangential
+            // unknowns) and the hybrid scheme's midpoint step (massive tangential unknowns).
             ContactLaw::Frictional(_) => LawNeeds {
-                treatments: &[ImplicitStep, Explicit],
+                treatments: &[ImplicitStep, Explicit, Midpoint],
                 one_cell_contact_row: false,
                 explicit_without_layer: false,
                 tangential: true,
@@ -290,11 +293,7 @@ impl ContactLaw {
         dt: f64,
     ) -> Result<Box<dyn StepLaw>, SetupError> {
         if let ContactLaw::Frictional(friction) = *self {
-            let tangential = system
-                .tangential
-                .as_ref()
-                .ok_or(SetupError::Shape("friction needs a solid's tangential directions"))?;
-            return k.friction_step(&system.contact, tangential, friction, matrix, (sigma, dt));
+            return friction_step(system, k, friction, matrix, (sigma, dt, false));
         }
         let plain = k.contact_solver(&system.contact, matrix)?;
         Ok(match *self {
@@ -307,6 +306,28 @@ impl ContactLaw {
                 Box::new(NitscheStep::new(plain, system.n(), self.nitsche_term(system)?, sigma)?)
             }
         })
+    }
+
+    /// The law in the hybrid scheme's midpoint step on `system` for `K = k = M + Δt²/4 S`
+    /// (`K X̄ = r − σ Σ λ̄_c e_c`, σ = Δt²/4, for the midpoint X̄; `crate::schemes::hybrid`):
+    /// the exact condition, frictionless or with friction (whose increment is twice the
+    /// midpoint's, [`super::friction::FrictionStep::midpoint`]; its Coulomb bound takes the
+    /// midpoint force λ̄, the time level of the scheme's contact force).
+    pub fn midpoint_law<A: Backend>(
+        &self,
+        system: &ContactSystem<A>,
+        k: &A,
+        matrix: &'static str,
+        sigma: f64,
+        dt: f64,
+    ) -> Result<Box<dyn StepLaw>, SetupError> {
+        match *self {
+            ContactLaw::Exact => self.step_law(system, k, matrix, sigma, dt),
+            ContactLaw::Frictional(friction) => friction_step(system, k, friction, matrix, (sigma, dt, true)),
+            ContactLaw::Penalty { .. } | ContactLaw::Nitsche { .. } => {
+                Err(SetupError::Shape("the hybrid scheme takes the exact law, frictionless or with friction"))
+            }
+        }
     }
 
     /// The law in central differences on `system` with the lumped mass `lumped`.
@@ -378,6 +399,19 @@ impl ContactLaw {
             _ => 0.0,
         }
     }
+}
+
+/// The frictional step on `system` for `K = k` (`Backend::friction_step`).
+fn friction_step<A: Backend>(
+    system: &ContactSystem<A>,
+    k: &A,
+    friction: Friction,
+    matrix: &'static str,
+    sigma_dt_midpoint: (f64, f64, bool),
+) -> Result<Box<dyn StepLaw>, SetupError> {
+    let tangential =
+        system.tangential.as_ref().ok_or(SetupError::Shape("friction needs a solid's tangential directions"))?;
+    k.friction_step(&system.contact, tangential, friction, matrix, sigma_dt_midpoint)
 }
 
 /// Whether every tangential unknown of the contact nodes is massless (friction's quasi-static

@@ -52,15 +52,16 @@ pub trait Backend: SymMatrix {
     /// Factors `self` once and prepares the contact solves on the unknowns `contact`.
     fn contact_solver(&self, contact: &[usize], matrix: &'static str) -> Result<Self::Solver, LinalgError>;
 
-    /// The frictional step on `self` ([`friction::FrictionStep`]): a back-end without
-    /// tangential directions (a bar's) has none.
+    /// The frictional step on `self` ([`friction::FrictionStep`]; `midpoint`: the hybrid
+    /// scheme's, [`friction::FrictionStep::midpoint`]): a back-end without tangential
+    /// directions (a bar's) has none.
     fn friction_step(
         &self,
         _contact: &[usize],
         _tangential: &friction::Tangential,
         _friction: friction::Friction,
         _matrix: &'static str,
-        _sigma_dt: (f64, f64),
+        _sigma_dt_midpoint: (f64, f64, bool),
     ) -> Result<Box<dyn StepLaw>, SetupError> {
         Err(SetupError::Shape("friction needs tangential directions (a solid)"))
     }
@@ -89,9 +90,10 @@ impl Backend for crate::linalg::sparse::SpMat {
         tangential: &friction::Tangential,
         friction: friction::Friction,
         matrix: &'static str,
-        (sigma, dt): (f64, f64),
+        (sigma, dt, midpoint): (f64, f64, bool),
     ) -> Result<Box<dyn StepLaw>, SetupError> {
-        Ok(Box::new(friction::FrictionStep::new(self, contact, tangential, friction, matrix, sigma, dt)?))
+        let step = friction::FrictionStep::new(self, contact, tangential, friction, matrix, sigma, dt)?;
+        Ok(Box::new(if midpoint { step.midpoint() } else { step }))
     }
 }
 

@@ -281,6 +281,7 @@ pub(crate) fn validate_sections<G: SceneGeometry>(geometry: G, raw: RawScene) ->
         // The tangential components keep their mass: no massless unknown beside the contact
         // rows but the normal components of the layer's inner nodes (P2's edge nodes).
         offer.contact_layer = offer.contact_layer && geometry.massless_inner_nodes(&mass)?;
+        offer.massless_tangents = false;
     }
     crate::spec::compat::check(G::TABLE, &offer, &mass, &scheme, &contact)?;
     let time = parse_time(raw.time, 3.0 * geometry.length(), geometry.unknowns(), geometry.size_keys())?;

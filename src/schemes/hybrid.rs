@@ -53,6 +53,21 @@
 //! `u_C⁰ = Φ(U⁰)` (in 1D `u_0⁰ = max(u_1⁰, −gap)`), not from the interpolated ones, and reports
 //! that state (and its multipliers) at n = 0.
 //!
+//! **Friction** (issue 29; `contact.friction` with `mass.contact_directions = "normal"`: the
+//! contact nodes' tangential unknowns keep their mass, only the normal ones are quasi-static).
+//! The midpoint solve takes the frictional law ([`crate::contact::law::ContactLaw::midpoint_law`]):
+//! the interior rows gain `E_t r̄_t`, the tangential reactions of the contact nodes at the
+//! midpoint, with the conditions of `crate::contact::friction` on the step's increment
+//! `ΔU_t = U_t^{n+1} − U_tⁿ = 2(Ū_t − U_tⁿ)` (stick: `Ū_t = U_tⁿ`; slide: r̄_t against ΔU_t, at
+//! the bound) and the Coulomb bound `μ r̄_n` of the midpoint normal force λ̄ (the scheme's contact
+//! force acts at t_{n+½}, the midpoint rule's level; midpoint schemes for frictional contact
+//! put the bound there too, e.g. Armero & Petőcz, CMAME 179 (1999)). Φ is unchanged: it sets the normal
+//! unknowns alone, whose rows carry no tangential force. Testing the interior rows with ΔU adds
+//! `r̄_t · ΔU_t = −D_step ≤ 0` to ΔE below: `ΔE = [the three terms] − D_step`, so E still never
+//! grows, and the `friction_dissipation` key adds D_step (`tests/friction.rs` checks the identity
+//! at every step). A contact layer massless in every direction would need Φ to solve a
+//! frictional problem too: refused (`crate::spec::compat`).
+//!
 //! **Energy: Lemma 5.1 carries over.** Let `E = ½VᵀMV + ½XᵀSX − XᵀF` with `X = (u_C, U)`,
 //! and let both ends of a step be quasi-static (`u_C = Φ(U)`; true for every step n ≥ 1, and
 //! for the first step the reported E⁰ uses the interpolated u_C⁰, whose energy is ≥ that of
@@ -73,7 +88,8 @@
 //! last step (the tests check that they add up to the measured ΔE).
 
 use super::{SchemeError, StateView, check_finite, check_range, contact_err};
-use crate::contact::{Backend, ContactSolver, QuasiStatic};
+use crate::contact::law::ContactLaw;
+use crate::contact::{Backend, QuasiStatic, StepLaw};
 use crate::system::ContactSystem;
 
 #[derive(Debug)]
@@ -88,7 +104,8 @@ pub struct Hybrid<A: Backend> {
     quasi_idx: Vec<usize>,
     /// Obstacle bounds lb (contact order).
     obstacle: Vec<f64>,
-    solver: A::Solver,
+    /// The midpoint step's law (the exact condition, frictionless or with friction).
+    law: Box<dyn StepLaw>,
     quasi_static: QuasiStatic,
     n: usize,
     u: Vec<f64>,
@@ -112,15 +129,27 @@ impl<A: Backend> Hybrid<A> {
     pub const NAME: &'static str = super::SchemeSpec::Hybrid.name();
 
     /// Needs every contact unknown massless (quasi-static contact rows). The contact entries of
-    /// `u0` are replaced by the quasi-static values Φ(U⁰) (module docs).
+    /// `u0` are replaced by the quasi-static values Φ(U⁰) (module docs). The exact law.
     pub fn new(system: &ContactSystem<A>, dt: f64, u0: Vec<f64>, v0: Vec<f64>) -> Result<Self, SchemeError> {
+        Self::with_law(system, &ContactLaw::Exact, dt, u0, v0)
+    }
+
+    /// [`Self::new`] with the midpoint step's law (`ContactLaw::midpoint_law`: the exact law, or
+    /// friction on massive tangential unknowns; module docs, "Friction").
+    pub fn with_law(
+        system: &ContactSystem<A>,
+        law: &ContactLaw,
+        dt: f64,
+        u0: Vec<f64>,
+        v0: Vec<f64>,
+    ) -> Result<Self, SchemeError> {
         if !system.massless_contact() {
             return Err(SchemeError::NeedsMasslessContact { scheme: Self::NAME, w0: system.contact_mass() });
         }
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
         let name = "M + Δt²/4 S";
         let k = system.mass.combine(1.0, &system.stiffness, dt * dt / 4.0, name)?;
-        let solver = k.contact_solver(&system.contact, name)?;
+        let mut law = law.midpoint_law(system, &k, name, dt * dt / 4.0, dt)?;
         // Massless unknowns without a contact condition (a solid's tangential components on
         // Γ_C) are quasi-static too: Φ sets them with the contact values (module docs).
         let mut is_contact = vec![false; system.n()];
@@ -134,6 +163,7 @@ impl<A: Backend> Hybrid<A> {
         let mut u = u0;
         let mut lambda = vec![0.0; nc];
         quasi_static.apply(&mut u, &system.lower, &mut lambda).map_err(contact_err(0, 0.0))?;
+        law.start(&u);
         let uc: Vec<f64> = system.contact.iter().map(|&i| u[i]).collect();
         let pred = u.iter().zip(&v0).map(|(u, v)| u + 0.5 * dt * v).collect();
         Ok(Self {
@@ -145,7 +175,7 @@ impl<A: Backend> Hybrid<A> {
             scratch: vec![0.0; quasi_idx.len()],
             quasi_idx,
             obstacle: system.lower.clone(),
-            solver,
+            law,
             quasi_static,
             n: 0,
             u,
@@ -188,6 +218,10 @@ impl<A: Backend> super::Scheme for Hybrid<A> {
         self.pivots
     }
 
+    fn friction(&self) -> Option<&crate::contact::friction::FrictionRecord> {
+        self.law.friction()
+    }
+
     fn step(&mut self) -> Result<(), SchemeError> {
         let dt = self.dt;
         let sigma = dt * dt / 4.0;
@@ -202,7 +236,7 @@ impl<A: Backend> super::Scheme for Hybrid<A> {
         }
         let (step, time) = (self.n + 1, (self.n + 1) as f64 * dt);
         let err = contact_err(step, time);
-        let p1 = self.solver.solve(&mut self.rhs, &self.lower, sigma, &mut self.lam_bar).map_err(&err)?;
+        let p1 = self.law.solve(&mut self.rhs, &self.lower, &mut self.lam_bar).map_err(&err)?;
         for (c, &i) in self.contact_idx.iter().enumerate() {
             self.u_bar[c] = self.rhs[i];
         }

@@ -306,7 +306,7 @@ impl SchemeSpec {
             }
             // Its projection of S on (ker M)^⊥ and its one-node impact law.
             SchemeSpec::PaoliSchatzman { .. } => SchemeNeeds { one_node_system: true, contact: Own, ..base },
-            SchemeSpec::Hybrid => SchemeNeeds { contact_mass: Some(false), contact: Own, ..base },
+            SchemeSpec::Hybrid => SchemeNeeds { contact_mass: Some(false), contact: Midpoint, ..base },
             SchemeSpec::CentralDifference { .. } => SchemeNeeds { lumped_mass: true, contact: Explicit, ..base },
             // An impact law has no meaning without inertia.
             SchemeSpec::MoreauJean { .. } => SchemeNeeds { contact_mass: Some(true), contact: Own, ..base },

@@ -44,6 +44,10 @@ pub struct Offer {
     pub one_cell_contact_row: bool,
     /// The obstacle at gap 0.
     pub zero_gap: bool,
+    /// The contact nodes massless in every direction (a solid with w_0 = 0 and
+    /// `mass.contact_directions = "all"`): the hybrid scheme takes friction only on massive
+    /// tangential unknowns.
+    pub massless_tangents: bool,
     /// Tangential directions at a contact node (a solid's d − 1; 0 for bars and plates).
     pub tangential_dims: usize,
     /// Contact between bodies (`[[pair]]`s), not against an obstacle.
@@ -197,7 +201,12 @@ fn friction_vs_rest(offer: &Offer, scheme: &SchemeSpec, law: &ContactLaw) -> Opt
     let treatment = scheme.needs().contact;
     if !law.needs().treatments.contains(&treatment) {
         return Some(format!(
-            "friction is built for the schemes that solve one implicit step with a law (backward_euler, crank_nicolson, newmark) and for central differences so far, not for {name}"
+            "friction is built for the schemes that solve one implicit step with a law (backward_euler, crank_nicolson, newmark), central differences and the hybrid scheme, not for {name}"
+        ));
+    }
+    if treatment == Treatment::Midpoint && offer.massless_tangents {
+        return Some(format!(
+            "{name} takes friction on massive tangential unknowns (mass.contact_directions = \"normal\"): with a contact layer massless in every direction its quasi-static map would need a frictional solve, which is not built"
         ));
     }
     None
@@ -210,6 +219,11 @@ fn law_vs_rest(offer: &Offer, scheme: &SchemeSpec, law: &ContactLaw) -> Option<S
     if !needs.treatments.contains(&treatment) {
         return Some(match treatment {
             Treatment::Own => format!("{name} treats contact itself, with the exact Signorini condition"),
+            Treatment::Midpoint => {
+                format!(
+                    "{name} solves its midpoint step with the exact Signorini condition, frictionless or with friction"
+                )
+            }
             _ => format!("the {} law is not built for {name}", law.method()),
         });
     }

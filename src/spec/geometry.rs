@@ -69,6 +69,7 @@ pub trait SceneGeometry: Sized {
             lumped_mass: !(self.pairs() && w0 > 0.0),
             w0,
             contact_layer: Self::MASSLESS_TANGENTS && w0 == 0.0,
+            massless_tangents: Self::MASSLESS_TANGENTS && w0 == 0.0,
             one_cell_contact_row: false,
             zero_gap: false,
             tangential_dims: self.tangential_dims(),
