@@ -190,6 +190,8 @@ fn measure(
 
 /// Measures every case and writes `csv` and its `.md`; returns the paths written.
 pub fn run(csv: &Path) -> Result<Vec<PathBuf>, String> {
+    // The tree's state before this command writes into it (its own CSV is tracked).
+    let env = super::env::Environment::detect();
     let mut rows = Vec::new();
     for case in &CASES {
         let limit = stable_limit(case)?;
@@ -223,7 +225,7 @@ pub fn run(csv: &Path) -> Result<Vec<PathBuf>, String> {
     }
     std::fs::write(csv, to_csv(&rows)).map_err(|e| format!("{}: {e}", csv.display()))?;
     let md = csv.with_extension("md");
-    std::fs::write(&md, to_markdown(&rows)).map_err(|e| format!("{}: {e}", md.display()))?;
+    std::fs::write(&md, to_markdown(&rows, &env)).map_err(|e| format!("{}: {e}", md.display()))?;
     Ok(vec![csv.to_path_buf(), md])
 }
 
@@ -252,8 +254,8 @@ pub fn to_csv(rows: &[Row]) -> String {
     s
 }
 
-pub fn to_markdown(rows: &[Row]) -> String {
-    let e = super::env::Environment::detect();
+/// The table of `rows`, measured in the environment `e` (detected before the files were written).
+pub fn to_markdown(rows: &[Row], e: &super::env::Environment) -> String {
     let mut s = format!(
         "# The cost of friction\n\nWritten by `massredist bench --friction docs/bench/friction.csv` (study/src/bench/friction.rs) on \
          {} ({} logical CPUs), {} build, massredist {} at {}{}. Each case run frictionless and with Coulomb friction \
