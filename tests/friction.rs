@@ -12,7 +12,7 @@
 
 mod common;
 
-use common::block::{COULOMB, TRESCA, block, block3, run};
+use common::block::{AveragedBalance, COULOMB, TRESCA, block, block3, run};
 use massredist::driver::{Observer, Sample};
 use massredist::observe::Column;
 use massredist::scene::SolidScene;
@@ -157,27 +157,6 @@ fn every_step_balances_momentum_and_dissipates() {
 /// mutation: γ taken as ½ for Newmark (0.3025, 0.6) in the expected balance -> fails by 6.5e-5.
 #[test]
 fn newmark_balances_momentum_with_the_force_averaged_as_it_averages() {
-    #[derive(Default)]
-    struct Averaged {
-        gamma: f64,
-        prev: Option<(f64, f64, f64)>,
-        worst: f64,
-        worst_dissipation: f64,
-    }
-    impl Observer for Averaged {
-        fn observe(&mut self, s: &Sample) {
-            let f = s.friction.expect("a friction law");
-            let mut own = [0.0; 9];
-            s.geometry.own_values(s.state.u, s.state.v, s.state.lambda, &mut own);
-            let p = own[3];
-            if let Some((p0, r0, d0)) = self.prev {
-                let want = 1e-3 * ((1.0 - self.gamma) * r0 + self.gamma * f.force[0]);
-                self.worst = self.worst.max((p - p0 - want).abs());
-                self.worst_dissipation = self.worst_dissipation.min(f.dissipation - d0);
-            }
-            self.prev = Some((p, f.force[0], f.dissipation));
-        }
-    }
     for (scheme, gamma) in [("crank-nicolson", 0.5), ("newmark", 0.6)] {
         for mass in ["standard", "mod3/normal"] {
             let mut s = block(COULOMB, mass, scheme, 1e-3, 1.0, ["0", "-1"], 1.0);
@@ -188,7 +167,7 @@ fn newmark_balances_momentum_with_the_force_averaged_as_it_averages() {
                     formulation: massredist::scene::Formulation::Full,
                 };
             }
-            let mut b = Averaged { gamma, ..Averaged::default() };
+            let mut b = AveragedBalance::new(1e-3, gamma);
             run(&s, &mut [&mut b]);
             let tol = 132.0 * f64::EPSILON / (gamma * 1e-3) * 0.5;
             assert!(

@@ -4,7 +4,7 @@
 //! g·size = 1), rests on the plane y = 0 with u⁰ = 0 under a body force and slides at v₀ along x;
 //! the 3D block (0, 1) × (0, ½) × (0, 1) slides at v₀ = 1 along (cos 30°, 0, sin 30°).
 
-use massredist::driver::Observer;
+use massredist::driver::{Observer, Sample};
 use massredist::run::{SceneRun, run_scene};
 use massredist::scene::SolidScene;
 use massredist::solid::SolidSystem;
@@ -102,4 +102,44 @@ series = ["mean_u_x", "mean_u_z", "momentum_x", "momentum_z", "contact_force", "
 "#
     );
     SolidScene::from_toml(&text).unwrap_or_else(|e| panic!("{e}\n{text}"))
+}
+
+/// The momentum balance of a scheme that averages the friction force over a step with weight γ
+/// on its end: at every step `ΔP_x = Δt ((1 − γ) Σ r_tⁿ + γ Σ r_t^{n+1})` (Newmark's γ; ½ for
+/// velocity Verlet), read with the body's momentum (`own_values`: P_x is its fourth column);
+/// the worst residual, the smallest step of the dissipation, the largest `max_cone_excess` and
+/// the impulse recorded at n = 0.
+#[derive(Default)]
+pub struct AveragedBalance {
+    pub dt: f64,
+    pub gamma: f64,
+    prev: Option<(f64, f64, f64)>,
+    pub worst: f64,
+    pub worst_dissipation: f64,
+    pub excess: f64,
+    pub first_impulse: f64,
+}
+
+impl AveragedBalance {
+    pub fn new(dt: f64, gamma: f64) -> Self {
+        Self { dt, gamma, ..Self::default() }
+    }
+}
+
+impl Observer for AveragedBalance {
+    fn observe(&mut self, s: &Sample) {
+        let f = s.friction.expect("a friction law");
+        let mut own = [0.0; 9];
+        s.geometry.own_values(s.state.u, s.state.v, s.state.lambda, &mut own);
+        let p = own[3];
+        if let Some((p0, r0, d0)) = self.prev {
+            let want = self.dt * ((1.0 - self.gamma) * r0 + self.gamma * f.force[0]);
+            self.worst = self.worst.max((p - p0 - want).abs());
+            self.worst_dissipation = self.worst_dissipation.min(f.dissipation - d0);
+        } else {
+            self.first_impulse = f.impulse[0];
+        }
+        self.excess = self.excess.max(f.max_cone_excess);
+        self.prev = Some((p, f.force[0], f.dissipation));
+    }
 }
