@@ -169,6 +169,8 @@ fn progress(len: u64) -> Progress {
 /// The command line: one match arm per command, each preparing its output folder and calling
 /// the library (about 90 lines: the arms are short, and one place lists every command's edge).
 fn main() -> ExitCode {
+    // Large arrays mapped on their own, returned when freed (machine.rs: peak memory).
+    let _ = massredist::machine::map_large_arrays();
     let cli = Cli::parse();
     // What cannot fit in memory is refused before it is allocated (machine.rs).
     let _ = massredist::machine::install_memory_limit();

@@ -217,10 +217,14 @@ impl<G: Geometry> Problem<G> {
 
     /// Builds the scheme of a scene on this problem with the contact law of its `[contact]`.
     pub fn scheme_with(&self, spec: &SchemeSpec, law: &ContactLaw, dt: f64) -> Result<Box<dyn Scheme>, SchemeError> {
-        let (mut u, mut v) = (self.u0.clone(), self.v0.clone());
-        if roundoff_audit() {
-            audit_perturb(&mut u, &mut v);
-        }
+        // The scheme's own copy of the initial state (perturbed under the round-off audit).
+        let initial = || {
+            let (mut u, mut v) = (self.u0.clone(), self.v0.clone());
+            if roundoff_audit() {
+                audit_perturb(&mut u, &mut v);
+            }
+            (u, v)
+        };
         let s = self.system.system();
         let geometry = self.system.name();
         // What the scene's compatibility rule has checked; guards for callers of the library.
@@ -234,12 +238,17 @@ impl<G: Geometry> Problem<G> {
         let one_node = || self.system.one_node().ok_or_else(|| needs("it needs a bar's one-node system"));
         Ok(match *spec {
             SchemeSpec::CrankNicolson { formulation: Formulation::Full } => {
+                let (u, v) = initial();
                 Box::new(Newmark::with_law(s, law, Beta::DEFAULT, Gamma::DEFAULT, dt, u, v)?)
             }
             SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Full } => {
+                let (u, v) = initial();
                 Box::new(Newmark::with_law(s, law, beta, gamma, dt, u, v)?)
             }
-            SchemeSpec::BackwardEuler => Box::new(BackwardEuler::with_law(s, law, dt, u, v)?),
+            SchemeSpec::BackwardEuler => {
+                let (u, v) = initial();
+                Box::new(BackwardEuler::with_law(s, law, dt, u, v)?)
+            }
             SchemeSpec::CentralDifference { operator } => {
                 let lumped = self.system.lumped_mass().ok_or_else(|| needs("it needs a lumped mass"))?;
                 let op = self.system.stiffness_operator(operator);
@@ -250,20 +259,27 @@ impl<G: Geometry> Problem<G> {
                         reason: "it has no matrix-free stiffness",
                     });
                 }
-                let operator = op;
-                Box::new(CentralDifference::with_operator(s, operator, lumped, law, dt, u, v)?)
+                // The state is copied once Δt_c is known (the set-up's peak at scale).
+                Box::new(CentralDifference::with_operator(s, op, lumped, law, dt, initial)?)
             }
-            SchemeSpec::Hybrid => Box::new(Hybrid::with_law(s, law, dt, u, v)?),
+            SchemeSpec::Hybrid => {
+                let (u, v) = initial();
+                Box::new(Hybrid::with_law(s, law, dt, u, v)?)
+            }
             SchemeSpec::MoreauJean { theta, restitution } => {
+                let (u, v) = initial();
                 Box::new(MoreauJean::new(s, theta, restitution, dt, u, v)?)
             }
             SchemeSpec::PaoliSchatzman { beta, restitution } => {
+                let (u, v) = initial();
                 Box::new(PaoliSchatzman::new(one_node()?, beta, restitution, dt, u, v)?)
             }
             SchemeSpec::CrankNicolson { formulation: Formulation::Reduced } => {
+                let (u, v) = initial();
                 Box::new(NewmarkReduced::new(one_node()?, Beta::DEFAULT, Gamma::DEFAULT, dt, u, v)?)
             }
             SchemeSpec::Newmark { beta, gamma, formulation: Formulation::Reduced } => {
+                let (u, v) = initial();
                 Box::new(NewmarkReduced::new(one_node()?, beta, gamma, dt, u, v)?)
             }
         })

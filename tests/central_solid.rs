@@ -306,8 +306,7 @@ fn central_differences_do_not_depend_on_the_number_of_threads() {
                     sys.lumped_mass(),
                     &ContactLaw::Exact,
                     0.01,
-                    u0,
-                    v0,
+                    || (u0, v0),
                 )
                 .unwrap();
                 pool.install(|| (0..150).for_each(|_| cd.step().unwrap()));

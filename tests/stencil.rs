@@ -256,8 +256,7 @@ fn the_lean_matrix_free_box_holds_only_the_layer_rows_and_follows_the_assembled_
                 lean.lumped,
                 &ContactLaw::Exact,
                 dt,
-                lean.u0,
-                lean.v0,
+                || (lean.u0, lean.v0),
             )
             .unwrap();
             let (mut worst, mut scale, mut contact) = (0.0f64, 0.0f64, false);

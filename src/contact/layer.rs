@@ -100,8 +100,10 @@ pub struct Layer {
     /// principal blocks S_RR.
     order: Vec<usize>,
     /// The factor of `S_RR`, R = L \ A0, the reference set's other unknowns: `free[r]` is
-    /// the slot of R's unknown r, `gather` its R values (the factor's right-hand side).
-    factor: SparseLlt,
+    /// the slot of R's unknown r, `gather` its R values (the factor's right-hand side). None
+    /// while a new factor is made (the old one is dropped first: the two are never held at
+    /// once, issue 31's peak memory) and after that failed: the next solve factors again.
+    factor: Option<SparseLlt>,
     free: Vec<usize>,
     gather: Vec<f64>,
     /// The warm-start set, and the reference set A0 whose `S_RR` `factor` holds.
@@ -116,6 +118,11 @@ pub struct Layer {
     x: Vec<f64>,
     w: Vec<f64>,
     pivots: usize,
+}
+
+/// The factor of the reference set: [`Layer::solve_basis`] makes one first where there is none.
+fn reference_factor(factor: &mut Option<SparseLlt>) -> &mut SparseLlt {
+    factor.as_mut().expect("solve_basis factors the reference set first")
 }
 
 impl Layer {
@@ -168,7 +175,7 @@ impl Layer {
             diag,
             max_abs_s,
             order,
-            factor,
+            factor: Some(factor),
             free: (0..nl).collect(),
             gather: vec![0.0; nl],
             active: vec![false; nc],
@@ -205,7 +212,7 @@ impl Layer {
 
     /// Stored entries of the factor of S_LL (its fill).
     pub fn factor_len(&self) -> usize {
-        self.factor.factor_len()
+        self.factor.as_ref().map_or(0, SparseLlt::factor_len)
     }
 
     /// Takes the layer's entries of a new load vector (a time-dependent load).
@@ -293,7 +300,7 @@ impl Layer {
     fn solve_basis(&mut self, b: &[f64], lower: &[f64]) -> Result<(), LcpError> {
         let nc = self.nc;
         let changed = (0..nc).filter(|&c| self.active[c] != self.reference[c]).count();
-        if changed > self.update_limit {
+        if changed > self.update_limit || self.factor.is_none() {
             self.refactor()?;
         }
         // z0 = S_RR⁻¹ (b_R − Σ_{a ∈ A0 ∩ A} S_Ra lb_a), R = L \ A0 (zero on the rows of A0).
@@ -329,7 +336,7 @@ impl Layer {
         for (g, &k) in self.gather.iter_mut().zip(&self.free) {
             *g = self.x[k];
         }
-        self.factor.solve_in_place(&mut self.gather);
+        reference_factor(&mut self.factor).solve_in_place(&mut self.gather);
         for a in (0..self.nc).filter(|&a| self.reference[a]) {
             self.x[a] = 0.0;
         }
@@ -348,7 +355,7 @@ impl Layer {
                 *g = col[slot];
             }
         }
-        self.factor.solve_columns_in_place(&mut gathered, k);
+        reference_factor(&mut self.factor).solve_columns_in_place(&mut gathered, k);
         for (g, col) in gathered.chunks_exact(nr.max(1)).zip(cols.chunks_exact_mut(nl)) {
             for (&g, &slot) in g.iter().zip(&self.free) {
                 col[slot] = g;
@@ -370,8 +377,9 @@ impl Layer {
         let fwd: Vec<usize> = self.order.iter().filter(|&&k| in_r(k)).map(|&k| position[k]).collect();
         self.correction = None;
         let s_rr = sparse::principal(&self.s, &free, "stiffness").map_err(LcpError::Factor)?;
+        self.factor = None;
         match SparseLlt::with_ordering(&s_rr, fwd, "stiffness") {
-            Ok(factor) => self.factor = factor,
+            Ok(factor) => self.factor = Some(factor),
             Err(SparseError::NotPositiveDefinite { .. }) => return Err(self.breakdown()),
             Err(e) => return Err(LcpError::Factor(e)),
         }

@@ -130,7 +130,7 @@ impl<A: SymMatrix> Stiffness<A> {
 /// The vectors of n values a step reads or writes, pass by pass ([`CentralDifference::streamed_bytes`];
 /// a law without residual): the half-step update reads v, u, a, M_L⁻¹ and writes v, u (6); the
 /// product K u reads u once (its neighbours' values come from cache on a mesh numbered by
-/// node) and writes Ku (2); `a = M_L⁻¹ (F − Ku)` reads M_L⁻¹, F, Ku and writes a (4); the last
+/// node) and writes Ku into a (2); `a = M_L⁻¹ (F − Ku)` reads M_L⁻¹, F, Ku and writes a (4); the last
 /// half-step reads v, a and writes v (3).
 pub const VECTOR_PASSES: usize = 15;
 
@@ -157,7 +157,6 @@ pub struct CentralDifference<A: SymMatrix> {
     v: Vec<f64>,
     a: Vec<f64>,
     lambda: Vec<f64>,
-    ku: Vec<f64>,
     pivots: usize,
 }
 
@@ -175,26 +174,27 @@ impl<A: SymMatrix> CentralDifference<A> {
         u0: Vec<f64>,
         v0: Vec<f64>,
     ) -> Result<Self, SchemeError> {
-        Self::build(Source::Borrowed(system), None, lumped, law, dt, u0, v0)
+        Self::build(Source::Borrowed(system), None, lumped, law, dt, || (u0, v0))
     }
 
     /// [`Self::new`] with the stiffness taken from `operator` where one is given (equal to
     /// `system.stiffness` to round-off: `scheme.operator`): the product and the stable limit
     /// ([`stable_limit_of_operator`]). `system.stiffness` is then read only by the law (the
-    /// massless unknowns' quasi-static rows: those rows and columns suffice).
+    /// massless unknowns' quasi-static rows: those rows and columns suffice). The initial state
+    /// `(u⁰, v⁰)` is made by `initial` once Δt_c is known: at scale the stable limit's Lanczos
+    /// vectors and the state are then not held at once (issue 31: the set-up's peak memory).
     pub fn with_operator(
         system: &ContactSystem<A>,
         operator: Option<Box<dyn Operator>>,
         lumped: Vec<f64>,
         law: &ContactLaw,
         dt: f64,
-        u0: Vec<f64>,
-        v0: Vec<f64>,
+        initial: impl FnOnce() -> (Vec<f64>, Vec<f64>),
     ) -> Result<Self, SchemeError> {
         if let Some(op) = &operator {
             assert_eq!(op.n(), system.n(), "the operator acts on the system's unknowns");
         }
-        Self::build(Source::Borrowed(system), operator, lumped, law, dt, u0, v0)
+        Self::build(Source::Borrowed(system), operator, lumped, law, dt, initial)
     }
 
     /// [`Self::new`] owning the system: its stiffness moves into the scheme instead of being
@@ -207,7 +207,7 @@ impl<A: SymMatrix> CentralDifference<A> {
         u0: Vec<f64>,
         v0: Vec<f64>,
     ) -> Result<Self, SchemeError> {
-        Self::build(Source::Owned(system), None, lumped, law, dt, u0, v0)
+        Self::build(Source::Owned(system), None, lumped, law, dt, || (u0, v0))
     }
 
     fn build(
@@ -216,14 +216,12 @@ impl<A: SymMatrix> CentralDifference<A> {
         lumped: Vec<f64>,
         law: &ContactLaw,
         dt: f64,
-        u0: Vec<f64>,
-        v0: Vec<f64>,
+        initial: impl FnOnce() -> (Vec<f64>, Vec<f64>),
     ) -> Result<Self, SchemeError> {
         let system = source.get();
         check_range(Self::NAME, "dt", dt, dt > 0.0, "(0, ∞)")?;
         let law = law.explicit_law(system, &lumped, dt)?;
         let n = system.n();
-        let inv_mass: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
         let (limit, lanczos_steps, method) = match &operator {
             Some(op) => stable_limit_of_operator(op.as_ref(), &lumped, Some(law.as_ref())),
             None => stable_limit_of(system, &lumped, Some(law.as_ref())),
@@ -233,6 +231,9 @@ impl<A: SymMatrix> CentralDifference<A> {
         if super::stable_limit::refuses(dt, limit) {
             return Err(SchemeError::AboveStableLimit { scheme: Self::NAME, dt, limit, spring: law.bound() });
         }
+        // Made after Δt_c (the peak of an explicit set-up at scale is its Lanczos vectors).
+        let inv_mass: Vec<f64> = lumped.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
+        let (u0, v0) = initial();
         let massless: Vec<usize> = (0..n).filter(|&i| lumped[i] <= 0.0).collect();
         let (load, forcing) = (system.load.clone(), system.forcing.clone());
         let lambda = vec![0.0; system.contact.len()];
@@ -254,7 +255,6 @@ impl<A: SymMatrix> CentralDifference<A> {
             a: vec![0.0; n],
             v: v0,
             lambda,
-            ku: vec![0.0; n],
             pivots: 0,
         };
         s.quasi_static(0, 0.0)?;
@@ -308,19 +308,18 @@ impl<A: SymMatrix> CentralDifference<A> {
     /// `A = M_L⁻¹ (F − K U − the law's force)` on I (module docs; `kappa` = 1 in a step, ½ at
     /// n = 0; `v` holds the half-step velocity in a step, V⁰ at n = 0).
     fn accelerations(&mut self, kappa: f64) {
-        self.stiffness.par_mul_into(&self.u, &mut self.ku);
+        // K U is written into `a` and read back in place (no vector of its own: issue 31's
+        // memory per unknown).
+        self.stiffness.par_mul_into(&self.u, &mut self.a);
         if self.law.has_residual() {
-            (&mut self.a[..], &self.load[..], &self.ku[..])
-                .into_par_iter()
-                .with_min_len(PAR_ROWS)
-                .for_each(|(a, f, ku)| *a = f - ku);
+            (&mut self.a[..], &self.load[..]).into_par_iter().with_min_len(PAR_ROWS).for_each(|(a, f)| *a = f - *a);
             self.law.add_residual(&self.u, &mut self.a);
             (&mut self.a[..], &self.inv_mass[..]).into_par_iter().with_min_len(PAR_ROWS).for_each(|(a, m)| *a *= m);
         } else {
-            (&mut self.a[..], &self.inv_mass[..], &self.load[..], &self.ku[..])
+            (&mut self.a[..], &self.inv_mass[..], &self.load[..])
                 .into_par_iter()
                 .with_min_len(PAR_ROWS)
-                .for_each(|(a, m, f, ku)| *a = m * (f - ku));
+                .for_each(|(a, m, f)| *a = m * (f - *a));
         }
         self.law.massive(Massive {
             u: &self.u,

@@ -162,15 +162,15 @@ pub fn lambda_max_lean(mul: impl Fn(&[f64], &mut [f64]), inv_sqrt_mass: &[f64]) 
 
 fn lanczos(mul: impl Fn(&[f64], &mut [f64]), inv_sqrt_mass: &[f64], reorthogonalise: bool) -> (f64, usize, bool) {
     let n = inv_sqrt_mass.len();
-    let active: Vec<bool> = inv_sqrt_mass.iter().map(|&d| d > 0.0).collect();
-    let ni = active.iter().filter(|&&a| a).count();
+    let active = |i: usize| inv_sqrt_mass[i] > 0.0;
+    let ni = (0..n).filter(|&i| active(i)).count();
     if ni == 0 {
         return (0.0, 0, true);
     }
     let kmax = if ni <= EXHAUST { ni } else { ni.min(if ni > LARGE { LARGE_STEPS } else { MAX_STEPS }) };
     // A fixed start vector with components on every eigenvector in general position.
     let mut q: Vec<f64> = (0..n)
-        .map(|i| if active[i] { 1.0 + 0.5 * ((i as f64 + 1.0) * 0.618_033_988_749_895).fract() } else { 0.0 })
+        .map(|i| if active(i) { 1.0 + 0.5 * ((i as f64 + 1.0) * 0.618_033_988_749_895).fract() } else { 0.0 })
         .collect();
     normalise(&mut q);
     let mut basis: Vec<Vec<f64>> = Vec::with_capacity(if reorthogonalise { kmax } else { 0 });

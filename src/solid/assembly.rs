@@ -27,6 +27,7 @@
 //! ```
 
 use super::body::BodyContact;
+use super::dof_map::DofMap;
 use super::spec::Support;
 use crate::fem::Mesh;
 use crate::fem::layers::LayerMassError;
@@ -96,17 +97,14 @@ pub fn assemble_directed(
 /// (increasing), and back.
 pub(super) struct Free {
     pub dofs: Vec<usize>,
-    pub dof_of: Vec<Option<usize>>,
+    pub dof_of: DofMap,
 }
 
 impl Free {
     pub fn new(mesh: &Mesh, eliminated: impl Fn(usize) -> bool) -> Self {
         let n = mesh.n_nodes() * mesh.dim;
         let dofs: Vec<usize> = (0..n).filter(|&g| !eliminated(g)).collect();
-        let mut dof_of = vec![None; n];
-        for (k, &g) in dofs.iter().enumerate() {
-            dof_of[g] = Some(k);
-        }
+        let dof_of = DofMap::new(n, &dofs);
         Free { dofs, dof_of }
     }
 
@@ -162,6 +160,8 @@ pub struct LeanStiffness {
     /// The unit mass (ρ = 1) as a stencil, for the L² norms (None: assembled when first asked
     /// for, [`SolidSystem::mass_unit`]).
     pub unit_mass: Option<Arc<dyn crate::linalg::Operator>>,
+    /// The divergence watch's `E_F`, made once ([`SolidSystem::lean_load_energy`]).
+    pub load_energy: OnceLock<f64>,
 }
 
 /// The solid on its free unknowns: mesh, weights, material, the contact system and what the
@@ -178,7 +178,7 @@ pub struct SolidSystem {
     /// Free unknown → full index `node·d + component`.
     pub dofs: Vec<usize>,
     /// Full index → free unknown (None where eliminated).
-    pub dof_of: Vec<Option<usize>>,
+    pub dof_of: DofMap,
     pub system: ContactSystem<SpMat>,
     /// The unweighted vector mass with ρ = 1 on the free unknowns (for L² norms): a body's set
     /// when it is built, the box's assembled when first asked for ([`SolidSystem::mass_unit`]).
@@ -219,7 +219,7 @@ impl SolidSystem {
                 let d = mesh.dim;
                 // Straight into compressed columns (`super::columns`): no triplets. The weighted
                 // mass over all full indices first, for the load's row sums, then its free part.
-                let all: Vec<Option<usize>> = (0..mesh.n_nodes() * d).map(Some).collect();
+                let all = DofMap::identity(mesh.n_nodes() * d);
                 let mass_all = super::columns::mass(&mesh, &weights, directions, lame.density, &all, all.len());
                 drop(all);
                 // F_(a,i) = f_i ∫ w_h φ_a = f_i Σ_b M_(a,i),(b,i) / ρ (the basis sums to 1).
@@ -267,7 +267,8 @@ impl SolidSystem {
             ),
             Matrices::Free { mass, stiffness } => (mass, stiffness, OnceLock::new()),
         };
-        let unknowns = contact.nodes.iter().map(|&v| dof_of[v * d].expect("contact nodes are not clamped")).collect();
+        let unknowns =
+            contact.nodes.iter().map(|&v| dof_of.get(v * d).expect("contact nodes are not clamped")).collect();
         let mut system = ContactSystem::new(mass, stiffness, parts.load, unknowns, 0.0);
         // Components 1.. of the contact nodes in the obstacle's frame (the box's: the world's),
         // and the world directions of those axes, R e_k: one list for a global frame, each
@@ -293,13 +294,13 @@ impl SolidSystem {
         };
         let offset = |slot: usize| if per_node.is_some() { slot * (d - 1) } else { 0 };
         system.tangential = Some(crate::system::Tangential {
-            unknowns: contact.nodes.iter().map(|&v| (1..d).filter_map(|i| dof_of[v * d + i]).collect()).collect(),
+            unknowns: contact.nodes.iter().map(|&v| (1..d).filter_map(|i| dof_of.get(v * d + i)).collect()).collect(),
             components: contact
                 .nodes
                 .iter()
                 .enumerate()
                 .map(|(slot, &v)| {
-                    (1..d).filter(|&i| dof_of[v * d + i].is_some()).map(|i| offset(slot) + i - 1).collect()
+                    (1..d).filter(|&i| dof_of.get(v * d + i).is_some()).map(|i| offset(slot) + i - 1).collect()
                 })
                 .collect(),
             areas: contact.areas.clone(),

@@ -22,6 +22,7 @@
 use super::assembly::{Free, Matrices, Parts, SolidAssemblyError, SolidSystem, assemble, assemble_directed};
 pub use super::body::BodyFrame;
 use super::body::{BodyContact, BodySpec, Frames, from_frame, rotation, to_frame};
+use super::dof_map::DofMap;
 use crate::expr::Expr;
 use crate::fem::Mesh;
 use crate::linalg::sparse;
@@ -33,7 +34,7 @@ use std::sync::Arc;
 /// b, ∫ φ_a φ_b), the free index of (a, i), the rotation and the force expressions.
 struct BodyLoad {
     unit: Vec<(usize, usize, f64)>,
-    dof_of: Vec<Option<usize>>,
+    dof_of: DofMap,
     frames: Frames,
     /// The force of the nodes from each first node on (one body: one entry, node 0).
     force: Vec<(usize, Vec<Expr>)>,
@@ -70,7 +71,7 @@ impl BodyLoad {
             for (a, s) in sum.iter().enumerate() {
                 let s = to_frame(self.frames.of(a), *s);
                 for (i, si) in s[..d].iter().enumerate() {
-                    if let Some(k) = self.dof_of[a * d + i] {
+                    if let Some(k) = self.dof_of.get(a * d + i) {
                         out[k] = *si;
                     }
                 }
@@ -80,7 +81,7 @@ impl BodyLoad {
         let f: Vec<[f64; 3]> = (0..self.points.len()).map(|v| to_frame(rot, world(v, &mut args))).collect();
         for &(a, b, m) in &self.unit {
             for (i, fb) in f[b][..d].iter().enumerate() {
-                if let Some(k) = self.dof_of[a * d + i] {
+                if let Some(k) = self.dof_of.get(a * d + i) {
                     out[k] += m * fb;
                 }
             }

@@ -12,6 +12,7 @@
 //! an L² error is asked for: [`super::SolidSystem::mass_unit`]), and so does the explicit
 //! benches' set-up ([`super::lean`]).
 
+use super::dof_map::DofMap;
 use crate::fem::Mesh;
 use crate::fem::element::CellIntegrals;
 use crate::linalg::sparse::{self, SpMat};
@@ -24,7 +25,7 @@ use crate::material::Lame;
 /// a column.
 fn node_graph(
     mesh: &Mesh,
-    dof_of: &[Option<usize>],
+    dof_of: &DofMap,
     n: usize,
     diagonal: bool,
     keep: Option<&[bool]>,
@@ -47,13 +48,13 @@ fn node_graph(
     let rows = |g: usize| {
         let i = g % d;
         let comps = if diagonal { i..i + 1 } else { 0..d };
-        let col = dof_of[g];
+        let col = dof_of.get(g);
         adj[g / d]
             .iter()
-            .flat_map(move |&b| comps.clone().filter_map(move |j| dof_of[b * d + j]))
+            .flat_map(move |&b| comps.clone().filter_map(move |j| dof_of.get(b * d + j)))
             .filter(move |&row| kept(keep, row, col))
     };
-    let columns = || (0..mesh.n_nodes() * d).filter(|&g| dof_of[g].is_some());
+    let columns = || (0..mesh.n_nodes() * d).filter(|&g| dof_of.get(g).is_some());
     // Counted first, then allocated once at its size (a growing vector holds up to twice its
     // entries at the peak).
     let mut col_ptr = Vec::with_capacity(n + 1);
@@ -76,7 +77,7 @@ fn node_graph(
 /// λ ∂_j φ_b ∂_i φ_a).
 fn assemble_on(
     mesh: &Mesh,
-    dof_of: &[Option<usize>],
+    dof_of: &DofMap,
     n: usize,
     diagonal: bool,
     keep: Option<&[bool]>,
@@ -92,11 +93,11 @@ fn assemble_on(
         for a in 0..v.len() {
             for b in 0..v.len() {
                 for i in 0..d {
-                    let Some(col) = dof_of[v[a] * d + i] else { continue };
+                    let Some(col) = dof_of.get(v[a] * d + i) else { continue };
                     let rows = &row_idx[col_ptr[col]..col_ptr[col + 1]];
                     let comps = if diagonal { i..i + 1 } else { 0..d };
                     for j in comps {
-                        let Some(row) = dof_of[v[b] * d + j] else { continue };
+                        let Some(row) = dof_of.get(v[b] * d + j) else { continue };
                         if !kept(keep, row, Some(col)) {
                             continue;
                         }
@@ -113,7 +114,7 @@ fn assemble_on(
 
 /// The stiffness on the unknowns `dof_of` maps to (full index → index in 0..n), assembled cell
 /// by cell without triplets (module docs).
-pub fn stiffness(mesh: &Mesh, lame: &Lame, dof_of: &[Option<usize>], n: usize) -> SpMat {
+pub fn stiffness(mesh: &Mesh, lame: &Lame, dof_of: &DofMap, n: usize) -> SpMat {
     assemble_on(mesh, dof_of, n, false, None, |_, e, a, b, i, j| stiffness_entry(e, lame, a, b, i, j))
 }
 
@@ -121,7 +122,7 @@ pub fn stiffness(mesh: &Mesh, lame: &Lame, dof_of: &[Option<usize>], n: usize) -
 /// bit, the others absent: what a massless layer's quasi-static rows read (`K_CC`, `K_CI`)
 /// where the product is matrix-free. Without a marked unknown, an empty matrix (no pattern
 /// built).
-pub fn stiffness_touching(mesh: &Mesh, lame: &Lame, dof_of: &[Option<usize>], n: usize, keep: &[bool]) -> SpMat {
+pub fn stiffness_touching(mesh: &Mesh, lame: &Lame, dof_of: &DofMap, n: usize, keep: &[bool]) -> SpMat {
     if !keep.iter().any(|&k| k) {
         return sparse::from_csc(n, vec![0; n + 1], Vec::new(), Vec::new());
     }
@@ -131,10 +132,10 @@ pub fn stiffness_touching(mesh: &Mesh, lame: &Lame, dof_of: &[Option<usize>], n:
 /// With `keep`, whether each cell holds a node with a marked unknown: a kept entry's row or
 /// column is such a node's, so every cell that adds to it is one of these, and the others are
 /// skipped (a massless layer's few cells instead of the mesh). None without `keep`.
-fn touching_cells(mesh: &Mesh, dof_of: &[Option<usize>], keep: Option<&[bool]>) -> Option<Vec<bool>> {
+fn touching_cells(mesh: &Mesh, dof_of: &DofMap, keep: Option<&[bool]>) -> Option<Vec<bool>> {
     let keep = keep?;
     let d = mesh.dim;
-    let marked = |a: usize| (0..d).any(|i| dof_of[a * d + i].is_some_and(|k| keep[k]));
+    let marked = |a: usize| (0..d).any(|i| dof_of.get(a * d + i).is_some_and(|k| keep[k]));
     Some((0..mesh.n_cells()).map(|c| mesh.cell(c).iter().any(|&a| marked(a))).collect())
 }
 
@@ -165,7 +166,7 @@ pub fn mass(
     weights: &[f64],
     directions: ContactDirections,
     density: f64,
-    dof_of: &[Option<usize>],
+    dof_of: &DofMap,
     n: usize,
 ) -> SpMat {
     assert_eq!(weights.len(), mesh.n_cells(), "one weight per cell");

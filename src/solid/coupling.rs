@@ -5,6 +5,8 @@
 //! first-group and a second-group node), so T⁻¹ = I − E. Matrices are changed by congruence
 //! (Tᵀ A T), the load by Tᵀ, states by T and T⁻¹.
 
+use super::dof_map::DofMap;
+
 /// The change of variables u' = T z, T = I + E (module docs), over full indices `node·d + c`:
 /// each row of E is a pair node's normal unknown, its entries the other body's unknowns.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -72,13 +74,13 @@ impl Coupling {
 
     /// The same change of variables on the free unknowns (`dof_of`: full index → free one;
     /// a row's node is never eliminated, an eliminated column is 0 and dropped).
-    pub fn on_free(&self, dof_of: &[Option<usize>]) -> Self {
+    pub fn on_free(&self, dof_of: &DofMap) -> Self {
         let rows = self
             .rows
             .iter()
             .map(|(r, e)| {
-                let r = dof_of[*r].expect("a pair's contact node is not clamped");
-                (r, e.iter().filter_map(|&(k, x)| dof_of[k].map(|k| (k, x))).collect())
+                let r = dof_of.get(*r).expect("a pair's contact node is not clamped");
+                (r, e.iter().filter_map(|&(k, x)| dof_of.get(k).map(|k| (k, x))).collect())
             })
             .collect();
         Coupling { rows }

@@ -52,7 +52,7 @@ impl SolidSystem {
         };
         let nz = if d == 2 { 1 } else { nz };
         let node = |i: usize, j: usize, k: usize| (k * (ny + 1) + j) * (nx + 1) + i;
-        let ux = |v: usize| self.dof_of[v * d].map_or(0.0, |k| u[k]);
+        let ux = |v: usize| self.dof_of.get(v * d).map_or(0.0, |k| u[k]);
         let xs: Vec<f64> = (0..=nx).map(|i| mesh.points[i][0]).collect();
         let bar = Bar { length: mesh.extent[0], elements: nx };
         let g = [0.5 - 0.5 / 3f64.sqrt(), 0.5 + 0.5 / 3f64.sqrt()];
@@ -168,7 +168,7 @@ impl GeometryView for SolidSystem {
         let mut worst: f64 = 0.0;
         for (&x, &g) in u.iter().zip(&self.dofs) {
             let (node, comp) = (g / d, g % d);
-            let dev = if comp == 0 { self.dof_of[(node % n1) * d].map_or(x, |b| x - u[b]) } else { x };
+            let dev = if comp == 0 { self.dof_of.get((node % n1) * d).map_or(x, |b| x - u[b]) } else { x };
             worst = worst.max(dev.abs());
         }
         worst

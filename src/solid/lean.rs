@@ -31,7 +31,7 @@ use crate::mass::{ContactDirections, MassKind};
 use crate::material::Lame;
 use crate::schemes::StiffnessOperator;
 use crate::system::ContactSystem;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Relative residual at which [`SolidSystem::lean_load_energy`]'s conjugate gradients stop.
 /// `E_F` only sets the divergence watch's scale (a factor 10⁶ above it by default); the
@@ -59,7 +59,7 @@ impl SolidSystem {
         let n = free.dofs.len();
         let lumped = super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs);
         let massless: Vec<bool> = lumped.iter().map(|&m| m <= 0.0).collect();
-        let flags = || free.dof_of.iter().map(Option::is_some).collect::<Vec<bool>>();
+        let flags = || free.dof_of.flags();
         let stencil = match choice {
             StiffnessOperator::Assembled => None,
             StiffnessOperator::Auto | StiffnessOperator::MatrixFree => BoxStencil::new(&mesh, &lame, flags()),
@@ -68,6 +68,7 @@ impl SolidSystem {
             Some(s) => LeanStiffness {
                 operator: Arc::new(s),
                 unit_mass: BoxStencil::unit_mass(&mesh, flags()).map(|m| Arc::new(m) as Arc<dyn Operator>),
+                load_energy: OnceLock::new(),
             },
             None => {
                 let k = super::columns::stiffness(&mesh, &lame, &free.dof_of, n);
@@ -75,7 +76,7 @@ impl SolidSystem {
                     matrix: "stiffness",
                     detail: format!("{n} unknowns: the row-run form holds at most {} rows", u32::MAX),
                 })?;
-                LeanStiffness { operator: Arc::new(runs), unit_mass: None }
+                LeanStiffness { operator: Arc::new(runs), unit_mass: None, load_energy: OnceLock::new() }
             }
         };
         let stiffness = super::columns::stiffness_touching(&mesh, &lame, &free.dof_of, n, &massless);
@@ -91,24 +92,35 @@ impl SolidSystem {
         };
         let mut system = Self::on_free(mesh, (weights, directions), lame, lateral, free, parts, contact)?;
         system.lean = Some(lean);
+        // E_F now, while no scheme holds its vectors: its conjugate gradients' five vectors
+        // are then not on top of them (issue 31: the run's peak memory under a body force).
+        let _ = system.lean_load_energy();
         Ok(system)
     }
 
     /// The divergence watch's `E_F = ½ F_rᵀ K_rr⁻¹ F_r = max_x (F_rᵀx − ½ xᵀK_rr x)` (r: the
     /// unknowns but the contact ones) of a lean system: that functional at conjugate gradients'
     /// iterate on its operator, from 0 to [`LOAD_ENERGY_TOL`] relative residual (at most n
-    /// iterations), below `E_F` by `½ r_kᵀ K_rr⁻¹ r_k`. None for a system that is whole (the
-    /// driver factors `K_rr`).
+    /// iterations), below `E_F` by `½ r_kᵀ K_rr⁻¹ r_k`; computed once (the lean set-up asks
+    /// first). None for a system that is whole (the driver factors `K_rr`).
     pub fn lean_load_energy(&self) -> Option<f64> {
-        let op = &self.lean.as_ref()?.operator;
+        let lean = self.lean.as_ref()?;
+        Some(*lean.load_energy.get_or_init(|| self.conjugate_load_energy(lean.operator.as_ref())))
+    }
+
+    fn conjugate_load_energy(&self, op: &dyn Operator) -> f64 {
         let s = &self.system;
+        if s.load.iter().all(|&f| f == 0.0) {
+            // b = 0: the functional's maximum is 0 (no vectors made).
+            return 0.0;
+        }
         let mut b = s.load.clone();
         for &c in &s.contact {
             b[c] = 0.0;
         }
-        let x = conjugate_gradients(op.as_ref(), &s.contact, &b);
+        let x = conjugate_gradients(op, &s.contact, &b);
         let work: f64 = b.iter().zip(&x).map(|(b, x)| b * x).sum();
-        Some(work - 0.5 * op.quad_form(&x))
+        work - 0.5 * op.quad_form(&x)
     }
 }
 
@@ -209,7 +221,7 @@ impl SolidSpec {
         let lumped: Vec<f64> = dofs.iter().map(|&g| nodes[g / d]).collect();
         let (stiffness, stencil) = if matrix_free {
             let massless: Vec<bool> = lumped.iter().map(|&m| m <= 0.0).collect();
-            let free = dof_of.iter().map(Option::is_some).collect();
+            let free = dof_of.flags();
             let stencil = BoxStencil::new(mesh, &self.lame, free).ok_or(super::SolidError::NotABox)?;
             (super::columns::stiffness_touching(mesh, &self.lame, &dof_of, n, &massless), Some(stencil))
         } else {
@@ -218,7 +230,7 @@ impl SolidSpec {
         let load = dofs.iter().map(|&g| force[g % d] * nodes[g / d] / self.lame.density).collect();
         let diag: Vec<(usize, usize, f64)> = lumped.iter().enumerate().map(|(i, &m)| (i, i, m)).collect();
         let mass_matrix = sparse::from_triplets(n, &diag, "mass").map_err(SolidAssemblyError::from)?;
-        let contact = built.contact.nodes.iter().filter_map(|&v| dof_of[v * d]).collect();
+        let contact = built.contact.nodes.iter().filter_map(|&v| dof_of.get(v * d)).collect();
         let system = ContactSystem::new(mass_matrix, stiffness, load, contact, gap);
         let l = self.extent[0];
         let at = |f: &dyn Fn(usize, &[f64; 3]) -> f64| dofs.iter().map(|&g| f(g % d, &mesh.points[g / d])).collect();

@@ -37,6 +37,7 @@ pub mod body_system;
 pub mod columns;
 pub mod coupling;
 pub mod curved;
+pub mod dof_map;
 pub mod geometry;
 pub mod lean;
 pub mod lumped;

@@ -497,6 +497,6 @@ impl BoxStencil {
         if system.frame.is_some() || system.bodies.is_some() {
             return None;
         }
-        Self::new(&system.mesh, &system.lame, system.dof_of.iter().map(Option::is_some).collect())
+        Self::new(&system.mesh, &system.lame, system.dof_of.flags())
     }
 }

@@ -213,7 +213,7 @@ fn explicit(
     let mut cd = match stencil {
         Some(op) => {
             let system = kept.insert(b.system);
-            CentralDifference::with_operator(system, Some(Box::new(op)), b.lumped, &law, dt, b.u0, b.v0)
+            CentralDifference::with_operator(system, Some(Box::new(op)), b.lumped, &law, dt, || (b.u0, b.v0))
         }
         None => CentralDifference::from_system(b.system, b.lumped, &law, dt, b.u0, b.v0),
     }

@@ -192,7 +192,7 @@ pub fn q1_square(n: usize, f: &[f64]) -> f64 {
 /// The nodal values of component `comp` of a 2D solid's free unknowns `u` (0 where eliminated).
 pub fn component(solid: &SolidSystem, u: &[f64], comp: usize) -> Vec<f64> {
     let nodes = solid.mesh.points.len();
-    (0..nodes).map(|v| solid.dof_of[v * 2 + comp].map_or(0.0, |k| u[k])).collect()
+    (0..nodes).map(|v| solid.dof_of.get(v * 2 + comp).map_or(0.0, |k| u[k])).collect()
 }
 
 /// The reference at one snapshot time, seen from the table's 20² meshes.

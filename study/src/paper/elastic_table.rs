@@ -108,7 +108,7 @@ pub fn simplex_l2_error(solid: &SolidSystem, columns: &Columns, u: &[f64], exact
     if mesh.kind != Cell::Triangle {
         return f64::NAN;
     }
-    let ux = |v: usize| solid.dof_of[v * d].map_or(0.0, |k| u[k]);
+    let ux = |v: usize| solid.dof_of.get(v * d).map_or(0.0, |k| u[k]);
     let x_part = exact.integrate(&columns.xs, t, |j, x, ue| {
         let mut sum = 0.0;
         for &c in columns.of(j) {
