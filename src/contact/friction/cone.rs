@@ -371,7 +371,7 @@ impl Dense {
 
 /// Node's 3 × 3 problem `y = r + [[a, bᵀ], [b, C]] f` with the disc `|f_t| ≤ g` solved to
 /// round-off: the first candidate whose inequalities hold (open, stick, slide: the order of
-/// the 2D [`super::local_solve`]), else the one that violates them least. `tresca` is Tresca's
+/// the 2D [`super::planar::local_solve`]), else the one that violates them least. `tresca` is Tresca's
 /// bound (0 for Coulomb); `guess` the last slide direction.
 #[allow(clippy::too_many_arguments)]
 fn node_cone(
@@ -406,7 +406,7 @@ fn node_cone(
         Friction::Tresca { .. } => {
             let g = tresca;
             if g == 0.0 {
-                let (fn_, closed) = super::normal_alone(a, rn);
+                let (fn_, closed) = super::planar::normal_alone(a, rn);
                 return ([fn_, 0.0, 0.0], state(closed, Tangent::Zero));
             }
             // Open: f_n = 0 and the tangential problem on the disc alone.
