@@ -169,8 +169,6 @@ fn progress(len: u64) -> Progress {
 /// The command line: one match arm per command, each preparing its output folder and calling
 /// the library (about 90 lines: the arms are short, and one place lists every command's edge).
 fn main() -> ExitCode {
-    // Large arrays mapped on their own, returned when freed (machine.rs: peak memory).
-    let _ = massredist::machine::map_large_arrays();
     let cli = Cli::parse();
     // What cannot fit in memory is refused before it is allocated (machine.rs).
     let _ = massredist::machine::install_memory_limit();
@@ -350,6 +348,11 @@ fn run_failed(scene: &Path, e: RunError) -> ExitCode {
 /// `run` in Rust for any geometry: the progress bar, the run streamed into `dir`, the report
 /// line and the exit code.
 fn run_with<G: GeometrySpec + Registered>(scene: &Path, s: &Scene<G>, dir: OutputDir) -> ExitCode {
+    if matches!(s.scheme, massredist::schemes::SchemeSpec::CentralDifference { .. }) {
+        // An explicit run's large arrays mapped on their own, returned when freed (machine.rs:
+        // its peak memory; the implicit schemes keep glibc's default, which they run faster on).
+        let _ = massredist::machine::map_large_arrays();
+    }
     let out = dir.path().to_path_buf();
     let mut bar = progress(s.time.steps as u64);
     let result = run_scene_into(s, dir, &mut [&mut bar]);
