@@ -2,7 +2,8 @@
 //! package: [`install_memory_limit`]): the memory it may
 //! take. Linux's `/proc/meminfo` (`MemAvailable`: what can be allocated without swapping) and
 //! `/proc/self/limits` ("Max address space": `ulimit -v`); the smaller of the two is the limit.
-//! Elsewhere (no `/proc`) there is no limit.
+//! Elsewhere (no `/proc`) there is no limit. And how the allocator hands large arrays back
+//! ([`map_large_arrays`], set by the command line for explicit runs).
 
 /// The size from which an allocation is mapped on its own and returned to the system when
 /// freed ([`map_large_arrays`]).
