@@ -58,6 +58,7 @@ pub use crate::system::Tangential;
 use serde::{Deserialize, Serialize};
 
 mod cone;
+mod cone_node;
 mod layer;
 mod massive;
 mod planar;
