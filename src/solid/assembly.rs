@@ -299,9 +299,7 @@ impl SolidSystem {
                 .nodes
                 .iter()
                 .enumerate()
-                .map(|(slot, &v)| {
-                    (1..d).filter(|&i| dof_of.get(v * d + i).is_some()).map(|i| offset(slot) + i - 1).collect()
-                })
+                .map(|(slot, &v)| (1..d).filter(|&i| dof_of.is_free(v * d + i)).map(|i| offset(slot) + i - 1).collect())
                 .collect(),
             areas: contact.areas.clone(),
             axes,

@@ -54,7 +54,7 @@ fn node_graph(
             .flat_map(move |&b| comps.clone().filter_map(move |j| dof_of.get(b * d + j)))
             .filter(move |&row| kept(keep, row, col))
     };
-    let columns = || (0..mesh.n_nodes() * d).filter(|&g| dof_of.get(g).is_some());
+    let columns = || (0..mesh.n_nodes() * d).filter(|&g| dof_of.is_free(g));
     // Counted first, then allocated once at its size (a growing vector holds up to twice its
     // entries at the peak).
     let mut col_ptr = Vec::with_capacity(n + 1);
