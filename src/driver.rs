@@ -13,7 +13,7 @@
 use crate::exact::Exact;
 use crate::linalg::sparse::SparseError;
 use crate::linalg::{LinalgError, SymMatrix};
-use crate::problem::{Geometry, GeometryView, Problem};
+use crate::problem::{Geometry, GeometryView, LoadEnergy, Problem};
 use crate::schemes::{Scheme, SchemeError, StateView};
 use crate::system::ContactSystem;
 use serde::Serialize;
@@ -271,8 +271,9 @@ pub fn integrate_watched<G: Geometry>(
 fn watch_of<G: Geometry>(criterion: &DivergenceCriterion, g: &G, steps: usize) -> Result<DivergenceWatch, LinalgError> {
     let s = g.system();
     let energy = match g.load_energy() {
-        Some(e) => Some(e),
-        None => load_energy(s)?,
+        LoadEnergy::Known(e) => Some(e),
+        LoadEnergy::Factor => load_energy(s)?,
+        LoadEnergy::FreeFlight => None,
     };
     Ok(match energy {
         Some(e) => DivergenceWatch::new(criterion, e),

@@ -51,6 +51,18 @@ fn audit_perturb(u: &mut [f64], v: &mut [f64]) {
     }
 }
 
+/// How the divergence watch gets `E_F = ½ F_rᵀ S_rr⁻¹ F_r` ([`crate::driver`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LoadEnergy {
+    /// The driver factors `S_rr` of the system's whole stiffness (and takes the free-flight
+    /// scale if that factor fails: a free body).
+    Factor,
+    /// `E_F` as the geometry computed it (a lean system's conjugate gradients).
+    Known(f64),
+    /// `S_rr` is singular (a lean body without a clamped node): the free-flight scale.
+    FreeFlight,
+}
+
 /// What the driver and the observers need of a geometry (object safe).
 pub trait GeometryView: std::fmt::Debug + Send + Sync {
     /// "bar", "plate" or "solid", for messages.
@@ -155,10 +167,10 @@ pub trait Geometry: GeometryView {
         None
     }
 
-    /// The divergence watch's `E_F = ½ F_rᵀ S_rr⁻¹ F_r` where the geometry computes it itself
-    /// (a lean system, whose stiffness matrix is not whole); None: the driver factors `S_rr`.
-    fn load_energy(&self) -> Option<f64> {
-        None
+    /// The divergence watch's load scale where the geometry knows it (a lean system, whose
+    /// stiffness matrix is not whole); [`LoadEnergy::Factor`]: the driver factors `S_rr`.
+    fn load_energy(&self) -> LoadEnergy {
+        LoadEnergy::Factor
     }
 
     /// The per-step diagnostics of a run on this geometry (energy, exact L² error, interpolant

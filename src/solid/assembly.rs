@@ -162,6 +162,9 @@ pub struct LeanStiffness {
     pub unit_mass: Option<Arc<dyn crate::linalg::Operator>>,
     /// The divergence watch's `E_F`, made once ([`SolidSystem::lean_load_energy`]).
     pub load_energy: OnceLock<f64>,
+    /// `S_rr` is singular (a body without a clamped node): no `E_F`, the watch takes the
+    /// free-flight scale.
+    pub singular: bool,
 }
 
 /// The solid on its free unknowns: mesh, weights, material, the contact system and what the
@@ -237,7 +240,7 @@ impl SolidSystem {
                 let parts = Parts { matrices, load, forcing: None, frame: None, contact_area };
                 Self::on_free(mesh, (weights, directions), lame, *lateral, free, parts, contact)
             }
-            Support::Plane(body) => Self::assemble_body(mesh, (weights, directions), lame, body, contact),
+            Support::Plane(body) => Self::assemble_body(mesh, (weights, directions), lame, body, contact, false),
             // `mesh` and `contact` are the joined bodies' (`SolidSpec::built`): joined again here.
             Support::Bodies(bodies) => {
                 let joined = bodies.join()?;
@@ -260,11 +263,14 @@ impl SolidSystem {
         let Free { dofs, dof_of } = free;
         let d = mesh.dim;
         let (mass, stiffness, mass_unit) = match parts.matrices {
-            Matrices::All { mass, stiffness, unit } => (
-                sparse::principal(&mass, &dofs, "mass")?,
-                sparse::principal(&stiffness, &dofs, "stiffness")?,
-                OnceLock::from(sparse::principal(&unit, &dofs, "mass")?),
-            ),
+            Matrices::All { mass, stiffness, unit } => {
+                // Each whole matrix gives way to its free part before the next is copied, and a
+                // body without a clamped node keeps its matrices (all its unknowns are free).
+                let free = |a: SpMat, name| {
+                    if dofs.len() == a.nrows() { Ok(a) } else { sparse::principal(&a, &dofs, name) }
+                };
+                (free(mass, "mass")?, free(stiffness, "stiffness")?, OnceLock::from(free(unit, "mass")?))
+            }
             Matrices::Free { mass, stiffness } => (mass, stiffness, OnceLock::new()),
         };
         let unknowns =

@@ -19,13 +19,15 @@
 //! mean displacement `ū_k = Σ_b m¹_b u_b,k / |Ω|` with the unweighted, ρ = 1 lumped mass m¹
 //! (both computed in the frame and rotated back by R).
 
-use super::assembly::{Free, Matrices, Parts, SolidAssemblyError, SolidSystem, assemble, assemble_directed};
+use super::assembly::{Free, Matrices, Parts, SolidAssemblyError, SolidSystem};
 pub use super::body::BodyFrame;
 use super::body::{BodyContact, BodySpec, Frames, from_frame, rotation, to_frame};
+use super::columns;
 use super::dof_map::DofMap;
 use crate::expr::Expr;
 use crate::fem::Mesh;
 use crate::linalg::sparse;
+use crate::mass::ContactDirections;
 use crate::material::Lame;
 use crate::system::Forcing;
 use std::sync::Arc;
@@ -116,15 +118,65 @@ pub(super) fn body_load(
     (f0, forcing)
 }
 
+/// What a body's reports and load take from its whole weighted mass `mass_all` and unit mass
+/// `unit_all` (full indices, in the plane's frame `rot`): the lumped masses of the momentum and
+/// mean displacement (module docs) and the load F(0) with its forcing.
+fn body_frame(
+    mesh: &Mesh,
+    free: &Free,
+    rot: [[f64; 3]; 3],
+    body: &BodySpec,
+    contact: &BodyContact,
+    mass_all: &sparse::SpMat,
+    unit_all: &sparse::SpMat,
+) -> (BodyFrame, Vec<f64>, Option<Forcing>) {
+    let d = mesh.dim;
+    let (mut lumped, mut lumped_unit) = (vec![0.0; mesh.n_nodes()], vec![0.0; mesh.n_nodes()]);
+    let mut lumped_tangential = vec![0.0; mesh.n_nodes()];
+    for (i, j, v) in sparse::triplets(mass_all) {
+        if i % d == 0 && j % d == 0 {
+            lumped[j / d] += v;
+        } else if i % d == 1 && j % d == 1 {
+            lumped_tangential[j / d] += v;
+        }
+    }
+    let scalar_unit: Vec<(usize, usize, f64)> = sparse::triplets(unit_all)
+        .filter(|(i, j, _)| i % d == 0 && j % d == 0)
+        .map(|(i, j, v)| (i / d, j / d, v))
+        .collect();
+    for &(_, b, v) in &scalar_unit {
+        lumped_unit[b] += v;
+    }
+    let forces = vec![(0, body.force.clone())];
+    let (f0, forcing) = body_load(mesh, free, Frames::Global(rot), forces, scalar_unit, Default::default());
+    let contact_area = contact.areas.iter().sum();
+    let volume = lumped_unit.iter().sum();
+    let frame = BodyFrame {
+        frames: Frames::Global(rot),
+        momentum: Vec::new(),
+        lumped,
+        lumped_tangential,
+        volume,
+        lumped_unit,
+        contact_area,
+        coupling: Default::default(),
+    };
+    (frame, f0, forcing)
+}
+
 impl SolidSystem {
     /// Assembles a body (module docs) on `mesh` (world coordinates) with validated cell
-    /// `weights` and its contact data.
+    /// `weights` and its contact data: with `explicit`, central differences' lean system
+    /// ([`super::lean`]: the lumped mass as the mass matrix, the stiffness as one operator in
+    /// row-run form, the system's own stiffness only the massless unknowns' rows and columns),
+    /// else the whole one.
     pub(super) fn assemble_body(
         mesh: Arc<Mesh>,
         (weights, directions): (Vec<f64>, crate::mass::ContactDirections),
         lame: Lame,
         body: &BodySpec,
         contact: &BodyContact,
+        explicit: bool,
     ) -> Result<Self, SolidAssemblyError> {
         let d = mesh.dim;
         let Some(normal) = body.obstacle.plane_normal() else {
@@ -135,45 +187,45 @@ impl SolidSystem {
         for p in frame_mesh.points.iter_mut() {
             *p = to_frame(&rot, *p);
         }
-        let (mass_all, stiff_all) = assemble_directed(&frame_mesh, &weights, directions, &lame)?;
-        let unit = Lame { density: 1.0, ..lame };
-        let (unit_all, _) = assemble(&frame_mesh, &vec![1.0; mesh.n_cells()], &unit)?;
-        drop(frame_mesh);
+        // Straight into compressed columns over all full indices (`super::columns`: the
+        // triplet assembly's matrices bit for bit, without its element triplets, about 22 kB a
+        // tetra10 cell per matrix).
+        let all = DofMap::identity(mesh.n_nodes() * d);
+        let mass_all = columns::mass(&frame_mesh, &weights, directions, lame.density, &all, all.len());
+        let ones = vec![1.0; mesh.n_cells()];
+        let unit_all = columns::mass(&frame_mesh, &ones, ContactDirections::All, 1.0, &all, all.len());
+        drop(ones);
         let free = Free::new(&mesh, |g| contact.clamped[g / d]);
-        let (mut lumped, mut lumped_unit) = (vec![0.0; mesh.n_nodes()], vec![0.0; mesh.n_nodes()]);
-        let mut lumped_tangential = vec![0.0; mesh.n_nodes()];
-        for (i, j, v) in sparse::triplets(&mass_all) {
-            if i % d == 0 && j % d == 0 {
-                lumped[j / d] += v;
-            } else if i % d == 1 && j % d == 1 {
-                lumped_tangential[j / d] += v;
-            }
+        let (frame, f0, forcing) = body_frame(&mesh, &free, rot, body, contact, &mass_all, &unit_all);
+        let contact_area = frame.contact_area;
+        if !explicit {
+            let stiff_all = columns::stiffness(&frame_mesh, &lame, &all, all.len());
+            drop((frame_mesh, all));
+            let matrices = Matrices::All { mass: mass_all, stiffness: stiff_all, unit: unit_all };
+            let parts = Parts { matrices, load: f0, forcing, frame: Some(frame), contact_area };
+            return Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact);
         }
-        let scalar_unit: Vec<(usize, usize, f64)> = sparse::triplets(&unit_all)
-            .filter(|(i, j, _)| i % d == 0 && j % d == 0)
-            .map(|(i, j, v)| (i / d, j / d, v))
-            .collect();
-        for &(_, b, v) in &scalar_unit {
-            lumped_unit[b] += v;
-        }
-        let forces = vec![(0, body.force.clone())];
-        let (f0, forcing) = body_load(&mesh, &free, Frames::Global(rot), forces, scalar_unit, Default::default());
-        let contact_area = contact.areas.iter().sum();
-        let volume = lumped_unit.iter().sum();
-        let frames = Frames::Global(rot);
-        let frame = BodyFrame {
-            frames,
-            momentum: Vec::new(),
-            lumped,
-            lumped_tangential,
-            volume,
-            lumped_unit,
-            contact_area,
-            coupling: Default::default(),
-        };
-        let matrices = Matrices::All { mass: mass_all, stiffness: stiff_all, unit: unit_all };
+        // The lean system: the whole masses gave their row sums and go before the stiffness is
+        // assembled (the run's peak is then the stiffness's).
+        drop((mass_all, unit_all, all));
+        let n = free.dofs.len();
+        let lumped = super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs);
+        let massless: Vec<bool> = lumped.iter().map(|&m| m <= 0.0).collect();
+        let stiffness = columns::stiffness_touching(&frame_mesh, &lame, &free.dof_of, n, &massless);
+        drop(massless);
+        let operator = super::lean::assembled(columns::stiffness(&frame_mesh, &lame, &free.dof_of, n))?;
+        drop(frame_mesh);
+        let mass = super::lean::diagonal(&lumped)?;
+        drop(lumped);
+        let matrices = Matrices::Free { mass, stiffness };
         let parts = Parts { matrices, load: f0, forcing, frame: Some(frame), contact_area };
-        Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)
+        // A body without a clamped node is free to move: its S_rr is singular (the watch takes
+        // the free-flight scale, as for the whole system, whose factor of S_rr fails).
+        let singular = !contact.clamped.iter().any(|&c| c);
+        let mut system = Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)?;
+        system.lean = Some(super::assembly::LeanStiffness { singular, ..operator });
+        let _ = system.lean_load_energy();
+        Ok(system)
     }
 
     /// Momentum `P = 1ᵀ M V` and mean displacement `ū` (module docs), world components.

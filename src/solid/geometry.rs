@@ -238,7 +238,12 @@ impl Geometry for SolidSystem {
         }
     }
 
-    fn load_energy(&self) -> Option<f64> {
-        self.lean_load_energy()
+    fn load_energy(&self) -> crate::problem::LoadEnergy {
+        use crate::problem::LoadEnergy;
+        match (&self.lean, self.lean_load_energy()) {
+            (None, _) => LoadEnergy::Factor,
+            (Some(_), Some(e)) => LoadEnergy::Known(e),
+            (Some(_), None) => LoadEnergy::FreeFlight,
+        }
     }
 }

@@ -1,4 +1,4 @@
-//! The explicit scheme's system of a box at scale (issues 20 and 31, explicit at scale): what
+//! The explicit scheme's system of a box or a body at scale (issues 20 and 31): what
 //! central differences need and nothing else, in memory linear in the unknowns with a small
 //! constant: the lumped mass [`super::lumped::node_masses`] as the [`ContactSystem`]'s mass
 //! matrix (a diagonal; no consistent mass is formed), the load `F_(a,i) = f_i ∫ w_h φ_a`, and the
@@ -10,15 +10,21 @@
 //!
 //! Two entries:
 //! - **a scene's run** ([`SolidSystem::assemble_explicit`], issue 31, item 0): every box scene
-//!   stepped by central differences (not Nitsche, whose term reads a massive contact row). Its
-//!   L² norms take the unit mass as a stencil where the box has one (else it is assembled
-//!   when first asked for), and its divergence watch's `E_F` comes from conjugate gradients on
-//!   the operator ([`SolidSystem::lean_load_energy`]) instead of a factorisation;
+//!   and every body against a plane stepped by central differences (not Nitsche, whose term
+//!   reads a massive contact row). Its L² norms take the unit mass as a stencil where the box
+//!   has one (else it is assembled when first asked for), and its divergence watch's `E_F`
+//!   comes from conjugate gradients on the operator ([`SolidSystem::lean_load_energy`]) instead
+//!   of a factorisation (a body without a clamped node has none: its `S_rr` is singular, and
+//!   the watch takes the free-flight scale). A body's system is made in
+//!   [`SolidSystem::assemble_body`]'s lean branch: its load and reports from its whole masses,
+//!   which are dropped before its stiffness is assembled, the stiffness in the plane's frame
+//!   (bit for bit the whole system's, so that its run is the whole system's run bit for bit:
+//!   `tests/lean_run.rs`); curved obstacles and several bodies are set up whole;
 //! - **the benches** ([`SolidSpec::explicit_box`], [`SolidSpec::explicit_box_matrix_free`]),
 //!   which step the system themselves (P1/Q1 boxes: the load from the lumped mass over ρ).
 //!
 //! At 10⁶ unknowns: about 170 bytes per unknown matrix-free, 1.6 kB assembled
-//! (`bench --explicit-scaling`).
+//! (`bench --explicit-scaling`); a tetra10 body of 2·10⁵ unknowns: 1.7 kB (`tests/lean_run.rs`).
 
 use super::assembly::{Free, LeanStiffness, Matrices, Parts, SolidAssemblyError, SolidSystem};
 use super::body::BodyContact;
@@ -38,12 +44,30 @@ use std::sync::{Arc, OnceLock};
 /// functional at the iterate misses it by `½ r_kᵀ K⁻¹ r_k ≤ κ tol² E_F`, far inside that factor.
 pub const LOAD_ENERGY_TOL: f64 = 1e-6;
 
+/// The lean stiffness of an assembled matrix: `k` in row-run form (its values moved, its row
+/// indices dropped), E_F still to make.
+pub(super) fn assembled(k: SpMat) -> Result<LeanStiffness, SolidAssemblyError> {
+    let n = k.nrows();
+    let runs = RunMat::from_owned(k).map_err(|_| sparse::SparseError::Structure {
+        matrix: "stiffness",
+        detail: format!("{n} unknowns: the row-run form holds at most {} rows", u32::MAX),
+    })?;
+    Ok(LeanStiffness { operator: Arc::new(runs), unit_mass: None, load_energy: OnceLock::new(), singular: false })
+}
+
+/// The diagonal mass matrix of the lumped masses `m`.
+pub(super) fn diagonal(m: &[f64]) -> Result<SpMat, SolidAssemblyError> {
+    let diag: Vec<(usize, usize, f64)> = m.iter().enumerate().map(|(i, &m)| (i, i, m)).collect();
+    Ok(sparse::from_triplets(m.len(), &diag, "mass")?)
+}
+
 impl SolidSystem {
     /// The lean system of a box (`Support::Face`) for central differences (module docs): the
     /// lumped mass as a diagonal mass, the load `f_i Σ_c w_c^(i) ∫_c φ_a` cell by cell, the
     /// stiffness as `choice` says (`auto`: the stencil where the box has one; `assembled` or
     /// no stencil: the row-run matrix), and of the stiffness matrix only the massless
-    /// unknowns' rows and columns. Any other support is assembled whole
+    /// unknowns' rows and columns. A body against a plane is set up lean by
+    /// [`SolidSystem::assemble_body`]; any other support is assembled whole
     /// ([`SolidSystem::assemble`]).
     pub fn assemble_explicit(
         (mesh, contact): (Arc<Mesh>, &BodyContact),
@@ -53,7 +77,10 @@ impl SolidSystem {
         choice: StiffnessOperator,
     ) -> Result<Self, SolidAssemblyError> {
         let Support::Face { lateral, force, .. } = *support else {
-            return Self::assemble(mesh, weights, directions, lame, support, contact);
+            return match support {
+                Support::Plane(body) => Self::assemble_body(mesh, (weights, directions), lame, body, contact, true),
+                _ => Self::assemble(mesh, weights, directions, lame, support, contact),
+            };
         };
         let free = Free::of_box(&mesh, &weights, lateral, force, contact)?;
         let n = free.dofs.len();
@@ -69,20 +96,13 @@ impl SolidSystem {
                 operator: Arc::new(s),
                 unit_mass: BoxStencil::unit_mass(&mesh, flags()).map(|m| Arc::new(m) as Arc<dyn Operator>),
                 load_energy: OnceLock::new(),
+                singular: false,
             },
-            None => {
-                let k = super::columns::stiffness(&mesh, &lame, &free.dof_of, n);
-                let runs = RunMat::from_owned(k).map_err(|_| sparse::SparseError::Structure {
-                    matrix: "stiffness",
-                    detail: format!("{n} unknowns: the row-run form holds at most {} rows", u32::MAX),
-                })?;
-                LeanStiffness { operator: Arc::new(runs), unit_mass: None, load_energy: OnceLock::new() }
-            }
+            None => assembled(super::columns::stiffness(&mesh, &lame, &free.dof_of, n))?,
         };
         let stiffness = super::columns::stiffness_touching(&mesh, &lame, &free.dof_of, n, &massless);
         let load = box_load(&mesh, &weights, directions, force, &free.dofs);
-        let diag: Vec<(usize, usize, f64)> = lumped.iter().enumerate().map(|(i, &m)| (i, i, m)).collect();
-        let mass = sparse::from_triplets(n, &diag, "mass")?;
+        let mass = diagonal(&lumped)?;
         let parts = Parts {
             matrices: Matrices::Free { mass, stiffness },
             load,
@@ -102,9 +122,10 @@ impl SolidSystem {
     /// unknowns but the contact ones) of a lean system: that functional at conjugate gradients'
     /// iterate on its operator, from 0 to [`LOAD_ENERGY_TOL`] relative residual (at most n
     /// iterations), below `E_F` by `½ r_kᵀ K_rr⁻¹ r_k`; computed once (the lean set-up asks
-    /// first). None for a system that is whole (the driver factors `K_rr`).
+    /// first). None for a system that is whole (the driver factors `K_rr`) or whose `K_rr` is
+    /// singular (a body without a clamped node).
     pub fn lean_load_energy(&self) -> Option<f64> {
-        let lean = self.lean.as_ref()?;
+        let lean = self.lean.as_ref().filter(|l| !l.singular)?;
         Some(*lean.load_energy.get_or_init(|| self.conjugate_load_energy(lean.operator.as_ref())))
     }
 

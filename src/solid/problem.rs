@@ -43,8 +43,9 @@ impl SolidSpec {
     }
 
     /// [`SolidSpec::problem_directed`] for central differences with `scheme.operator =
-    /// operator` where `explicit` is Some: a box's system is then the lean one
-    /// ([`SolidSystem::assemble_explicit`]: no consistent mass, no whole stiffness matrix).
+    /// operator` where `explicit` is Some: a box's or a body's against a plane system is then
+    /// the lean one ([`SolidSystem::assemble_explicit`]: no consistent mass, no whole stiffness
+    /// matrix).
     pub fn problem_for(
         &self,
         mass: &MassKind,
@@ -188,8 +189,9 @@ impl GeometrySpec for SolidSpec {
         self.cells_per_axis[0]
     }
 
-    /// Central differences take the lean system (`super::lean`), but with Nitsche's law,
-    /// whose term reads a contact row that the lean stiffness does not hold.
+    /// Central differences take the lean system (`super::lean`; boxes and bodies against a
+    /// plane), but with Nitsche's law, whose term reads a contact row that the lean stiffness
+    /// does not hold.
     fn problem(scene: &Scene<Self>) -> Result<SolidProblem, SolidError> {
         let explicit = match scene.scheme {
             SchemeSpec::CentralDifference { operator } if !matches!(scene.contact, ContactLaw::Nitsche { .. }) => {

@@ -286,6 +286,19 @@ impl SceneGeometry for SolidSpec {
                 return nodes * d * (matrix + 300.0) * 1.2;
             }
         }
+        // A body against a plane stepped by central differences is set up lean too
+        // (`SolidSystem::assemble_body`): its whole masses (≤ 2 k²·d entries a cell) go before
+        // the stiffness (≤ k²·d² a cell, fewer where cells share nodes) is assembled in
+        // compressed columns; 16 bytes an entry, the same 300 bytes per unknown, times 1.2.
+        // Measured on a 245 000-unknown tetra10 box: 1.81 kB per unknown where this gives 4.3.
+        if let (Some(crate::schemes::SchemeSpec::CentralDifference { .. }), Support::Plane(b), Some(m)) =
+            (scheme, &self.support, self.source.given())
+            && b.obstacle.plane_normal().is_some()
+        {
+            let (k, d) = (self.cells.verts() as f64, self.dim as f64);
+            let unknowns = m.n_nodes() as f64 * d;
+            return (m.n_cells() as f64 * k * k * d * d * 16.0 + unknowns * 300.0) * 1.2;
+        }
         let cells = match self.source.given() {
             Some(m) => m.n_cells() as f64,
             None => {
