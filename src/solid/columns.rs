@@ -70,18 +70,19 @@ fn node_graph(
 }
 
 /// The matrix on the pattern of [`node_graph`] whose entry (row (a, i), column (b, j)) is the
-/// sum over the cells c that hold a and b, in increasing c, of `entry(c, e, a, b, i, j)` (a, b
+/// sum over the cells c that hold a and b, in increasing c, of `block(c, e, a, b)[i][j]` (a, b
 /// local vertex numbers of c, e its integrals): the value and the order of
 /// [`super::assembly::assemble`]'s triplets, so the two are equal bit for bit (the expressions
 /// are symmetric in exact arithmetic only: λ ∂_i φ_a ∂_j φ_b rounds otherwise than
-/// λ ∂_j φ_b ∂_i φ_a).
+/// λ ∂_j φ_b ∂_i φ_a). One block per pair of a cell's vertices, and one search of the column
+/// per pair: a node's free components are consecutive rows.
 fn assemble_on(
     mesh: &Mesh,
     dof_of: &DofMap,
     n: usize,
     diagonal: bool,
     keep: Option<&[bool]>,
-    entry: impl Fn(usize, &crate::fem::element::CellIntegrals, usize, usize, usize, usize) -> f64,
+    block: impl Fn(usize, &crate::fem::element::CellIntegrals, usize, usize) -> [[f64; 3]; 3],
 ) -> SpMat {
     let d = mesh.dim;
     let (col_ptr, row_idx) = node_graph(mesh, dof_of, n, diagonal, keep);
@@ -92,18 +93,26 @@ fn assemble_on(
         let v = mesh.cell(c);
         for a in 0..v.len() {
             for b in 0..v.len() {
+                // Entry (row, col) = ((b, j), (a, i)): the triplet of that position.
+                let x = block(c, &e, b, a);
                 for i in 0..d {
                     let Some(col) = dof_of.get(v[a] * d + i) else { continue };
                     let rows = &row_idx[col_ptr[col]..col_ptr[col + 1]];
                     let comps = if diagonal { i..i + 1 } else { 0..d };
+                    // The position of (b, j): searched for the first, the next row after that.
+                    let mut at: Option<usize> = None;
                     for j in comps {
                         let Some(row) = dof_of.get(v[b] * d + j) else { continue };
                         if !kept(keep, row, Some(col)) {
                             continue;
                         }
-                        let k = rows.binary_search(&row).expect("the pattern holds every cell pair");
-                        // Entry (row, col) = ((b, j), (a, i)): the triplet of that position.
-                        val[col_ptr[col] + k] += entry(c, &e, b, a, j, i);
+                        let k = match at {
+                            Some(k) if rows.get(k + 1) == Some(&row) => k + 1,
+                            _ => rows.partition_point(|&r| r < row),
+                        };
+                        assert_eq!(rows.get(k), Some(&row), "the pattern holds every cell pair");
+                        at = Some(k);
+                        val[col_ptr[col] + k] += x[j][i];
                     }
                 }
             }
@@ -115,7 +124,7 @@ fn assemble_on(
 /// The stiffness on the unknowns `dof_of` maps to (full index → index in 0..n), assembled cell
 /// by cell without triplets (module docs).
 pub fn stiffness(mesh: &Mesh, lame: &Lame, dof_of: &DofMap, n: usize) -> SpMat {
-    assemble_on(mesh, dof_of, n, false, None, |_, e, a, b, i, j| stiffness_entry(e, lame, a, b, i, j))
+    assemble_on(mesh, dof_of, n, false, None, |_, e, a, b| stiffness_block(e, lame, a, b, mesh.dim))
 }
 
 /// The entries of [`stiffness`] in the rows and columns of the unknowns `keep` marks, bit for
@@ -126,7 +135,7 @@ pub fn stiffness_touching(mesh: &Mesh, lame: &Lame, dof_of: &DofMap, n: usize, k
     if !keep.iter().any(|&k| k) {
         return sparse::from_csc(n, vec![0; n + 1], Vec::new(), Vec::new());
     }
-    assemble_on(mesh, dof_of, n, false, Some(keep), |_, e, a, b, i, j| stiffness_entry(e, lame, a, b, i, j))
+    assemble_on(mesh, dof_of, n, false, Some(keep), |_, e, a, b| stiffness_block(e, lame, a, b, mesh.dim))
 }
 
 /// With `keep`, whether each cell holds a node with a marked unknown: a kept entry's row or
@@ -159,6 +168,23 @@ pub fn stiffness_entry(e: &CellIntegrals, lame: &Lame, a: usize, b: usize, i: us
     s
 }
 
+/// The d × d block `S_(a,i),(b,j)` of one cell, each entry [`stiffness_entry`]'s sum in its
+/// order (the same bits): one pass over the quadrature points for the block.
+pub fn stiffness_block(e: &CellIntegrals, lame: &Lame, a: usize, b: usize, d: usize) -> [[f64; 3]; 3] {
+    let mut s = [[0.0; 3]; 3];
+    for q in 0..e.nq {
+        let (ga, gb) = (&e.grads[q][a], &e.grads[q][b]);
+        let dot = e.grad_dot(q, a, b);
+        for (i, row) in s.iter_mut().enumerate().take(d) {
+            for (j, x) in row.iter_mut().enumerate().take(d) {
+                let delta = if i == j { dot } else { 0.0 };
+                *x += e.weights[q] * (lame.lambda * ga[i] * gb[j] + lame.mu * (delta + ga[j] * gb[i]));
+            }
+        }
+    }
+    s
+}
+
 /// The weighted vector mass `δ_ij ρ Σ_c w_c^(i) ∫_c φ_a φ_b` on the unknowns `dof_of` maps to,
 /// assembled as [`stiffness`] (the expression of [`super::assembly::assemble_directed`]).
 pub fn mass(
@@ -170,7 +196,11 @@ pub fn mass(
     n: usize,
 ) -> SpMat {
     assert_eq!(weights.len(), mesh.n_cells(), "one weight per cell");
-    assemble_on(mesh, dof_of, n, true, None, |c, e, a, b, i, _| {
-        density * directions.weight(i, weights[c]) * e.mass[a][b]
+    assemble_on(mesh, dof_of, n, true, None, |c, e, a, b| {
+        let mut x = [[0.0; 3]; 3];
+        for (i, row) in x.iter_mut().enumerate().take(mesh.dim) {
+            row[i] = density * directions.weight(i, weights[c]) * e.mass[a][b];
+        }
+        x
     })
 }
