@@ -140,13 +140,8 @@ pub(super) fn frame_matrices(
                 lumped[v[b]] += lame.density * w * m;
                 lumped_tangential[v[b]] += lame.density * directions.weight(1, w) * m;
                 lumped_unit[v[b]] += m;
-                // The world stiffness block (`columns::stiffness_entry`).
-                let mut s = [[0.0; 3]; 3];
-                for (i, row) in s.iter_mut().enumerate().take(d) {
-                    for (j, x) in row.iter_mut().enumerate().take(d) {
-                        *x = super::columns::stiffness_entry(&e, lame, a, b, i, j);
-                    }
-                }
+                // The world stiffness block (`columns::stiffness_block`).
+                let s = super::columns::stiffness_block(&e, lame, a, b, d);
                 let world = *ra == IDENTITY && *rb == IDENTITY;
                 for i in 0..d {
                     for j in 0..d {

@@ -249,8 +249,7 @@ impl SolidSpec {
             (super::columns::stiffness(mesh, &self.lame, &dof_of, n), None)
         };
         let load = dofs.iter().map(|&g| force[g % d] * nodes[g / d] / self.lame.density).collect();
-        let diag: Vec<(usize, usize, f64)> = lumped.iter().enumerate().map(|(i, &m)| (i, i, m)).collect();
-        let mass_matrix = sparse::from_triplets(n, &diag, "mass").map_err(SolidAssemblyError::from)?;
+        let mass_matrix = diagonal(&lumped)?;
         let contact = built.contact.nodes.iter().filter_map(|&v| dof_of.get(v * d)).collect();
         let system = ContactSystem::new(mass_matrix, stiffness, load, contact, gap);
         let l = self.extent[0];
