@@ -59,7 +59,7 @@ pub enum LoadEnergy {
     Factor,
     /// `E_F` as the geometry computed it (a lean system's conjugate gradients).
     Known(f64),
-    /// `S_rr` is singular (a lean body without a clamped node): the free-flight scale.
+    /// `S_rr` is singular (a lean body that keeps a rigid motion): the free-flight scale.
     FreeFlight,
 }
 

@@ -162,7 +162,7 @@ pub struct LeanStiffness {
     pub unit_mass: Option<Arc<dyn crate::linalg::Operator>>,
     /// The divergence watch's `E_F`, made once ([`SolidSystem::lean_load_energy`]).
     pub load_energy: OnceLock<f64>,
-    /// `S_rr` is singular (a body without a clamped node): no `E_F`, the watch takes the
+    /// `S_rr` is singular (a body that keeps a rigid motion, [`super::body::BodyContact::keeps_rigid_motion`]): no `E_F`, the watch takes the
     /// free-flight scale.
     pub singular: bool,
 }

@@ -169,7 +169,7 @@ impl SolidSystem {
     /// `weights` and its contact data: with `explicit`, central differences' lean system
     /// ([`super::lean`]: the lumped mass as the mass matrix, the stiffness as one operator in
     /// row-run form, the system's own stiffness only the massless unknowns' rows and columns),
-    /// else the whole one.
+    /// else the whole one; a curved obstacle's in the nodes' frames ([`Self::assemble_curved`]).
     pub(super) fn assemble_body(
         mesh: Arc<Mesh>,
         (weights, directions): (Vec<f64>, crate::mass::ContactDirections),
@@ -180,7 +180,7 @@ impl SolidSystem {
     ) -> Result<Self, SolidAssemblyError> {
         let d = mesh.dim;
         let Some(normal) = body.obstacle.plane_normal() else {
-            return Self::assemble_curved(mesh, (weights, directions), lame, body, contact);
+            return Self::assemble_curved(mesh, (weights, directions), lame, body, contact, explicit);
         };
         let rot = rotation(normal, d);
         let mut frame_mesh = Mesh::clone(&mesh);
@@ -219,9 +219,10 @@ impl SolidSystem {
         drop(lumped);
         let matrices = Matrices::Free { mass, stiffness };
         let parts = Parts { matrices, load: f0, forcing, frame: Some(frame), contact_area };
-        // A body without a clamped node is free to move: its S_rr is singular (the watch takes
-        // the free-flight scale, as for the whole system, whose factor of S_rr fails).
-        let singular = !contact.clamped.iter().any(|&c| c);
+        // A body that keeps a rigid motion (no clamped node, or too few) has a singular S_rr:
+        // the watch takes the free-flight scale (as for the whole system, whose factor of S_rr
+        // fails), and no conjugate gradients run towards an unbounded E_F.
+        let singular = contact.keeps_rigid_motion(&mesh.points, d);
         let mut system = Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)?;
         system.lean = Some(super::assembly::LeanStiffness { singular, ..operator });
         let _ = system.lean_load_energy();

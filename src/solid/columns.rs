@@ -21,13 +21,13 @@ use crate::material::Lame;
 
 /// The compressed-column pattern on the unknowns `dof_of` maps to (full index → index in
 /// 0..n, None where eliminated): unknown (a, i) couples to (b, j) when nodes a and b share a
-/// cell, and `i == j` if `diagonal` (a vector mass, `δ_ij` times a scalar). Rows increase within
-/// a column.
+/// cell, and `i == j` unless `full(a, b)` (a vector mass is `δ_ij` times a scalar, except
+/// between nodes whose frames differ: [`super::curved`]). Rows increase within a column.
 fn node_graph(
     mesh: &Mesh,
     dof_of: &DofMap,
     n: usize,
-    diagonal: bool,
+    full: impl Fn(usize, usize) -> bool + Copy,
     keep: Option<&[bool]>,
 ) -> (Vec<usize>, Vec<usize>) {
     let d = mesh.dim;
@@ -46,12 +46,14 @@ fn node_graph(
     // Column (a, i) holds rows (b, j) for b adjacent to a, j free, in increasing index (the
     // free indices increase with the full ones).
     let rows = |g: usize| {
-        let i = g % d;
-        let comps = if diagonal { i..i + 1 } else { 0..d };
+        let (a, i) = (g / d, g % d);
         let col = dof_of.get(g);
-        adj[g / d]
+        adj[a]
             .iter()
-            .flat_map(move |&b| comps.clone().filter_map(move |j| dof_of.get(b * d + j)))
+            .flat_map(move |&b| {
+                let comps = if full(a, b) { 0..d } else { i..i + 1 };
+                comps.filter_map(move |j| dof_of.get(b * d + j))
+            })
             .filter(move |&row| kept(keep, row, col))
     };
     let columns = || (0..mesh.n_nodes() * d).filter(|&g| dof_of.is_free(g));
@@ -75,17 +77,18 @@ fn node_graph(
 /// [`super::assembly::assemble`]'s triplets, so the two are equal bit for bit (the expressions
 /// are symmetric in exact arithmetic only: λ ∂_i φ_a ∂_j φ_b rounds otherwise than
 /// λ ∂_j φ_b ∂_i φ_a). One block per pair of a cell's vertices, and one search of the column
-/// per pair: a node's free components are consecutive rows.
-fn assemble_on(
+/// per pair: a node's free components are consecutive rows. Only the diagonal of a block is
+/// read unless `full(node a, node b)` ([`node_graph`]).
+pub(super) fn assemble_on(
     mesh: &Mesh,
     dof_of: &DofMap,
     n: usize,
-    diagonal: bool,
+    full: impl Fn(usize, usize) -> bool + Copy,
     keep: Option<&[bool]>,
     block: impl Fn(usize, &crate::fem::element::CellIntegrals, usize, usize) -> [[f64; 3]; 3],
 ) -> SpMat {
     let d = mesh.dim;
-    let (col_ptr, row_idx) = node_graph(mesh, dof_of, n, diagonal, keep);
+    let (col_ptr, row_idx) = node_graph(mesh, dof_of, n, full, keep);
     let mut val = vec![0.0; row_idx.len()];
     let cells = touching_cells(mesh, dof_of, keep);
     for c in (0..mesh.n_cells()).filter(|&c| cells.as_ref().is_none_or(|t| t[c])) {
@@ -98,7 +101,7 @@ fn assemble_on(
                 for i in 0..d {
                     let Some(col) = dof_of.get(v[a] * d + i) else { continue };
                     let rows = &row_idx[col_ptr[col]..col_ptr[col + 1]];
-                    let comps = if diagonal { i..i + 1 } else { 0..d };
+                    let comps = if full(v[a], v[b]) { 0..d } else { i..i + 1 };
                     // The position of (b, j): searched for the first, the next row after that.
                     let mut at: Option<usize> = None;
                     for j in comps {
@@ -124,7 +127,7 @@ fn assemble_on(
 /// The stiffness on the unknowns `dof_of` maps to (full index → index in 0..n), assembled cell
 /// by cell without triplets (module docs).
 pub fn stiffness(mesh: &Mesh, lame: &Lame, dof_of: &DofMap, n: usize) -> SpMat {
-    assemble_on(mesh, dof_of, n, false, None, |_, e, a, b| stiffness_block(e, lame, a, b, mesh.dim))
+    assemble_on(mesh, dof_of, n, |_, _| true, None, |_, e, a, b| stiffness_block(e, lame, a, b, mesh.dim))
 }
 
 /// The entries of [`stiffness`] in the rows and columns of the unknowns `keep` marks, bit for
@@ -135,7 +138,7 @@ pub fn stiffness_touching(mesh: &Mesh, lame: &Lame, dof_of: &DofMap, n: usize, k
     if !keep.iter().any(|&k| k) {
         return sparse::from_csc(n, vec![0; n + 1], Vec::new(), Vec::new());
     }
-    assemble_on(mesh, dof_of, n, false, Some(keep), |_, e, a, b| stiffness_block(e, lame, a, b, mesh.dim))
+    assemble_on(mesh, dof_of, n, |_, _| true, Some(keep), |_, e, a, b| stiffness_block(e, lame, a, b, mesh.dim))
 }
 
 /// With `keep`, whether each cell holds a node with a marked unknown: a kept entry's row or
@@ -196,11 +199,18 @@ pub fn mass(
     n: usize,
 ) -> SpMat {
     assert_eq!(weights.len(), mesh.n_cells(), "one weight per cell");
-    assemble_on(mesh, dof_of, n, true, None, |c, e, a, b| {
-        let mut x = [[0.0; 3]; 3];
-        for (i, row) in x.iter_mut().enumerate().take(mesh.dim) {
-            row[i] = density * directions.weight(i, weights[c]) * e.mass[a][b];
-        }
-        x
-    })
+    assemble_on(
+        mesh,
+        dof_of,
+        n,
+        |_, _| false,
+        None,
+        |c, e, a, b| {
+            let mut x = [[0.0; 3]; 3];
+            for (i, row) in x.iter_mut().enumerate().take(mesh.dim) {
+                row[i] = density * directions.weight(i, weights[c]) * e.mass[a][b];
+            }
+            x
+        },
+    )
 }

@@ -22,6 +22,7 @@
 
 use super::assembly::{Free, Matrices, Parts, SolidAssemblyError, SolidSystem};
 use super::body::{BodyContact, BodyFrame, BodySpec, Frames, rotation};
+use super::dof_map::DofMap;
 use crate::fem::Mesh;
 use crate::linalg::sparse;
 use crate::mass::ContactDirections;
@@ -52,6 +53,7 @@ impl SolidSystem {
         lame: Lame,
         body: &BodySpec,
         contact: &BodyContact,
+        explicit: bool,
     ) -> Result<Self, SolidAssemblyError> {
         let d = mesh.dim;
         let n_nodes = mesh.n_nodes();
@@ -81,6 +83,9 @@ impl SolidSystem {
         for (&v, &n) in contact.nodes.iter().zip(&contact.normals) {
             frames[v] = rotation(n, d);
         }
+        if explicit {
+            return Self::curved_lean(mesh, (weights, directions), lame, body, contact, frames);
+        }
         let m = frame_matrices(&mesh, &weights, directions, &lame, &frames)?;
         let (mass_all, stiff_all, unit_all, momentum) = (m.mass_all, m.stiff_all, m.unit_all, m.momentum);
         let (lumped, lumped_tangential, lumped_unit) = (m.lumped, m.lumped_tangential, m.lumped_unit);
@@ -101,6 +106,91 @@ impl SolidSystem {
     }
 }
 
+impl SolidSystem {
+    /// Central differences' lean system of a body against a curved obstacle ([`super::lean`]):
+    /// the entries of [`frame_matrices`] in compressed columns ([`super::columns::assemble_on`]
+    /// with the blocks of [`mass_block`] and [`stiffness_in_frames`], the same sums in the same
+    /// order: bit for bit), and of them only what the run reads, each dropped before the next is
+    /// made: the weighted mass `M'` for the momentum rows `L_b`; the load from the scalar unit
+    /// triplets; the stiffness as the row-run operator and its massless rows and columns. The
+    /// lumped mass is the diagonal (frame-free: [`super::lumped`]). No element triplets and no
+    /// unit mass `M¹'` (a body has no L² error).
+    fn curved_lean(
+        mesh: Arc<Mesh>,
+        (weights, directions): (Vec<f64>, ContactDirections),
+        lame: Lame,
+        body: &BodySpec,
+        contact: &BodyContact,
+        frames: Vec<[[f64; 3]; 3]>,
+    ) -> Result<Self, SolidAssemblyError> {
+        use super::columns::assemble_on;
+        let d = mesh.dim;
+        // Nodes a and b couple in every component pair where their frames differ (the
+        // triplets' `q != IDENTITY`, the same per pair in every cell).
+        let full = |a: usize, b: usize| relative(&frames[a], &frames[b]) != IDENTITY;
+        let momentum = {
+            let all = DofMap::identity(mesh.n_nodes() * d);
+            let mass_all = assemble_on(&mesh, &all, all.len(), full, None, |c, e, a, b| {
+                let v = mesh.cell(c);
+                let q = relative(&frames[v[a]], &frames[v[b]]);
+                mass_block(e.mass[a][b], weights[c], directions, lame.density, &q, d)
+            });
+            momentum_rows(&mass_all, &frames, d)
+        };
+        let [lumped, lumped_tangential, lumped_unit] = frame_lumps(&mesh, &weights, directions, lame.density);
+        let free = Free::new(&mesh, |g| contact.clamped[g / d]);
+        let n = free.dofs.len();
+        let forces = vec![(0, body.force.clone())];
+        let (load, forcing) = super::body_system::body_load(
+            &mesh,
+            &free,
+            Frames::Nodes(frames.clone()),
+            forces,
+            scalar_unit(&mesh),
+            Default::default(),
+        );
+        let massless: Vec<bool> = super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs)
+            .iter()
+            .map(|&m| m <= 0.0)
+            .collect();
+        let block = |c: usize, e: &crate::fem::element::CellIntegrals, a: usize, b: usize| {
+            let v = mesh.cell(c);
+            stiffness_in_frames(super::columns::stiffness_block(e, &lame, a, b, d), &frames[v[a]], &frames[v[b]], d)
+        };
+        let stiffness = if massless.iter().any(|&m| m) {
+            assemble_on(&mesh, &free.dof_of, n, |_, _| true, Some(&massless), block)
+        } else {
+            sparse::from_csc(n, vec![0; n + 1], Vec::new(), Vec::new())
+        };
+        drop(massless);
+        let operator = super::lean::assembled(assemble_on(&mesh, &free.dof_of, n, |_, _| true, None, block))?;
+        let mass =
+            super::lean::diagonal(&super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs))?;
+        let contact_area = contact.areas.iter().sum();
+        let volume = lumped_unit.iter().sum();
+        let frame = BodyFrame {
+            frames: Frames::Nodes(frames),
+            momentum,
+            lumped,
+            lumped_tangential,
+            lumped_unit,
+            volume,
+            contact_area,
+            coupling: Default::default(),
+        };
+        let parts =
+            Parts { matrices: Matrices::Free { mass, stiffness }, load, forcing, frame: Some(frame), contact_area };
+        // A body that keeps a rigid motion (no clamped node, or too few) has a singular S_rr:
+        // the watch takes the free-flight scale (as for the whole system, whose factor of S_rr
+        // fails), and no conjugate gradients run towards an unbounded E_F.
+        let singular = contact.keeps_rigid_motion(&mesh.points, d);
+        let mut system = Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)?;
+        system.lean = Some(super::assembly::LeanStiffness { singular, ..operator });
+        let _ = system.lean_load_energy();
+        Ok(system)
+    }
+}
+
 /// What [`frame_matrices`] assembles (full indices `node·d + c`, in the frames).
 pub(super) struct FrameMatrices {
     pub mass_all: sparse::SpMat,
@@ -115,7 +205,57 @@ pub(super) struct FrameMatrices {
     pub scalar_unit: Vec<(usize, usize, f64)>,
 }
 
-/// M', S', M¹' and the momentum rows of `mesh` with one frame per node (module docs).
+/// The block `M'_ab` of one cell (module docs) for `m = ∫_c φ_a φ_b`, cell weight `w` and
+/// `q = R_aᵀ R_b`: only its diagonal where `q` is the identity (`ρ w^(i) m`).
+fn mass_block(
+    m: f64,
+    w: f64,
+    directions: ContactDirections,
+    density: f64,
+    q: &[[f64; 3]; 3],
+    d: usize,
+) -> [[f64; 3]; 3] {
+    let mut x = [[0.0; 3]; 3];
+    if *q == IDENTITY {
+        for (i, row) in x.iter_mut().enumerate().take(d) {
+            row[i] = density * directions.weight(i, w) * m;
+        }
+        return x;
+    }
+    let scale: Vec<f64> = (0..d).map(|i| directions.weight(i, w).sqrt()).collect();
+    for (i, row) in x.iter_mut().enumerate().take(d) {
+        for (j, y) in row.iter_mut().enumerate().take(d) {
+            *y = density * m * scale[i] * q[i][j] * scale[j];
+        }
+    }
+    x
+}
+
+/// `R_aᵀ S R_b` of the world block `s` ([`super::columns::stiffness_block`]): `s` itself where
+/// both frames are the world's.
+fn stiffness_in_frames(s: [[f64; 3]; 3], ra: &[[f64; 3]; 3], rb: &[[f64; 3]; 3], d: usize) -> [[f64; 3]; 3] {
+    if *ra == IDENTITY && *rb == IDENTITY {
+        return s;
+    }
+    let mut x = [[0.0; 3]; 3];
+    for (i, row) in x.iter_mut().enumerate().take(d) {
+        for (j, y) in row.iter_mut().enumerate().take(d) {
+            // (R_aᵀ S R_b)_ij = Σ_kl R_a[k][i] S_kl R_b[l][j].
+            let mut sum = 0.0;
+            for kk in 0..d {
+                for l in 0..d {
+                    sum += ra[kk][i] * s[kk][l] * rb[l][j];
+                }
+            }
+            *y = sum;
+        }
+    }
+    x
+}
+
+/// M', S', M¹' and the momentum rows of `mesh` with one frame per node (module docs), from
+/// element triplets: the whole system's (every scheme but central differences, whose lean
+/// system is [`SolidSystem::curved_lean`]'s, the same entries in compressed columns).
 pub(super) fn frame_matrices(
     mesh: &Mesh,
     weights: &[f64],
@@ -126,47 +266,25 @@ pub(super) fn frame_matrices(
     let (d, n_nodes) = (mesh.dim, mesh.n_nodes());
     let k = mesh.kind.verts();
     let (mut tm, mut ts, mut tu) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut lumped, mut lumped_tangential, mut lumped_unit) =
-        (vec![0.0; n_nodes], vec![0.0; n_nodes], vec![0.0; n_nodes]);
     for (c, &w) in weights.iter().enumerate() {
         let e = mesh.integrals(c);
         let v = mesh.cell(c);
-        let scale: Vec<f64> = (0..d).map(|i| directions.weight(i, w).sqrt()).collect();
         for a in 0..k {
             for b in 0..k {
                 let (ra, rb) = (&frames[v[a]], &frames[v[b]]);
                 let q = relative(ra, rb);
                 let m = e.mass[a][b];
-                lumped[v[b]] += lame.density * w * m;
-                lumped_tangential[v[b]] += lame.density * directions.weight(1, w) * m;
-                lumped_unit[v[b]] += m;
-                // The world stiffness block (`columns::stiffness_block`).
-                let s = super::columns::stiffness_block(&e, lame, a, b, d);
-                let world = *ra == IDENTITY && *rb == IDENTITY;
+                let mass = mass_block(m, w, directions, lame.density, &q, d);
+                let unit = mass_block(m, 1.0, ContactDirections::All, 1.0, &q, d);
+                let s = stiffness_in_frames(super::columns::stiffness_block(&e, lame, a, b, d), ra, rb, d);
                 for i in 0..d {
                     for j in 0..d {
                         let (row, col) = (v[a] * d + i, v[b] * d + j);
-                        if q == IDENTITY {
-                            if i == j {
-                                tm.push((row, col, lame.density * directions.weight(i, w) * m));
-                                tu.push((row, col, m));
-                            }
-                        } else {
-                            tm.push((row, col, lame.density * m * scale[i] * q[i][j] * scale[j]));
-                            tu.push((row, col, m * q[i][j]));
+                        if q != IDENTITY || i == j {
+                            tm.push((row, col, mass[i][j]));
+                            tu.push((row, col, unit[i][j]));
                         }
-                        if world {
-                            ts.push((row, col, s[i][j]));
-                            continue;
-                        }
-                        // (R_aᵀ S R_b)_ij = Σ_kl R_a[k][i] S_kl R_b[l][j].
-                        let mut x = 0.0;
-                        for kk in 0..d {
-                            for l in 0..d {
-                                x += ra[kk][i] * s[kk][l] * rb[l][j];
-                            }
-                        }
-                        ts.push((row, col, x));
+                        ts.push((row, col, s[i][j]));
                     }
                 }
             }
@@ -177,22 +295,59 @@ pub(super) fn frame_matrices(
     let stiff_all = sparse::from_triplets(n, &ts, "stiffness")?;
     let unit_all = sparse::from_triplets(n, &tu, "mass")?;
     drop((tm, ts, tu));
-    let mut momentum = vec![[[0.0; 3]; 3]; n_nodes];
-    for (row, col, x) in sparse::triplets(&mass_all) {
+    let momentum = momentum_rows(&mass_all, frames, d);
+    let [lumped, lumped_tangential, lumped_unit] = frame_lumps(mesh, weights, directions, lame.density);
+    let scalar_unit = scalar_unit(mesh);
+    Ok(FrameMatrices { mass_all, stiff_all, unit_all, momentum, lumped, lumped_tangential, lumped_unit, scalar_unit })
+}
+
+/// `L_b = Σ_a R_a M'_ab` per node from the whole `M'` (full indices), its entries in column
+/// order.
+fn momentum_rows(mass_all: &sparse::SpMat, frames: &[[[f64; 3]; 3]], d: usize) -> Vec<[[f64; 3]; 3]> {
+    let mut momentum = vec![[[0.0; 3]; 3]; frames.len()];
+    for (row, col, x) in sparse::triplets(mass_all) {
         let (a, i, b, j) = (row / d, row % d, col / d, col % d);
         for kk in 0..d {
             momentum[b][kk][j] += frames[a][kk][i] * x;
         }
     }
-    let mut scalar_unit = Vec::new();
+    momentum
+}
+
+/// The reports' lumped masses per node: `Σ_c ρ w_c Σ_a ∫_c φ_a φ_b` (component 0's weight),
+/// the tangential components' (`w^(1)`) and the unweighted, ρ = 1 one, cell by cell.
+fn frame_lumps(mesh: &Mesh, weights: &[f64], directions: ContactDirections, density: f64) -> [Vec<f64>; 3] {
+    let n_nodes = mesh.n_nodes();
+    let (mut lumped, mut lumped_tangential, mut lumped_unit) =
+        (vec![0.0; n_nodes], vec![0.0; n_nodes], vec![0.0; n_nodes]);
+    for (c, &w) in weights.iter().enumerate() {
+        let e = mesh.integrals(c);
+        let v = mesh.cell(c);
+        for a in 0..v.len() {
+            for (b, &vb) in v.iter().enumerate() {
+                let m = e.mass[a][b];
+                lumped[vb] += density * w * m;
+                lumped_tangential[vb] += density * directions.weight(1, w) * m;
+                lumped_unit[vb] += m;
+            }
+        }
+    }
+    [lumped, lumped_tangential, lumped_unit]
+}
+
+/// The scalar unit-mass triplets (node a, node b, ∫ φ_a φ_b) of every cell, in cell order: the
+/// load's ([`super::body_system::body_load`]).
+fn scalar_unit(mesh: &Mesh) -> Vec<(usize, usize, f64)> {
+    let k = mesh.kind.verts();
+    let mut unit = Vec::with_capacity(mesh.n_cells() * k * k);
     for c in 0..mesh.n_cells() {
         let e = mesh.integrals(c);
         let v = mesh.cell(c);
         for a in 0..k {
             for b in 0..k {
-                scalar_unit.push((v[a], v[b], e.mass[a][b]));
+                unit.push((v[a], v[b], e.mass[a][b]));
             }
         }
     }
-    Ok(FrameMatrices { mass_all, stiff_all, unit_all, momentum, lumped, lumped_tangential, lumped_unit, scalar_unit })
+    unit
 }

@@ -10,21 +10,24 @@
 //!
 //! Two entries:
 //! - **a scene's run** ([`SolidSystem::assemble_explicit`], issue 31, item 0): every box scene
-//!   and every body against a plane stepped by central differences (not Nitsche, whose term
+//!   and every body against a rigid obstacle stepped by central differences (not Nitsche, whose term
 //!   reads a massive contact row). Its L² norms take the unit mass as a stencil where the box
 //!   has one (else it is assembled when first asked for), and its divergence watch's `E_F`
 //!   comes from conjugate gradients on the operator ([`SolidSystem::lean_load_energy`]) instead
-//!   of a factorisation (a body without a clamped node has none: its `S_rr` is singular, and
+//!   of a factorisation (a body that keeps a rigid motion, unclamped or clamped at too few nodes, has none: its `S_rr` is singular, and
 //!   the watch takes the free-flight scale). A body's system is made in
 //!   [`SolidSystem::assemble_body`]'s lean branch: its load and reports from its whole masses,
 //!   which are dropped before its stiffness is assembled, the stiffness in the plane's frame
 //!   (bit for bit the whole system's, so that its run is the whole system's run bit for bit:
-//!   `tests/lean_run.rs`); curved obstacles and several bodies are set up whole;
+//!   `tests/lean_run.rs`); a body against a curved obstacle in `SolidSystem::curved_lean`
+//!   (each contact node in its own frame, the frame matrices' entries in compressed columns,
+//!   bit for bit as well); several bodies are set up whole;
 //! - **the benches** ([`SolidSpec::explicit_box`], [`SolidSpec::explicit_box_matrix_free`]),
 //!   which step the system themselves (P1/Q1 boxes: the load from the lumped mass over ρ).
 //!
 //! At 10⁶ unknowns: about 170 bytes per unknown matrix-free, 1.6 kB assembled
-//! (`bench --explicit-scaling`); a tetra10 body of 2·10⁵ unknowns: 1.7 kB (`tests/lean_run.rs`).
+//! (`bench --explicit-scaling`); a tetra10 body of 2·10⁵ unknowns: 1.7 kB against a plane or a
+//! cylinder (`tests/lean_run.rs`).
 
 use super::assembly::{Free, LeanStiffness, Matrices, Parts, SolidAssemblyError, SolidSystem};
 use super::body::BodyContact;
@@ -66,8 +69,8 @@ impl SolidSystem {
     /// lumped mass as a diagonal mass, the load `f_i Σ_c w_c^(i) ∫_c φ_a` cell by cell, the
     /// stiffness as `choice` says (`auto`: the stencil where the box has one; `assembled` or
     /// no stencil: the row-run matrix), and of the stiffness matrix only the massless
-    /// unknowns' rows and columns. A body against a plane is set up lean by
-    /// [`SolidSystem::assemble_body`]; any other support is assembled whole
+    /// unknowns' rows and columns. A body (against a plane or a curved obstacle) is set up
+    /// lean by [`SolidSystem::assemble_body`]; several bodies are assembled whole
     /// ([`SolidSystem::assemble`]).
     pub fn assemble_explicit(
         (mesh, contact): (Arc<Mesh>, &BodyContact),
@@ -123,7 +126,7 @@ impl SolidSystem {
     /// iterate on its operator, from 0 to [`LOAD_ENERGY_TOL`] relative residual (at most n
     /// iterations), below `E_F` by `½ r_kᵀ K_rr⁻¹ r_k`; computed once (the lean set-up asks
     /// first). None for a system that is whole (the driver factors `K_rr`) or whose `K_rr` is
-    /// singular (a body without a clamped node).
+    /// singular (a body that keeps a rigid motion).
     pub fn lean_load_energy(&self) -> Option<f64> {
         let lean = self.lean.as_ref().filter(|l| !l.singular)?;
         Some(*lean.load_energy.get_or_init(|| self.conjugate_load_energy(lean.operator.as_ref())))
