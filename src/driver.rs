@@ -34,7 +34,8 @@ use thiserror::Error;
 ///   without bound and overflow to inf/NaN hundreds of periods later). `E_F` is the floor that
 ///   makes `E⁰ = 0` work: a structure starting at rest under a load is measured against the
 ///   energy of that load; with no load and `E⁰ = 0` the state stays 0 and `|Eⁿ| > 0` never
-///   holds.
+///   holds. A time-dependent load takes the larger of `E_F` at F(0) and at its largest sample
+///   over the run's horizon ([`peak_load`]; a ramp from zero has F(0) = 0).
 ///
 /// The criterion reuses the energy that the observers get ([`Sample::energy`]): with a
 /// criterion the driver computes it at every step (the summary needs it there anyway).
@@ -98,6 +99,13 @@ impl DivergenceWatch {
         self
     }
 
+    /// Raises `E_F` (and `E_ref` if set) to `e`: a time-dependent load's largest sampled scale
+    /// ([`transient_load_energy`]), given before state 1 is judged. No change for `e` ≤ them.
+    pub fn raise_load_energy(&mut self, e: f64) {
+        self.load_energy = self.load_energy.max(e);
+        self.reference = self.reference.map(|r| r.max(e));
+    }
+
     /// Judges state `step` at `time` by its energy (the first finite one sets `E_ref`).
     pub fn judge(&mut self, step: usize, time: f64, energy: f64) -> Verdict {
         let diverged = |reason| Divergence { step, time, reason };
@@ -137,6 +145,11 @@ pub enum DivergenceReason {
     /// The scheme's state (u or λ) is not finite; it is not shown to the observers.
     #[error("the state is not finite (the scheme is unstable for this Δt / mass)")]
     NonFiniteState,
+    /// The scheme's state is not finite and so is the load at `load_time`, a time the step
+    /// evaluates it at (a time-dependent force singular there, e.g. `1/(t - 0.5)`): the load,
+    /// not the scheme, made it so ([`non_finite_load`]).
+    #[error("the state is not finite: the load F(t) is not finite at t = {load_time} ({key} there)")]
+    NonFiniteLoad { load_time: f64, key: &'static str },
     /// The state is finite but its energy is not (it overflowed); it is not shown. At t_0 (a
     /// load so large that E⁰ overflows) no state is shown at all.
     #[error("the energy is not finite (the state overflows it)")]
@@ -281,6 +294,60 @@ fn watch_of<G: Geometry>(criterion: &DivergenceCriterion, g: &G, steps: usize) -
     })
 }
 
+/// Samples of a time-dependent load over a run's horizon ([`peak_load`]).
+pub const LOAD_SAMPLES: usize = 16;
+
+/// The sample of largest Euclidean norm among `F(t_k)`, `t_k = k T / LOAD_SAMPLES` (k = 1 …
+/// LOAD_SAMPLES), where the load depends on time and that norm is above `F(0)`'s; None
+/// otherwise. `E_F` of [`DivergenceCriterion`] takes F(0), and a load that starts at zero (a
+/// ramp from rest, `force = ["0", "-t"]`) would give `E_ref = 0`: every state after it
+/// "diverged" at step 1. The watch's margin (10⁶) needs the scale's order of magnitude only, so
+/// the sample of largest norm stands for the load's peak.
+fn peak_load<A: SymMatrix>(s: &ContactSystem<A>, horizon: f64) -> Option<Vec<f64>> {
+    s.forcing.as_ref()?;
+    let norm = |f: &[f64]| f.iter().map(|x| x * x).sum::<f64>();
+    let (mut best, mut largest) = (None, norm(&s.load));
+    let mut f = vec![0.0; s.n()];
+    for k in 1..=LOAD_SAMPLES {
+        s.load_at(horizon * k as f64 / LOAD_SAMPLES as f64, &mut f);
+        let n = norm(&f);
+        // A sample that is not finite (a force singular there) sets no scale: the run reports it
+        // where the state follows it (`non_finite_load`).
+        if n.is_finite() && n > largest {
+            (best, largest) = (Some(f.clone()), n);
+        }
+    }
+    best
+}
+
+/// The watch's scale of a time-dependent load over `horizon` ([`peak_load`]): `E_F` of its
+/// largest sample, or where `S_rr` is singular (a free body) the free-flight scale
+/// `½ T² F_mᵀ M_mm⁻¹ F_m` of it; 0 for a load that does not depend on time or never exceeds
+/// F(0), and where a solve fails (the watch keeps F(0)'s scale).
+fn transient_load_energy<G: Geometry>(g: &G, horizon: f64) -> f64 {
+    let s = g.system();
+    let Some(f) = peak_load(s, horizon) else { return 0.0 };
+    let energy = match g.load_energy_of(&f) {
+        LoadEnergy::Known(e) => Some(e),
+        LoadEnergy::Factor => load_energy_with(s, &f).ok().flatten(),
+        LoadEnergy::FreeFlight => None,
+    };
+    energy.unwrap_or_else(|| 0.5 * horizon * horizon * free_flight_rate_with(s, &f).unwrap_or(0.0))
+}
+
+/// The first of the times a step from `t0` to `t1` evaluates a time-dependent load at (t0, the
+/// midpoint, t1: every scheme's equations are written at one of them) where it is not finite;
+/// None for a load that does not depend on time or is finite at all three. Validation
+/// evaluates a force at t = 0 only, so a force singular later (`1/(t - 0.5)`) reaches the run.
+fn non_finite_load<A: SymMatrix>(s: &ContactSystem<A>, t0: f64, t1: f64) -> Option<f64> {
+    s.forcing.as_ref()?;
+    let mut f = vec![0.0; s.n()];
+    [t0, 0.5 * (t0 + t1), t1].into_iter().find(|&t| {
+        s.load_at(t, &mut f);
+        f.iter().any(|x| !x.is_finite())
+    })
+}
+
 /// The error of a solve that did not fail on the matrix but on the memory limit.
 fn memory_refusal(e: LinalgError) -> Result<(), LinalgError> {
     match e {
@@ -292,8 +359,13 @@ fn memory_refusal(e: LinalgError) -> Result<(), LinalgError> {
 /// `F_mᵀ M_mm⁻¹ F_m` over the unknowns with mass (0 if that solve fails too, an error if the
 /// memory limit refused it).
 fn free_flight_rate<A: SymMatrix>(s: &ContactSystem<A>) -> Result<f64, LinalgError> {
+    free_flight_rate_with(s, &s.load)
+}
+
+/// [`free_flight_rate`] of the load `load`.
+fn free_flight_rate_with<A: SymMatrix>(s: &ContactSystem<A>, load: &[f64]) -> Result<f64, LinalgError> {
     let massive: Vec<usize> = (0..s.n()).filter(|&i| !s.massless[i]).collect();
-    let f: Vec<f64> = massive.iter().map(|&i| s.load[i]).collect();
+    let f: Vec<f64> = massive.iter().map(|&i| load[i]).collect();
     let mut a = f.clone();
     match s.mass.solve_principal(&massive, &mut a, "mass") {
         Ok(()) => Ok(a.iter().zip(&f).map(|(x, y)| x * y).sum()),
@@ -305,16 +377,30 @@ fn free_flight_rate<A: SymMatrix>(s: &ContactSystem<A>) -> Result<f64, LinalgErr
 /// FEniCSx engine's bodies): `E_F`, or for a free body the free-flight scale
 /// `½ t_end² F_mᵀ M_mm⁻¹ F_m` that [`DivergenceWatch::with_free_flight`] gives a run stepped here.
 pub(crate) fn reference_load_energy<A: SymMatrix>(s: &ContactSystem<A>, t_end: f64) -> Result<f64, LinalgError> {
-    match load_energy(s)? {
-        Some(e) => Ok(e),
-        None => Ok(0.5 * t_end * t_end * free_flight_rate(s)?),
-    }
+    let e = match load_energy(s)? {
+        Some(e) => e,
+        None => 0.5 * t_end * t_end * free_flight_rate(s)?,
+    };
+    // A time-dependent load: its largest sample's scale too (`transient_load_energy`).
+    let transient = match peak_load(s, t_end) {
+        None => 0.0,
+        Some(f) => match load_energy_with(s, &f).ok().flatten() {
+            Some(e) => e,
+            None => 0.5 * t_end * t_end * free_flight_rate_with(s, &f).unwrap_or(0.0),
+        },
+    };
+    Ok(e.max(transient))
 }
 
 /// `E_F = ½ F_rᵀ S_rr⁻¹ F_r` (0 without load; None if the solve fails, an error if the memory
 /// limit refused it).
 fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> Result<Option<f64>, LinalgError> {
-    if s.load.iter().all(|&f| f == 0.0) {
+    load_energy_with(s, &s.load)
+}
+
+/// [`load_energy`] of the load `load`.
+fn load_energy_with<A: SymMatrix>(s: &ContactSystem<A>, load: &[f64]) -> Result<Option<f64>, LinalgError> {
+    if load.iter().all(|&f| f == 0.0) {
         return Ok(Some(0.0));
     }
     let mut held = vec![false; s.n()];
@@ -322,7 +408,7 @@ fn load_energy<A: SymMatrix>(s: &ContactSystem<A>) -> Result<Option<f64>, Linalg
         held[c] = true;
     }
     let rest: Vec<usize> = (0..s.n()).filter(|&i| !held[i]).collect();
-    let f: Vec<f64> = rest.iter().map(|&i| s.load[i]).collect();
+    let f: Vec<f64> = rest.iter().map(|&i| load[i]).collect();
     let mut u = f.clone();
     match s.stiffness.solve_principal(&rest, &mut u, "stiffness") {
         Ok(()) => Ok(Some(0.5 * u.iter().zip(&f).map(|(a, b)| a * b).sum::<f64>())),
@@ -355,7 +441,13 @@ fn drive<G: Geometry>(
         } else {
             f64::NAN
         };
-        let verdict = watch.as_mut().map_or(Verdict::Go, |w| w.judge(state.n, state.t, energy));
+        let verdict = watch.as_mut().map_or(Verdict::Go, |w| {
+            if state.n == 1 {
+                // t_1 = Δt: the horizon T = N Δt of a time-dependent load's samples.
+                w.raise_load_energy(transient_load_energy(&problem.system, steps as f64 * state.t));
+            }
+            w.judge(state.n, state.t, energy)
+        });
         if let Verdict::Hidden(d) = verdict {
             return Some(d);
         }
@@ -395,10 +487,22 @@ fn drive<G: Geometry>(
         if outcome.is_some() || observers.iter().any(|o| o.halted()) {
             break;
         }
+        let before = scheme.state().t;
         outcome = match scheme.step() {
             Ok(()) => show(scheme, observers),
             Err(SchemeError::NonFinite { step, time }) => {
-                Some(Divergence { step, time, reason: DivergenceReason::NonFiniteState })
+                let reason = match non_finite_load(problem.system.system(), before, time) {
+                    Some(load_time) => {
+                        let key = match problem.system.name() {
+                            "bar" => "bar.force",
+                            "plate" => "plate.force",
+                            _ => "solid.force",
+                        };
+                        DivergenceReason::NonFiniteLoad { load_time, key }
+                    }
+                    None => DivergenceReason::NonFiniteState,
+                };
+                Some(Divergence { step, time, reason })
             }
             Err(e) => return Err(e),
         };

@@ -173,6 +173,13 @@ pub trait Geometry: GeometryView {
         LoadEnergy::Factor
     }
 
+    /// [`Geometry::load_energy`] of another load `f` on the unknowns (a time-dependent load's
+    /// largest sample, [`crate::driver`]): a lean system's conjugate gradients on `f` (not kept).
+    fn load_energy_of(&self, f: &[f64]) -> LoadEnergy {
+        let _ = f;
+        LoadEnergy::Factor
+    }
+
     /// The per-step diagnostics of a run on this geometry (energy, exact L² error, interpolant
     /// norm) with their workspaces, allocated once per run. The default evaluates
     /// [`ContactSystem::energy_at`], [`GeometryView::l2_error`] and

@@ -77,7 +77,10 @@ impl Run {
         assert!((time - step * dt).abs() <= 1e-9 * time.max(1.0), "t = {time}, step {step}, dt {dt}");
         assert!(step >= 1.0 && step <= s["steps_requested"].as_f64().unwrap(), "{d}");
         let reason = d["reason"].as_str().expect("divergence.reason");
-        assert!(["non-finite-state", "non-finite-energy", "energy-factor"].contains(&reason), "{reason}");
+        assert!(
+            ["non-finite-state", "non-finite-load", "non-finite-energy", "energy-factor"].contains(&reason),
+            "{reason}"
+        );
         for key in ["energy_initial", "energy_final", "energy_min", "energy_max", "final_u0", "min_u0"] {
             assert!(s[key].as_f64().is_some_and(f64::is_finite), "{key} = {} describes a finite state", s[key]);
         }
@@ -386,6 +389,85 @@ fn a_free_body_at_rest_under_gravity_does_not_diverge() {
         let first = if scheme == "hybrid" { 0.0 } else { 0.01 };
         assert_eq!((s["first_impact_time"].as_f64(), s["min_distance"].as_f64()), (Some(first), Some(0.0)), "{scheme}");
         assert!(s["first_release_time"].is_null(), "{scheme}: {s}");
+    }
+}
+
+/// A body at rest under a load that starts from zero (`force = ["0", "-2*t"]`, a ramp):
+/// `E⁰ = 0` and `E_F` of F(0) = 0 gave the reference 0, and every scheme "diverged at step 1"
+/// on its first round-off energy (found trying a ramped load on `body-disc-in-cavity.toml`).
+/// The watch now takes a time-dependent load's scale from its largest sample over the horizon
+/// (`driver::peak_load`: here F(T)), and the runs complete: the free box on a plane (the
+/// free-flight scale of that sample) and the disc held in its cavity (its `E_F`), under CN,
+/// backward Euler, the hybrid scheme and central differences (the lean system's conjugate
+/// gradients). (Mutation, as run: `raise_load_energy` left out -> every case diverged at step 1.)
+#[test]
+fn a_body_at_rest_under_a_load_ramped_from_zero_does_not_diverge() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let free_box = "[solid]\ndim = 2\nlength = 1.0\nheight = 0.5\nnx = 6\nny = 3\ncells = \"triangle\"\nlame_lambda = 1.0\nlame_mu = 1.0\n\
+         force = [\"0\", \"-2*t\"]\n[obstacle]\nnormal = [0.0, 1.0]\npoint = [0.0, 0.0]\ncontact = \"auto\"\n[mass]\nkind = \"mod3\"\n\
+         [scheme]\nkind = \"SCHEME\"\n[time]\ndt = 0.01\nend = 0.5\n"
+        .to_string();
+    let cavity = std::fs::read_to_string(root.join("scenes/body-disc-in-cavity.toml"))
+        .unwrap()
+        .replace("force = [\"0\", \"-1\"]", "force = [\"0\", \"-t\"]")
+        .replace("kind = \"crank-nicolson\"", "kind = \"SCHEME\"")
+        .replace("../fixtures", &root.join("fixtures").display().to_string());
+    assert!(cavity.contains("\"-t\"") && cavity.contains("SCHEME"));
+    for (name, text) in [("free box", &free_box), ("disc in a cavity", &cavity)] {
+        for scheme in ["crank-nicolson", "backward-euler", "hybrid", "central-difference"] {
+            let tmp = tempfile::tempdir().unwrap();
+            let scene = tmp.path().join("s.toml");
+            std::fs::write(&scene, text.replace("SCHEME", scheme)).unwrap();
+            let out = tmp.path().join("out");
+            let run = bin().arg("run").arg(&scene).arg("--out").arg(&out).output().unwrap();
+            let s: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+            assert_eq!((run.status.code(), s["status"].as_str()), (Some(0), Some("ok")), "{name}, {scheme}: {s}");
+        }
+    }
+}
+
+/// A force finite at t = 0 (where validation evaluates it) but singular later, `1/(t − t_s)`
+/// with t_s on the time grid: the state follows the load to inf, and the run says so, naming
+/// the load, its time and its key (reason `non-finite-load`), where it blamed the scheme ("the
+/// scheme is unstable for this Δt / mass", found as a new user would, on the disc onto a
+/// circle). A bar, a plate and a body; implicit and explicit. (Mutation, as run:
+/// `non_finite_load` returning None -> reason "non-finite-state", fails.)
+#[test]
+fn a_force_singular_in_time_is_named_as_the_cause() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let disc = std::fs::read_to_string(root.join("scenes/body-disc-onto-circle.toml"))
+        .unwrap()
+        .replace("force = [\"0\", \"0\"]", "force = [\"0\", \"1/(t - 0.5)\"]")
+        .replace("../fixtures", &root.join("fixtures").display().to_string());
+    assert!(disc.contains("1/(t - 0.5)"));
+    let cases = [
+        (
+            "[bar]\nelements = 6\nforce = \"1/(t - 0.25)\"\n[time]\ndt = 0.01\nend = 1.0\n".to_string(),
+            0.25,
+            "bar.force",
+        ),
+        (
+            "[plate]\nnx = 4\nny = 4\nforce = \"1/(t - 0.25)\"\n[time]\ndt = 0.01\nend = 1.0\n".to_string(),
+            0.25,
+            "plate.force",
+        ),
+        (disc.clone(), 0.5, "solid.force"),
+        (disc.replace("kind = \"crank-nicolson\"", "kind = \"central-difference\""), 0.5, "solid.force"),
+    ];
+    for (text, at, key) in cases {
+        let run = Run::new(&text);
+        let s = run.assert_diverged();
+        let d = &s["divergence"];
+        assert_eq!(
+            (d["reason"].as_str(), d["load_time"].as_f64(), d["key"].as_str()),
+            (Some("non-finite-load"), Some(at), Some(key)),
+            "{d}"
+        );
+        assert!(
+            run.stderr().contains(&format!("the load F(t) is not finite at t = {at} ({key} there)")),
+            "{}",
+            run.stderr()
+        );
     }
 }
 

@@ -246,4 +246,13 @@ impl Geometry for SolidSystem {
             (Some(_), None) => LoadEnergy::FreeFlight,
         }
     }
+
+    fn load_energy_of(&self, f: &[f64]) -> crate::problem::LoadEnergy {
+        use crate::problem::LoadEnergy;
+        match self.lean.as_ref() {
+            None => LoadEnergy::Factor,
+            Some(l) if l.singular => LoadEnergy::FreeFlight,
+            Some(l) => LoadEnergy::Known(self.conjugate_load_energy(l.operator.as_ref(), f)),
+        }
+    }
 }

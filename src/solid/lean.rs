@@ -129,16 +129,18 @@ impl SolidSystem {
     /// singular (a body that keeps a rigid motion).
     pub fn lean_load_energy(&self) -> Option<f64> {
         let lean = self.lean.as_ref().filter(|l| !l.singular)?;
-        Some(*lean.load_energy.get_or_init(|| self.conjugate_load_energy(lean.operator.as_ref())))
+        Some(*lean.load_energy.get_or_init(|| self.conjugate_load_energy(lean.operator.as_ref(), &self.system.load)))
     }
 
-    fn conjugate_load_energy(&self, op: &dyn Operator) -> f64 {
+    /// `max_x (fᵀx − ½ xᵀK_rr x)` at conjugate gradients' iterate ([`Self::lean_load_energy`]
+    /// for the load `f`).
+    pub(super) fn conjugate_load_energy(&self, op: &dyn Operator, f: &[f64]) -> f64 {
         let s = &self.system;
-        if s.load.iter().all(|&f| f == 0.0) {
+        if f.iter().all(|&f| f == 0.0) {
             // b = 0: the functional's maximum is 0 (no vectors made).
             return 0.0;
         }
-        let mut b = s.load.clone();
+        let mut b = f.to_vec();
         for &c in &s.contact {
             b[c] = 0.0;
         }
