@@ -32,10 +32,43 @@ use crate::material::Lame;
 use crate::system::Forcing;
 use std::sync::Arc;
 
-/// The load `F(t)` on the free unknowns (module docs): scalar unit-mass triplets (node a, node
-/// b, ∫ φ_a φ_b), the free index of (a, i), the rotation and the force expressions.
+/// The scalar unit mass `∫ φ_a φ_b` a body's load is taken with ([`body_load`]).
+pub(super) enum UnitMass {
+    /// Entries (node a, node b, ∫ φ_a φ_b), summed in their order (a plane's, from the
+    /// assembled unit mass); node numbers in 32 bits, 16 bytes an entry (a mesh of 2³² nodes
+    /// is far beyond the memory validation admits).
+    Pairs(Vec<(u32, u32, f64)>),
+    /// Each cell's k × k element matrix `∫_c φ_a φ_b`, row by row, cells in the mesh's order:
+    /// the sums of the cells' triplets in their order (cell, a, b), at 8 bytes an entry instead
+    /// of 24 (a curved obstacle's and several bodies' load, kept through the run when the force
+    /// depends on time: issue 31's peak memory).
+    Cells(Arc<Mesh>, Vec<f64>),
+}
+
+impl UnitMass {
+    /// Calls `f(a, b, ∫ φ_a φ_b)` for every entry, in the order of the sums.
+    fn for_each(&self, mut f: impl FnMut(usize, usize, f64)) {
+        match self {
+            UnitMass::Pairs(p) => p.iter().for_each(|&(a, b, m)| f(a as usize, b as usize, m)),
+            UnitMass::Cells(mesh, m) => {
+                let k = mesh.kind.verts();
+                for (c, block) in m.chunks_exact(k * k).enumerate() {
+                    let v = mesh.cell(c);
+                    for (a, row) in block.chunks_exact(k).enumerate() {
+                        for (b, &x) in row.iter().enumerate() {
+                            f(v[a], v[b], x);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The load `F(t)` on the free unknowns (module docs): the scalar unit mass, the free index of
+/// (a, i), the rotation and the force expressions.
 struct BodyLoad {
-    unit: Vec<(usize, usize, f64)>,
+    unit: UnitMass,
     dof_of: DofMap,
     frames: Frames,
     /// The force of the nodes from each first node on (one body: one entry, node 0).
@@ -65,11 +98,11 @@ impl BodyLoad {
             // Per-node frames: F_a = R_aᵀ Σ_b (∫ φ_a φ_b) f(X_b).
             let f: Vec<[f64; 3]> = (0..self.points.len()).map(|v| world(v, &mut args)).collect();
             let mut sum = vec![[0.0; 3]; self.points.len()];
-            for &(a, b, m) in &self.unit {
+            self.unit.for_each(|a, b, m| {
                 for i in 0..d {
                     sum[a][i] += m * f[b][i];
                 }
-            }
+            });
             for (a, s) in sum.iter().enumerate() {
                 let s = to_frame(self.frames.of(a), *s);
                 for (i, si) in s[..d].iter().enumerate() {
@@ -81,13 +114,13 @@ impl BodyLoad {
             return;
         };
         let f: Vec<[f64; 3]> = (0..self.points.len()).map(|v| to_frame(rot, world(v, &mut args))).collect();
-        for &(a, b, m) in &self.unit {
+        self.unit.for_each(|a, b, m| {
             for (i, fb) in f[b][..d].iter().enumerate() {
                 if let Some(k) = self.dof_of.get(a * d + i) {
                     out[k] += m * fb;
                 }
             }
-        }
+        });
     }
 }
 
@@ -100,7 +133,7 @@ pub(super) fn body_load(
     free: &Free,
     frames: Frames,
     force: Vec<(usize, Vec<Expr>)>,
-    unit: Vec<(usize, usize, f64)>,
+    unit: UnitMass,
     coupling: super::coupling::Coupling,
 ) -> (Vec<f64>, Option<Forcing>) {
     let transient = force.iter().flat_map(|f| &f.1).any(|e| e.depends_on("t"));
@@ -140,15 +173,18 @@ fn body_frame(
             lumped_tangential[j / d] += v;
         }
     }
-    let scalar_unit: Vec<(usize, usize, f64)> = sparse::triplets(unit_all)
+    // Node numbers in 32 bits: the mesh's points alone would take 96 GB at 2³² nodes.
+    let node = |g: usize| u32::try_from(g / d).expect("fewer than 2³² nodes (the memory validation)");
+    let scalar_unit: Vec<(u32, u32, f64)> = sparse::triplets(unit_all)
         .filter(|(i, j, _)| i % d == 0 && j % d == 0)
-        .map(|(i, j, v)| (i / d, j / d, v))
+        .map(|(i, j, v)| (node(i), node(j), v))
         .collect();
     for &(_, b, v) in &scalar_unit {
-        lumped_unit[b] += v;
+        lumped_unit[b as usize] += v;
     }
     let forces = vec![(0, body.force.clone())];
-    let (f0, forcing) = body_load(mesh, free, Frames::Global(rot), forces, scalar_unit, Default::default());
+    let (f0, forcing) =
+        body_load(mesh, free, Frames::Global(rot), forces, UnitMass::Pairs(scalar_unit), Default::default());
     let contact_area = contact.areas.iter().sum();
     let volume = lumped_unit.iter().sum();
     let frame = BodyFrame {

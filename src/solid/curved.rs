@@ -22,6 +22,7 @@
 
 use super::assembly::{Free, Matrices, Parts, SolidAssemblyError, SolidSystem};
 use super::body::{BodyContact, BodyFrame, BodySpec, Frames, rotation};
+use super::body_system::UnitMass;
 use super::dof_map::DofMap;
 use crate::fem::Mesh;
 use crate::linalg::sparse;
@@ -111,8 +112,9 @@ impl SolidSystem {
     /// the entries of [`frame_matrices`] in compressed columns ([`super::columns::assemble_on`]
     /// with the blocks of [`mass_block`] and [`stiffness_in_frames`], the same sums in the same
     /// order: bit for bit), and of them only what the run reads, each dropped before the next is
-    /// made: the weighted mass `M'` for the momentum rows `L_b`; the load from the scalar unit
-    /// triplets; the stiffness as the row-run operator and its massless rows and columns. The
+    /// made: the weighted mass `M'` for the momentum rows `L_b`; the stiffness as the row-run
+    /// operator and its massless rows and columns; then the load from each cell's unit mass
+    /// ([`UnitMass::Cells`], kept through the run when the force depends on time). The
     /// lumped mass is the diagonal (frame-free: [`super::lumped`]). No element triplets and no
     /// unit mass `M¹'` (a body has no L² error).
     fn curved_lean(
@@ -140,15 +142,6 @@ impl SolidSystem {
         let [lumped, lumped_tangential, lumped_unit] = frame_lumps(&mesh, &weights, directions, lame.density);
         let free = Free::new(&mesh, |g| contact.clamped[g / d]);
         let n = free.dofs.len();
-        let forces = vec![(0, body.force.clone())];
-        let (load, forcing) = super::body_system::body_load(
-            &mesh,
-            &free,
-            Frames::Nodes(frames.clone()),
-            forces,
-            scalar_unit(&mesh),
-            Default::default(),
-        );
         let massless: Vec<bool> = super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs)
             .iter()
             .map(|&m| m <= 0.0)
@@ -164,6 +157,17 @@ impl SolidSystem {
         };
         drop(massless);
         let operator = super::lean::assembled(assemble_on(&mesh, &free.dof_of, n, |_, _| true, None, block))?;
+        // The load after the stiffness: a force that depends on time keeps its unit mass through
+        // the run, and it is then not on top of the stiffness's assembly (the set-up's peak).
+        let forces = vec![(0, body.force.clone())];
+        let (load, forcing) = super::body_system::body_load(
+            &mesh,
+            &free,
+            Frames::Nodes(frames.clone()),
+            forces,
+            scalar_unit(&mesh),
+            Default::default(),
+        );
         let mass =
             super::lean::diagonal(&super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs))?;
         let contact_area = contact.areas.iter().sum();
@@ -201,8 +205,8 @@ pub(super) struct FrameMatrices {
     pub lumped: Vec<f64>,
     pub lumped_tangential: Vec<f64>,
     pub lumped_unit: Vec<f64>,
-    /// The scalar unit-mass triplets (node a, node b, ∫ φ_a φ_b) of the load.
-    pub scalar_unit: Vec<(usize, usize, f64)>,
+    /// The scalar unit mass of the load, cell by cell.
+    pub scalar_unit: UnitMass,
 }
 
 /// The block `M'_ab` of one cell (module docs) for `m = ∫_c φ_a φ_b`, cell weight `w` and
@@ -257,7 +261,7 @@ fn stiffness_in_frames(s: [[f64; 3]; 3], ra: &[[f64; 3]; 3], rb: &[[f64; 3]; 3],
 /// element triplets: the whole system's (every scheme but central differences, whose lean
 /// system is [`SolidSystem::curved_lean`]'s, the same entries in compressed columns).
 pub(super) fn frame_matrices(
-    mesh: &Mesh,
+    mesh: &Arc<Mesh>,
     weights: &[f64],
     directions: ContactDirections,
     lame: &Lame,
@@ -335,19 +339,16 @@ fn frame_lumps(mesh: &Mesh, weights: &[f64], directions: ContactDirections, dens
     [lumped, lumped_tangential, lumped_unit]
 }
 
-/// The scalar unit-mass triplets (node a, node b, ∫ φ_a φ_b) of every cell, in cell order: the
+/// The scalar unit mass `∫_c φ_a φ_b` of every cell, in cell order ([`UnitMass::Cells`]): the
 /// load's ([`super::body_system::body_load`]).
-fn scalar_unit(mesh: &Mesh) -> Vec<(usize, usize, f64)> {
+fn scalar_unit(mesh: &Arc<Mesh>) -> UnitMass {
     let k = mesh.kind.verts();
     let mut unit = Vec::with_capacity(mesh.n_cells() * k * k);
     for c in 0..mesh.n_cells() {
         let e = mesh.integrals(c);
-        let v = mesh.cell(c);
-        for a in 0..k {
-            for b in 0..k {
-                unit.push((v[a], v[b], e.mass[a][b]));
-            }
+        for row in &e.mass[..k] {
+            unit.extend_from_slice(&row[..k]);
         }
     }
-    unit
+    UnitMass::Cells(Arc::clone(mesh), unit)
 }
