@@ -327,12 +327,20 @@ fn peak_load<A: SymMatrix>(s: &ContactSystem<A>, horizon: f64) -> Option<Vec<f64
 fn transient_load_energy<G: Geometry>(g: &G, horizon: f64) -> f64 {
     let s = g.system();
     let Some(f) = peak_load(s, horizon) else { return 0.0 };
-    let energy = match g.load_energy_of(&f) {
-        LoadEnergy::Known(e) => Some(e),
-        LoadEnergy::Factor => load_energy_with(s, &f).ok().flatten(),
-        LoadEnergy::FreeFlight => None,
-    };
-    energy.unwrap_or_else(|| 0.5 * horizon * horizon * free_flight_rate_with(s, &f).unwrap_or(0.0))
+    match g.load_energy_of(&f) {
+        LoadEnergy::Known(e) => e,
+        LoadEnergy::Factor => scale_of(s, &f, horizon),
+        LoadEnergy::FreeFlight => 0.5 * horizon * horizon * free_flight_rate_with(s, &f).unwrap_or(0.0),
+    }
+}
+
+/// `E_F` of the load `f` by a factor of `S_rr`, or where that fails (a free body) the
+/// free-flight scale `½ T² f_mᵀ M_mm⁻¹ f_m` over the horizon T (0 where that fails too).
+fn scale_of<A: SymMatrix>(s: &ContactSystem<A>, f: &[f64], horizon: f64) -> f64 {
+    match load_energy_with(s, f).ok().flatten() {
+        Some(e) => e,
+        None => 0.5 * horizon * horizon * free_flight_rate_with(s, f).unwrap_or(0.0),
+    }
 }
 
 /// The first of the times a step from `t0` to `t1` evaluates a time-dependent load at (t0, the
@@ -382,14 +390,7 @@ pub(crate) fn reference_load_energy<A: SymMatrix>(s: &ContactSystem<A>, t_end: f
         None => 0.5 * t_end * t_end * free_flight_rate(s)?,
     };
     // A time-dependent load: its largest sample's scale too (`transient_load_energy`).
-    let transient = match peak_load(s, t_end) {
-        None => 0.0,
-        Some(f) => match load_energy_with(s, &f).ok().flatten() {
-            Some(e) => e,
-            None => 0.5 * t_end * t_end * free_flight_rate_with(s, &f).unwrap_or(0.0),
-        },
-    };
-    Ok(e.max(transient))
+    Ok(e.max(peak_load(s, t_end).map_or(0.0, |f| scale_of(s, &f, t_end))))
 }
 
 /// `E_F = ½ F_rᵀ S_rr⁻¹ F_r` (0 without load; None if the solve fails, an error if the memory
@@ -492,14 +493,7 @@ fn drive<G: Geometry>(
             Ok(()) => show(scheme, observers),
             Err(SchemeError::NonFinite { step, time }) => {
                 let reason = match non_finite_load(problem.system.system(), before, time) {
-                    Some(load_time) => {
-                        let key = match problem.system.name() {
-                            "bar" => "bar.force",
-                            "plate" => "plate.force",
-                            _ => "solid.force",
-                        };
-                        DivergenceReason::NonFiniteLoad { load_time, key }
-                    }
+                    Some(load_time) => DivergenceReason::NonFiniteLoad { load_time, key: problem.system.force_key() },
                     None => DivergenceReason::NonFiniteState,
                 };
                 Some(Divergence { step, time, reason })

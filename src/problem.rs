@@ -173,6 +173,10 @@ pub trait Geometry: GeometryView {
         LoadEnergy::Factor
     }
 
+    /// The scene key of its force expressions (`bar.force`, `plate.force`, `solid.force`), for
+    /// the run's messages (a force not finite at some time, [`crate::driver`]).
+    fn force_key(&self) -> &'static str;
+
     /// [`Geometry::load_energy`] of another load `f` on the unknowns (a time-dependent load's
     /// largest sample, [`crate::driver`]): a lean system's conjugate gradients on `f` (not kept).
     fn load_energy_of(&self, f: &[f64]) -> LoadEnergy {

@@ -84,6 +84,10 @@ impl GeometryView for BarSystem {
 impl Geometry for BarSystem {
     type Matrix = crate::linalg::tridiag::SymTridiag;
 
+    fn force_key(&self) -> &'static str {
+        "bar.force"
+    }
+
     fn system(&self) -> &ContactSystem<Self::Matrix> {
         &self.system
     }

@@ -73,6 +73,10 @@ impl GeometryView for PlateSystem {
 impl Geometry for PlateSystem {
     type Matrix = crate::linalg::sparse::SpMat;
 
+    fn force_key(&self) -> &'static str {
+        "plate.force"
+    }
+
     fn system(&self) -> &ContactSystem<Self::Matrix> {
         &self.system
     }

@@ -255,10 +255,24 @@ impl SolidSystem {
         drop(lumped);
         let matrices = Matrices::Free { mass, stiffness };
         let parts = Parts { matrices, load: f0, forcing, frame: Some(frame), contact_area };
-        // A body that keeps a rigid motion (no clamped node, or too few) has a singular S_rr:
-        // the watch takes the free-flight scale (as for the whole system, whose factor of S_rr
-        // fails), and no conjugate gradients run towards an unbounded E_F.
-        let singular = contact.keeps_rigid_motion(&mesh.points, d);
+        Self::lean_body(mesh, (weights, directions), lame, free, parts, contact, operator)
+    }
+
+    /// A lean body's system from its parts and operator (its plane's or its curved obstacle's
+    /// set-up): a body that keeps a rigid motion (no clamped node, or too few) has a singular
+    /// `S_rr`, and its watch takes the free-flight scale (as for the whole system, whose factor
+    /// of `S_rr` fails) without conjugate gradients towards an unbounded `E_F`; any other gets
+    /// `E_F` now, before a scheme holds its vectors.
+    pub(super) fn lean_body(
+        mesh: Arc<Mesh>,
+        (weights, directions): (Vec<f64>, ContactDirections),
+        lame: Lame,
+        free: Free,
+        parts: Parts,
+        contact: &BodyContact,
+        operator: super::assembly::LeanStiffness,
+    ) -> Result<Self, SolidAssemblyError> {
+        let singular = contact.keeps_rigid_motion(&mesh.points, mesh.dim);
         let mut system = Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)?;
         system.lean = Some(super::assembly::LeanStiffness { singular, ..operator });
         let _ = system.lean_load_energy();

@@ -184,14 +184,7 @@ impl SolidSystem {
         };
         let parts =
             Parts { matrices: Matrices::Free { mass, stiffness }, load, forcing, frame: Some(frame), contact_area };
-        // A body that keeps a rigid motion (no clamped node, or too few) has a singular S_rr:
-        // the watch takes the free-flight scale (as for the whole system, whose factor of S_rr
-        // fails), and no conjugate gradients run towards an unbounded E_F.
-        let singular = contact.keeps_rigid_motion(&mesh.points, d);
-        let mut system = Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact)?;
-        system.lean = Some(super::assembly::LeanStiffness { singular, ..operator });
-        let _ = system.lean_load_energy();
-        Ok(system)
+        Self::lean_body(mesh, (weights, directions), lame, free, parts, contact, operator)
     }
 }
 

@@ -212,6 +212,10 @@ impl GeometryView for SolidSystem {
 impl Geometry for SolidSystem {
     type Matrix = crate::linalg::sparse::SpMat;
 
+    fn force_key(&self) -> &'static str {
+        "solid.force"
+    }
+
     fn system(&self) -> &ContactSystem<Self::Matrix> {
         &self.system
     }
