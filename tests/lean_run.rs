@@ -37,8 +37,8 @@ fn thrown(dim: usize, cells: &str, mass: &str, force: &str, operator: &str) -> S
     )
 }
 
-/// (dim, cells, mass, force): hexahedra and quadrilaterals have a stencil, tetrahedra do not
-/// (their lean operator is the row-run matrix under `auto` too).
+/// (dim, cells, mass, force): hexahedra and quadrilaterals have a stencil, tetrahedra the
+/// cell-by-cell kernel (`solid::kernel`): both matrix-free under `auto`.
 const CASES: [(usize, &str, &str, &str); 5] = [
     (3, "hex", "mod3", "[-0.5, 0.1, 0.0]"),
     (3, "hex", "standard", "[0.0, 0.0, 0.0]"),
@@ -79,7 +79,7 @@ fn a_scene_run_takes_the_lean_system_and_follows_the_whole_one() {
             assert_eq!(want.is_empty(), mass == "standard", "{what}");
             // The operator the run steps with.
             let note = lean.scheme.note().unwrap_or_default();
-            let stencil = operator == "auto" && cells != "tet";
+            let stencil = operator == "auto";
             assert_eq!(note.contains("K u matrix-free"), stencil, "{what}: {note}");
             let mut reference =
                 CentralDifference::with_operator(&w.system, None, lumped, &ContactLaw::Exact, 0.02, || {
@@ -415,7 +415,7 @@ fn a_body_run_takes_the_lean_system_and_follows_the_whole_one_bit_for_bit() {
         let zeros = vec!["\"0\"".to_string(); 3];
         let normal_s: Vec<String> = normal.iter().map(|x| x.to_string()).collect();
         let text = format!(
-            "[solid]\ndim = {dim}\nmesh = \"{}\"\nlame_lambda = 1.0\nlame_mu = 1.0\ndensity = 1.0\nforce = [{}]\ninitial = {{ displacement = [{}], velocity = [{}] }}\n{}[obstacle]\nnormal = [{}]\npoint = [{}]\ncontact = \"auto\"\n[mass]\nkind = \"{mass}\"\n[scheme]\nkind = \"central-difference\"\n[time]\ndt = 0.05\nend = 10.0\n",
+            "[solid]\ndim = {dim}\nmesh = \"{}\"\nlame_lambda = 1.0\nlame_mu = 1.0\ndensity = 1.0\nforce = [{}]\ninitial = {{ displacement = [{}], velocity = [{}] }}\n{}[obstacle]\nnormal = [{}]\npoint = [{}]\ncontact = \"auto\"\n[mass]\nkind = \"{mass}\"\n[scheme]\nkind = \"central-difference\"\noperator = \"assembled\"\n[time]\ndt = 0.05\nend = 10.0\n",
             fixtures.join(file).display(),
             list(&force),
             list(&zeros),
@@ -530,7 +530,7 @@ fn a_body_against_a_curved_obstacle_runs_lean_and_follows_the_whole_one_bit_for_
         for line in shipped.lines() {
             let line = match line.split_once(" = ").map(|(k, _)| k) {
                 Some("kind") if line.contains("crank-nicolson") || line.contains("backward-euler") => {
-                    "kind = \"central-difference\"".to_string()
+                    "kind = \"central-difference\"\noperator = \"assembled\"".to_string()
                 }
                 Some("kind") if line.contains("mod3") || line.contains("standard") => {
                     format!("{line}\ncontact_directions = \"{directions}\"")

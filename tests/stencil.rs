@@ -105,39 +105,32 @@ fn without_contact_the_matrix_free_and_assembled_trajectories_agree_over_1000_st
         let probe = massredist::run::setup(&scene(&boxed(dim, n, lateral, 10.0, "assembled", 1e-6))).unwrap();
         let (limit, _) = probe.scheme.stable_limit().unwrap();
         let dt = 0.9 * limit;
-        let mut runs: Vec<_> = ["assembled", "matrix-free"]
-            .iter()
-            .map(|op| massredist::run::setup(&scene(&boxed(dim, n, lateral, 10.0, op, dt))).unwrap())
-            .collect();
+        let mut runs = ["assembled", "matrix-free"]
+            .map(|op| massredist::run::setup(&scene(&boxed(dim, n, lateral, 10.0, op, dt))).unwrap());
         let notes: Vec<String> = runs.iter().map(|r| r.scheme.note().unwrap()).collect();
         assert!(!notes[0].contains("matrix-free") && notes[1].contains("K u matrix-free"), "{notes:?}");
-        let (mut du, mut dv, mut su, mut sv) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-        for _ in 0..1000 {
-            for r in runs.iter_mut() {
-                r.scheme.step().unwrap();
-            }
-            let (a, b) = (runs[0].scheme.state(), runs[1].scheme.state());
-            assert!(a.lambda.iter().chain(b.lambda).all(|&l| l == 0.0), "no contact");
-            for i in 0..a.u.len() {
-                du = du.max((a.u[i] - b.u[i]).abs());
-                dv = dv.max((a.v[i] - b.v[i]).abs());
-                su = su.max(a.u[i].abs());
-                sv = sv.max(a.v[i].abs());
-            }
-        }
+        let [du, dv, su, sv] = common::contact_free_lockstep(&mut runs, 1000, &format!("{dim}D {lateral}"));
         eprintln!("{dim}D {lateral}: |Δu| {du:e} of {su:e}, |Δv| {dv:e} of {sv:e}");
         assert!(du <= 1e-12 * su && dv <= 1e-12 * sv, "{dim}D {lateral}: |Δu| {du:e} of {su:e}, |Δv| {dv:e} of {sv:e}");
     }
 }
 
-/// `scheme.operator`: refused by name where there is no matrix-free stiffness (a tetrahedral box,
-/// a bar) and on a scheme it does not apply to; `assembled` and `auto` run anywhere.
+/// `scheme.operator`: refused by name where there is no matrix-free stiffness (several bodies in
+/// contact, a bar) and on a scheme it does not apply to; `assembled` and `auto` run anywhere.
 #[test]
 fn the_operator_key_is_refused_by_name_where_it_cannot_apply() {
+    // A tetrahedral box takes the cell-by-cell kernel (`solid::kernel`); several bodies in
+    // contact have no matrix-free stiffness.
     let tet = boxed(3, [3, 2, 2], "free", 0.0, "matrix-free", 1e-3).replace("\"hex\"", "\"tet\"");
-    let e = SolidScene::from_toml(&tet).unwrap_err().to_string();
+    assert!(SolidScene::from_toml(&tet).is_ok());
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let bodies = std::fs::read_to_string(root.join("scenes/bodies-two-bars-free.toml"))
+        .unwrap()
+        .replace("kind = \"crank-nicolson\"", "kind = \"central-difference\"\noperator = \"matrix-free\"");
+    let e = SolidScene::from_toml(&bodies).unwrap_err().to_string();
     assert!(e.starts_with("scheme.operator = \"matrix-free\""), "{e}");
-    assert!(e.contains("auto | assembled"), "{e}");
+    assert!(e.contains("several bodies in contact") && e.contains("auto | assembled"), "{e}");
+    assert!(SolidScene::from_toml(&bodies.replace("matrix-free", "auto")).is_ok());
     let bar = "[bar]\nelements = 10\n[mass]\nkind = \"mod3\"\n[scheme]\nkind = \"central-difference\"\noperator = \"matrix-free\"\n[time]\ndt = 0.05\n";
     let e = massredist::scene::BarScene::from_toml(bar).unwrap_err().to_string();
     assert!(e.starts_with("scheme.operator = \"matrix-free\""), "{e}");

@@ -202,6 +202,42 @@ pub fn det_range(kind: Cell, p: &[[f64; 3]; MAX_VERTS]) -> [f64; 2] {
     range
 }
 
+/// The quadrature [`CellIntegrals`] takes for `kind`'s gradient products, on the reference
+/// cell: the reference weights (det J not included: P1 one point of weight 1/d!, Q1 the 2^d
+/// Gauss points of weight 1/2^d, P2 the degree-5 rule) and the basis's ξ-gradients at each
+/// point. A matrix-free product ([`crate::solid::kernel`]) maps them itself.
+pub fn reference_rule(kind: Cell) -> (Vec<f64>, Vec<[[f64; 3]; MAX_VERTS]>) {
+    let d = kind.dim();
+    match kind.data().reference {
+        Reference::P1Simplex => {
+            let mut g = [[0.0; 3]; MAX_VERTS];
+            for k in 0..d {
+                g[0][k] = -1.0;
+                g[k + 1][k] = 1.0;
+            }
+            (vec![if d == 2 { 0.5 } else { 1.0 / 6.0 }], vec![g])
+        }
+        Reference::Q1Tensor => {
+            let g = [0.5 - 0.5 / 3f64.sqrt(), 0.5 + 0.5 / 3f64.sqrt()];
+            let nq = 1 << d;
+            let grads = (0..nq)
+                .map(|q| q1_basis(kind, &[g[q & 1], g[(q >> 1) & 1], if d == 3 { g[(q >> 2) & 1] } else { 0.0 }]).1)
+                .collect();
+            (vec![1.0 / nq as f64; nq], grads)
+        }
+        Reference::P2Simplex => {
+            let rule = p2_rule(d);
+            (rule.weights.clone(), rule.points.iter().map(|xi| p2_basis(d, xi).1).collect())
+        }
+    }
+}
+
+/// `J⁻ᵀ` and det J of the d × d matrix `j` (`j[k][l] = ∂x_k/∂ξ_l`): what [`CellIntegrals`]
+/// maps its gradients with.
+pub fn jacobian_inverse_transpose(j: &[[f64; 3]; 3], d: usize) -> ([[f64; 3]; 3], f64) {
+    inverse_transpose(j, d)
+}
+
 impl CellIntegrals {
     /// The integrals of a cell of type `kind` with vertices `p` (first `kind.verts()` used).
     pub fn new(kind: Cell, p: &[[f64; 3]; MAX_VERTS]) -> Self {

@@ -155,7 +155,8 @@ impl<'de> Deserialize<'de> for Formulation {
 
 /// How central differences apply the stiffness (`scheme.operator`, issue 31): `auto` (the
 /// default) matrix-free where the geometry has a matrix-free operator (a structured Q1 box:
-/// [`crate::solid::stencil`]), else the assembled matrix; `assembled` always the matrix;
+/// [`crate::solid::stencil`]; any other box or body against one obstacle:
+/// [`crate::solid::kernel`]), else the assembled matrix; `assembled` always the matrix;
 /// `matrix-free` the operator, refused by name on a geometry without one. Only the product K u
 /// changes: the lumped mass, the quasi-static contact layer, the law and the stable limit are
 /// the same.

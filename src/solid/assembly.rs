@@ -240,7 +240,7 @@ impl SolidSystem {
                 let parts = Parts { matrices, load, forcing: None, frame: None, contact_area };
                 Self::on_free(mesh, (weights, directions), lame, *lateral, free, parts, contact)
             }
-            Support::Plane(body) => Self::assemble_body(mesh, (weights, directions), lame, body, contact, false),
+            Support::Plane(body) => Self::assemble_body(mesh, (weights, directions), lame, body, contact, None),
             // `mesh` and `contact` are the joined bodies' (`SolidSpec::built`): joined again here.
             Support::Bodies(bodies) => {
                 let joined = bodies.join()?;

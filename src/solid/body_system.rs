@@ -29,6 +29,7 @@ use crate::fem::Mesh;
 use crate::linalg::sparse;
 use crate::mass::ContactDirections;
 use crate::material::Lame;
+use crate::schemes::StiffnessOperator;
 use crate::system::Forcing;
 use std::sync::Arc;
 
@@ -212,7 +213,7 @@ impl SolidSystem {
         lame: Lame,
         body: &BodySpec,
         contact: &BodyContact,
-        explicit: bool,
+        explicit: Option<StiffnessOperator>,
     ) -> Result<Self, SolidAssemblyError> {
         let d = mesh.dim;
         let Some(normal) = body.obstacle.plane_normal() else {
@@ -234,13 +235,13 @@ impl SolidSystem {
         let free = Free::new(&mesh, |g| contact.clamped[g / d]);
         let (frame, f0, forcing) = body_frame(&mesh, &free, rot, body, contact, &mass_all, &unit_all);
         let contact_area = frame.contact_area;
-        if !explicit {
+        let Some(choice) = explicit else {
             let stiff_all = columns::stiffness(&frame_mesh, &lame, &all, all.len());
             drop((frame_mesh, all));
             let matrices = Matrices::All { mass: mass_all, stiffness: stiff_all, unit: unit_all };
             let parts = Parts { matrices, load: f0, forcing, frame: Some(frame), contact_area };
             return Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact);
-        }
+        };
         // The lean system: the whole masses gave their row sums and go before the stiffness is
         // assembled (the run's peak is then the stiffness's).
         drop((mass_all, unit_all, all));
@@ -249,7 +250,9 @@ impl SolidSystem {
         let massless: Vec<bool> = lumped.iter().map(|&m| m <= 0.0).collect();
         let stiffness = columns::stiffness_touching(&frame_mesh, &lame, &free.dof_of, n, &massless);
         drop(massless);
-        let operator = super::lean::assembled(columns::stiffness(&frame_mesh, &lame, &free.dof_of, n))?;
+        let operator = super::lean::body_operator(choice, (&mesh, lame), &free.dof_of, Frames::Global(rot), || {
+            columns::stiffness(&frame_mesh, &lame, &free.dof_of, n)
+        })?;
         drop(frame_mesh);
         let mass = super::lean::diagonal(&lumped)?;
         drop(lumped);

@@ -28,6 +28,7 @@ use crate::fem::Mesh;
 use crate::linalg::sparse;
 use crate::mass::ContactDirections;
 use crate::material::Lame;
+use crate::schemes::StiffnessOperator;
 use std::sync::Arc;
 
 const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
@@ -54,7 +55,7 @@ impl SolidSystem {
         lame: Lame,
         body: &BodySpec,
         contact: &BodyContact,
-        explicit: bool,
+        explicit: Option<StiffnessOperator>,
     ) -> Result<Self, SolidAssemblyError> {
         let d = mesh.dim;
         let n_nodes = mesh.n_nodes();
@@ -84,8 +85,8 @@ impl SolidSystem {
         for (&v, &n) in contact.nodes.iter().zip(&contact.normals) {
             frames[v] = rotation(n, d);
         }
-        if explicit {
-            return Self::curved_lean(mesh, (weights, directions), lame, body, contact, frames);
+        if let Some(choice) = explicit {
+            return Self::curved_lean(mesh, (weights, directions), lame, (body, contact), frames, choice);
         }
         let m = frame_matrices(&mesh, &weights, directions, &lame, &frames)?;
         let (mass_all, stiff_all, unit_all, momentum) = (m.mass_all, m.stiff_all, m.unit_all, m.momentum);
@@ -121,9 +122,9 @@ impl SolidSystem {
         mesh: Arc<Mesh>,
         (weights, directions): (Vec<f64>, ContactDirections),
         lame: Lame,
-        body: &BodySpec,
-        contact: &BodyContact,
+        (body, contact): (&BodySpec, &BodyContact),
         frames: Vec<[[f64; 3]; 3]>,
+        choice: StiffnessOperator,
     ) -> Result<Self, SolidAssemblyError> {
         use super::columns::assemble_on;
         let d = mesh.dim;
@@ -142,10 +143,8 @@ impl SolidSystem {
         let [lumped, lumped_tangential, lumped_unit] = frame_lumps(&mesh, &weights, directions, lame.density);
         let free = Free::new(&mesh, |g| contact.clamped[g / d]);
         let n = free.dofs.len();
-        let massless: Vec<bool> = super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs)
-            .iter()
-            .map(|&m| m <= 0.0)
-            .collect();
+        let lumped_free = super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs);
+        let massless: Vec<bool> = lumped_free.iter().map(|&m| m <= 0.0).collect();
         let block = |c: usize, e: &crate::fem::element::CellIntegrals, a: usize, b: usize| {
             let v = mesh.cell(c);
             stiffness_in_frames(super::columns::stiffness_block(e, &lame, a, b, d), &frames[v[a]], &frames[v[b]], d)
@@ -156,7 +155,10 @@ impl SolidSystem {
             sparse::from_csc(n, vec![0; n + 1], Vec::new(), Vec::new())
         };
         drop(massless);
-        let operator = super::lean::assembled(assemble_on(&mesh, &free.dof_of, n, |_, _| true, None, block))?;
+        let operator =
+            super::lean::body_operator(choice, (&mesh, lame), &free.dof_of, Frames::Nodes(frames.clone()), || {
+                assemble_on(&mesh, &free.dof_of, n, |_, _| true, None, block)
+            })?;
         // The load after the stiffness: a force that depends on time keeps its unit mass through
         // the run, and it is then not on top of the stiffness's assembly (the set-up's peak).
         let forces = vec![(0, body.force.clone())];
@@ -168,8 +170,8 @@ impl SolidSystem {
             scalar_unit(&mesh),
             Default::default(),
         );
-        let mass =
-            super::lean::diagonal(&super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs))?;
+        let mass = super::lean::diagonal(&lumped_free)?;
+        drop(lumped_free);
         let contact_area = contact.areas.iter().sum();
         let volume = lumped_unit.iter().sum();
         let frame = BodyFrame {

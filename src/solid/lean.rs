@@ -2,8 +2,9 @@
 //! central differences need and nothing else, in memory linear in the unknowns with a small
 //! constant: the lumped mass [`super::lumped::node_masses`] as the [`ContactSystem`]'s mass
 //! matrix (a diagonal; no consistent mass is formed), the load `F_(a,i) = f_i ∫ w_h φ_a`, and the
-//! stiffness as one operator: the box's stencil ([`BoxStencil`], matrix-free) or the assembled
-//! matrix in row-run form. The system's own stiffness holds only the rows and columns of the
+//! stiffness as one operator: the box's stencil ([`BoxStencil`], matrix-free), the cell-by-cell
+//! kernel of any other mesh ([`CellKernel`], matrix-free; `auto` takes one of the two), or with
+//! `scheme.operator = "assembled"` the assembled matrix in row-run form. The system's own stiffness holds only the rows and columns of the
 //! massless unknowns ([`super::columns::stiffness_touching`], bit for bit the assembled
 //! entries): all that the contact layer's quasi-static rows and the laws read (none for the
 //! standard mass).
@@ -17,20 +18,24 @@
 //!   of a factorisation (a body that keeps a rigid motion, unclamped or clamped at too few nodes, has none: its `S_rr` is singular, and
 //!   the watch takes the free-flight scale). A body's system is made in
 //!   [`SolidSystem::assemble_body`]'s lean branch: its load and reports from its whole masses,
-//!   which are dropped before its stiffness is assembled, the stiffness in the plane's frame
-//!   (bit for bit the whole system's, so that its run is the whole system's run bit for bit:
-//!   `tests/lean_run.rs`); a body against a curved obstacle in `SolidSystem::curved_lean`
-//!   (each contact node in its own frame, the frame matrices' entries in compressed columns,
-//!   bit for bit as well); several bodies are set up whole;
+//!   which are dropped before its stiffness is made: the kernel in the plane's frame, or with
+//!   `assembled` the matrix assembled in that frame (bit for bit the whole system's, so that its
+//!   run is the whole system's run bit for bit: `tests/lean_run.rs`); a body against a curved
+//!   obstacle in `SolidSystem::curved_lean` (each contact node in its own frame; with
+//!   `assembled` the frame matrices' entries in compressed columns, bit for bit as well);
+//!   several bodies are set up whole;
 //! - **the benches** ([`SolidSpec::explicit_box`], [`SolidSpec::explicit_box_matrix_free`]),
 //!   which step the system themselves (P1/Q1 boxes: the load from the lumped mass over ρ).
 //!
 //! At 10⁶ unknowns: about 170 bytes per unknown matrix-free, 1.6 kB assembled
-//! (`bench --explicit-scaling`); a tetra10 body of 2·10⁵ unknowns: 1.7 kB against a plane or a
+//! (`bench --explicit-scaling`); a tetra10 body of 10⁶ unknowns 1.2 kB with the kernel, 1.6 kB
+//! assembled (its set-up's whole masses are the peak); of 2·10⁵ unknowns: 1.7 kB against a plane or a
 //! cylinder (`tests/lean_run.rs`).
 
 use super::assembly::{Free, LeanStiffness, Matrices, Parts, SolidAssemblyError, SolidSystem};
-use super::body::BodyContact;
+use super::body::{BodyContact, Frames};
+use super::dof_map::DofMap;
+use super::kernel::CellKernel;
 use super::spec::{SolidInitial, SolidSpec, Support};
 use super::stencil::BoxStencil;
 use crate::fem::Mesh;
@@ -58,6 +63,27 @@ pub(super) fn assembled(k: SpMat) -> Result<LeanStiffness, SolidAssemblyError> {
     Ok(LeanStiffness { operator: Arc::new(runs), unit_mass: None, load_energy: OnceLock::new(), singular: false })
 }
 
+/// A lean body's stiffness operator as `choice` says: the cell-by-cell kernel on the world mesh
+/// in the body's `frames` ([`CellKernel`]) for `auto` and `matrix-free`, the matrix `assemble`
+/// makes (in the frames, compressed columns) in row-run form for `assembled`.
+pub(super) fn body_operator(
+    choice: StiffnessOperator,
+    (mesh, lame): (&Arc<Mesh>, Lame),
+    dof_of: &DofMap,
+    frames: Frames,
+    assemble: impl FnOnce() -> SpMat,
+) -> Result<LeanStiffness, SolidAssemblyError> {
+    match choice {
+        StiffnessOperator::Auto | StiffnessOperator::MatrixFree => Ok(LeanStiffness {
+            operator: Arc::new(CellKernel::new(Arc::clone(mesh), lame, dof_of, Some(frames))),
+            unit_mass: None,
+            load_energy: OnceLock::new(),
+            singular: false,
+        }),
+        StiffnessOperator::Assembled => assembled(assemble()),
+    }
+}
+
 /// The diagonal mass matrix of the lumped masses `m`.
 pub(super) fn diagonal(m: &[f64]) -> Result<SpMat, SolidAssemblyError> {
     let diag: Vec<(usize, usize, f64)> = m.iter().enumerate().map(|(i, &m)| (i, i, m)).collect();
@@ -67,8 +93,8 @@ pub(super) fn diagonal(m: &[f64]) -> Result<SpMat, SolidAssemblyError> {
 impl SolidSystem {
     /// The lean system of a box (`Support::Face`) for central differences (module docs): the
     /// lumped mass as a diagonal mass, the load `f_i Σ_c w_c^(i) ∫_c φ_a` cell by cell, the
-    /// stiffness as `choice` says (`auto`: the stencil where the box has one; `assembled` or
-    /// no stencil: the row-run matrix), and of the stiffness matrix only the massless
+    /// stiffness as `choice` says (`auto` and `matrix-free`: the stencil where the box has one,
+    /// else the kernel; `assembled`: the row-run matrix), and of the stiffness matrix only the massless
     /// unknowns' rows and columns. A body (against a plane or a curved obstacle) is set up
     /// lean by [`SolidSystem::assemble_body`]; several bodies are assembled whole
     /// ([`SolidSystem::assemble`]).
@@ -81,7 +107,9 @@ impl SolidSystem {
     ) -> Result<Self, SolidAssemblyError> {
         let Support::Face { lateral, force, .. } = *support else {
             return match support {
-                Support::Plane(body) => Self::assemble_body(mesh, (weights, directions), lame, body, contact, true),
+                Support::Plane(body) => {
+                    Self::assemble_body(mesh, (weights, directions), lame, body, contact, Some(choice))
+                }
                 _ => Self::assemble(mesh, weights, directions, lame, support, contact),
             };
         };
@@ -98,6 +126,12 @@ impl SolidSystem {
             Some(s) => LeanStiffness {
                 operator: Arc::new(s),
                 unit_mass: BoxStencil::unit_mass(&mesh, flags()).map(|m| Arc::new(m) as Arc<dyn Operator>),
+                load_energy: OnceLock::new(),
+                singular: false,
+            },
+            None if choice != StiffnessOperator::Assembled => LeanStiffness {
+                operator: Arc::new(CellKernel::new(Arc::clone(&mesh), lame, &free.dof_of, None)),
+                unit_mass: None,
                 load_energy: OnceLock::new(),
                 singular: false,
             },

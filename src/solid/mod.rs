@@ -39,6 +39,7 @@ pub mod coupling;
 pub mod curved;
 pub mod dof_map;
 pub mod geometry;
+pub mod kernel;
 pub mod lean;
 pub mod lumped;
 pub mod pair;

@@ -52,8 +52,9 @@ pub struct Offer {
     pub tangential_dims: usize,
     /// Contact between bodies (`[[pair]]`s), not against an obstacle.
     pub pairs: bool,
-    /// A matrix-free stiffness operator (a structured Q1 box against the plane x = −gap:
-    /// `crate::solid::stencil`): `scheme.operator = "matrix-free"`.
+    /// A matrix-free stiffness operator (a structured Q1 box's stencil, `crate::solid::stencil`;
+    /// any other box or body against one obstacle, `crate::solid::kernel`):
+    /// `scheme.operator = "matrix-free"`.
     pub matrix_free: bool,
     /// The contact nodes and the keys that set them, where the rule checks the size of their
     /// dense Schur complement ([`crate::spec::check_contact_memory`]) for the schemes and laws
@@ -102,7 +103,7 @@ pub(crate) fn check(
             key: StiffnessOperator::KEY,
             value: quoted(StiffnessOperator::MatrixFree.name()),
             with: format!("a [{table}] scene"),
-            why: "a matrix-free stiffness is built for the structured Q1 boxes of the box generator (solid.cells = quad | hex, no mesh file, no [obstacle]) so far".into(),
+            why: "a matrix-free stiffness is built for boxes and for a body against one obstacle; several bodies in contact ([[pair]]) are assembled whole so far".into(),
             allowed: "auto | assembled".into(),
         });
     }

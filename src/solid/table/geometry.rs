@@ -36,12 +36,16 @@ impl SceneGeometry for SolidSpec {
         self.dim - 1
     }
 
-    /// The box generator's Q1 box against the plane x = −gap (its unknowns in the world frame).
+    /// Every box and every body against one obstacle: the box generator's Q1 box has its
+    /// stencil ([`crate::solid::stencil`]), any other mesh the cell-by-cell kernel
+    /// ([`crate::solid::kernel`]); several bodies in contact have none (their pairs' change of
+    /// variables is applied to an assembled matrix).
     fn matrix_free(&self) -> bool {
-        crate::solid::stencil::BoxStencil::applies(self)
+        self.support.bodies().is_none()
     }
 
-    /// A generated box against its face x = 0: the nodes of that face (`solid.ny[, solid.nz]`),
+    /// A generated box against its face x = 0: the nodes of that face (`solid.ny[, solid.nz]`);
+    /// a body against one obstacle: its contact set. Both
     /// checked by the compatibility rule where the scheme forms their dense Schur complement
     /// (central differences with the exact law do not: a 10⁷-unknown cube runs).
     fn dense_contact(&self) -> Option<(usize, &'static str)> {
@@ -50,6 +54,15 @@ impl SceneGeometry for SolidSpec {
                 let axes = if self.dim == 2 { 2 } else { 3 };
                 let contact = self.cells_per_axis[1..axes].iter().map(|&k| k + 1).product();
                 Some((contact, if self.dim == 2 { "solid.ny" } else { "solid.ny, solid.nz" }))
+            }
+            // A body against one obstacle: its contact set (built and checked at validation).
+            (source, Support::Plane(_)) => {
+                let keys = if matches!(source, MeshSource::Box) {
+                    "obstacle.contact, or solid.nx, solid.ny[, solid.nz]"
+                } else {
+                    "obstacle.contact, or solid.mesh"
+                };
+                Some((self.built().ok()?.contact.nodes.len(), keys))
             }
             _ => None,
         }
@@ -259,7 +272,8 @@ impl SceneGeometry for SolidSpec {
     /// A box stepped by central differences is set up lean (`crate::solid::lean`): no
     /// triplets, no consistent mass, of the stiffness either the stencil or one matrix in
     /// compressed columns (16 bytes an entry, `n_b` entries a row: 9 quad, 27 hex, 7
-    /// triangle, 15 Kuhn tetrahedron neighbours times d) that becomes the row-run form, and
+    /// triangle, 15 Kuhn tetrahedron neighbours times d) that becomes the row-run form (none
+    /// matrix-free), and
     /// about 300 bytes per unknown of vectors, mesh and layer; times 1.2. Measured at 69³ hex:
     /// peak 1.43 kB per unknown assembled and 0.28 kB matrix-free, where this gives 1.92 and
     /// 0.36.
@@ -280,9 +294,11 @@ impl SceneGeometry for SolidSpec {
             if let Some(nb) = neighbours {
                 let d = self.dim as f64;
                 let nodes: f64 = self.cells_per_axis[..self.dim].iter().map(|&n| n as f64 + 1.0).product();
-                let stencil = *operator != crate::schemes::StiffnessOperator::Assembled
-                    && crate::solid::stencil::BoxStencil::applies(self);
-                let matrix = if stencil { 0.0 } else { nb * d * 16.0 };
+                use crate::schemes::StiffnessOperator;
+                // No matrix: the stencil (`auto` on a Q1 box) or the cell-by-cell kernel.
+                let matrix_free = *operator == StiffnessOperator::MatrixFree
+                    || (*operator == StiffnessOperator::Auto && crate::solid::stencil::BoxStencil::applies(self));
+                let matrix = if matrix_free { 0.0 } else { nb * d * 16.0 };
                 return nodes * d * (matrix + 300.0) * 1.2;
             }
         }
@@ -292,13 +308,16 @@ impl SceneGeometry for SolidSpec {
         // triplets a cell, 24 bytes each) go before the stiffness (≤ k²·d² a cell, fewer where
         // cells share nodes) is assembled in compressed columns; 16 bytes an entry, the same 300
         // bytes per unknown, times 1.2. Measured on a 245 000-unknown tetra10 box: 1.81 kB per
-        // unknown where this gives 4.3 (1.86 kB onto a cylinder).
-        if let (Some(crate::schemes::SchemeSpec::CentralDifference { .. }), Support::Plane(_), Some(m)) =
+        // unknown where this gives 4.3 (1.86 kB onto a cylinder). Matrix-free (the kernel: no
+        // stiffness matrix) the masses are the peak, 2 k²·d entries a cell: measured on a
+        // 1 073 733-unknown tetra10 cube 1.19 kB per unknown where this gives 3.1.
+        if let (Some(crate::schemes::SchemeSpec::CentralDifference { operator }), Support::Plane(_), Some(m)) =
             (scheme, &self.support, self.source.given())
         {
             let (k, d) = (self.cells.verts() as f64, self.dim as f64);
             let unknowns = m.n_nodes() as f64 * d;
-            return (m.n_cells() as f64 * k * k * d * d * 16.0 + unknowns * 300.0) * 1.2;
+            let per_cell = if *operator == crate::schemes::StiffnessOperator::Assembled { d * d } else { 2.0 * d };
+            return (m.n_cells() as f64 * k * k * per_cell * 16.0 + unknowns * 300.0) * 1.2;
         }
         let cells = match self.source.given() {
             Some(m) => m.n_cells() as f64,

@@ -241,6 +241,62 @@ fn explicit(
     })
 }
 
+/// One tetra10 case (issue 31: the cell-by-cell kernel against the assembled matrix on P2
+/// tetrahedra): the unit cube's N³ Kuhn tetrahedra made quadratic (`Mesh::quadratic`: straight
+/// cells), passed as arrays, a body of the paper's material (λ = 0, μ = ½, ρ = 1) at v = (0, 0,
+/// −1) onto the plane z = −0.001, the standard mass, central differences at Δt = 0.05/N (below
+/// its Δt_c, 0.106/N measured at N = 35), set up and stepped through the scene path
+/// (`massredist::run::setup`) with `scheme.operator` = "assembled" (`method` "explicit") or
+/// "auto" (the kernel). The set-up (mesh from the arrays, masses, stiffness or kernel, Δt_c) is
+/// all "assembly"; the bytes a step moves are not counted on this path (NaN).
+fn tetra10(method: &'static str, n: usize, steps: usize) -> Result<Row, String> {
+    use massredist::fem::{Cell, Mesh};
+    let (triad_gbs_1, triad_gbs_2) = (triad_gbs(1)?, triad_gbs(2)?);
+    let mesh =
+        Mesh::structured_3d([1.0; 3], [n; 3], Cell::Tet).and_then(|m| m.quadratic()).map_err(|e| e.to_string())?;
+    let arrays = massredist::mesh_file::ArrayMesh {
+        points: mesh.points.iter().flatten().copied().collect(),
+        columns: 3,
+        blocks: vec![("tetra10".into(), mesh.cells.iter().map(|&v| v as i64).collect(), 10)],
+    };
+    drop(mesh);
+    reset_peak();
+    let operator = if method == "matrix-free" { "auto" } else { "assembled" };
+    let dt = 0.05 / n as f64;
+    let text = format!(
+        "[solid]\ndim = 3\nmesh = \"<arrays>\"\nlame_lambda = 0.0\nlame_mu = 0.5\ndensity = 1.0\ninitial = {{ velocity = [\"0\", \"0\", \"-1\"] }}\n[obstacle]\nnormal = [0.0, 0.0, 1.0]\npoint = [0.0, 0.0, -0.001]\n[mass]\nkind = \"standard\"\n[scheme]\nkind = \"central-difference\"\noperator = \"{operator}\"\n[time]\ndt = {dt}\nend = {}\n",
+        1000.0 * dt
+    );
+    let t = Instant::now();
+    let inputs = massredist::mesh_file::MeshInputs { base: Path::new("."), arrays: Some(&arrays) };
+    use massredist::scene::Registered;
+    let any = massredist::scene::AnyScene::from_toml_with(&text, inputs).map_err(|e| e.to_string())?;
+    let scene = massredist::solid::SolidSpec::from_any(any).map_err(|e| e.to_string())?;
+    let mut setup = massredist::run::setup(&scene).map_err(|e| e.to_string())?;
+    let assembly_s = t.elapsed().as_secs_f64();
+    drop(arrays);
+    let unknowns = setup.problem.system.dofs.len();
+    let (step_ms_1, cpu_ms_1) = median_step(setup.scheme.as_mut(), steps, 1)?;
+    let (step_ms_2, _) = median_step(setup.scheme.as_mut(), steps, 2)?;
+    Ok(Row {
+        method,
+        shape: "tetra10",
+        cells: [n; 3],
+        unknowns,
+        assembly_s,
+        lumped_s: 0.0,
+        scheme_s: 0.0,
+        dt,
+        step_ms_1,
+        step_ms_2,
+        cpu_ms_1,
+        peak_mib: peak_mib(),
+        bytes_per_unknown: f64::NAN,
+        triad_gbs_1,
+        triad_gbs_2,
+    })
+}
+
 /// One implicit case: Crank–Nicolson at Δt = 0.01 (its factor built once).
 fn implicit(n: usize, steps: usize) -> Result<Row, String> {
     reset_peak();
@@ -271,12 +327,13 @@ fn implicit(n: usize, steps: usize) -> Result<Row, String> {
     })
 }
 
-/// The sizes: (implicit cubes, explicit cubes, explicit rods' N); quick: small ones.
-pub fn sizes(quick: bool) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
+/// The sizes: (implicit cubes, explicit cubes, explicit rods' N, tetra10 cubes); quick: small
+/// ones.
+pub fn sizes(quick: bool) -> (Vec<usize>, Vec<usize>, Vec<usize>, Vec<usize>) {
     if quick {
-        (vec![4, 6], vec![6, 10], vec![20, 40])
+        (vec![4, 6], vec![6, 10], vec![20, 40], vec![4])
     } else {
-        (vec![6, 10, 14, 20, 24], vec![10, 20, 34, 50, 69], vec![100, 300, 1000, 3300])
+        (vec![6, 10, 14, 20, 24], vec![10, 20, 34, 50, 69], vec![100, 300, 1000, 3300], vec![10, 20, 35])
     }
 }
 
@@ -295,6 +352,8 @@ fn one_case(name: &str, steps: usize) -> Result<Row, String> {
         (Some("explicit"), Some("cube")) => explicit("explicit", "cube", [n(2)?; 3], MassKind::Standard, steps),
         (Some("matrix-free"), Some("cube")) => explicit("matrix-free", "cube", [n(2)?; 3], MassKind::Standard, steps),
         (Some("explicit"), Some("rod")) => explicit("explicit", "rod", [n(2)?, n(3)?, n(4)?], MassKind::Mod1, steps),
+        (Some("explicit"), Some("tetra10")) => tetra10("explicit", n(2)?, steps),
+        (Some("matrix-free"), Some("tetra10")) => tetra10("matrix-free", n(2)?, steps),
         _ => Err(format!("bad case `{name}`")),
     }
 }
@@ -308,7 +367,11 @@ fn from_csv_line(line: &str) -> Result<Row, String> {
         "matrix-free" => "matrix-free",
         _ => "explicit",
     };
-    let shape = if f.get(1) == Some(&"rod") { "rod" } else { "cube" };
+    let shape = match f.get(1) {
+        Some(&"rod") => "rod",
+        Some(&"tetra10") => "tetra10",
+        _ => "cube",
+    };
     let cells = [x(2)? as usize, x(3)? as usize, x(4)? as usize];
     Ok(Row {
         method,
@@ -343,13 +406,14 @@ pub fn run(csv: &Path, quick: bool, steps: usize) -> Result<Vec<PathBuf>, String
         let rows = text.lines().skip(1).map(from_csv_line).collect::<Result<Vec<_>, _>>()?;
         return write_outputs(csv, &rows);
     }
-    let (imp, cube, rod) = sizes(quick);
+    let (imp, cube, rod, tet10) = sizes(quick);
     let names = imp
         .iter()
         .map(|n| format!("implicit cube {n} {n} {n}"))
         .chain(cube.iter().map(|n| format!("explicit cube {n} {n} {n}")))
         .chain(cube.iter().map(|n| format!("matrix-free cube {n} {n} {n}")))
-        .chain(rod.iter().map(|n| format!("explicit rod {n} 10 10")));
+        .chain(rod.iter().map(|n| format!("explicit rod {n} 10 10")))
+        .chain(tet10.iter().flat_map(|n| ["explicit", "matrix-free"].map(|m| format!("{m} tetra10 {n} {n} {n}"))));
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let mut rows = Vec::new();
     for name in names {
@@ -445,6 +509,13 @@ memory (VmHWM) is its own. Cases (the plane-wave solid's paper data, λ + 2μ = 
   basis above 50 000 unknowns, then the Gershgorin bound from the operator's `|K| 1`.
 - **explicit rod**: N × 10 × 10 (h = 1/10), mod1 (the contact layer massless: its quasi-static
   problem with exact Signorini is solved every step), central differences at 0.9 Δt_c.
+- **explicit tetra10 / matrix-free tetra10**: the unit cube's N³ Kuhn tetrahedra made quadratic
+  (straight P2 cells, about 24.6 N³ unknowns), a body of the same material dropped at v = 1 onto
+  the plane 0.001 below it, the standard mass, central differences at Δt = 0.05/N (below Δt_c),
+  set up through the scene path (`massredist run`'s) with `scheme.operator = \"assembled\"`
+  (the matrix in row-run form) or `\"auto\"` (the cell-by-cell kernel, `src/solid/kernel.rs`:
+  no stiffness matrix); all of the set-up counts as \"assembly\", and the bytes a step moves
+  are not counted on this path (NaN in the floor table).
 
 The explicit set-up is `SolidSpec::explicit_box` (the stiffness straight into compressed
 columns, the lumped mass as the mass matrix, no consistent mass) and
@@ -541,11 +612,13 @@ where
     let (top, body) = root.split_vertically(34);
     top.titled("3D hex solids: implicit (CN) against explicit (central differences)", ("sans-serif", 18)).map_err(e)?;
     let panels = body.split_evenly((1, 2));
-    let series: [(&str, &str, RGBColor); 4] = [
+    let series: [(&str, &str, RGBColor); 6] = [
         ("implicit", "cube", RGBColor(214, 39, 40)),
         ("explicit", "cube", RGBColor(31, 119, 180)),
         ("matrix-free", "cube", RGBColor(148, 103, 189)),
         ("explicit", "rod", RGBColor(44, 160, 44)),
+        ("explicit", "tetra10", RGBColor(255, 127, 14)),
+        ("matrix-free", "tetra10", RGBColor(140, 86, 75)),
     ];
     let span = |v: Vec<f64>| {
         let (lo, hi) = v.iter().filter(|x| **x > 0.0).fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));

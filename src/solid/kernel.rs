@@ -1,0 +1,398 @@
+//! The stiffness of any mesh applied cell by cell, without a matrix (issue 31, item 2): P1
+//! triangles and tetrahedra, Q1 quadrilaterals and hexahedra of any shape, P2 triangles and
+//! tetrahedra (straight or curved).
+//!
+//! For each cell c and quadrature point q (weight w_q, physical basis gradients g_a = ∇φ_a(x_q)),
+//! with u_c the cell's nodal displacements,
+//!
+//! ```text
+//! H = Σ_b u_b ⊗ g_b  (H_jk = ∂_k u_j),   σ = λ tr(H) I + μ (H + Hᵀ),   f_(a,i) += w_q Σ_k g_a,k σ_ik,
+//! ```
+//!
+//! which is `Σ_(b,j) S_(a,i),(b,j) u_(b,j)` with the assembled element entry
+//! `S = Σ_q w_q (λ g_a,i g_b,j + μ (δ_ij g_a·g_b + g_a,j g_b,i))`
+//! ([`super::columns::stiffness_entry`]): the same operator, each product associated otherwise
+//! (round-off apart). Nothing is stored per cell but one flag; the geometry is mapped again at
+//! every product from the mesh's own points and connectivity, which the run holds anyway:
+//! - **affine cells** (every P1 simplex; a P2 simplex whose edge nodes are their edges'
+//!   midpoints to round-off, `64 ε (max |p| + h)`): one `J = [p_1 − p_0, …, p_d − p_0]`, and the
+//!   P1 gradients at one point (exact: they are constant) or the P2 gradients at a rule exact
+//!   for degree 2 (the products of the P2 gradients are of degree 2: 3 points in 2D, the
+//!   symmetric 4-point rule in 3D, Keast, *Comput. Methods Appl. Mech. Engrg.* 55, 1986);
+//! - **every other cell** (Q1 cells, curved P2 cells): the assembler's own rule
+//!   ([`crate::fem::element::reference_rule`]) with J mapped at each point, so the two integrate
+//!   the same rational integrand at the same points.
+//!
+//! Cost per cell: for a point, the gradients (k d² multiply–adds), H (k d²), the force (k d²);
+//! P1 tetrahedra 1 point, tetra10 4 (affine), hexahedra 8 with J at each point (k d² more).
+//!
+//! **Layout and threads.** The free unknowns (in the body's frames: [`super::body::Frames`]) are
+//! scattered onto full world vectors (0 where eliminated), the cells run in two fixed halves
+//! (each into its own full output; rayon runs them on two threads where it has them), the
+//! halves' outputs are added and rotated back, and the free entries gathered: each entry is the
+//! same sum in the same order whatever the number of threads (bit for bit). Working memory: three
+//! full vectors (24 bytes per unknown) and a byte a cell.
+
+use super::body::Frames;
+use super::dof_map::DofMap;
+use crate::fem::cell::Reference;
+use crate::fem::element::{MAX_VERTS, jacobian_inverse_transpose, reference_rule};
+use crate::fem::{Cell, Mesh};
+use crate::linalg::Operator;
+use crate::material::Lame;
+use std::sync::{Arc, Mutex};
+
+/// Points and ξ-gradients of one rule (reference weights: det J not included).
+#[derive(Debug, Clone)]
+struct Rule {
+    weights: Vec<f64>,
+    grads: Vec<[[f64; 3]; MAX_VERTS]>,
+}
+
+/// The P2 simplex rule exact for degree 2 (module docs): points ξ and weights (summing to 1/d!).
+fn affine_p2_rule(d: usize) -> Rule {
+    let points: Vec<[f64; 3]> = if d == 2 {
+        let (a, b) = (2.0 / 3.0, 1.0 / 6.0);
+        vec![[b, b, 0.0], [a, b, 0.0], [b, a, 0.0]]
+    } else {
+        // Barycentric (a, b, b, b) and its permutations, a = (5 + 3√5)/20, b = (5 − √5)/20.
+        let s5 = 5f64.sqrt();
+        let (a, b) = ((5.0 + 3.0 * s5) / 20.0, (5.0 - s5) / 20.0);
+        vec![[b, b, b], [a, b, b], [b, a, b], [b, b, a]]
+    };
+    let w = if d == 2 { 1.0 / 6.0 } else { 1.0 / 24.0 };
+    let weights = vec![w; points.len()];
+    let grads = points.iter().map(|xi| crate::fem::element::p2_basis(d, xi).1).collect();
+    Rule { weights, grads }
+}
+
+/// The stiffness of a mesh on its free unknowns, applied cell by cell (module docs).
+#[derive(Debug)]
+pub struct CellKernel {
+    mesh: Arc<Mesh>,
+    lame: Lame,
+    /// The free unknowns' full indices `node·d + component`, increasing.
+    dofs: Vec<u32>,
+    /// The frames of the unknowns (None: the world's).
+    frames: Option<Frames>,
+    /// Per cell: whether its map is affine (module docs).
+    affine: Vec<bool>,
+    /// The rule of affine cells and the assembler's rule of the others.
+    affine_rule: Rule,
+    general_rule: Rule,
+    /// Two halves' outputs and the scattered input, full world vectors.
+    work: Mutex<[Vec<f64>; 3]>,
+}
+
+impl CellKernel {
+    /// The kernel of `mesh` (world coordinates) with material `lame` on the free unknowns of
+    /// `dof_of` (full indices), in `frames` (None: the world's).
+    pub fn new(mesh: Arc<Mesh>, lame: Lame, dof_of: &DofMap, frames: Option<Frames>) -> Self {
+        let kind = mesh.kind;
+        let d = mesh.dim;
+        let dofs: Vec<u32> = (0..dof_of.len())
+            .filter(|&g| dof_of.is_free(g))
+            .map(|g| u32::try_from(g).expect("fewer than 2³² unknowns (DofMap)"))
+            .collect();
+        let general = reference_rule(kind);
+        let general_rule = Rule { weights: general.0, grads: general.1 };
+        let (affine_rule, affine) = match kind {
+            Cell::Triangle | Cell::Tet => (general_rule.clone(), vec![true; mesh.n_cells()]),
+            Cell::Triangle6 | Cell::Tet10 => {
+                (affine_p2_rule(d), (0..mesh.n_cells()).map(|c| straight(&mesh, c)).collect())
+            }
+            Cell::Quad | Cell::Hex => (general_rule.clone(), (0..mesh.n_cells()).map(|c| parallel(&mesh, c)).collect()),
+        };
+        let full = mesh.n_nodes() * d;
+        let work = Mutex::new([vec![0.0; full], vec![0.0; full], vec![0.0; full]]);
+        CellKernel { mesh, lame, dofs, frames, affine, affine_rule, general_rule, work }
+    }
+
+    /// `ys = K xs` on full world vectors over the cells `cells`, with the cell kind's sizes.
+    fn product<const D: usize, const K: usize>(&self, cells: std::ops::Range<usize>, xs: &[f64], ys: &mut [f64]) {
+        let mesh = &*self.mesh;
+        let (lambda, mu) = (self.lame.lambda, self.lame.mu);
+        // The rules' ξ-gradients at the kind's sizes (once per product).
+        let sized = |r: &Rule| -> Vec<(f64, [[f64; D]; K])> {
+            let at = |g: &[[f64; 3]; MAX_VERTS]| std::array::from_fn(|a| std::array::from_fn(|l| g[a][l]));
+            r.weights.iter().zip(&r.grads).map(|(&w, g)| (w, at(g))).collect()
+        };
+        let (affine_rule, general_rule) = (sized(&self.affine_rule), sized(&self.general_rule));
+        for c in cells {
+            let v = &mesh.cells[c * K..(c + 1) * K];
+            let mut u = [[0.0; D]; K];
+            for (ua, &node) in u.iter_mut().zip(v) {
+                ua.copy_from_slice(&xs[node * D..node * D + D]);
+            }
+            let mut f = [[0.0; D]; K];
+            let p = |a: usize| &mesh.points[v[a]];
+            if self.affine[c] {
+                let axes = AXES[usize::from(mesh.kind.data().reference == Reference::Q1Tensor)];
+                let mut j = [[0.0; 3]; 3];
+                for (k, row) in j.iter_mut().enumerate().take(D) {
+                    for (l, x) in row.iter_mut().enumerate().take(D) {
+                        *x = p(axes[l])[k] - p(0)[k];
+                    }
+                }
+                let (inv_t, det) = jacobian_inverse_transpose(&j, D);
+                for (w, dphi) in &affine_rule {
+                    point(&u, &mut f, (lambda, mu), w * det.abs(), &inv_t, dphi);
+                }
+            } else {
+                for (w, dphi) in &general_rule {
+                    let mut j = [[0.0; 3]; 3];
+                    for (a, da) in dphi.iter().enumerate() {
+                        for k in 0..D {
+                            for l in 0..D {
+                                j[k][l] += p(a)[k] * da[l];
+                            }
+                        }
+                    }
+                    let (inv_t, det) = jacobian_inverse_transpose(&j, D);
+                    point(&u, &mut f, (lambda, mu), w * det.abs(), &inv_t, dphi);
+                }
+            }
+            for (fa, &node) in f.iter().zip(v) {
+                for (y, x) in ys[node * D..node * D + D].iter_mut().zip(fa) {
+                    *y += x;
+                }
+            }
+        }
+    }
+
+    /// `ys = K xs` on full world vectors: the two halves (module docs), added into `ys`.
+    fn full_product(&self, xs: &[f64], ys: &mut [f64], other: &mut [f64]) {
+        let n_cells = self.mesh.n_cells();
+        let half = n_cells / 2;
+        let run = |cells: std::ops::Range<usize>, out: &mut [f64]| {
+            out.fill(0.0);
+            match self.mesh.kind {
+                Cell::Triangle => self.product::<2, 3>(cells, xs, out),
+                Cell::Quad => self.product::<2, 4>(cells, xs, out),
+                Cell::Triangle6 => self.product::<2, 6>(cells, xs, out),
+                Cell::Tet => self.product::<3, 4>(cells, xs, out),
+                Cell::Hex => self.product::<3, 8>(cells, xs, out),
+                Cell::Tet10 => self.product::<3, 10>(cells, xs, out),
+            }
+        };
+        rayon::join(|| run(0..half, ys), || run(half..n_cells, other));
+        ys.iter_mut().zip(other.iter()).for_each(|(y, o)| *y += o);
+    }
+
+    /// `xs` = the free values `x` on full world vectors (0 where eliminated).
+    fn scatter(&self, x: &[f64], xs: &mut [f64]) {
+        xs.fill(0.0);
+        for (&g, &x) in self.dofs.iter().zip(x) {
+            xs[g as usize] = x;
+        }
+        self.rotate(xs, false);
+    }
+
+    /// `y` = the free entries of `ys` (world) in the frames.
+    fn gather(&self, ys: &mut [f64], y: &mut [f64]) {
+        self.rotate(ys, true);
+        for (&g, y) in self.dofs.iter().zip(y.iter_mut()) {
+            *y = ys[g as usize];
+        }
+    }
+
+    /// Each node's `x ← R x` (frame to world) or, `back`, `x ← Rᵀ x`.
+    fn rotate(&self, xs: &mut [f64], back: bool) {
+        let Some(frames) = &self.frames else { return };
+        let d = self.mesh.dim;
+        for (node, x) in xs.chunks_exact_mut(d).enumerate() {
+            let r = frames.of(node);
+            let old = [x[0], x[1], if d == 3 { x[2] } else { 0.0 }];
+            for (i, xi) in x.iter_mut().enumerate() {
+                *xi = (0..d).map(|k| if back { r[k][i] * old[k] } else { r[i][k] * old[k] }).sum();
+            }
+        }
+    }
+
+    /// `y = |K_c| x` summed over the cells (the entries' absolute values cell by cell, in the
+    /// frames): entry by entry at least `|K| x` for x ≥ 0 (the triangle inequality), so that the
+    /// Gershgorin bound it gives is a bound.
+    fn abs_product(&self, x: &[f64], y: &mut [f64]) {
+        let mesh = &*self.mesh;
+        let d = mesh.dim;
+        let k = mesh.kind.verts();
+        let mut xs = vec![0.0; mesh.n_nodes() * d];
+        for (&g, &x) in self.dofs.iter().zip(x) {
+            xs[g as usize] = x;
+        }
+        let mut ys = vec![0.0; xs.len()];
+        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        for c in 0..mesh.n_cells() {
+            let e = mesh.integrals(c);
+            let v = mesh.cell(c);
+            for a in 0..k {
+                for b in 0..k {
+                    let s = super::columns::stiffness_block(&e, &self.lame, a, b, d);
+                    let (ra, rb) = match &self.frames {
+                        Some(f) => (f.of(v[a]), f.of(v[b])),
+                        None => (&identity, &identity),
+                    };
+                    for i in 0..d {
+                        for j in 0..d {
+                            // (R_aᵀ S R_b)_ij.
+                            let mut sum = 0.0;
+                            for kk in 0..d {
+                                for l in 0..d {
+                                    sum += ra[kk][i] * s[kk][l] * rb[l][j];
+                                }
+                            }
+                            ys[v[a] * d + i] += sum.abs() * xs[v[b] * d + j];
+                        }
+                    }
+                }
+            }
+        }
+        for (&g, y) in self.dofs.iter().zip(y.iter_mut()) {
+            *y = ys[g as usize];
+        }
+    }
+}
+
+/// One quadrature point of a cell (weight w, `g = J⁻ᵀ`, the ξ-gradients `dphi`): the reference
+/// gradient `Ĥ = Σ_b u_b ⊗ ∇_ξ φ_b`, `H = Ĥ J⁻¹` (`H_jk = Σ_l Ĥ_jl g_kl`), σ, and
+/// `f_a += w ∇_ξ φ_a · (σ g)` (the physical gradient is `g ∇_ξ φ_a`).
+#[inline(always)]
+fn point<const D: usize, const K: usize>(
+    u: &[[f64; D]; K],
+    f: &mut [[f64; D]; K],
+    (lambda, mu): (f64, f64),
+    w: f64,
+    g: &[[f64; 3]; 3],
+    dphi: &[[f64; D]; K],
+) {
+    let mut hr = [[0.0; D]; D];
+    for (ub, db) in u.iter().zip(dphi) {
+        for j in 0..D {
+            for l in 0..D {
+                hr[j][l] += ub[j] * db[l];
+            }
+        }
+    }
+    let mut h = [[0.0; D]; D];
+    for j in 0..D {
+        for k in 0..D {
+            h[j][k] = (0..D).map(|l| hr[j][l] * g[k][l]).sum();
+        }
+    }
+    let tr: f64 = (0..D).map(|j| h[j][j]).sum();
+    let mut s = [[0.0; D]; D];
+    for i in 0..D {
+        for k in 0..D {
+            s[i][k] = w * (mu * (h[i][k] + h[k][i]) + if i == k { lambda * tr } else { 0.0 });
+        }
+    }
+    let mut pr = [[0.0; D]; D];
+    for i in 0..D {
+        for l in 0..D {
+            pr[i][l] = (0..D).map(|k| s[i][k] * g[k][l]).sum();
+        }
+    }
+    for (fa, da) in f.iter_mut().zip(dphi) {
+        for i in 0..D {
+            for l in 0..D {
+                fa[i] += da[l] * pr[i][l];
+            }
+        }
+    }
+}
+
+/// The vertices whose differences from vertex 0 are an affine cell's J columns: a simplex's
+/// 1, 2, 3; a Q1 cell's neighbours of vertex 0 along ξ_1, ξ_2, ξ_3 (VTK order).
+const AXES: [[usize; 3]; 2] = [[1, 2, 3], [1, 3, 4]];
+
+/// `64 ε (max |p| + h)` over the points `p` of a cell (module docs), h its largest distance
+/// from its first point.
+fn tolerance(p: &[[f64; 3]]) -> f64 {
+    let norm = |x: [f64; 3]| x.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let size = p.iter().map(|&q| norm(q)).fold(0.0, f64::max);
+    let h = p.iter().map(|q| norm(std::array::from_fn(|k| q[k] - p[0][k]))).fold(0.0, f64::max);
+    64.0 * f64::EPSILON * (size + h)
+}
+
+/// Whether Q1 cell c is a parallelogram or parallelepiped: each vertex a at
+/// `p_0 + J r_a` within [`tolerance`], J's columns from [`AXES`] (its map then affine, J
+/// constant).
+fn parallel(mesh: &Mesh, c: usize) -> bool {
+    let (d, v) = (mesh.dim, mesh.cell(c));
+    let p: Vec<[f64; 3]> = v.iter().map(|&a| mesh.points[a]).collect();
+    let tol = tolerance(&p);
+    let axes = AXES[1];
+    // Corner r_a in VTK order: (0,0,0), (1,0,0), (1,1,0), (0,1,0), then the same at ζ = 1.
+    let corner = |a: usize| {
+        [f64::from(u8::from(a % 4 == 1 || a % 4 == 2)), f64::from(u8::from(a % 4 >= 2)), f64::from(u8::from(a >= 4))]
+    };
+    (0..v.len()).all(|a| {
+        let r = corner(a);
+        let at: [f64; 3] =
+            std::array::from_fn(|k| p[0][k] + (0..d).map(|l| (p[axes[l]][k] - p[0][k]) * r[l]).sum::<f64>());
+        (0..3).map(|k| (p[a][k] - at[k]).powi(2)).sum::<f64>().sqrt() <= tol
+    })
+}
+
+/// Whether P2 cell c is straight: each edge node at its edge's midpoint within
+/// `64 ε (max |p| + h)` (module docs), h the cell's longest edge.
+fn straight(mesh: &Mesh, c: usize) -> bool {
+    let (d, v) = (mesh.dim, mesh.cell(c));
+    let edges: &[[usize; 2]] =
+        if d == 2 { &[[0, 1], [1, 2], [2, 0]] } else { &[[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]] };
+    let p = |a: usize| mesh.points[v[a]];
+    let norm = |x: [f64; 3]| x.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let scale = (0..=d).map(|a| norm(p(a))).fold(0.0, f64::max)
+        + edges.iter().map(|&[a, b]| norm(std::array::from_fn(|k| p(a)[k] - p(b)[k]))).fold(0.0, f64::max);
+    let tol = 64.0 * f64::EPSILON * scale;
+    edges.iter().enumerate().all(|(e, &[a, b])| {
+        let mid: [f64; 3] = std::array::from_fn(|k| 0.5 * (p(a)[k] + p(b)[k]));
+        norm(std::array::from_fn(|k| p(d + 1 + e)[k] - mid[k])) <= tol
+    })
+}
+
+impl Operator for CellKernel {
+    fn n(&self) -> usize {
+        self.dofs.len()
+    }
+
+    fn apply(&self, x: &[f64], y: &mut [f64]) {
+        let mut work = self.work.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let [xs, ys, other] = &mut *work;
+        self.scatter(x, xs);
+        self.full_product(xs, ys, other);
+        self.gather(ys, y);
+    }
+
+    fn quad_form(&self, x: &[f64]) -> f64 {
+        let mut y = vec![0.0; x.len()];
+        self.apply(x, &mut y);
+        x.iter().zip(&y).map(|(a, b)| a * b).sum()
+    }
+
+    fn apply_abs(&self, x: &[f64], y: &mut [f64]) {
+        self.abs_product(x, y);
+    }
+
+    fn streamed_bytes(&self) -> usize {
+        // x read and y written (n each); the three full vectors: scatter writes xs, the cells
+        // read it and write both halves, the sum reads two and writes one, the gather reads one;
+        // the connectivity (8 bytes an index), the points (24 bytes a node), the flags and the
+        // free indices (4 bytes) read once.
+        let mesh = &*self.mesh;
+        let full = mesh.n_nodes() * mesh.dim;
+        8 * (2 * self.dofs.len() + 7 * full)
+            + 8 * mesh.cells.len()
+            + 24 * mesh.n_nodes()
+            + self.affine.len()
+            + 4 * self.dofs.len()
+    }
+
+    fn name(&self) -> &'static str {
+        "the cell-by-cell kernel"
+    }
+
+    fn is_matrix_free(&self) -> bool {
+        true
+    }
+}
