@@ -158,16 +158,9 @@ impl CellKernel {
             let mut f = [[0.0; D]; K];
             let p = |a: usize| &mesh.points[v[a]];
             if self.affine[c] {
-                let axes = AXES[usize::from(mesh.kind.data().reference == Reference::Q1Tensor)];
-                let mut j = [[0.0; 3]; 3];
-                for (k, row) in j.iter_mut().enumerate().take(D) {
-                    for (l, x) in row.iter_mut().enumerate().take(D) {
-                        *x = p(axes[l])[k] - p(0)[k];
-                    }
-                }
-                let (inv_t, det) = jacobian_inverse_transpose(&j, D);
+                let (inv_t, det) = affine_map::<D>(mesh, v, q1);
                 for (w, dphi) in &affine_rule {
-                    point(&u, &mut f, (lambda, mu), w * det.abs(), &inv_t, dphi);
+                    point(&u, &mut f, (lambda, mu), w * det, &inv_t, dphi);
                 }
             } else {
                 for (w, dphi) in &general_rule {
@@ -225,7 +218,6 @@ impl CellKernel {
         let mut u = [[[0.0; LANES]; D]; K];
         let mut g = [[[0.0; LANES]; 3]; 3];
         let mut det = [0.0; LANES];
-        let axes = AXES[usize::from(q1)];
         for s in 0..LANES {
             let v = cell(s);
             for (a, &node) in v.iter().enumerate() {
@@ -233,20 +225,13 @@ impl CellKernel {
                     u[a][j][s] = xs[node * D + j];
                 }
             }
-            let p = |a: usize| &mesh.points[v[a]];
-            let mut j = [[0.0; 3]; 3];
-            for (k, row) in j.iter_mut().enumerate().take(D) {
-                for (l, x) in row.iter_mut().enumerate().take(D) {
-                    *x = p(axes[l])[k] - p(0)[k];
-                }
-            }
-            let (inv_t, d) = jacobian_inverse_transpose(&j, D);
+            let (inv_t, d) = affine_map::<D>(mesh, v, q1);
             for k in 0..3 {
                 for l in 0..3 {
                     g[k][l][s] = inv_t[k][l];
                 }
             }
-            det[s] = d.abs();
+            det[s] = d;
         }
         let mut f = [[[0.0; LANES]; D]; K];
         let (lambda, mu) = (self.lame.lambda, self.lame.mu);
@@ -410,6 +395,22 @@ impl CellKernel {
 
 /// Cells computed at once by [`CellKernel::lanes`] (AVX-512 holds 8 values, AVX2 4).
 const LANES: usize = 4;
+
+/// `J⁻ᵀ` and |det J| of an affine cell with nodes `v` (J's columns from [`AXES`]; `q1`: a Q1
+/// cell).
+#[inline(always)]
+fn affine_map<const D: usize>(mesh: &Mesh, v: &[usize], q1: bool) -> ([[f64; 3]; 3], f64) {
+    let axes = AXES[usize::from(q1)];
+    let p = |a: usize| &mesh.points[v[a]];
+    let mut j = [[0.0; 3]; 3];
+    for (k, row) in j.iter_mut().enumerate().take(D) {
+        for (l, x) in row.iter_mut().enumerate().take(D) {
+            *x = p(axes[l])[k] - p(0)[k];
+        }
+    }
+    let (inv_t, det) = jacobian_inverse_transpose(&j, D);
+    (inv_t, det.abs())
+}
 
 /// One quadrature point of a cell (weight w, `g = J⁻ᵀ`, the ξ-gradients `dphi`): the reference
 /// gradient `Ĥ = Σ_b u_b ⊗ ∇_ξ φ_b`, `H = Ĥ J⁻¹` (`H_jk = Σ_l Ĥ_jl g_kl`), σ, and
