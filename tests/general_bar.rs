@@ -29,6 +29,7 @@ fn every_new_key_is_validated_naming_the_key_and_the_range() {
         ("density = 0", "bar.density", "(0, ∞)"),
         ("density = -2.0", "bar.density", "(0, ∞)"),
         ("density = nan", "bar.density", "(0, ∞)"),
+        ("density = 1e-320", "bar.density", "a normal double"),
         ("modulus = 0.0", "bar.modulus", "(0, ∞)"),
         ("modulus = inf", "bar.modulus", "(0, ∞)"),
         ("gap = -0.1", "bar.gap", "[0, ∞)"),

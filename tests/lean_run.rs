@@ -312,16 +312,19 @@ fn the_cube_run_holds_at_most_250_bytes_per_unknown() {
 
 /// Issue 31's bar for assembled runs, on a mesh file: a tetra10 body (the unit cube's 20³ × 6
 /// Kuhn tetrahedra made quadratic, 206 763 unknowns, written as MSH 2.2 here) dropped onto a
-/// plane with mod3 holds at most 2 kB per unknown at its peak through `massredist run` (the lean
-/// body: lumped mass, the stiffness once in compressed columns then in row-run form). Measured:
-/// 1.7 kB (1698 bytes); the binary of 05d8425 (whole consistent, unit and stiffness matrices from element
+/// plane with mod3 holds at most 2 kB per unknown at its peak through `massredist run` with
+/// `operator = "assembled"` (the lean body: lumped mass, the stiffness once in compressed
+/// columns then in row-run form), and at most [`MATRIX_FREE_20`] with the default operator (the
+/// cell-by-cell kernel). Measured assembled: 1.7 kB (1710 bytes); the binary of 05d8425 (whole consistent, unit and stiffness matrices from element
 /// triplets): 17.8 kB on a 245 000-unknown gmsh mesh of the cube. The same onto a cylinder (a
-/// curved obstacle, each contact node in its own frame): measured 1712 bytes per unknown; and
-/// under the force `-t` (the load keeps its unit mass through the run: the plane's node pairs,
-/// 16 bytes each, and the cylinder's cells' matrices, 8 bytes an entry): 1858 and 1754. Mutations, as run: the body set up whole under central differences
+/// curved obstacle, each contact node in its own frame): measured 1749 bytes per unknown; and
+/// under the force `-t` (the load keeps each cell's unit mass through the run, 8 bytes an
+/// entry): 1914 and 1748. Mutations, as run: the body set up whole under central differences
 /// (`assemble_body(.., false)` in `lean.rs`) -> 3.4 kB, fails; the curved one whole (`explicit`
 /// -> false in `assemble_curved`) -> 18.1 kB, fails; the ramp's unit mass kept as triplets
-/// (`UnitMass::Pairs` from `scalar_unit`, 24 bytes an entry) -> 2076, fails.
+/// ((node, node, value) triplets, 24 bytes an entry) -> 2076, fails; the plane's lean set-up
+/// with the whole weighted and unit masses for the reports and the load (before 2026-12-01)
+/// -> 1210 bytes per unknown matrix-free, fails.
 #[cfg(target_os = "linux")]
 #[test]
 fn a_tetra10_body_run_holds_at_most_2_kb_per_unknown() {
@@ -361,34 +364,58 @@ fn a_tetra10_body_run_holds_at_most_2_kb_per_unknown() {
     let ramped = |text: &str| text.replace("force = [\"0\", \"0\", \"0\"]", "force = [\"0\", \"0\", \"-t\"]");
     let (ramp, cylinder_ramp) = (ramped(&scene), ramped(&cylinder));
     assert!(ramp != scene && cylinder_ramp != cylinder);
-    for (name, text) in [
+    let cases = [
         ("tetra10", &scene),
         ("tetra10-ramp", &ramp),
         ("tetra10-cylinder", &cylinder),
         ("tetra10-cylinder-ramp", &cylinder_ramp),
-    ] {
-        let (peak, summary) = run_peak(dir.path(), name, text);
+    ];
+    for ((name, text), (operator, bar)) in
+        cases.iter().flat_map(|c| [(*c, ("assembled", 2048.0)), (*c, ("auto", MATRIX_FREE_20))])
+    {
+        let text = text.replace(
+            "kind = \"central-difference\"\n",
+            &format!("kind = \"central-difference\"\noperator = \"{operator}\"\n"),
+        );
+        let name = format!("{name}-{operator}");
+        let (peak, summary) = run_peak(dir.path(), &name, &text);
         let unknowns = summary["unknowns"].as_f64().expect("the summary's unknowns");
         assert_eq!(unknowns, 206_763.0);
         assert!(summary["first_impact_time"].is_f64(), "{name}: no impact");
         let per = peak / unknowns;
         eprintln!("{name}: peak {:.1} MiB, {per:.0} bytes per unknown", peak / 1048576.0);
-        assert!(per <= 2048.0, "{name}: {per:.0} bytes per unknown at the peak ({:.1} MiB)", peak / 1048576.0);
+        assert!(
+            per <= bar,
+            "{name}: {per:.0} bytes per unknown at the peak ({:.1} MiB), above {bar}",
+            peak / 1048576.0
+        );
     }
 }
+
+/// The matrix-free tetra10 body's bar at 20³ cells, half the assembled one. Issue 31's 250
+/// bytes per unknown holds for the volume (the mesh, the state, the lumped mass), and the
+/// contact face adds its massless layer (the layer's rows of the stiffness, their factor and the
+/// coupling: 1681 contact nodes of 68 921 here, a share that falls as the cube grows: 366 bytes
+/// per unknown on the plane at 35³); a force that depends on time keeps each cell's unit mass
+/// (800 bytes a tetra10 cell, 186 per unknown); a curved obstacle's set-up still assembles the
+/// whole weighted mass for its momentum rows. Measured: plane 507, under the ramp 713;
+/// cylinder 639, under the ramp 823 (assembled: 1710, 1914, 1749, 1748).
+const MATRIX_FREE_20: f64 = 1024.0;
 
 /// A body against a plane (P2 triangles and tetrahedra, P1 tetrahedra, from the fixtures; tilted
 /// and axis normals) run by central differences takes the lean system too (`solid::lean`: the
 /// lumped diagonal, the row-run stiffness, the system's own stiffness only the massless rows and
 /// columns; no consistent or unit mass, no whole matrix beside the operator), and its 200 steps
-/// through impact follow central differences on the whole system bit for bit, with and without
-/// a body force: the same lumped mass, the same load (the body's from the unit mass), the same
-/// row-run products. A free body's watch takes the free-flight scale (its `S_rr` is singular),
+/// through impact follow central differences on the whole system, with and without a body
+/// force: the same lumped mass and row-run products bit for bit; the load (the body's from each
+/// cell's unit mass) and the reports' lumped masses summed cell by cell, within round-off of the
+/// whole system's sums in the order of its assembled masses ([`LOAD_SUMS`], [`PLANE_STEPS`]).
+/// A free body's watch takes the free-flight scale (its `S_rr` is singular),
 /// a clamped one's `E_F` by conjugate gradients (the factored one's within 1e-8, as for boxes). (Mutation, as run: the lean body's operator
 /// assembled on the world mesh instead of the plane's frame -> u differs at step 1 on the tilted
-/// cases, fails.)
+/// cases, fails; the lean load without cell 0 -> the load 0.50 of its largest entry apart, fails.)
 #[test]
-fn a_body_run_takes_the_lean_system_and_follows_the_whole_one_bit_for_bit() {
+fn a_body_run_takes_the_lean_system_and_follows_the_whole_one() {
     use massredist::problem::LoadEnergy;
     let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes");
     // (mesh, dim, normal, mass, force, clamped)
@@ -429,7 +456,7 @@ fn a_body_run_takes_the_lean_system_and_follows_the_whole_one_bit_for_bit() {
         let whole = common::whole_problem(&s);
         let mut lean = massredist::run::setup(&s).unwrap_or_else(|e| panic!("{what}: {e}"));
         let (w, l): (&SolidSystem, &SolidSystem) = (&whole.system, &lean.problem.system);
-        same_lean_body(&what, w, l, mass == "standard");
+        same_lean_body(&what, w, l, mass == "standard", Some(LOAD_SUMS));
         match (clamped, l.load_energy()) {
             (None, LoadEnergy::FreeFlight) => {}
             (Some(_), LoadEnergy::Known(cg)) => {
@@ -444,13 +471,28 @@ fn a_body_run_takes_the_lean_system_and_follows_the_whole_one_bit_for_bit() {
             }
             (_, other) => panic!("{what}: {other:?}"),
         }
-        same_steps(&what, &whole, &mut lean, &ContactLaw::Exact, 0.05);
+        same_steps(&what, &whole, &mut lean, &ContactLaw::Exact, 0.05, Some(PLANE_STEPS));
     }
 }
 
+/// The lean load against a plane sums the cells' triplets in cell order, the whole system's in
+/// the order of its assembled unit mass (issue 31: no whole mass at set-up): each entry is a sum
+/// of at most 12 cells × 10 nodes = 120 terms here, so the two orders agree within
+/// 2 · 120 ε of the sum of the terms' magnitudes, at most 240 ε of the largest load entry times
+/// the largest ratio of that sum to the entry (≤ 2 for these forces; measured 5.9e-15 = 26 ε).
+const LOAD_SUMS: f64 = 512.0 * f64::EPSILON;
+
+/// The steps' agreement after a load that differs at round-off (and the reports' lumped masses,
+/// summed cell by cell): 200 steps of central differences with mod3/mod1/standard masses
+/// through impact (no contact chatter with the redistributed masses; the standard case has no
+/// load: its states stay bit for bit, its reports within 5.6e-16). Measured at most 2.7e-13 of
+/// each field's scale (the tetra10 sphere); the bound, 1e-11, is far below any printed digit.
+const PLANE_STEPS: f64 = 1e-11;
+
 /// A lean body's system against the whole one's, bit for bit: its mass the lumped diagonal, its
-/// stiffness the whole one's massless rows and columns (none for the standard mass), its load.
-fn same_lean_body(what: &str, w: &SolidSystem, l: &SolidSystem, standard: bool) {
+/// stiffness the whole one's massless rows and columns (none for the standard mass), its load
+/// (within `load` of the largest entry where given).
+fn same_lean_body(what: &str, w: &SolidSystem, l: &SolidSystem, standard: bool, load: Option<f64>) {
     let lumped = w.lumped_mass();
     let diag: Vec<(usize, usize, u64)> = lumped.iter().enumerate().map(|(i, &m)| (i, i, m.to_bits())).collect();
     assert_eq!(common::bits_of(&l.system.mass, |_, _| true), diag, "{what}: the mass is the lumped diagonal");
@@ -459,39 +501,67 @@ fn same_lean_body(what: &str, w: &SolidSystem, l: &SolidSystem, standard: bool) 
     assert_eq!(common::bits_of(&l.system.stiffness, |_, _| true), want, "{what}: the massless rows and columns");
     assert_eq!(want.is_empty(), standard, "{what}");
     let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&l.system.load), bits(&w.system.load), "{what}: the load");
+    match load {
+        None => assert_eq!(bits(&l.system.load), bits(&w.system.load), "{what}: the load"),
+        Some(tol) => {
+            let gap = relative_gap(&l.system.load, &w.system.load);
+            eprintln!("{what}: the load within {gap:.2e} of its largest entry");
+            assert!(gap <= tol, "{what}: the load within {gap:e} of its largest entry, above {tol:e}");
+        }
+    }
+}
+
+/// `max |x − y| / max |y|` (0 where both are 0).
+fn relative_gap(x: &[f64], y: &[f64]) -> f64 {
+    let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let gap = x.iter().zip(y).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    if gap == 0.0 { 0.0 } else { gap / scale }
 }
 
 /// 200 steps of central differences with `law` and `dt` on the whole system (the reference)
 /// and by the lean run's own scheme: u, v, λ, the momentum and the mean displacement bit for
-/// bit at every step, and contact happens (λ < 0 somewhere).
+/// bit at every step (within `tol` of each one's largest entry where given), and contact
+/// happens (λ < 0 somewhere).
 fn same_steps(
     what: &str,
     whole: &massredist::solid::SolidProblem,
     lean: &mut massredist::run::Setup<SolidSystem>,
     law: &ContactLaw,
     dt: f64,
+    tol: Option<f64>,
 ) {
     let (w, l) = (&whole.system, &lean.problem.system);
     let mut reference = CentralDifference::with_operator(&w.system, None, w.lumped_mass(), law, dt, || {
         (whole.u0.clone(), whole.v0.clone())
     })
     .unwrap();
-    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
     let mut touched = false;
+    let mut worst = 0.0f64;
     for _ in 0..200 {
         reference.step().unwrap();
         lean.scheme.step().unwrap();
         let (a, b) = (reference.state(), lean.scheme.state());
-        for (name, x, y) in [("u", a.u, b.u), ("v", a.v, b.v), ("λ", a.lambda, b.lambda)] {
-            let differ = x.iter().zip(y).filter(|(p, q)| p.to_bits() != q.to_bits()).count();
-            assert!(differ == 0, "{what}: {name} bit for bit at step {}: {differ} of {} differ", a.n, x.len());
-        }
         let (pw, mw) = w.moments(a.u, a.v).unwrap();
         let (pl, ml) = l.moments(b.u, b.v).unwrap();
-        assert_eq!(bits(&pw), bits(&pl), "{what}: the momentum at step {}", a.n);
-        assert_eq!(bits(&mw), bits(&ml), "{what}: the mean displacement at step {}", a.n);
+        let fields = [("u", a.u, b.u), ("v", a.v, b.v), ("λ", a.lambda, b.lambda)];
+        let reports = [("the momentum", &pw[..], &pl[..]), ("the mean displacement", &mw[..], &ml[..])];
+        for (name, x, y) in fields.into_iter().chain(reports) {
+            match tol {
+                None => {
+                    let differ = x.iter().zip(y).filter(|(p, q)| p.to_bits() != q.to_bits()).count();
+                    assert!(differ == 0, "{what}: {name} bit for bit at step {}: {differ} of {} differ", a.n, x.len());
+                }
+                Some(tol) => {
+                    let gap = relative_gap(y, x);
+                    worst = worst.max(gap);
+                    assert!(gap <= tol, "{what}: {name} at step {} within {gap:e} of its scale, above {tol:e}", a.n);
+                }
+            }
+        }
         touched |= b.lambda.iter().any(|&x| x < 0.0);
+    }
+    if tol.is_some() {
+        eprintln!("{what}: 200 steps within {worst:.2e} of each field's scale");
     }
     assert!(touched, "{what}: contact happens");
 }
@@ -549,13 +619,13 @@ fn a_body_against_a_curved_obstacle_runs_lean_and_follows_the_whole_one_bit_for_
         let whole = common::whole_problem(&s);
         let mut lean = massredist::run::setup(&s).unwrap_or_else(|e| panic!("{what}: {e}"));
         let l: &SolidSystem = &lean.problem.system;
-        same_lean_body(&what, &whole.system, l, text.contains("\"standard\""));
+        same_lean_body(&what, &whole.system, l, text.contains("\"standard\""), None);
         let clamped = text.contains("clamped");
         match l.load_energy() {
             LoadEnergy::FreeFlight => assert!(!clamped, "{what}"),
             LoadEnergy::Known(_) => assert!(clamped, "{what}"),
             other => panic!("{what}: {other:?}"),
         }
-        same_steps(&what, &whole, &mut lean, &s.contact, dt);
+        same_steps(&what, &whole, &mut lean, &s.contact, dt, None);
     }
 }

@@ -442,6 +442,9 @@ fn solid_keys_are_validated_with_their_ranges() {
     assert!(err("lame_lambda = -1").contains("solid.lame_lambda"));
     assert!(err("lame_mu = 0").contains("solid.lame_mu"));
     assert!(err("density = -2").contains("solid.density"));
+    // A subnormal density made masses of 0 and ran (kinetic energy 0 throughout): refused.
+    let e = err("density = 1e-320");
+    assert!(e.contains("solid.density") && e.contains("a normal double"), "{e}");
     assert!(err("gap = -0.1").contains("solid.gap"));
     assert!(err("lateral = \"glued\"").contains("solid.lateral"));
     assert!(err("nx = 1").contains("solid.nx"));

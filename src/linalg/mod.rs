@@ -292,8 +292,14 @@ impl SymMatrix for SpMat {
         }
     }
 
+    /// A positive diagonal block (a lean system's lumped mass) is divided through, with no
+    /// factor and its work space (issue 31's peak memory); any other is factored.
     fn solve_principal(&self, keep: &[usize], b: &mut [f64], matrix: &'static str) -> Result<(), LinalgError> {
         let sub = sparse::principal(self, keep, matrix)?;
+        if let Some(diag) = sparse::positive_diagonal(&sub) {
+            b.iter_mut().zip(diag).for_each(|(x, d)| *x /= d);
+            return Ok(());
+        }
         SparseLlt::new(&sub, matrix)?.solve_in_place(b);
         Ok(())
     }

@@ -209,6 +209,14 @@ pub fn principal(a: &SpMat, keep: &[usize], _matrix: &'static str) -> Result<SpM
     Ok(from_columns(m, col_ptr, row_idx, val))
 }
 
+/// The diagonal of `a` when it has no other entry and every diagonal entry is positive and
+/// finite (a lumped mass); None otherwise.
+pub fn positive_diagonal(a: &SpMat) -> Option<&[f64]> {
+    let (ptr, idx) = (a.symbolic().col_ptr(), a.symbolic().row_idx());
+    let diagonal = (0..a.ncols()).all(|j| ptr[j + 1] - ptr[j] == 1 && idx[ptr[j]] == j);
+    (diagonal && a.val().iter().all(|&d| d > 0.0 && d.is_finite())).then(|| a.val())
+}
+
 /// Entry (i, j), 0 outside the pattern.
 pub fn get(a: &SpMat, i: usize, j: usize) -> f64 {
     let (ptr, idx) = (a.symbolic().col_ptr(), a.symbolic().row_idx());

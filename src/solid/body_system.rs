@@ -35,34 +35,69 @@ use std::sync::Arc;
 
 /// The scalar unit mass `∫ φ_a φ_b` a body's load is taken with ([`body_load`]).
 pub(super) enum UnitMass {
-    /// Entries (node a, node b, ∫ φ_a φ_b), summed in their order (a plane's, from the
-    /// assembled unit mass); node numbers in 32 bits, 16 bytes an entry (a mesh of 2³² nodes
-    /// is far beyond the memory validation admits).
+    /// Entries (node a, node b, ∫ φ_a φ_b), summed in their order (the implicit schemes'
+    /// system against a plane, from its assembled unit mass); node numbers in 32 bits, 16 bytes
+    /// an entry (a mesh of 2³² nodes is far beyond the memory validation admits).
     Pairs(Vec<(u32, u32, f64)>),
     /// Each cell's k × k element matrix `∫_c φ_a φ_b`, row by row, cells in the mesh's order:
-    /// the sums of the cells' triplets in their order (cell, a, b), at 8 bytes an entry instead
-    /// of 24 (a curved obstacle's and several bodies' load, kept through the run when the force
-    /// depends on time: issue 31's peak memory).
-    Cells(Arc<Mesh>, Vec<f64>),
+    /// the sums of the cells' triplets in their order (cell, a, b). Computed from the mesh
+    /// where it is read (`stored` None: a force constant in time reads it once, at set-up, and
+    /// nothing is kept: issue 31's peak memory), or stored, 8 bytes an entry (a force that
+    /// depends on time reads it at every step: [`body_load`] stores it then). Either gives the
+    /// same bits. A curved obstacle's, several bodies' and central differences' lean load.
+    Cells { mesh: Arc<Mesh>, stored: Option<Vec<f64>> },
 }
 
 impl UnitMass {
+    /// The unit mass of `mesh`'s cells, computed where it is read.
+    pub(super) fn of(mesh: &Arc<Mesh>) -> Self {
+        UnitMass::Cells { mesh: Arc::clone(mesh), stored: None }
+    }
+
     /// Calls `f(a, b, ∫ φ_a φ_b)` for every entry, in the order of the sums.
     fn for_each(&self, mut f: impl FnMut(usize, usize, f64)) {
-        match self {
-            UnitMass::Pairs(p) => p.iter().for_each(|&(a, b, m)| f(a as usize, b as usize, m)),
-            UnitMass::Cells(mesh, m) => {
-                let k = mesh.kind.verts();
-                for (c, block) in m.chunks_exact(k * k).enumerate() {
-                    let v = mesh.cell(c);
-                    for (a, row) in block.chunks_exact(k).enumerate() {
-                        for (b, &x) in row.iter().enumerate() {
-                            f(v[a], v[b], x);
-                        }
-                    }
+        let (mesh, stored) = match self {
+            UnitMass::Pairs(p) => return p.iter().for_each(|&(a, b, m)| f(a as usize, b as usize, m)),
+            UnitMass::Cells { mesh, stored } => (mesh, stored),
+        };
+        let k = mesh.kind.verts();
+        let mut emit = |c: usize, block: &[f64]| {
+            let v = mesh.cell(c);
+            for (a, row) in block.chunks_exact(k).enumerate() {
+                for (&vb, &m) in v.iter().zip(row) {
+                    f(v[a], vb, m);
+                }
+            }
+        };
+        match stored {
+            Some(m) => m.chunks_exact(k * k).enumerate().for_each(|(c, block)| emit(c, block)),
+            None => {
+                let mut block = Vec::with_capacity(k * k);
+                for c in 0..mesh.n_cells() {
+                    block.clear();
+                    cell_unit_mass(mesh, c, &mut block);
+                    emit(c, &block);
                 }
             }
         }
+    }
+
+    /// The cells' matrices computed once and kept (pairs as they are).
+    fn stored(self) -> Self {
+        let UnitMass::Cells { mesh, stored: None } = self else { return self };
+        let k = mesh.kind.verts();
+        let mut unit = Vec::with_capacity(mesh.n_cells() * k * k);
+        (0..mesh.n_cells()).for_each(|c| cell_unit_mass(&mesh, c, &mut unit));
+        UnitMass::Cells { mesh, stored: Some(unit) }
+    }
+}
+
+/// Appends cell c's `∫_c φ_a φ_b`, row by row, to `out`.
+fn cell_unit_mass(mesh: &Mesh, c: usize, out: &mut Vec<f64>) {
+    let k = mesh.kind.verts();
+    let e = mesh.integrals(c);
+    for row in &e.mass[..k] {
+        out.extend_from_slice(&row[..k]);
     }
 }
 
@@ -138,6 +173,7 @@ pub(super) fn body_load(
     coupling: super::coupling::Coupling,
 ) -> (Vec<f64>, Option<Forcing>) {
     let transient = force.iter().flat_map(|f| &f.1).any(|e| e.depends_on("t"));
+    let unit = if transient { unit.stored() } else { unit };
     let load =
         BodyLoad { unit, dof_of: free.dof_of.clone(), frames, force, points: mesh.points.clone(), dim: mesh.dim };
     let mut f0 = vec![0.0; free.dofs.len()];
@@ -152,21 +188,14 @@ pub(super) fn body_load(
     (f0, forcing)
 }
 
-/// What a body's reports and load take from its whole weighted mass `mass_all` and unit mass
-/// `unit_all` (full indices, in the plane's frame `rot`): the lumped masses of the momentum and
-/// mean displacement (module docs) and the load F(0) with its forcing.
-fn body_frame(
-    mesh: &Mesh,
-    free: &Free,
-    rot: [[f64; 3]; 3],
-    body: &BodySpec,
-    contact: &BodyContact,
-    mass_all: &sparse::SpMat,
-    unit_all: &sparse::SpMat,
-) -> (BodyFrame, Vec<f64>, Option<Forcing>) {
-    let d = mesh.dim;
-    let (mut lumped, mut lumped_unit) = (vec![0.0; mesh.n_nodes()], vec![0.0; mesh.n_nodes()]);
-    let mut lumped_tangential = vec![0.0; mesh.n_nodes()];
+/// The reports' lumped masses per node (component 0's weighted, the tangential components',
+/// the unweighted ρ = 1 one: module docs) and the scalar unit mass of the load, as row sums and
+/// entries of a body's whole weighted mass `mass_all` and unit mass `unit_all` (full indices, in
+/// the plane's frame): the implicit schemes' system, which holds both.
+fn whole_lumps(mass_all: &sparse::SpMat, unit_all: &sparse::SpMat, d: usize) -> ([Vec<f64>; 3], UnitMass) {
+    let n_nodes = mass_all.ncols() / d;
+    let (mut lumped, mut lumped_unit) = (vec![0.0; n_nodes], vec![0.0; n_nodes]);
+    let mut lumped_tangential = vec![0.0; n_nodes];
     for (i, j, v) in sparse::triplets(mass_all) {
         if i % d == 0 && j % d == 0 {
             lumped[j / d] += v;
@@ -183,9 +212,22 @@ fn body_frame(
     for &(_, b, v) in &scalar_unit {
         lumped_unit[b as usize] += v;
     }
+    ([lumped, lumped_tangential, lumped_unit], UnitMass::Pairs(scalar_unit))
+}
+
+/// A body's frame against a plane (rotation `rot`) from its reports' lumped masses `lumps`
+/// ([`whole_lumps`], or cell by cell for central differences' lean system), with the load F(0)
+/// and its forcing from the scalar unit mass `unit`.
+fn body_frame(
+    mesh: &Mesh,
+    free: &Free,
+    rot: [[f64; 3]; 3],
+    (body, contact): (&BodySpec, &BodyContact),
+    [lumped, lumped_tangential, lumped_unit]: [Vec<f64>; 3],
+    unit: UnitMass,
+) -> (BodyFrame, Vec<f64>, Option<Forcing>) {
     let forces = vec![(0, body.force.clone())];
-    let (f0, forcing) =
-        body_load(mesh, free, Frames::Global(rot), forces, UnitMass::Pairs(scalar_unit), Default::default());
+    let (f0, forcing) = body_load(mesh, free, Frames::Global(rot), forces, unit, Default::default());
     let contact_area = contact.areas.iter().sum();
     let volume = lumped_unit.iter().sum();
     let frame = BodyFrame {
@@ -224,35 +266,41 @@ impl SolidSystem {
         for p in frame_mesh.points.iter_mut() {
             *p = to_frame(&rot, *p);
         }
-        // Straight into compressed columns over all full indices (`super::columns`: the
-        // triplet assembly's matrices bit for bit, without its element triplets, about 22 kB a
-        // tetra10 cell per matrix).
-        let all = DofMap::identity(mesh.n_nodes() * d);
-        let mass_all = columns::mass(&frame_mesh, &weights, directions, lame.density, &all, all.len());
-        let ones = vec![1.0; mesh.n_cells()];
-        let unit_all = columns::mass(&frame_mesh, &ones, ContactDirections::All, 1.0, &all, all.len());
-        drop(ones);
         let free = Free::new(&mesh, |g| contact.clamped[g / d]);
-        let (frame, f0, forcing) = body_frame(&mesh, &free, rot, body, contact, &mass_all, &unit_all);
-        let contact_area = frame.contact_area;
         let Some(choice) = explicit else {
+            // Straight into compressed columns over all full indices (`super::columns`: the
+            // triplet assembly's matrices bit for bit, without its element triplets, about 22 kB
+            // a tetra10 cell per matrix).
+            let all = DofMap::identity(mesh.n_nodes() * d);
+            let mass_all = columns::mass(&frame_mesh, &weights, directions, lame.density, &all, all.len());
+            let ones = vec![1.0; mesh.n_cells()];
+            let unit_all = columns::mass(&frame_mesh, &ones, ContactDirections::All, 1.0, &all, all.len());
+            drop(ones);
+            let (lumps, unit) = whole_lumps(&mass_all, &unit_all, d);
+            let (frame, f0, forcing) = body_frame(&mesh, &free, rot, (body, contact), lumps, unit);
+            let contact_area = frame.contact_area;
             let stiff_all = columns::stiffness(&frame_mesh, &lame, &all, all.len());
             drop((frame_mesh, all));
             let matrices = Matrices::All { mass: mass_all, stiffness: stiff_all, unit: unit_all };
             let parts = Parts { matrices, load: f0, forcing, frame: Some(frame), contact_area };
             return Self::on_free(mesh, (weights, directions), lame, super::Lateral::Free, free, parts, contact);
         };
-        // The lean system: the whole masses gave their row sums and go before the stiffness is
-        // assembled (the run's peak is then the stiffness's).
-        drop((mass_all, unit_all, all));
+        // The lean system holds no whole mass (issue 31's peak memory): the reports' lumped
+        // masses summed cell by cell and the load from each cell's unit mass (computed where it
+        // is read), as against a curved obstacle. These are the whole system's sums in another
+        // order: equal to round-off, not bit for bit (`tests/lean_run.rs`).
+        let lumps = super::lumped::frame_lumps(&mesh, &weights, directions, lame.density);
+        let (frame, f0, forcing) = body_frame(&mesh, &free, rot, (body, contact), lumps, UnitMass::of(&mesh));
+        let contact_area = frame.contact_area;
         let n = free.dofs.len();
         let lumped = super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs);
         let massless: Vec<bool> = lumped.iter().map(|&m| m <= 0.0).collect();
         let stiffness = columns::stiffness_touching(&frame_mesh, &lame, &free.dof_of, n, &massless);
         drop(massless);
-        let operator = super::lean::body_operator(choice, (&mesh, lame), &free.dof_of, Frames::Global(rot), || {
-            columns::stiffness(&frame_mesh, &lame, &free.dof_of, n)
-        })?;
+        let operator =
+            super::lean::cell_operator(choice, (&mesh, lame), &free.dof_of, Some(Frames::Global(rot)), || {
+                columns::stiffness(&frame_mesh, &lame, &free.dof_of, n)
+            })?;
         drop(frame_mesh);
         let mass = super::lean::diagonal(&lumped)?;
         drop(lumped);

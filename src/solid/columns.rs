@@ -132,13 +132,25 @@ pub fn stiffness(mesh: &Mesh, lame: &Lame, dof_of: &DofMap, n: usize) -> SpMat {
 
 /// The entries of [`stiffness`] in the rows and columns of the unknowns `keep` marks, bit for
 /// bit, the others absent: what a massless layer's quasi-static rows read (`K_CC`, `K_CI`)
-/// where the product is matrix-free. Without a marked unknown, an empty matrix (no pattern
-/// built).
+/// where the product is matrix-free ([`touching`]).
 pub fn stiffness_touching(mesh: &Mesh, lame: &Lame, dof_of: &DofMap, n: usize, keep: &[bool]) -> SpMat {
+    touching(mesh, dof_of, n, keep, |_, e, a, b| stiffness_block(e, lame, a, b, mesh.dim))
+}
+
+/// The entries of the matrix of the cells' `block`s in the rows and columns of the unknowns
+/// `keep` marks (every component pair of two nodes: [`assemble_on`]), the others absent.
+/// Without a marked unknown, an empty matrix (no pattern built).
+pub(super) fn touching(
+    mesh: &Mesh,
+    dof_of: &DofMap,
+    n: usize,
+    keep: &[bool],
+    block: impl Fn(usize, &crate::fem::element::CellIntegrals, usize, usize) -> [[f64; 3]; 3],
+) -> SpMat {
     if !keep.iter().any(|&k| k) {
         return sparse::from_csc(n, vec![0; n + 1], Vec::new(), Vec::new());
     }
-    assemble_on(mesh, dof_of, n, |_, _| true, Some(keep), |_, e, a, b| stiffness_block(e, lame, a, b, mesh.dim))
+    assemble_on(mesh, dof_of, n, |_, _| true, Some(keep), block)
 }
 
 /// With `keep`, whether each cell holds a node with a marked unknown: a kept entry's row or

@@ -115,7 +115,7 @@ impl SolidSystem {
     /// order: bit for bit), and of them only what the run reads, each dropped before the next is
     /// made: the weighted mass `M'` for the momentum rows `L_b`; the stiffness as the row-run
     /// operator and its massless rows and columns; then the load from each cell's unit mass
-    /// ([`UnitMass::Cells`], kept through the run when the force depends on time). The
+    /// ([`UnitMass`], kept through the run when the force depends on time). The
     /// lumped mass is the diagonal (frame-free: [`super::lumped`]). No element triplets and no
     /// unit mass `M¹'` (a body has no L² error).
     fn curved_lean(
@@ -140,7 +140,8 @@ impl SolidSystem {
             });
             momentum_rows(&mass_all, &frames, d)
         };
-        let [lumped, lumped_tangential, lumped_unit] = frame_lumps(&mesh, &weights, directions, lame.density);
+        let [lumped, lumped_tangential, lumped_unit] =
+            super::lumped::frame_lumps(&mesh, &weights, directions, lame.density);
         let free = Free::new(&mesh, |g| contact.clamped[g / d]);
         let n = free.dofs.len();
         let lumped_free = super::lumped::lumped_on(&mesh, &weights, directions, lame.density, &free.dofs);
@@ -149,16 +150,15 @@ impl SolidSystem {
             let v = mesh.cell(c);
             stiffness_in_frames(super::columns::stiffness_block(e, &lame, a, b, d), &frames[v[a]], &frames[v[b]], d)
         };
-        let stiffness = if massless.iter().any(|&m| m) {
-            assemble_on(&mesh, &free.dof_of, n, |_, _| true, Some(&massless), block)
-        } else {
-            sparse::from_csc(n, vec![0; n + 1], Vec::new(), Vec::new())
-        };
+        let stiffness = super::columns::touching(&mesh, &free.dof_of, n, &massless, block);
         drop(massless);
-        let operator =
-            super::lean::body_operator(choice, (&mesh, lame), &free.dof_of, Frames::Nodes(frames.clone()), || {
-                assemble_on(&mesh, &free.dof_of, n, |_, _| true, None, block)
-            })?;
+        let operator = super::lean::cell_operator(
+            choice,
+            (&mesh, lame),
+            &free.dof_of,
+            Some(Frames::Nodes(frames.clone())),
+            || assemble_on(&mesh, &free.dof_of, n, |_, _| true, None, block),
+        )?;
         // The load after the stiffness: a force that depends on time keeps its unit mass through
         // the run, and it is then not on top of the stiffness's assembly (the set-up's peak).
         let forces = vec![(0, body.force.clone())];
@@ -167,7 +167,7 @@ impl SolidSystem {
             &free,
             Frames::Nodes(frames.clone()),
             forces,
-            scalar_unit(&mesh),
+            UnitMass::of(&mesh),
             Default::default(),
         );
         let mass = super::lean::diagonal(&lumped_free)?;
@@ -295,8 +295,8 @@ pub(super) fn frame_matrices(
     let unit_all = sparse::from_triplets(n, &tu, "mass")?;
     drop((tm, ts, tu));
     let momentum = momentum_rows(&mass_all, frames, d);
-    let [lumped, lumped_tangential, lumped_unit] = frame_lumps(mesh, weights, directions, lame.density);
-    let scalar_unit = scalar_unit(mesh);
+    let [lumped, lumped_tangential, lumped_unit] = super::lumped::frame_lumps(mesh, weights, directions, lame.density);
+    let scalar_unit = UnitMass::of(mesh);
     Ok(FrameMatrices { mass_all, stiff_all, unit_all, momentum, lumped, lumped_tangential, lumped_unit, scalar_unit })
 }
 
@@ -311,39 +311,4 @@ fn momentum_rows(mass_all: &sparse::SpMat, frames: &[[[f64; 3]; 3]], d: usize) -
         }
     }
     momentum
-}
-
-/// The reports' lumped masses per node: `Σ_c ρ w_c Σ_a ∫_c φ_a φ_b` (component 0's weight),
-/// the tangential components' (`w^(1)`) and the unweighted, ρ = 1 one, cell by cell.
-fn frame_lumps(mesh: &Mesh, weights: &[f64], directions: ContactDirections, density: f64) -> [Vec<f64>; 3] {
-    let n_nodes = mesh.n_nodes();
-    let (mut lumped, mut lumped_tangential, mut lumped_unit) =
-        (vec![0.0; n_nodes], vec![0.0; n_nodes], vec![0.0; n_nodes]);
-    for (c, &w) in weights.iter().enumerate() {
-        let e = mesh.integrals(c);
-        let v = mesh.cell(c);
-        for a in 0..v.len() {
-            for (b, &vb) in v.iter().enumerate() {
-                let m = e.mass[a][b];
-                lumped[vb] += density * w * m;
-                lumped_tangential[vb] += density * directions.weight(1, w) * m;
-                lumped_unit[vb] += m;
-            }
-        }
-    }
-    [lumped, lumped_tangential, lumped_unit]
-}
-
-/// The scalar unit mass `∫_c φ_a φ_b` of every cell, in cell order ([`UnitMass::Cells`]): the
-/// load's ([`super::body_system::body_load`]).
-fn scalar_unit(mesh: &Arc<Mesh>) -> UnitMass {
-    let k = mesh.kind.verts();
-    let mut unit = Vec::with_capacity(mesh.n_cells() * k * k);
-    for c in 0..mesh.n_cells() {
-        let e = mesh.integrals(c);
-        for row in &e.mass[..k] {
-            unit.extend_from_slice(&row[..k]);
-        }
-    }
-    UnitMass::Cells(Arc::clone(mesh), unit)
 }

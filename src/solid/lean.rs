@@ -63,19 +63,20 @@ pub(super) fn assembled(k: SpMat) -> Result<LeanStiffness, SolidAssemblyError> {
     Ok(LeanStiffness { operator: Arc::new(runs), unit_mass: None, load_energy: OnceLock::new(), singular: false })
 }
 
-/// A lean body's stiffness operator as `choice` says: the cell-by-cell kernel on the world mesh
-/// in the body's `frames` ([`CellKernel`]) for `auto` and `matrix-free`, the matrix `assemble`
-/// makes (in the frames, compressed columns) in row-run form for `assembled`.
-pub(super) fn body_operator(
+/// A lean stiffness operator without a stencil as `choice` says: the cell-by-cell kernel on
+/// the world mesh ([`CellKernel`]; a body's in its `frames`, a box's in none) for `auto` and
+/// `matrix-free`, the matrix `assemble` makes (in the frames, compressed columns) in row-run
+/// form for `assembled`.
+pub(super) fn cell_operator(
     choice: StiffnessOperator,
     (mesh, lame): (&Arc<Mesh>, Lame),
     dof_of: &DofMap,
-    frames: Frames,
+    frames: Option<Frames>,
     assemble: impl FnOnce() -> SpMat,
 ) -> Result<LeanStiffness, SolidAssemblyError> {
     match choice {
         StiffnessOperator::Auto | StiffnessOperator::MatrixFree => Ok(LeanStiffness {
-            operator: Arc::new(CellKernel::new(Arc::clone(mesh), lame, dof_of, Some(frames))),
+            operator: Arc::new(CellKernel::new(Arc::clone(mesh), lame, dof_of, frames)),
             unit_mass: None,
             load_energy: OnceLock::new(),
             singular: false,
@@ -129,13 +130,9 @@ impl SolidSystem {
                 load_energy: OnceLock::new(),
                 singular: false,
             },
-            None if choice != StiffnessOperator::Assembled => LeanStiffness {
-                operator: Arc::new(CellKernel::new(Arc::clone(&mesh), lame, &free.dof_of, None)),
-                unit_mass: None,
-                load_energy: OnceLock::new(),
-                singular: false,
-            },
-            None => assembled(super::columns::stiffness(&mesh, &lame, &free.dof_of, n))?,
+            None => cell_operator(choice, (&mesh, lame), &free.dof_of, None, || {
+                super::columns::stiffness(&mesh, &lame, &free.dof_of, n)
+            })?,
         };
         let stiffness = super::columns::stiffness_touching(&mesh, &lame, &free.dof_of, n, &massless);
         let load = box_load(&mesh, &weights, directions, force, &free.dofs);

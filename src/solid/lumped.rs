@@ -68,6 +68,27 @@ pub fn lumped_on(
         .collect()
 }
 
+/// The reports' lumped masses per node: `Σ_c ρ w_c Σ_a ∫_c φ_a φ_b` (component 0's weight),
+/// the tangential components' (`w^(1)`) and the unweighted, ρ = 1 one, cell by cell.
+pub(super) fn frame_lumps(mesh: &Mesh, weights: &[f64], directions: ContactDirections, density: f64) -> [Vec<f64>; 3] {
+    let n_nodes = mesh.n_nodes();
+    let (mut lumped, mut lumped_tangential, mut lumped_unit) =
+        (vec![0.0; n_nodes], vec![0.0; n_nodes], vec![0.0; n_nodes]);
+    for (c, &w) in weights.iter().enumerate() {
+        let e = mesh.integrals(c);
+        let v = mesh.cell(c);
+        for a in 0..v.len() {
+            for (b, &vb) in v.iter().enumerate() {
+                let m = e.mass[a][b];
+                lumped[vb] += density * w * m;
+                lumped_tangential[vb] += density * directions.weight(1, w) * m;
+                lumped_unit[vb] += m;
+            }
+        }
+    }
+    [lumped, lumped_tangential, lumped_unit]
+}
+
 impl SolidSystem {
     /// The lumped mass `M_L` on the free unknowns ([`lumped_on`]; a lean system's is its mass
     /// matrix's diagonal, [`SolidSystem::assemble_explicit`]).

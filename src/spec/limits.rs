@@ -76,6 +76,17 @@ pub(crate) fn finite_in(key: &'static str, v: f64, ok: bool, range: &'static str
     if v.is_finite() && ok { Ok(v) } else { Err(SceneError::Range { key, value: short(v), range }) }
 }
 
+/// A material constant in (0, ∞) as a normal double: a subnormal one (below
+/// `f64::MIN_POSITIVE`, 2.2e-308) has lost digits, and the masses or stiffnesses made of it
+/// underflow to 0 (a density of 1e-320 ran with the kinetic energy 0 throughout).
+pub(crate) fn positive_normal(key: &'static str, v: f64) -> Result<f64, SceneError> {
+    finite_in(key, v, v >= f64::MIN_POSITIVE, POSITIVE_NORMAL)
+}
+
+/// The range of [`positive_normal`].
+pub(crate) const POSITIVE_NORMAL: &str =
+    "(0, ∞), a normal double (≥ 2.2250738585072014e-308; a subnormal one has lost digits)";
+
 /// A length key in [`LENGTH_RANGE`].
 pub(crate) fn length_in(key: &'static str, v: f64) -> Result<f64, SceneError> {
     finite_in(key, v, (MIN_LENGTH..=MAX_LENGTH).contains(&v), LENGTH_RANGE)

@@ -110,10 +110,7 @@ pub(crate) fn parse_medium(
     far_end: Option<&str>,
     gap: Option<Number>,
 ) -> Result<(Material, FarEnd, f64), SceneError> {
-    let positive = |key, v: Option<Number>| {
-        let v = finite_in(key, v.map_or(1.0, Number::get), true, "(0, ∞)")?;
-        finite_in(key, v, v > 0.0, "(0, ∞)")
-    };
+    let positive = |key, v: Option<Number>| super::limits::positive_normal(key, v.map_or(1.0, Number::get));
     let (density, modulus) = (positive(keys.density, density)?, positive(keys.modulus, modulus)?);
     let far_end = match far_end.unwrap_or("clamped") {
         "clamped" => FarEnd::Clamped,

@@ -166,10 +166,9 @@ fn dim_of(t: &RawSolid) -> Result<usize, SceneError> {
     Ok(dim)
 }
 
-/// A number key in (0, ∞).
+/// A material constant in (0, ∞), a normal double.
 fn positive(key: &'static str, v: Option<Number>, default: f64) -> Result<f64, SceneError> {
-    let v = v.map_or(default, Number::get);
-    finite_in(key, v, v > 0.0, "(0, ∞)")
+    crate::spec::limits::positive_normal(key, v.map_or(default, Number::get))
 }
 
 /// A number key in [0, ∞).
