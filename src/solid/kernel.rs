@@ -361,29 +361,13 @@ impl CellKernel {
             xs[g as usize] = x;
         }
         let mut ys = vec![0.0; xs.len()];
-        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let mut kc = vec![0.0; k * d * k * d];
         for c in 0..mesh.n_cells() {
-            let e = mesh.integrals(c);
             let v = mesh.cell(c);
-            for a in 0..k {
-                for b in 0..k {
-                    let s = super::columns::stiffness_block(&e, &self.lame, a, b, d);
-                    let (ra, rb) = match &self.frames {
-                        Some(f) => (f.of(v[a]), f.of(v[b])),
-                        None => (&identity, &identity),
-                    };
-                    for i in 0..d {
-                        for j in 0..d {
-                            // (R_aᵀ S R_b)_ij.
-                            let mut sum = 0.0;
-                            for kk in 0..d {
-                                for l in 0..d {
-                                    sum += ra[kk][i] * s[kk][l] * rb[l][j];
-                                }
-                            }
-                            ys[v[a] * d + i] += sum.abs() * xs[v[b] * d + j];
-                        }
-                    }
+            self.cell_matrix(c, &mut kc);
+            for (r, row) in kc.chunks_exact(k * d).enumerate() {
+                for (col, s) in row.iter().enumerate() {
+                    ys[v[r / d] * d + r % d] += s.abs() * xs[v[col / d] * d + col % d];
                 }
             }
         }
@@ -391,7 +375,119 @@ impl CellKernel {
             *y = ys[g as usize];
         }
     }
+
+    /// Cell c's stiffness in the frames, `(R_aᵀ S_ab R_b)_ij` at row `a d + i`, column `b d + j`
+    /// of `kc` (k d × k d, row-major), from the assembler's blocks.
+    fn cell_matrix(&self, c: usize, kc: &mut [f64]) {
+        let mesh = &*self.mesh;
+        let (d, k) = (mesh.dim, mesh.kind.verts());
+        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let e = mesh.integrals(c);
+        let v = mesh.cell(c);
+        for a in 0..k {
+            for b in 0..k {
+                let s = super::columns::stiffness_block(&e, &self.lame, a, b, d);
+                let (ra, rb) = match &self.frames {
+                    Some(f) => (f.of(v[a]), f.of(v[b])),
+                    None => (&identity, &identity),
+                };
+                for i in 0..d {
+                    for j in 0..d {
+                        let mut sum = 0.0;
+                        for kk in 0..d {
+                            for l in 0..d {
+                                sum += ra[kk][i] * s[kk][l] * rb[l][j];
+                            }
+                        }
+                        kc[(a * d + i) * k * d + b * d + j] = sum;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The element eigenvalue bound ([`Operator::element_bound`]; the inequality as for the
+    /// box's stencil, [`super::stencil::BoxStencil`]): with each unknown's lumped mass shared
+    /// equally among the cells at its node (`D_c`, 0 where eliminated or massless),
+    /// `λ_max(M_L,II⁻¹ K_II) ≤ max_c λ_max(A_c)`, `A_c = D_c^{−½} K_c D_c^{−½}` on the cell's
+    /// unknowns with a positive share (Irons 1970; Hughes, *The Finite Element Method*, §9.3),
+    /// `K_c` in the frames. Each share is rounded down to 31 bits of mantissa (a smaller mass
+    /// only raises the bound). Cells are grouped by kind: the same rounded shares, and their
+    /// points' differences from their first one (and their frames) the same to 31 bits. The
+    /// first cell of a kind gets its eigenvalue from faer's symmetric solver (raised by
+    /// `64 k d ε` relative for its error) and keeps `A_c`; every other cell of the kind is
+    /// bounded by Weyl's inequality, `λ_max(A_c) ≤ λ_max(A_first) + ‖A_c − A_first‖_F` (its
+    /// matrix made, not its eigenvalues: a structured mesh's cells differ from their kind's first
+    /// at round-off). At most [`KINDS`] kinds are kept; a cell of another kind is solved alone.
+    fn bound(&self, lumped: &[f64]) -> f64 {
+        let mesh = &*self.mesh;
+        let (d, k) = (mesh.dim, mesh.kind.verts());
+        let kd = k * d;
+        let mut mass = vec![0.0; mesh.n_nodes() * d];
+        for (&g, &m) in self.dofs.iter().zip(lumped) {
+            mass[g as usize] = m;
+        }
+        let mut cells_at = vec![0u32; mesh.n_nodes()];
+        mesh.cells.iter().for_each(|&v| cells_at[v] += 1);
+        let rounded = |x: f64| x.to_bits() & !SHARE_ULPS;
+        // Per kind: the first cell's eigenvalue and its A_c (kd × kd, 0 outside the kept set).
+        let mut kinds: std::collections::HashMap<Vec<u64>, (f64, Vec<f64>)> = std::collections::HashMap::new();
+        let (mut kc, mut bound) = (vec![0.0; kd * kd], 0.0f64);
+        let slack = 1.0 + 64.0 * kd as f64 * f64::EPSILON;
+        for c in 0..mesh.n_cells() {
+            let v = mesh.cell(c);
+            let share = |i: usize| {
+                let m = mass[v[i / d] * d + i % d] / f64::from(cells_at[v[i / d]]);
+                f64::from_bits(rounded(m))
+            };
+            let p0 = mesh.points[v[0]];
+            let mut key: Vec<u64> = (0..kd).map(|i| share(i).to_bits()).collect();
+            key.extend(v[1..].iter().flat_map(|&a| (0..d).map(move |i| rounded(mesh.points[a][i] - p0[i]))));
+            if let Some(f @ Frames::Nodes(_)) = &self.frames {
+                key.extend(v.iter().flat_map(|&a| f.of(a).iter().flatten().map(|&x| rounded(x)).collect::<Vec<_>>()));
+            }
+            self.cell_matrix(c, &mut kc);
+            let scale: Vec<f64> = (0..kd).map(|i| if share(i) > 0.0 { 1.0 / share(i).sqrt() } else { 0.0 }).collect();
+            for (i, row) in kc.chunks_exact_mut(kd).enumerate() {
+                for (j, x) in row.iter_mut().enumerate() {
+                    *x *= scale[i] * scale[j];
+                }
+            }
+            let lam = match kinds.get(&key) {
+                Some((first, a)) => {
+                    let gap: f64 = a.iter().zip(&kc).map(|(p, q)| (p - q) * (p - q)).sum::<f64>().sqrt();
+                    first + gap * slack
+                }
+                None => {
+                    let kept: Vec<usize> = (0..kd).filter(|&i| scale[i] > 0.0).collect();
+                    let a = faer::Mat::<f64>::from_fn(kept.len(), kept.len(), |i, j| kc[kept[i] * kd + kept[j]]);
+                    let lam = if kept.is_empty() {
+                        0.0
+                    } else {
+                        a.self_adjoint_eigenvalues(faer::Side::Lower)
+                            .ok()
+                            .and_then(|v| v.last().copied())
+                            .map_or(f64::INFINITY, |l| l * slack)
+                    };
+                    if kinds.len() < KINDS {
+                        kinds.insert(key, (lam, kc.clone()));
+                    }
+                    lam
+                }
+            };
+            bound = bound.max(lam);
+        }
+        bound * slack
+    }
 }
+
+/// The low mantissa bits cleared from a cell's mass shares (a positive value's bits rounded
+/// toward zero, 2⁻³¹ relative) and from the numbers of its kind's key ([`CellKernel::bound`]).
+const SHARE_ULPS: u64 = (1 << 21) - 1;
+
+/// The cell kinds [`CellKernel::bound`] keeps (each a key of at most 147 numbers and a 30 × 30
+/// matrix: 8.4 kB, at most 8.6 MB).
+const KINDS: usize = 1024;
 
 /// Cells computed at once by [`CellKernel::lanes`] (AVX-512 holds 8 values, AVX2 4).
 const LANES: usize = 4;
@@ -553,6 +649,10 @@ impl Operator for CellKernel {
 
     fn is_matrix_free(&self) -> bool {
         true
+    }
+
+    fn element_bound(&self, lumped: &[f64]) -> Option<f64> {
+        Some(self.bound(lumped))
     }
 }
 
