@@ -395,7 +395,7 @@ fn a_tetra10_body_run_holds_at_most_2_kb_per_unknown() {
 /// The matrix-free tetra10 body's bar at 20³ cells, half the assembled one. Issue 31's 250
 /// bytes per unknown holds for the volume (the mesh, the state, the lumped mass), and the
 /// contact face adds its massless layer (the layer's rows of the stiffness, their factor and the
-/// coupling: 1681 contact nodes of 68 921 here, a share that falls as the cube grows: 366 bytes
+/// coupling: 1681 contact nodes of 68 921 here, a share that falls as the cube grows: 375 bytes
 /// per unknown on the plane at 35³); a force that depends on time keeps each cell's unit mass
 /// (800 bytes a tetra10 cell, 186 per unknown); a curved obstacle's set-up still assembles the
 /// whole weighted mass for its momentum rows. Measured: plane 507, under the ramp 713;
