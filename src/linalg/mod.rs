@@ -115,6 +115,17 @@ impl<T: Operator + ?Sized> Operator for std::sync::Arc<T> {
     }
 }
 
+/// The largest eigenvalue of the symmetric n × n matrix of entries `entry(i, j)` (faer's
+/// symmetric solver; 0 for n = 0, ∞ where it fails): each cell's term of the matrix-free
+/// operators' element eigenvalue bounds ([`Operator::element_bound`]).
+pub fn largest_eigenvalue(n: usize, entry: impl Fn(usize, usize) -> f64) -> f64 {
+    if n == 0 {
+        return 0.0;
+    }
+    let a = faer::Mat::<f64>::from_fn(n, n, entry);
+    a.self_adjoint_eigenvalues(faer::Side::Lower).ok().and_then(|v| v.last().copied()).unwrap_or(f64::INFINITY)
+}
+
 use tridiag::{FactorError, SymTridiag};
 
 /// Failure to build, combine or factor a matrix of the contact system.

@@ -41,10 +41,11 @@
 
 use super::body::Frames;
 use super::dof_map::DofMap;
+use super::stencil::SHARE_ULPS;
 use crate::fem::cell::Reference;
 use crate::fem::element::{MAX_VERTS, jacobian_inverse_transpose, reference_rule};
 use crate::fem::{Cell, Mesh};
-use crate::linalg::Operator;
+use crate::linalg::{Operator, largest_eigenvalue};
 use crate::material::Lame;
 use std::sync::{Arc, Mutex};
 
@@ -460,15 +461,7 @@ impl CellKernel {
                 }
                 None => {
                     let kept: Vec<usize> = (0..kd).filter(|&i| scale[i] > 0.0).collect();
-                    let a = faer::Mat::<f64>::from_fn(kept.len(), kept.len(), |i, j| kc[kept[i] * kd + kept[j]]);
-                    let lam = if kept.is_empty() {
-                        0.0
-                    } else {
-                        a.self_adjoint_eigenvalues(faer::Side::Lower)
-                            .ok()
-                            .and_then(|v| v.last().copied())
-                            .map_or(f64::INFINITY, |l| l * slack)
-                    };
+                    let lam = largest_eigenvalue(kept.len(), |i, j| kc[kept[i] * kd + kept[j]]) * slack;
                     if kinds.len() < KINDS {
                         kinds.insert(key, (lam, kc.clone()));
                     }
@@ -480,10 +473,6 @@ impl CellKernel {
         bound * slack
     }
 }
-
-/// The low mantissa bits cleared from a cell's mass shares (a positive value's bits rounded
-/// toward zero, 2⁻³¹ relative) and from the numbers of its kind's key ([`CellKernel::bound`]).
-const SHARE_ULPS: u64 = (1 << 21) - 1;
 
 /// The cell kinds [`CellKernel::bound`] keeps (each a key of at most 147 numbers and a 30 × 30
 /// matrix: 8.4 kB, at most 8.6 MB).

@@ -444,8 +444,9 @@ impl Operator for BoxStencil {
 }
 
 /// The low mantissa bits cleared from a cell's mass shares before they are grouped (a positive
-/// value's bits rounded toward zero: [`BoxStencil::element_bound`]).
-const SHARE_ULPS: u64 = (1 << 21) - 1;
+/// value's bits rounded toward zero, 2⁻³¹ relative: [`BoxStencil::element_bound`], and the
+/// kernel's [`super::kernel::CellKernel`] with its kinds' keys).
+pub(super) const SHARE_ULPS: u64 = (1 << 21) - 1;
 
 impl BoxStencil {
     /// The slab-layout positions of cell c's unknowns `(a, r)` at `a d + r` (cells counted x
@@ -475,10 +476,7 @@ impl BoxStencil {
             return 0.0;
         }
         let scale: Vec<f64> = kept.iter().map(|&i| 1.0 / f64::from_bits(shares[i]).sqrt()).collect();
-        let a = faer::Mat::<f64>::from_fn(kept.len(), kept.len(), |i, j| {
-            scale[i] * self.element[kept[i] * kd + kept[j]] * scale[j]
-        });
-        a.self_adjoint_eigenvalues(faer::Side::Lower).ok().and_then(|v| v.last().copied()).unwrap_or(f64::INFINITY)
+        crate::linalg::largest_eigenvalue(kept.len(), |i, j| scale[i] * self.element[kept[i] * kd + kept[j]] * scale[j])
     }
 }
 
